@@ -1,0 +1,40 @@
+# terralod — the two commands that do everything on a fresh Debian 12 machine:
+#   make demo   install dependencies, build, build the bundled default DEM into a tileset and describe it
+#   make test   install dependencies, build, run every test
+PRESET ?= release
+BUILD_DIR := build/$(PRESET)
+TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
+DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
+DEMO_DIR := build/demo
+
+.PHONY: all deps configure build demo test format check-format clean
+
+all: build
+
+deps:
+	./scripts/install-deps.sh
+
+configure: deps
+	cmake --preset $(PRESET) >/dev/null
+
+build: configure
+	cmake --build --preset $(PRESET)
+
+demo: build
+	mkdir -p $(DEMO_DIR)
+	$(TERRALOD) build $(DEMO_DEM) -o $(DEMO_DIR)/zion.tlod
+	$(TERRALOD) info $(DEMO_DIR)/zion.tlod
+	$(TERRALOD) verify $(DEMO_DIR)/zion.tlod --source $(DEMO_DEM)
+
+test: build
+	./scripts/check-format.sh
+	ctest --preset $(PRESET)
+
+format:
+	./scripts/check-format.sh --fix
+
+check-format:
+	./scripts/check-format.sh
+
+clean:
+	rm -rf build

@@ -1,0 +1,66 @@
+// terralod build INPUT -o OUT.tlod
+
+#include <cstdio>
+#include <sstream>
+
+#include "commands.h"
+#include "terralod/build/builder.h"
+
+namespace terralod::cli {
+
+void addBuildCommand(CLI::App& root, Runner& run) {
+  auto* cmd = root.add_subcommand("build", "Preprocess an elevation raster into a chunk tree tileset");
+  auto options = std::make_shared<BuildOptions>();
+  auto encoding = std::make_shared<std::string>("none");
+  auto spacing = std::make_shared<std::vector<double>>();
+  cmd->add_option("INPUT", options->input,
+                  "Elevation raster: anything GDAL reads (GeoTIFF, .hgt, .bt, .asc, netCDF, PNG...)")
+      ->required();
+  cmd->add_option("-o,--output", options->output, "Tileset to write (.tlod)")->required();
+  cmd->add_option("--max-error", options->maxError,
+                  "Geometric error of the finest level in metres; each coarser level doubles it")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--encoding", *encoding, "Height encoding of RGB web tiles: none, terrain-rgb, terrarium")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "terrain-rgb", "terrarium"}));
+  cmd->add_option("--spacing", *spacing, "Horizontal spacing DX[,DY] in metres (overrides georeferencing)")
+      ->delimiter(',')
+      ->expected(1, 2)
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--vertical-scale", options->dem.verticalScale, "Multiply every height by S")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--chunk-cells", options->chunkCells,
+                  "Leaf chunk side in cells, a power of two (default: 64, less for small rasters)");
+  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+  cmd->add_option("--memory-mb", options->memoryMB,
+                  "Memory budget for the input; larger rasters are read in windows")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--zstd-level", options->compressionLevel, "zstd level for chunk data (1-22)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 22));
+  cmd->callback([&run, options, encoding, spacing] {
+    run = [options, encoding, spacing] {
+      options->dem.encoding = *parseHeightEncoding(*encoding);
+      if (!spacing->empty())
+        options->dem.spacing = std::array<double, 2>{(*spacing)[0], spacing->back()};
+      TerminalProgress progress;
+      auto summary = buildTileset(*options, progress, warn);
+      if (!summary) return fail(summary.error().message);
+      const BuildSummary& s = *summary;
+      std::printf(
+          "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %llu vertices, %.2f MB "
+          "(%.2f bytes/vertex, %.3f bytes/sample), %llu voids filled, %.2f s\n",
+          options->output.c_str(), s.levels, (unsigned long long)s.chunks,
+          (unsigned long long)s.triangles, (unsigned long long)s.vertices, s.fileBytes / 1e6,
+          s.vertices ? double(s.fileBytes) / double(s.vertices) : 0.0,
+          double(s.fileBytes) / double(s.sourceSamples), (unsigned long long)s.filledVoids,
+          s.totalSeconds);
+      return 0;
+    };
+  });
+}
+
+}  // namespace terralod::cli

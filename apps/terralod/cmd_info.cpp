@@ -1,0 +1,115 @@
+// terralod info TILESET [--json]
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "terralod/format/tileset_reader.h"
+
+namespace terralod::cli {
+namespace {
+
+struct LevelStats {
+  uint64_t chunks = 0, vertices = 0, triangles = 0, skirtTriangles = 0, bytes = 0;
+};
+
+int printInfo(const std::string& path, bool json) {
+  auto opened = TilesetReader::openFile(path);
+  if (!opened) return fail(opened.error().message);
+  const TilesetReader& t = **opened;
+  const TilesetHeader& h = t.header();
+  std::vector<LevelStats> levels(h.levelCount);
+  LevelStats total;
+  for (const NodeRecord& n : t.nodes()) {
+    LevelStats& l = levels[n.level];
+    for (LevelStats* s : {&l, &total}) {
+      s->chunks += 1;
+      s->vertices += n.vertexCount;
+      s->triangles += n.triangleCount;
+      s->skirtTriangles += n.skirtTriangleCount;
+      s->bytes += n.blobBytes;
+    }
+  }
+  nlohmann::json metadata = nlohmann::json::parse(t.metadataJson(), nullptr, false);
+  const uint64_t samples = uint64_t(h.sourceColumns) * h.sourceRows;
+  if (json) {
+    nlohmann::json j;
+    j["file"] = path;
+    j["format_version"] = h.version;
+    j["levels"] = h.levelCount;
+    j["chunks"] = total.chunks;
+    j["vertices"] = total.vertices;
+    j["triangles"] = total.triangles;
+    j["skirt_triangles"] = total.skirtTriangles;
+    j["file_bytes"] = h.fileBytes;
+    j["chunk_bytes"] = total.bytes;
+    j["bytes_per_vertex"] = total.vertices ? double(h.fileBytes) / double(total.vertices) : 0.0;
+    j["bytes_per_sample"] = double(h.fileBytes) / double(samples);
+    j["leaf_error"] = h.leafError;
+    j["level_error"] = std::vector<double>(h.levelError.begin(), h.levelError.begin() + h.levelCount);
+    j["extent"] = {{"min", h.extentMin}, {"max", h.extentMax}};
+    j["spacing"] = {h.spacingX, h.spacingY};
+    j["source_size"] = {h.sourceColumns, h.sourceRows};
+    j["filled_voids"] = h.filledVoids;
+    j["leaf_cells"] = h.leafCells;
+    j["root_cells"] = h.rootCells;
+    j["roots"] = {h.rootsX, h.rootsY};
+    nlohmann::json perLevel = nlohmann::json::array();
+    for (uint32_t l = 0; l < h.levelCount; ++l) {
+      perLevel.push_back({{"level", l},
+                          {"error", h.levelError[l]},
+                          {"chunk_cells", h.chunkCells(int32_t(l))},
+                          {"chunks", levels[l].chunks},
+                          {"vertices", levels[l].vertices},
+                          {"triangles", levels[l].triangles},
+                          {"bytes", levels[l].bytes}});
+    }
+    j["per_level"] = perLevel;
+    if (!metadata.is_discarded()) j["metadata"] = metadata;
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: terralod tileset, format version %u\n", path.c_str(), h.version);
+  if (!metadata.is_discarded() && metadata.contains("source")) {
+    const auto& s = metadata["source"];
+    std::printf("  source          %s (%s, %s), %u x %u samples\n",
+                s.value("file", "?").c_str(), s.value("driver", "?").c_str(),
+                s.value("data_type", "?").c_str(), h.sourceColumns, h.sourceRows);
+    std::printf("  spacing         %.4f x %.4f m (%s)\n", h.spacingX, h.spacingY,
+                s.value("spacing_source", "?").c_str());
+  }
+  std::printf("  extent          x %.1f..%.1f  y %.1f..%.1f  z %.1f..%.1f m\n", h.extentMin[0],
+              h.extentMax[0], h.extentMin[1], h.extentMax[1], h.extentMin[2], h.extentMax[2]);
+  std::printf("  filled voids    %llu (%.3f%% of samples)\n", (unsigned long long)h.filledVoids,
+              100.0 * double(h.filledVoids) / double(samples));
+  std::printf("  tree            %u levels, %u x %u roots of %u cells, leaves of %u cells\n",
+              h.levelCount, h.rootsX, h.rootsY, h.rootCells, h.leafCells);
+  std::printf("  level  error(m)    chunks    vertices   triangles       bytes  bytes/vertex\n");
+  for (uint32_t l = 0; l < h.levelCount; ++l) {
+    const LevelStats& s = levels[l];
+    std::printf("  %5u  %8.3f  %8llu  %10llu  %10llu  %10llu  %12.2f\n", l, h.levelError[l],
+                (unsigned long long)s.chunks, (unsigned long long)s.vertices,
+                (unsigned long long)s.triangles, (unsigned long long)s.bytes,
+                s.vertices ? double(s.bytes) / double(s.vertices) : 0.0);
+  }
+  std::printf("  total             %8llu  %10llu  %10llu  %10llu  %12.2f\n",
+              (unsigned long long)total.chunks, (unsigned long long)total.vertices,
+              (unsigned long long)total.triangles, (unsigned long long)h.fileBytes,
+              total.vertices ? double(h.fileBytes) / double(total.vertices) : 0.0);
+  std::printf("  file            %llu bytes, %.3f bytes per source sample\n",
+              (unsigned long long)h.fileBytes, double(h.fileBytes) / double(samples));
+  return 0;
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& root, Runner& run) {
+  auto* cmd = root.add_subcommand("info", "Describe a tileset: levels, errors, sizes, source");
+  auto path = std::make_shared<std::string>();
+  auto json = std::make_shared<bool>(false);
+  cmd->add_option("TILESET", *path, "Tileset file (.tlod)")->required();
+  cmd->add_flag("--json", *json, "Machine-readable output");
+  cmd->callback([&run, path, json] { run = [path, json] { return printInfo(*path, *json); }; });
+}
+
+}  // namespace terralod::cli

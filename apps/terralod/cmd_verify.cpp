@@ -1,0 +1,52 @@
+// terralod verify TILESET --source INPUT
+
+#include <cstdio>
+
+#include "commands.h"
+#include "terralod/verify/verifier.h"
+
+namespace terralod::cli {
+
+void addVerifyCommand(CLI::App& root, Runner& run) {
+  auto* cmd = root.add_subcommand(
+      "verify",
+      "Check a tileset against its source: true error of every chunk <= its level's bound, full "
+      "coverage, morph targets equal the parent surface, skirts deep enough against any "
+      "neighbour, checksums");
+  auto tileset = std::make_shared<std::string>();
+  auto source = std::make_shared<std::string>();
+  auto options = std::make_shared<VerifyOptions>();
+  cmd->add_option("TILESET", *tileset, "Tileset file (.tlod)")->required();
+  cmd->add_option("--source", *source, "The raster the tileset was built from")->required();
+  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+  cmd->callback([&run, tileset, source, options] {
+    run = [tileset, source, options] {
+      TerminalProgress progress;
+      auto report = verifyTileset(*tileset, *source, *options, progress);
+      if (!report) return fail(report.error().message);
+      const VerifyReport& r = *report;
+      std::printf("%s against %s: %llu chunks\n", tileset->c_str(), source->c_str(),
+                  (unsigned long long)r.chunks);
+      std::printf("  level   bound(m)  max error(m)  samples      uncovered  morph mismatch(m)\n");
+      for (size_t l = 0; l < r.levels.size(); ++l) {
+        const LevelCheck& c = r.levels[l];
+        std::printf("  %5zu  %9.4f  %12.4f  %11llu  %9llu  %17.6f\n", l, c.bound, c.maxError,
+                    (unsigned long long)c.samples, (unsigned long long)c.uncovered,
+                    c.maxMorphMismatch);
+      }
+      std::printf("  skirts: %llu chunk pairs, %llu border samples, smallest margin %.4f m\n",
+                  (unsigned long long)r.skirtPairs, (unsigned long long)r.skirtSamples,
+                  r.worstSkirtMargin);
+      if (r.ok()) {
+        std::printf("verify: OK\n");
+        return 0;
+      }
+      for (const std::string& f : r.failures) std::fprintf(stderr, "  FAIL %s\n", f.c_str());
+      if (r.failureCount > r.failures.size())
+        std::fprintf(stderr, "  ... and %llu more\n", (unsigned long long)(r.failureCount - r.failures.size()));
+      return fail(*tileset + ": verification failed with " + std::to_string(r.failureCount) + " problem(s)");
+    };
+  });
+}
+
+}  // namespace terralod::cli

@@ -1,0 +1,24 @@
+#pragma once
+// Each subcommand registers itself on the root CLI and sets `run` when chosen.
+
+#include <CLI/CLI.hpp>
+
+#include <functional>
+#include <string>
+
+namespace terralod::cli {
+
+using Runner = std::function<int()>;
+
+void addBuildCommand(CLI::App& root, Runner& run);
+void addInfoCommand(CLI::App& root, Runner& run);
+void addVerifyCommand(CLI::App& root, Runner& run);
+void addExportCommand(CLI::App& root, Runner& run);
+void addSynthCommand(CLI::App& root, Runner& run);
+
+/// Prints "terralod: error: <message>" on stderr and returns the exit code 1.
+int fail(const std::string& message);
+/// Prints "terralod: warning: <message>" on stderr.
+void warn(const std::string& message);
+
+}  // namespace terralod::cli

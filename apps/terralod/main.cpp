@@ -1,0 +1,45 @@
+// terralod: build, inspect, verify and export chunked-LOD terrain tilesets.
+
+#include <cstdio>
+#include <exception>
+
+#include "commands.h"
+
+namespace terralod::cli {
+
+int fail(const std::string& message) {
+  std::fprintf(stderr, "terralod: error: %s\n", message.c_str());
+  return 1;
+}
+
+void warn(const std::string& message) { std::fprintf(stderr, "terralod: warning: %s\n", message.c_str()); }
+
+}  // namespace terralod::cli
+
+int main(int argc, char** argv) {
+  using namespace terralod::cli;
+  CLI::App app{"terralod: massive terrain with chunked level of detail.\n"
+               "Build a tileset from any elevation raster, then inspect, verify or export it."};
+  app.require_subcommand(1, 1);
+  app.failure_message([](const CLI::App*, const CLI::Error& e) {
+    return std::string("terralod: error: ") + e.what() + " (see --help)\n";
+  });
+  Runner run;
+  addBuildCommand(app, run);
+  addSynthCommand(app, run);
+  addInfoCommand(app, run);
+  addVerifyCommand(app, run);
+  addExportCommand(app, run);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return run ? run() : 0;
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory");
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what());
+  }
+}

@@ -1,0 +1,44 @@
+#pragma once
+// For every grid point, how many levels (counted up from the leaves) include it as a mesh
+// vertex: the "activation" of the RTIN vertex, 4 bits per point. A point with activation a is
+// a vertex of every chunk at level L >= depth + 1 - a that contains it. Activations are
+// saturated: a point's value is at least that of every point that depends on it, which makes
+// each level's mesh conforming and each finer level's mesh a refinement of the coarser one.
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace terralod {
+
+class ActivationGrid {
+public:
+  ActivationGrid() = default;
+  /// Points (0..cellsX) x (0..cellsY), all zero.
+  ActivationGrid(int32_t cellsX, int32_t cellsY)
+      : mCellsX(cellsX), mCellsY(cellsY), mRowBytes((int64_t(cellsX) + 2) / 2),
+        mNibbles(size_t(mRowBytes) * (int64_t(cellsY) + 1), 0) {}
+
+  int32_t cellsX() const { return mCellsX; }
+  int32_t cellsY() const { return mCellsY; }
+  size_t bytes() const { return mNibbles.size(); }
+
+  uint8_t get(int32_t x, int32_t y) const {
+    const uint8_t byte = mNibbles[size_t(y) * mRowBytes + (x >> 1)];
+    return (x & 1) ? byte >> 4 : byte & 0x0F;
+  }
+  /// Not safe against a concurrent set() of the other point sharing the byte: rows start on a
+  /// byte boundary and points (2k, 2k+1) share one, which callers partition around.
+  void set(int32_t x, int32_t y, uint8_t value) {
+    uint8_t& byte = mNibbles[size_t(y) * mRowBytes + (x >> 1)];
+    byte = (x & 1) ? uint8_t((byte & 0x0F) | (value << 4)) : uint8_t((byte & 0xF0) | value);
+  }
+
+private:
+  int32_t mCellsX = 0;
+  int32_t mCellsY = 0;
+  int64_t mRowBytes = 0;
+  std::vector<uint8_t> mNibbles;
+};
+
+}  // namespace terralod

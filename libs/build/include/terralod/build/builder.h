@@ -1,0 +1,43 @@
+#pragma once
+// `terralod build`: a DEM in, a tileset out.
+
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "terralod/core/progress.h"
+#include "terralod/core/result.h"
+#include "terralod/raster/dem_reader.h"
+
+namespace terralod {
+
+struct BuildOptions {
+  std::string input;
+  std::string output;
+  DemOpenOptions dem;
+  double maxError = 1.0;       ///< leaf level geometric error in metres
+  int32_t chunkCells = 0;      ///< leaf chunk side in cells; 0 = automatic
+  unsigned threads = 0;        ///< 0 = all hardware threads
+  uint64_t memoryMB = 2048;    ///< above this the input is read in windows, never whole
+  int compressionLevel = 9;    ///< zstd level for chunk blobs
+};
+
+struct BuildSummary {
+  int32_t levels = 0;
+  uint64_t chunks = 0;
+  uint64_t vertices = 0;       ///< surface vertices over all chunks
+  uint64_t triangles = 0;      ///< surface triangles over all chunks
+  uint64_t skirtTriangles = 0;
+  uint64_t fileBytes = 0;
+  uint64_t filledVoids = 0;
+  uint64_t sourceSamples = 0;
+  bool windowed = false;       ///< input was read in windows (larger than the memory budget)
+  double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
+  uint64_t trianglesScanned = 0, trianglesBounded = 0;
+};
+
+/// Builds `options.output` from `options.input`. Warnings (e.g. assumed spacing) go to `warn`.
+Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
+                                  const std::function<void(const std::string&)>& warn);
+
+}  // namespace terralod

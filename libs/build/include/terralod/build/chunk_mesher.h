@@ -1,0 +1,75 @@
+#pragma once
+// Turns the activation grid into one chunk's mesh: the RTIN of the chunk's square at its level's
+// threshold (corners always kept), clipped to the data rectangle, with per-vertex morph
+// targets (the parent level's surface at the vertex) and skirts along every side that can meet
+// another chunk. Exact grid arithmetic; heights in metres.
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/build/activation_grid.h"
+#include "terralod/build/error_budget.h"
+#include "terralod/build/height_source.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/core/bintree.h"
+
+namespace terralod {
+
+struct MeshVertex {
+  int32_t x = 0, y = 0;      ///< grid point (global)
+  double z = 0.0;            ///< height at this level
+  double morphTarget = 0.0;  ///< the parent level's surface height here (= z at the roots)
+};
+
+enum ChunkSide { kSouth = 0, kEast = 1, kNorth = 2, kWest = 3 };
+
+struct ChunkMesh {
+  int32_t level = 0, ix = 0, iy = 0;
+  int32_t x0 = 0, y0 = 0, side = 0;      ///< the chunk's square in grid cells
+  std::vector<MeshVertex> vertices;      ///< surface vertices first, then skirt bottoms
+  uint32_t surfaceVertexCount = 0;
+  std::vector<uint32_t> surfaceIndices;  ///< triangles, counter-clockwise seen from above
+  std::vector<uint32_t> skirtIndices;    ///< triangles hanging from the sides
+  std::array<double, 4> skirtDepth{};    ///< per ChunkSide; 0 where there is no skirt
+  double minZ = 0.0, maxZ = 0.0;         ///< surface over the whole morph range
+};
+
+/// Builds chunk meshes. Keeps scratch buffers between calls: use one per thread.
+class ChunkMesher {
+public:
+  ChunkMesher(const TreeLayout& layout, const ErrorBudget& budget, const ActivationGrid& grid,
+              const HeightSampler& heights);
+
+  ChunkMesh build(int32_t level, int32_t ix, int32_t iy);
+
+  /// The surface of `level` at grid point p (p inside the data), by descending the bintree of
+  /// the chunk that contains it. Exposed for tests.
+  double surfaceHeight(int32_t level, GridPoint p);
+
+private:
+  struct ClipVertex {
+    GridPoint p;
+    double z;
+  };
+  uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, double z);
+  void emitTriangle(ChunkMesh& mesh, const BinTriangle& t);
+  void addSkirts(ChunkMesh& mesh);
+  double parentSurface(int32_t level, int32_t ix, int32_t iy, GridPoint p);
+  double planeHeight(const BinTriangle& t, GridPoint p) const;
+
+  const TreeLayout& mLayout;
+  const ErrorBudget& mBudget;
+  const ActivationGrid& mGrid;
+  const HeightSampler& mHeights;
+  int32_t mOriginX = 0, mOriginY = 0, mSide = 0;
+  std::vector<int32_t> mDenseIndex;  // (side+1)^2 for small chunks, -1 = unused
+  std::vector<size_t> mTouched;
+  std::unordered_map<uint64_t, uint32_t> mSparseIndex;
+  std::vector<BinTriangle> mStack;
+  BinTriangle mCachedParentTriangle{};
+  int32_t mCachedParentLevel = -1;
+};
+
+}  // namespace terralod

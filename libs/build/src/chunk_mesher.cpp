@@ -1,0 +1,236 @@
+#include "terralod/build/chunk_mesher.h"
+
+#include <algorithm>
+#include <cassert>
+#include <limits>
+
+namespace terralod {
+namespace {
+
+constexpr int32_t kDenseLimit = 1024;  // chunks up to this side use a dense vertex index
+
+bool containsPoint(const BinTriangle& t, GridPoint p) {
+  const int64_t d1 = orient2d(t.a, t.b, p), d2 = orient2d(t.b, t.apex, p),
+                d3 = orient2d(t.apex, t.a, p);
+  const bool negative = d1 < 0 || d2 < 0 || d3 < 0;
+  const bool positive = d1 > 0 || d2 > 0 || d3 > 0;
+  return !(negative && positive);
+}
+
+}  // namespace
+
+ChunkMesher::ChunkMesher(const TreeLayout& layout, const ErrorBudget& budget,
+                         const ActivationGrid& grid, const HeightSampler& heights)
+    : mLayout(layout), mBudget(budget), mGrid(grid), mHeights(heights) {}
+
+uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z) {
+  const int32_t lx = p.x - mOriginX, ly = p.y - mOriginY;
+  assert(lx >= 0 && ly >= 0 && lx <= mSide && ly <= mSide);
+  const auto next = static_cast<uint32_t>(mesh.vertices.size());
+  if (mSide <= kDenseLimit) {
+    const size_t key = size_t(ly) * (mSide + 1) + lx;
+    int32_t& slot = mDenseIndex[key];
+    if (slot >= 0) return uint32_t(slot);
+    slot = int32_t(next);
+    mTouched.push_back(key);
+  } else {
+    const uint64_t key = (uint64_t(ly) << 32) | uint32_t(lx);
+    const auto [it, inserted] = mSparseIndex.try_emplace(key, next);
+    if (!inserted) return it->second;
+  }
+  mesh.vertices.push_back({p.x, p.y, z, z});
+  return next;
+}
+
+double ChunkMesher::planeHeight(const BinTriangle& t, GridPoint p) const {
+  const double area = double(orient2d(t.a, t.b, t.apex));
+  const double wa = double(orient2d(t.b, t.apex, p)) / area;
+  const double wb = double(orient2d(t.apex, t.a, p)) / area;
+  const double wc = 1.0 - wa - wb;
+  return wa * mHeights.at(t.a.x, t.a.y) + wb * mHeights.at(t.b.x, t.b.y) +
+         wc * mHeights.at(t.apex.x, t.apex.y);
+}
+
+double ChunkMesher::surfaceHeight(int32_t level, GridPoint p) {
+  const int32_t s = mLayout.chunkCells(level);
+  const int32_t ix = std::min(p.x / s, mLayout.chunksX(level) - 1);
+  const int32_t iy = std::min(p.y / s, mLayout.chunksY(level) - 1);
+  if (mCachedParentLevel == level && containsPoint(mCachedParentTriangle, p))
+    return planeHeight(mCachedParentTriangle, p);
+  const auto roots = squareTriangles(ix * s, iy * s, s);
+  BinTriangle t = containsPoint(roots[0], p) ? roots[0] : roots[1];
+  const uint8_t needed = mBudget.activationForLevel(level);
+  while (t.splittable()) {
+    const GridPoint m = t.hypotenuseMidpoint();
+    if (mGrid.get(m.x, m.y) < needed) break;
+    t = t.children()[childContaining(t, p)];
+  }
+  mCachedParentTriangle = t;
+  mCachedParentLevel = level;
+  return planeHeight(t, p);
+}
+
+double ChunkMesher::parentSurface(int32_t level, int32_t, int32_t, GridPoint p) {
+  return surfaceHeight(level - 1, p);
+}
+
+void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t) {
+  const int32_t w = mLayout.cellsX, h = mLayout.cellsY;
+  const GridPoint corners[3] = {t.a, t.b, t.apex};
+  const int32_t maxX = std::max({t.a.x, t.b.x, t.apex.x}), maxY = std::max({t.a.y, t.b.y, t.apex.y});
+  const int32_t minX = std::min({t.a.x, t.b.x, t.apex.x}), minY = std::min({t.a.y, t.b.y, t.apex.y});
+  if (minX >= w || minY >= h) return;  // padding only
+
+  auto addTriangle = [&](const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
+    const int64_t o = orient2d(a.p, b.p, c.p);
+    if (o == 0) return;
+    const uint32_t ia = vertexIndex(mesh, a.p, a.z), ib = vertexIndex(mesh, b.p, b.z),
+                   ic = vertexIndex(mesh, c.p, c.z);
+    if (o > 0) {
+      mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {ia, ib, ic});
+    } else {
+      mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {ia, ic, ib});
+    }
+  };
+
+  ClipVertex poly[8];
+  int n = 3;
+  for (int i = 0; i < 3; ++i) poly[i] = {corners[i], mHeights.at(corners[i].x, corners[i].y)};
+  if (maxX <= w && maxY <= h) {
+    addTriangle(poly[0], poly[1], poly[2]);
+    return;
+  }
+  // Clip to x <= w, then y <= h. Bintree edges are axis-aligned or diagonal, so every
+  // crossing of a grid line is itself a grid point; heights follow the triangle's plane.
+  auto clip = [&](bool alongX, int32_t limit) {
+    ClipVertex out[8];
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const ClipVertex& p = poly[i];
+      const ClipVertex& q = poly[(i + 1) % n];
+      const int32_t pc = alongX ? p.p.x : p.p.y, qc = alongX ? q.p.x : q.p.y;
+      if (pc <= limit) out[m++] = p;
+      if (int64_t(pc - limit) * (qc - limit) < 0) {
+        const int32_t po = alongX ? p.p.y : p.p.x, qo = alongX ? q.p.y : q.p.x;
+        assert((int64_t(limit - pc) * (qo - po)) % (qc - pc) == 0);
+        const int32_t other = po + int32_t(int64_t(limit - pc) * (qo - po) / (qc - pc));
+        const double f = double(limit - pc) / double(qc - pc);
+        ClipVertex v;
+        v.p = alongX ? GridPoint{limit, other} : GridPoint{other, limit};
+        v.z = p.z + f * (q.z - p.z);
+        out[m++] = v;
+      }
+    }
+    n = m;
+    std::copy(out, out + m, poly);
+  };
+  if (maxX > w) clip(true, w);
+  if (maxY > h) clip(false, h);
+  for (int i = 1; i + 1 < n; ++i) addTriangle(poly[0], poly[i], poly[i + 1]);
+}
+
+void ChunkMesher::addSkirts(ChunkMesh& mesh) {
+  const int32_t w = mLayout.cellsX, h = mLayout.cellsY;
+  const int32_t s = mesh.side;
+  for (int side = 0; side < 4; ++side) {
+    const bool vertical = side == kEast || side == kWest;
+    const int32_t line = side == kSouth  ? mesh.y0
+                         : side == kNorth ? mesh.y0 + s
+                         : side == kWest  ? mesh.x0
+                                          : mesh.x0 + s;
+    // No skirt on the data's own boundary (nothing lies beyond) or outside it.
+    if (line == 0 || line >= (vertical ? w : h)) continue;
+    std::vector<std::pair<int32_t, uint32_t>> onSide;
+    for (uint32_t i = 0; i < mesh.surfaceVertexCount; ++i) {
+      const MeshVertex& v = mesh.vertices[i];
+      if ((vertical ? v.x : v.y) == line) onSide.emplace_back(vertical ? v.y : v.x, i);
+    }
+    std::sort(onSide.begin(), onSide.end());
+    if (onSide.size() < 2) continue;
+
+    // How far above the data can this side be drawn (over its whole morph range)?
+    double up = 0.0;
+    size_t segment = 0;
+    for (int32_t q = onSide.front().first; q <= onSide.back().first; ++q) {
+      while (segment + 2 < onSide.size() && onSide[segment + 1].first < q) ++segment;
+      const auto& [qa, ia] = onSide[segment];
+      const auto& [qb, ib] = onSide[segment + 1];
+      const double f = double(q - qa) / double(qb - qa);
+      const double drawn = mesh.vertices[ia].z + f * (mesh.vertices[ib].z - mesh.vertices[ia].z);
+      const GridPoint p = vertical ? GridPoint{line, q} : GridPoint{q, line};
+      const double parent = mesh.level > 0 ? parentSurface(mesh.level, mesh.ix, mesh.iy, p) : drawn;
+      up = std::max(up, std::max(drawn, parent) - mHeights.at(p.x, p.y));
+    }
+    // ...plus how far below the data the coarsest possible neighbour across it can be.
+    const int32_t coarsest = mLayout.coarsestLevelOfBorder(line, mesh.level);
+    const double neighbour = mBudget.levelError[std::max(coarsest - 1, 0)];
+    const double depth = up + neighbour + mBudget.zStep[mesh.level] + mBudget.zStep[coarsest];
+    mesh.skirtDepth[side] = depth;
+
+    const auto first = static_cast<uint32_t>(mesh.vertices.size());
+    for (const auto& [q, i] : onSide) {
+      MeshVertex bottom = mesh.vertices[i];
+      bottom.z -= depth;
+      bottom.morphTarget -= depth;
+      mesh.vertices.push_back(bottom);
+    }
+    for (uint32_t k = 0; k + 1 < onSide.size(); ++k) {
+      const uint32_t a = onSide[k].second, b = onSide[k + 1].second;
+      const uint32_t a2 = first + k, b2 = first + k + 1;
+      mesh.skirtIndices.insert(mesh.skirtIndices.end(), {a, a2, b2, a, b2, b});
+    }
+  }
+}
+
+ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
+  ChunkMesh mesh;
+  mesh.level = level;
+  mesh.ix = ix;
+  mesh.iy = iy;
+  mesh.side = mLayout.chunkCells(level);
+  mesh.x0 = ix * mesh.side;
+  mesh.y0 = iy * mesh.side;
+  mOriginX = mesh.x0;
+  mOriginY = mesh.y0;
+  mSide = mesh.side;
+  if (mSide <= kDenseLimit) {
+    const size_t n = size_t(mSide + 1) * (mSide + 1);
+    if (mDenseIndex.size() < n) mDenseIndex.assign(n, -1);
+  } else {
+    mSparseIndex.clear();
+  }
+
+  const uint8_t needed = mBudget.activationForLevel(level);
+  const auto roots = squareTriangles(mesh.x0, mesh.y0, mesh.side);
+  mStack.assign(roots.begin(), roots.end());
+  while (!mStack.empty()) {
+    const BinTriangle t = mStack.back();
+    mStack.pop_back();
+    if (t.splittable()) {
+      const GridPoint m = t.hypotenuseMidpoint();
+      if (mGrid.get(m.x, m.y) >= needed) {
+        const auto kids = t.children();
+        mStack.push_back(kids[1]);
+        mStack.push_back(kids[0]);
+        continue;
+      }
+    }
+    emitTriangle(mesh, t);
+  }
+  mesh.surfaceVertexCount = static_cast<uint32_t>(mesh.vertices.size());
+
+  mesh.minZ = std::numeric_limits<double>::infinity();
+  mesh.maxZ = -std::numeric_limits<double>::infinity();
+  for (MeshVertex& v : mesh.vertices) {
+    v.morphTarget = level > 0 ? parentSurface(level, ix, iy, {v.x, v.y}) : v.z;
+    mesh.minZ = std::min({mesh.minZ, v.z, v.morphTarget});
+    mesh.maxZ = std::max({mesh.maxZ, v.z, v.morphTarget});
+  }
+  addSkirts(mesh);
+
+  for (size_t key : mTouched) mDenseIndex[key] = -1;
+  mTouched.clear();
+  return mesh;
+}
+
+}  // namespace terralod

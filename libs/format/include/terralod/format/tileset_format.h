@@ -1,0 +1,93 @@
+#pragma once
+// The terralod tileset file, version 1. docs/format.md is the normative description; this
+// header mirrors it. Little-endian throughout.
+//
+//   [0, 512)            header (fixed size, CRC-protected)
+//   [512, ...)          chunk blobs, each readable with one read at a known offset
+//   nodeTableOffset     node table: nodeCount records of nodeRecordBytes each
+//   metadataOffset      JSON metadata (source, build parameters, statistics)
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
+inline constexpr uint32_t kTilesetVersion = 1;
+inline constexpr uint32_t kHeaderBytes = 512;
+inline constexpr uint32_t kNodeRecordBytes = 64;
+inline constexpr int kMaxLevels = 16;
+inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
+
+/// How a chunk's geometry is stored. The runtime dispatches on it; new kinds (e.g. progressive
+/// VIPM chunks) get new values.
+enum class MeshKind : uint8_t {
+  kStaticRtin = 1,  ///< static RTIN mesh with per-vertex morph deltas and skirts
+};
+
+struct TilesetHeader {
+  uint32_t version = kTilesetVersion;
+  uint32_t flags = 0;
+  MeshKind meshKind = MeshKind::kStaticRtin;
+  uint32_t levelCount = 0;
+  uint32_t leafCells = 0;
+  uint32_t rootCells = 0;
+  uint32_t rootsX = 0, rootsY = 0;
+  uint32_t sourceColumns = 0, sourceRows = 0;
+  double spacingX = 1.0, spacingY = 1.0;  ///< metres per cell
+  std::array<double, kMaxLevels> levelError{};  ///< root first; levelCount entries used
+  std::array<double, 3> extentMin{}, extentMax{};  ///< world metres
+  uint64_t nodeCount = 0;
+  uint64_t nodeTableOffset = 0, nodeTableBytes = 0;
+  uint64_t metadataOffset = 0, metadataBytes = 0;
+  uint64_t fileBytes = 0;
+  uint64_t filledVoids = 0;
+  uint32_t nodeTableCrc = 0, metadataCrc = 0;
+  double leafError = 0.0;      ///< --max-error the tileset was built with
+  double verticalScale = 1.0;  ///< applied to source heights
+
+  int32_t depth() const { return int32_t(levelCount) - 1; }
+  int32_t chunkCells(int32_t level) const { return int32_t(rootCells >> level); }
+};
+
+/// One chunk of the tree. Nodes are stored breadth-first: all roots (row-major), then level 1,
+/// and so on; a node's children are consecutive from firstChild in SW, SE, NW, NE order,
+/// skipping absent ones (childMask bit i set = child i exists).
+struct NodeRecord {
+  uint8_t level = 0;
+  uint8_t childMask = 0;
+  MeshKind meshKind = MeshKind::kStaticRtin;
+  uint8_t flags = 0;
+  uint32_t x = 0, y = 0;  ///< chunk index at its level; the square starts at cell (x, y) * chunkCells
+  uint32_t firstChild = kNoNode;
+  uint32_t parent = kNoNode;
+  float minZ = 0, maxZ = 0;  ///< drawn surface over its whole morph range (skirts excluded)
+  uint32_t vertexCount = 0;  ///< surface vertices (skirt vertices excluded)
+  uint32_t triangleCount = 0;  ///< surface triangles
+  uint32_t skirtTriangleCount = 0;
+  uint64_t blobOffset = 0;
+  uint32_t blobBytes = 0;
+  uint32_t blobCrc = 0;  ///< CRC-32 of the stored blob bytes
+  float maxSkirtDepth = 0;
+};
+
+/// CRC-32 (zlib polynomial) of a byte range.
+uint32_t crc32Of(std::span<const uint8_t> bytes);
+
+std::vector<uint8_t> serializeHeader(const TilesetHeader& header);
+/// Validates magic, version, size fields and CRC; `subject` names the file in errors.
+Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::string& subject);
+
+void serializeNode(const NodeRecord& node, uint8_t* out);
+NodeRecord parseNode(const uint8_t* in);
+
+/// Checks the node table's structure: levels, parent/child links, ranges inside the file.
+Status validateNodes(const TilesetHeader& header, const std::vector<NodeRecord>& nodes,
+                     const std::string& subject);
+
+}  // namespace terralod

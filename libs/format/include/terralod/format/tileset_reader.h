@@ -1,0 +1,41 @@
+#pragma once
+// Opening a tileset: header and node table are read and validated up front (two reads); chunk
+// blobs are read on demand, one read each, and checked against their CRC before decoding.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "terralod/format/byte_source.h"
+#include "terralod/format/chunk_codec.h"
+#include "terralod/format/tileset_format.h"
+
+namespace terralod {
+
+class TilesetReader {
+public:
+  /// Reads and validates header, node table and metadata. Never trusts the file.
+  static Result<std::unique_ptr<TilesetReader>> open(std::unique_ptr<ByteSource> source);
+  /// Convenience: a local file.
+  static Result<std::unique_ptr<TilesetReader>> openFile(const std::string& path);
+
+  const TilesetHeader& header() const { return mHeader; }
+  const std::vector<NodeRecord>& nodes() const { return mNodes; }
+  const std::string& metadataJson() const { return mMetadata; }
+  const std::string& name() const { return mSource->name(); }
+  const ByteSource& source() const { return *mSource; }
+
+  /// The stored bytes of a chunk, CRC-checked. Thread-safe.
+  Result<std::vector<uint8_t>> readBlob(uint32_t node) const;
+  /// Reads and decodes a chunk. Thread-safe.
+  Result<ChunkGeometry> readChunk(uint32_t node) const;
+
+private:
+  TilesetReader() = default;
+  std::unique_ptr<ByteSource> mSource;
+  TilesetHeader mHeader;
+  std::vector<NodeRecord> mNodes;
+  std::string mMetadata;
+};
+
+}  // namespace terralod

@@ -1,0 +1,45 @@
+#pragma once
+// Writes a tileset atomically: everything goes to a hidden temporary file beside the target,
+// whose header stays zero (so it never looks like a tileset) until finish() writes the tables
+// and header, syncs, and renames it over the target. An interrupted build leaves no file that
+// opens as valid, and never touches an existing output before the new one is complete.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/format/tileset_format.h"
+
+namespace terralod {
+
+class TilesetWriter {
+public:
+  /// Fails with a clear message when the target's directory is missing or not writable.
+  static Result<std::unique_ptr<TilesetWriter>> create(const std::string& path);
+  ~TilesetWriter();  ///< removes the temporary file unless finish() succeeded
+  TilesetWriter(const TilesetWriter&) = delete;
+  TilesetWriter& operator=(const TilesetWriter&) = delete;
+
+  /// Appends a chunk blob; returns its offset. Not thread-safe.
+  Result<uint64_t> appendBlob(std::span<const uint8_t> bytes);
+
+  /// Completes the file. Fills in the offsets, sizes and CRCs of the header.
+  Status finish(TilesetHeader header, const std::vector<NodeRecord>& nodes, const std::string& metadata);
+
+  const std::string& path() const { return mPath; }
+
+private:
+  TilesetWriter(std::string path, std::string tempPath, int fd);
+  Status writeAll(const uint8_t* data, size_t size);
+  Status flush();
+
+  std::string mPath, mTempPath;
+  int mFd = -1;
+  uint64_t mOffset = 0;
+  std::vector<uint8_t> mBuffer;
+  bool mFinished = false;
+};
+
+}  // namespace terralod

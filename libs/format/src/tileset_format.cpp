@@ -1,0 +1,219 @@
+#include "terralod/format/tileset_format.h"
+
+#include <zlib.h>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include "byte_io.h"
+
+namespace terralod {
+
+uint32_t crc32Of(std::span<const uint8_t> bytes) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  // zlib takes uInt lengths; feed large ranges in pieces.
+  size_t done = 0;
+  while (done < bytes.size()) {
+    const size_t n = std::min<size_t>(bytes.size() - done, 1u << 30);
+    crc = crc32(crc, bytes.data() + done, static_cast<uInt>(n));
+    done += n;
+  }
+  return static_cast<uint32_t>(crc);
+}
+
+std::vector<uint8_t> serializeHeader(const TilesetHeader& h) {
+  std::vector<uint8_t> out(kHeaderBytes, 0);
+  ByteWriter w(out.data());
+  w.putBytes(kTilesetMagic, 8);
+  w.put<uint32_t>(h.version);
+  w.put<uint32_t>(kHeaderBytes);
+  w.put<uint32_t>(kNodeRecordBytes);
+  w.put<uint32_t>(h.flags);
+  w.put<uint32_t>(static_cast<uint32_t>(h.meshKind));
+  w.put<uint32_t>(h.levelCount);
+  w.put<uint32_t>(h.leafCells);
+  w.put<uint32_t>(h.rootCells);
+  w.put<uint32_t>(h.rootsX);
+  w.put<uint32_t>(h.rootsY);
+  w.put<uint32_t>(h.sourceColumns);
+  w.put<uint32_t>(h.sourceRows);
+  w.put<double>(h.spacingX);
+  w.put<double>(h.spacingY);
+  for (double e : h.levelError) w.put<double>(e);
+  for (double v : h.extentMin) w.put<double>(v);
+  for (double v : h.extentMax) w.put<double>(v);
+  w.put<uint64_t>(h.nodeCount);
+  w.put<uint64_t>(h.nodeTableOffset);
+  w.put<uint64_t>(h.nodeTableBytes);
+  w.put<uint64_t>(h.metadataOffset);
+  w.put<uint64_t>(h.metadataBytes);
+  w.put<uint64_t>(h.fileBytes);
+  w.put<uint64_t>(h.filledVoids);
+  w.put<uint32_t>(h.nodeTableCrc);
+  w.put<uint32_t>(h.metadataCrc);
+  w.put<double>(h.leafError);
+  w.put<double>(h.verticalScale);
+  // Bytes up to 508 are reserved (zero); the last four hold the CRC of everything before.
+  w.seek(kHeaderBytes - 4);
+  w.put<uint32_t>(crc32Of(std::span(out.data(), kHeaderBytes - 4)));
+  return out;
+}
+
+Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::string& subject) {
+  if (bytes.size() < kHeaderBytes)
+    return makeError(subject, "file is too short to be a terralod tileset (" +
+                                  std::to_string(bytes.size()) + " bytes)");
+  if (std::memcmp(bytes.data(), kTilesetMagic, 8) != 0)
+    return makeError(subject, "not a terralod tileset (wrong magic bytes)");
+  ByteReader r(bytes.data());
+  r.seek(8);
+  TilesetHeader h;
+  h.version = r.get<uint32_t>();
+  if (h.version != kTilesetVersion)
+    return makeError(subject, "tileset format version " + std::to_string(h.version) +
+                                  " is not supported (this terralod reads version " +
+                                  std::to_string(kTilesetVersion) + ")");
+  const uint32_t headerBytes = r.get<uint32_t>();
+  const uint32_t nodeBytes = r.get<uint32_t>();
+  if (headerBytes != kHeaderBytes || nodeBytes != kNodeRecordBytes)
+    return makeError(subject, "tileset header has inconsistent record sizes");
+  ByteReader crcReader(bytes.data());
+  crcReader.seek(kHeaderBytes - 4);
+  if (crcReader.get<uint32_t>() != crc32Of(bytes.first(kHeaderBytes - 4)))
+    return makeError(subject, "tileset header is corrupt (checksum mismatch)");
+  h.flags = r.get<uint32_t>();
+  h.meshKind = static_cast<MeshKind>(r.get<uint32_t>());
+  h.levelCount = r.get<uint32_t>();
+  h.leafCells = r.get<uint32_t>();
+  h.rootCells = r.get<uint32_t>();
+  h.rootsX = r.get<uint32_t>();
+  h.rootsY = r.get<uint32_t>();
+  h.sourceColumns = r.get<uint32_t>();
+  h.sourceRows = r.get<uint32_t>();
+  h.spacingX = r.get<double>();
+  h.spacingY = r.get<double>();
+  for (double& e : h.levelError) e = r.get<double>();
+  for (double& v : h.extentMin) v = r.get<double>();
+  for (double& v : h.extentMax) v = r.get<double>();
+  h.nodeCount = r.get<uint64_t>();
+  h.nodeTableOffset = r.get<uint64_t>();
+  h.nodeTableBytes = r.get<uint64_t>();
+  h.metadataOffset = r.get<uint64_t>();
+  h.metadataBytes = r.get<uint64_t>();
+  h.fileBytes = r.get<uint64_t>();
+  h.filledVoids = r.get<uint64_t>();
+  h.nodeTableCrc = r.get<uint32_t>();
+  h.metadataCrc = r.get<uint32_t>();
+  h.leafError = r.get<double>();
+  h.verticalScale = r.get<double>();
+
+  auto bad = [&](const std::string& what) { return makeError(subject, "invalid tileset header: " + what); };
+  if (h.meshKind != MeshKind::kStaticRtin) return bad("unknown chunk mesh kind");
+  if (h.levelCount < 1 || h.levelCount > kMaxLevels) return bad("level count out of range");
+  if (h.leafCells < 4 || (h.leafCells & (h.leafCells - 1)) != 0) return bad("leaf size");
+  if (h.rootCells != (h.leafCells << (h.levelCount - 1)) || h.rootCells > 32768) return bad("root size");
+  if (h.rootsX < 1 || h.rootsY < 1 || h.rootsX > 4096 || h.rootsY > 4096) return bad("root grid");
+  if (h.sourceColumns < 2 || h.sourceRows < 2 ||
+      uint64_t(h.sourceColumns - 1) > uint64_t(h.rootsX) * h.rootCells ||
+      uint64_t(h.sourceRows - 1) > uint64_t(h.rootsY) * h.rootCells)
+    return bad("source size does not fit the root grid");
+  if (!(h.spacingX > 0) || !(h.spacingY > 0) || !std::isfinite(h.spacingX) || !std::isfinite(h.spacingY))
+    return bad("spacing");
+  for (uint32_t l = 0; l < h.levelCount; ++l)
+    if (!(h.levelError[l] > 0) || !std::isfinite(h.levelError[l])) return bad("level error");
+  if (h.nodeCount == 0 || h.nodeCount > (uint64_t{1} << 32) - 1 ||
+      h.nodeTableBytes != h.nodeCount * kNodeRecordBytes)
+    return bad("node count");
+  if (h.nodeTableOffset < kHeaderBytes || h.nodeTableOffset + h.nodeTableBytes > h.fileBytes ||
+      h.metadataOffset < kHeaderBytes || h.metadataOffset + h.metadataBytes > h.fileBytes ||
+      h.metadataBytes > (uint64_t{1} << 26))
+    return bad("table offsets");
+  return h;
+}
+
+void serializeNode(const NodeRecord& n, uint8_t* out) {
+  std::memset(out, 0, kNodeRecordBytes);
+  ByteWriter w(out);
+  w.put<uint8_t>(n.level);
+  w.put<uint8_t>(n.childMask);
+  w.put<uint8_t>(static_cast<uint8_t>(n.meshKind));
+  w.put<uint8_t>(n.flags);
+  w.put<uint32_t>(n.x);
+  w.put<uint32_t>(n.y);
+  w.put<uint32_t>(n.firstChild);
+  w.put<uint32_t>(n.parent);
+  w.put<float>(n.minZ);
+  w.put<float>(n.maxZ);
+  w.put<uint32_t>(n.vertexCount);
+  w.put<uint32_t>(n.triangleCount);
+  w.put<uint32_t>(n.skirtTriangleCount);
+  w.put<uint64_t>(n.blobOffset);
+  w.put<uint32_t>(n.blobBytes);
+  w.put<uint32_t>(n.blobCrc);
+  w.put<float>(n.maxSkirtDepth);
+}
+
+NodeRecord parseNode(const uint8_t* in) {
+  ByteReader r(in);
+  NodeRecord n;
+  n.level = r.get<uint8_t>();
+  n.childMask = r.get<uint8_t>();
+  n.meshKind = static_cast<MeshKind>(r.get<uint8_t>());
+  n.flags = r.get<uint8_t>();
+  n.x = r.get<uint32_t>();
+  n.y = r.get<uint32_t>();
+  n.firstChild = r.get<uint32_t>();
+  n.parent = r.get<uint32_t>();
+  n.minZ = r.get<float>();
+  n.maxZ = r.get<float>();
+  n.vertexCount = r.get<uint32_t>();
+  n.triangleCount = r.get<uint32_t>();
+  n.skirtTriangleCount = r.get<uint32_t>();
+  n.blobOffset = r.get<uint64_t>();
+  n.blobBytes = r.get<uint32_t>();
+  n.blobCrc = r.get<uint32_t>();
+  n.maxSkirtDepth = r.get<float>();
+  return n;
+}
+
+Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& nodes,
+                     const std::string& subject) {
+  auto bad = [&](size_t i, const std::string& what) {
+    return makeError(subject, "corrupt node table: node " + std::to_string(i) + " " + what);
+  };
+  const uint64_t rootCount = uint64_t(h.rootsX) * h.rootsY;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const NodeRecord& n = nodes[i];
+    if (n.level >= h.levelCount) return bad(i, "has an impossible level");
+    if (n.meshKind != MeshKind::kStaticRtin) return bad(i, "has an unknown mesh kind");
+    const uint64_t perSide = uint64_t(1) << n.level;
+    if (n.x >= h.rootsX * perSide || n.y >= h.rootsY * perSide) return bad(i, "lies outside the tree");
+    if ((n.level == 0) != (i < rootCount)) return bad(i, "is out of breadth-first order");
+    if (n.level == 0 ? n.parent != kNoNode : (n.parent >= i || nodes[n.parent].level + 1 != n.level))
+      return bad(i, "has a bad parent link");
+    if (n.childMask > 15) return bad(i, "has a bad child mask");
+    if (n.childMask != 0) {
+      const uint32_t count = std::popcount(unsigned(n.childMask));
+      if (n.firstChild == kNoNode || n.firstChild <= i || uint64_t(n.firstChild) + count > nodes.size())
+        return bad(i, "has children outside the table");
+      uint32_t c = n.firstChild;
+      for (int q = 0; q < 4; ++q) {
+        if (!(n.childMask & (1u << q))) continue;
+        const NodeRecord& child = nodes[c];
+        if (child.parent != i || child.x != n.x * 2 + (q & 1) || child.y != n.y * 2 + (q >> 1))
+          return bad(i, "has a child that does not point back");
+        ++c;
+      }
+    } else if (n.firstChild != kNoNode) {
+      return bad(i, "has a child index but no children");
+    }
+    if (n.blobBytes == 0 || n.blobOffset < kHeaderBytes || n.blobOffset + n.blobBytes > h.fileBytes)
+      return bad(i, "points outside the file");
+    if (!(n.minZ <= n.maxZ)) return bad(i, "has an invalid height range");
+  }
+  return {};
+}
+
+}  // namespace terralod

@@ -1,0 +1,330 @@
+#include "terralod/raster/dem_reader.h"
+
+#include <gdal_priv.h>
+#include <ogr_spatialref.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <vector>
+
+#include "gdal_support.h"
+
+namespace terralod {
+namespace {
+
+constexpr int64_t kMaxSide = int64_t{1} << 20;
+constexpr int64_t kMaxSamples = int64_t{1} << 34;
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+bool looksLikeGdalSpecialPath(const std::string& path) {
+  return path.rfind("/vsi", 0) == 0 || path.find(':') != std::string::npos;
+}
+
+// netCDF and HDF files often hold several variables; pick the elevation-like one.
+std::string chooseSubdataset(GDALDataset& dataset) {
+  char** list = dataset.GetMetadata("SUBDATASETS");
+  std::vector<std::string> names;
+  for (char** item = list; item && *item; ++item) {
+    std::string entry = *item;
+    const auto eq = entry.find('=');
+    if (eq == std::string::npos) continue;
+    const std::string key = entry.substr(0, eq);
+    if (key.size() > 5 && key.compare(key.size() - 5, 5, "_NAME") == 0)
+      names.push_back(entry.substr(eq + 1));
+  }
+  if (names.empty()) return {};
+  static const char* kPreferred[] = {"elevation", "elev", "height", "altitude", "topo",
+                                     "dem",       "hgt",  "z",      "band1"};
+  for (const char* wanted : kPreferred) {
+    for (const auto& name : names) {
+      const auto colon = name.rfind(':');
+      std::string variable = lower(colon == std::string::npos ? name : name.substr(colon + 1));
+      variable.erase(std::remove(variable.begin(), variable.end(), '"'), variable.end());
+      if (variable == wanted) return name;
+    }
+  }
+  return names.front();
+}
+
+// Metres per unit of a band's vertical unit string; nullopt when unrecognised.
+std::optional<double> verticalUnitFactor(std::string unit) {
+  unit = lower(unit);
+  if (unit.empty() || unit == "m" || unit == "metre" || unit == "meter" || unit == "metres" ||
+      unit == "meters")
+    return 1.0;
+  if (unit == "ft" || unit == "foot" || unit == "feet" || unit == "international foot")
+    return 0.3048;
+  if (unit == "us-ft" || unit == "ftus" || unit == "us survey foot" || unit == "us_survey_foot")
+    return 1200.0 / 3937.0;
+  if (unit == "km" || unit == "kilometre" || unit == "kilometer") return 1000.0;
+  return std::nullopt;
+}
+
+// Metres per cell from a north-up geotransform and the CRS (or a documented guess without one).
+Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
+  const auto& gt = info.geoTransform;
+  if (gt[2] != 0.0 || gt[4] != 0.0)
+    return makeError(info.path,
+                     "raster is rotated or sheared; warp it north-up first (gdalwarp)");
+  const double cellX = std::fabs(gt[1]), cellY = std::fabs(gt[5]);
+  if (!(cellX > 0) || !(cellY > 0) || !std::isfinite(cellX) || !std::isfinite(cellY))
+    return makeError(info.path, "georeferencing has a zero or invalid cell size");
+
+  const OGRSpatialReference* srs = dataset.GetSpatialRef();
+  bool geographic = false;
+  double angularUnit = std::numbers::pi / 180.0;  // radians per unit
+  double semiMajor = 6378137.0, inverseFlattening = 298.257223563;
+  if (srs && srs->IsProjected()) {
+    const double metresPerUnit = srs->GetLinearUnits();
+    info.spacingX = cellX * metresPerUnit;
+    info.spacingY = cellY * metresPerUnit;
+    info.spacingSource = "projected CRS";
+    if (metresPerUnit != 1.0) info.spacingSource += " (units converted to metres)";
+    return {};
+  }
+  if (srs && srs->IsGeographic()) {
+    geographic = true;
+    angularUnit = srs->GetAngularUnits();
+    OGRErr err = OGRERR_NONE;
+    semiMajor = srs->GetSemiMajor(&err);
+    inverseFlattening = srs->GetInvFlattening(&err);
+  } else if (!srs || srs->IsEmpty()) {
+    // No CRS (e.g. an ESRI ASCII grid without .prj): small cells inside the lon/lat range are
+    // taken as WGS 84 degrees, anything else as metres.
+    const double west = gt[0], north = gt[3];
+    const double east = west + gt[1] * info.columns, south = north + gt[5] * info.rows;
+    const bool inLonLat = std::min(west, east) >= -180.0 && std::max(west, east) <= 360.0 &&
+                          std::min(south, north) >= -90.0 && std::max(south, north) <= 90.0;
+    if (inLonLat && cellX < 0.1 && cellY < 0.1) {
+      geographic = true;
+    } else {
+      info.spacingX = cellX;
+      info.spacingY = cellY;
+      info.spacingSource = "no CRS: cell size taken as metres";
+      return {};
+    }
+  } else {
+    info.spacingX = cellX;
+    info.spacingY = cellY;
+    info.spacingSource = "unrecognised CRS: cell size taken as metres";
+    return {};
+  }
+  if (geographic) {
+    // Local radii of curvature of the ellipsoid at the raster's centre latitude.
+    const double latitude = (gt[3] + gt[5] * info.rows * 0.5) * angularUnit;
+    const double f = inverseFlattening > 0 ? 1.0 / inverseFlattening : 0.0;
+    const double e2 = f * (2.0 - f);
+    const double s = std::sin(latitude);
+    const double w = std::sqrt(1.0 - e2 * s * s);
+    const double primeVertical = semiMajor / w;
+    const double meridional = semiMajor * (1.0 - e2) / (w * w * w);
+    info.spacingX = cellX * angularUnit * primeVertical * std::cos(latitude);
+    info.spacingY = cellY * angularUnit * meridional;
+    char text[160];
+    std::snprintf(text, sizeof text, "geographic degrees converted at latitude %.4f%s",
+                  latitude * 180.0 / std::numbers::pi,
+                  srs && !srs->IsEmpty() ? "" : " (no CRS: WGS 84 degrees assumed)");
+    info.spacingSource = text;
+    if (!(info.spacingX > 0) || !(info.spacingY > 0))
+      return makeError(info.path, "geographic raster reaches a pole; cannot derive spacing");
+  }
+  return {};
+}
+
+}  // namespace
+
+struct DemReader::Impl {
+  GDALDatasetUniquePtr dataset;
+  std::string openedName;  // what was passed to GDALOpen (may be a subdataset)
+  int bandCount = 1;
+  GDALDataType bandType = GDT_Float64;
+};
+
+std::optional<HeightEncoding> parseHeightEncoding(const std::string& text) {
+  const std::string t = lower(text);
+  if (t == "none" || t == "plain") return HeightEncoding::kPlain;
+  if (t == "terrain-rgb" || t == "mapbox") return HeightEncoding::kTerrainRgb;
+  if (t == "terrarium" || t == "mapzen") return HeightEncoding::kTerrarium;
+  return std::nullopt;
+}
+
+DemReader::DemReader(std::unique_ptr<Impl> impl, DemInfo info, DemOpenOptions options)
+    : mImpl(std::move(impl)), mInfo(std::move(info)), mOptions(std::move(options)) {}
+
+DemReader::~DemReader() = default;
+
+Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
+                                                   const DemOpenOptions& options) {
+  gdal::ensureRegistered();
+  gdal::QuietErrors quiet;
+  if (!looksLikeGdalSpecialPath(path)) {
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return makeError(path, "no such file");
+    if (std::filesystem::is_directory(path, ec)) return makeError(path, "is a directory, not a raster");
+    if (std::filesystem::file_size(path, ec) == 0) return makeError(path, "file is empty");
+  }
+  auto impl = std::make_unique<Impl>();
+  impl->openedName = path;
+  impl->dataset.reset(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+  if (!impl->dataset) {
+    const std::string why = gdal::lastErrorMessage();
+    return makeError(path, "not a raster GDAL can read" + (why.empty() ? "" : " (" + why + ")"));
+  }
+  if (impl->dataset->GetRasterCount() == 0) {
+    const std::string sub = chooseSubdataset(*impl->dataset);
+    if (sub.empty()) return makeError(path, "contains no raster bands");
+    impl->dataset.reset(GDALDataset::Open(sub.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY));
+    if (!impl->dataset || impl->dataset->GetRasterCount() == 0)
+      return makeError(path, "cannot open its raster variable " + sub);
+    impl->openedName = sub;
+  }
+  GDALDataset& ds = *impl->dataset;
+
+  DemInfo info;
+  info.path = path;
+  info.encoding = options.encoding;
+  info.driver = ds.GetDriver() ? ds.GetDriver()->GetDescription() : "";
+  info.columns = ds.GetRasterXSize();
+  info.rows = ds.GetRasterYSize();
+  impl->bandCount = ds.GetRasterCount();
+  if (info.columns < 2 || info.rows < 2)
+    return makeError(path, "raster is " + std::to_string(info.columns) + "x" +
+                               std::to_string(info.rows) +
+                               " samples; terralod needs at least 2x2");
+  if (info.columns > kMaxSide || info.rows > kMaxSide ||
+      int64_t(info.columns) * info.rows > kMaxSamples)
+    return makeError(path, "raster is " + std::to_string(info.columns) + "x" +
+                               std::to_string(info.rows) +
+                               " samples, more than terralod supports (1048576 per side, 2^34 in all)");
+
+  GDALRasterBand* band = ds.GetRasterBand(1);
+  impl->bandType = band->GetRasterDataType();
+  info.dataType = GDALGetDataTypeName(impl->bandType);
+  if (options.encoding != HeightEncoding::kPlain) {
+    if (impl->bandCount < 3 || impl->bandType != GDT_Byte)
+      return makeError(path, "RGB-encoded heights need 3 byte bands; this raster has " +
+                                 std::to_string(impl->bandCount) + " band(s) of " + info.dataType);
+  } else {
+    int hasNodata = 0;
+    const double nodata = band->GetNoDataValue(&hasNodata);
+    if (hasNodata) info.nodata = nodata;
+    int hasScale = 0, hasOffset = 0;
+    const double scale = band->GetScale(&hasScale);
+    const double offset = band->GetOffset(&hasOffset);
+    const auto unitFactor = verticalUnitFactor(band->GetUnitType());
+    if (!unitFactor)
+      return makeError(path, std::string("unknown vertical unit '") + band->GetUnitType() +
+                                 "'; convert heights to metres first");
+    info.heightScale = (hasScale ? scale : 1.0) * *unitFactor;
+    info.heightOffset = (hasOffset ? offset : 0.0) * *unitFactor;
+  }
+  info.heightScale *= options.verticalScale;
+  info.heightOffset *= options.verticalScale;
+
+  if (const OGRSpatialReference* srs = ds.GetSpatialRef()) {
+    char* wkt = nullptr;
+    if (srs->exportToWkt(&wkt) == OGRERR_NONE && wkt) info.crsWkt = wkt;
+    CPLFree(wkt);
+  }
+  info.hasGeoTransform = ds.GetGeoTransform(info.geoTransform.data()) == CE_None;
+  if (options.spacing) {
+    info.spacingX = (*options.spacing)[0];
+    info.spacingY = (*options.spacing)[1];
+    info.spacingSource = "--spacing";
+  } else if (info.hasGeoTransform) {
+    if (Status s = deriveSpacing(ds, info); !s) return s.error();
+  } else {
+    info.spacingX = info.spacingY = 1.0;
+    info.spacingAssumed = true;
+    info.spacingSource = "no georeferencing: 1 m assumed (pass --spacing)";
+  }
+  if (!(info.spacingX > 0) || !(info.spacingY > 0) || !std::isfinite(info.spacingX) ||
+      !std::isfinite(info.spacingY))
+    return makeError(path, "horizontal spacing must be positive and finite");
+
+  return std::unique_ptr<DemReader>(new DemReader(std::move(impl), std::move(info), options));
+}
+
+Result<std::unique_ptr<DemReader>> DemReader::reopen() const {
+  auto again = open(mImpl->openedName, mOptions);
+  if (again) (*again)->mInfo.path = mInfo.path;
+  return again;
+}
+
+Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out) const {
+  gdal::QuietErrors quiet;
+  const int32_t cols = mInfo.columns, rows = mInfo.rows;
+  // Clamped source range in grid coordinates.
+  const int32_t gx0 = std::clamp(x0, 0, cols - 1), gx1 = std::clamp(x0 + w - 1, 0, cols - 1);
+  const int32_t gy0 = std::clamp(y0, 0, rows - 1), gy1 = std::clamp(y0 + h - 1, 0, rows - 1);
+  const int32_t readCols = gx1 - gx0 + 1;
+  const bool rgb = mInfo.encoding != HeightEncoding::kPlain;
+  const bool nativeFloat = mImpl->bandType == GDT_Float32;
+  const float nodataF = mInfo.nodata ? static_cast<float>(*mInfo.nodata) : 0.0f;
+
+  // Read a strip of raster rows at a time so memory stays small for whole-raster loads.
+  constexpr int32_t kStripRows = 64;
+  std::vector<double> strip(size_t(readCols) * kStripRows);
+  std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * kStripRows * 3 : 0);
+  std::vector<float> rowValues(readCols);
+
+  for (int32_t s0 = gy0; s0 <= gy1; s0 += kStripRows) {
+    const int32_t s1 = std::min(gy1, s0 + kStripRows - 1);
+    const int32_t n = s1 - s0 + 1;
+    // Grid rows s0..s1 are raster rows (rows-1-s1)..(rows-1-s0).
+    const int32_t rasterRow = rows - 1 - s1;
+    CPLErr err;
+    if (rgb) {
+      int bands[3] = {1, 2, 3};
+      err = mImpl->dataset->RasterIO(GF_Read, gx0, rasterRow, readCols, n, rgbStrip.data(),
+                                     readCols, n, GDT_Byte, 3, bands, 3, 3 * readCols, 1, nullptr);
+    } else {
+      err = mImpl->dataset->GetRasterBand(1)->RasterIO(GF_Read, gx0, rasterRow, readCols, n,
+                                                       strip.data(), readCols, n, GDT_Float64, 0,
+                                                       0, nullptr);
+    }
+    if (err != CE_None) {
+      const std::string why = gdal::lastErrorMessage();
+      return makeError(mInfo.path, "cannot read raster rows " + std::to_string(rasterRow) + "-" +
+                                       std::to_string(rasterRow + n - 1) +
+                                       (why.empty() ? "" : " (" + why + ")"));
+    }
+    for (int32_t i = 0; i < n; ++i) {
+      const int32_t gridRow = s1 - i;  // strip row i is raster row rasterRow+i
+      for (int32_t c = 0; c < readCols; ++c) {
+        double value;
+        if (rgb) {
+          const uint8_t* p = &rgbStrip[(size_t(i) * readCols + c) * 3];
+          value = mInfo.encoding == HeightEncoding::kTerrainRgb
+                      ? (p[0] * 65536.0 + p[1] * 256.0 + p[2]) * 0.1 - 10000.0
+                      : p[0] * 256.0 + p[1] + p[2] / 256.0 - 32768.0;
+          value *= mOptions.verticalScale;
+        } else {
+          const double raw = strip[size_t(i) * readCols + c];
+          bool isVoid = !std::isfinite(raw);
+          if (!isVoid && mInfo.nodata)
+            isVoid = nativeFloat ? static_cast<float>(raw) == nodataF : raw == *mInfo.nodata;
+          value = isVoid ? std::nan("") : raw * mInfo.heightScale + mInfo.heightOffset;
+        }
+        rowValues[c] = static_cast<float>(value);
+      }
+      // Emit every output row that maps (after clamping) to this grid row.
+      const int32_t oyLo = std::max(0, gridRow == 0 ? 0 : gridRow - y0);
+      const int32_t oyHi = std::min(h - 1, gridRow == rows - 1 ? h - 1 : gridRow - y0);
+      for (int32_t oy = oyLo; oy <= oyHi; ++oy) {
+        float* dst = out + size_t(oy) * w;
+        for (int32_t ox = 0; ox < w; ++ox) dst[ox] = rowValues[std::clamp(x0 + ox, 0, cols - 1) - gx0];
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace terralod

@@ -1,0 +1,117 @@
+#include "terralod/raster/void_fill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace terralod {
+namespace {
+
+// One level of the pull-push pyramid: values with a validity flag per sample.
+struct Level {
+  int32_t w = 0, h = 0;
+  std::vector<float> value;
+  std::vector<uint8_t> valid;
+  float at(int32_t x, int32_t y) const {
+    return value[size_t(std::clamp(y, 0, h - 1)) * w + std::clamp(x, 0, w - 1)];
+  }
+};
+
+Level pull(const Level& fine) {
+  Level coarse;
+  coarse.w = (fine.w + 1) / 2;
+  coarse.h = (fine.h + 1) / 2;
+  coarse.value.assign(size_t(coarse.w) * coarse.h, 0.0f);
+  coarse.valid.assign(coarse.value.size(), 0);
+  for (int32_t y = 0; y < coarse.h; ++y) {
+    for (int32_t x = 0; x < coarse.w; ++x) {
+      double sum = 0;
+      int n = 0;
+      for (int32_t dy = 0; dy < 2; ++dy) {
+        for (int32_t dx = 0; dx < 2; ++dx) {
+          const int32_t fx = 2 * x + dx, fy = 2 * y + dy;
+          if (fx >= fine.w || fy >= fine.h) continue;
+          const size_t i = size_t(fy) * fine.w + fx;
+          if (fine.valid[i]) sum += fine.value[i], ++n;
+        }
+      }
+      if (n > 0) {
+        coarse.value[size_t(y) * coarse.w + x] = static_cast<float>(sum / n);
+        coarse.valid[size_t(y) * coarse.w + x] = 1;
+      }
+    }
+  }
+  return coarse;
+}
+
+// Gives every void of `fine` the bilinear interpolation of `coarse` (already complete), then
+// relaxes the voids towards the mean of their neighbours.
+void push(Level& fine, const Level& coarse) {
+  for (int32_t y = 0; y < fine.h; ++y) {
+    const double cy = (y - 0.5) * 0.5;
+    const int32_t y0 = static_cast<int32_t>(std::floor(cy));
+    const double ty = cy - y0;
+    for (int32_t x = 0; x < fine.w; ++x) {
+      const size_t i = size_t(y) * fine.w + x;
+      if (fine.valid[i]) continue;
+      const double cx = (x - 0.5) * 0.5;
+      const int32_t x0 = static_cast<int32_t>(std::floor(cx));
+      const double tx = cx - x0;
+      const double top = coarse.at(x0, y0) * (1 - tx) + coarse.at(x0 + 1, y0) * tx;
+      const double bottom = coarse.at(x0, y0 + 1) * (1 - tx) + coarse.at(x0 + 1, y0 + 1) * tx;
+      fine.value[i] = static_cast<float>(top * (1 - ty) + bottom * ty);
+    }
+  }
+  constexpr int kRelaxations = 8;
+  std::vector<float> next;
+  for (int iteration = 0; iteration < kRelaxations; ++iteration) {
+    next = fine.value;
+    for (int32_t y = 0; y < fine.h; ++y) {
+      for (int32_t x = 0; x < fine.w; ++x) {
+        const size_t i = size_t(y) * fine.w + x;
+        if (fine.valid[i]) continue;
+        next[i] = 0.25f * (fine.at(x - 1, y) + fine.at(x + 1, y) + fine.at(x, y - 1) +
+                           fine.at(x, y + 1));
+      }
+    }
+    fine.value.swap(next);
+  }
+}
+
+}  // namespace
+
+uint64_t countVoids(const Heightfield& heights) {
+  uint64_t voids = 0;
+  for (float v : heights.values()) voids += std::isnan(v) ? 1 : 0;
+  return voids;
+}
+
+Result<uint64_t> fillVoids(Heightfield& heights, const std::string& subject) {
+  const uint64_t voids = countVoids(heights);
+  if (voids == 0) return uint64_t{0};
+  if (voids == heights.values().size())
+    return makeError(subject, "every sample is nodata; there is no terrain to build");
+
+  std::vector<Level> pyramid(1);
+  pyramid[0].w = heights.columns();
+  pyramid[0].h = heights.rows();
+  pyramid[0].value = heights.values();
+  pyramid[0].valid.resize(pyramid[0].value.size());
+  for (size_t i = 0; i < pyramid[0].value.size(); ++i) {
+    pyramid[0].valid[i] = std::isnan(pyramid[0].value[i]) ? 0 : 1;
+    if (!pyramid[0].valid[i]) pyramid[0].value[i] = 0.0f;
+  }
+  // Pull until a level has no voids (at worst a single sample, which is valid).
+  auto hasVoid = [](const Level& l) {
+    return std::find(l.valid.begin(), l.valid.end(), 0) != l.valid.end();
+  };
+  while (hasVoid(pyramid.back())) pyramid.push_back(pull(pyramid.back()));
+  for (size_t k = pyramid.size() - 1; k-- > 0;) push(pyramid[k], pyramid[k + 1]);
+
+  std::vector<float>& out = heights.values();
+  for (size_t i = 0; i < out.size(); ++i)
+    if (std::isnan(out[i])) out[i] = pyramid[0].value[i];
+  return voids;
+}
+
+}  // namespace terralod

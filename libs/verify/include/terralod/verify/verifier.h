@@ -1,0 +1,47 @@
+#pragma once
+// `terralod verify`: checks a tileset against its source, independently of the builder's
+// bookkeeping. Every chunk is decoded from the file as a renderer would; its triangles are
+// rasterised over the source samples to measure the true error; the fully morphed surface is
+// compared with the parent's; every pair of chunks that can meet across a border (at any
+// levels) is checked for a crack their skirts would not cover; checksums are checked on read.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "terralod/core/progress.h"
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+struct VerifyOptions {
+  unsigned threads = 0;  ///< 0 = all hardware threads
+  size_t maxListedFailures = 20;
+};
+
+struct LevelCheck {
+  double bound = 0;             ///< the level's promised error
+  double maxError = 0;          ///< largest |source - surface| found at a sample
+  uint64_t samples = 0;         ///< source samples compared (each once per level)
+  uint64_t uncovered = 0;       ///< samples no triangle of the level covers
+  double maxMorphMismatch = 0;  ///< largest |fully morphed surface - parent surface|
+};
+
+struct VerifyReport {
+  std::vector<LevelCheck> levels;
+  uint64_t chunks = 0;
+  uint64_t skirtPairs = 0;          ///< chunk pairs checked across borders
+  uint64_t skirtSamples = 0;        ///< border samples checked
+  double worstSkirtMargin = 0;      ///< smallest (skirt depth - largest possible step), metres
+  double morphTolerance = 0;        ///< allowed morph mismatch (height quantisation)
+  std::vector<std::string> failures;
+  uint64_t failureCount = 0;
+  bool ok() const { return failureCount == 0; }
+};
+
+/// Verifies `tilesetPath` against `sourcePath` (read the way the tileset's metadata says it
+/// was built: same encoding and vertical scale).
+Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::string& sourcePath,
+                                   const VerifyOptions& options, Progress& progress);
+
+}  // namespace terralod

@@ -1,0 +1,42 @@
+#!/usr/bin/env bash
+# Installs every Debian package terralod needs to build, test and run.
+# Idempotent: packages already present are skipped, so a second run is quick.
+# Works as root or through sudo.
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config clang-format
+  # rasters, meshes, compression
+  libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev
+  # math, CLI, JSON, images
+  libglm-dev libcli11-dev nlohmann-json3-dev libstb-dev
+  # OpenGL 4.5 core through EGL (headless) and GLFW (windows), Dear ImGui
+  libepoxy-dev libegl-dev libgl-dev libglfw3-dev libimgui-dev libgl1-mesa-dri libegl-mesa0
+  # network
+  libcurl4-openssl-dev
+  # tests and benchmarks
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+# The glTF validator test runs on node; the machine image may already ship node and npm
+# outside Debian's packages, in which case Debian's npm would conflict with it.
+command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+
+if [ ${#missing[@]} -gt 0 ]; then
+  if [ "$(id -u)" -eq 0 ]; then sudo=""; else sudo="sudo"; fi
+  echo "install-deps: installing ${missing[*]}"
+  $sudo apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+fi
+
+# The Khronos glTF validator (npm package) used by the export test, pinned by tests/tools/package-lock.json.
+here=$(cd "$(dirname "$0")/.." && pwd)
+if [ -f "$here/tests/tools/package.json" ] && [ ! -d "$here/tests/tools/node_modules/gltf-validator" ]; then
+  (cd "$here/tests/tools" && npm ci --silent --no-audit --no-fund >/dev/null)
+fi
+echo "install-deps: all dependencies present"
