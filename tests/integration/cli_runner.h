@@ -1,0 +1,97 @@
+#pragma once
+// Runs the terralod CLI (or any program) from integration tests and captures what it printed.
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace terralod::test {
+
+struct RunResult {
+  int exitCode = -1;  ///< -1 when killed by a signal
+  std::string out;
+  std::string err;
+  /// stderr's lines, without empty ones.
+  std::vector<std::string> errLines() const {
+    std::vector<std::string> lines;
+    std::istringstream in(err);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) lines.push_back(line);
+    return lines;
+  }
+};
+
+inline std::string readWholeFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs `program args...` with stdout and stderr captured through temporary files.
+inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  char outTemplate[] = "/tmp/terralod-test-out-XXXXXX";
+  char errTemplate[] = "/tmp/terralod-test-err-XXXXXX";
+  const int outFd = mkstemp(outTemplate);
+  const int errFd = mkstemp(errTemplate);
+  RunResult result;
+  const pid_t pid = fork();
+  if (pid == 0) {
+    dup2(outFd, STDOUT_FILENO);
+    dup2(errFd, STDERR_FILENO);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(program.c_str()));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(program.c_str(), argv.data());
+    execvp(program.c_str(), argv.data());
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  close(outFd);
+  close(errFd);
+  result.exitCode = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = readWholeFile(outTemplate);
+  result.err = readWholeFile(errTemplate);
+  fs::remove(outTemplate);
+  fs::remove(errTemplate);
+  return result;
+}
+
+/// Runs the terralod CLI built alongside the tests.
+inline RunResult runTerralod(const std::vector<std::string>& args) {
+  return runProgram(TERRALOD_CLI, args);
+}
+
+/// A fresh empty directory under /tmp, removed when the object goes away.
+class TempDir {
+public:
+  TempDir() {
+    char name[] = "/tmp/terralod-test-XXXXXX";
+    mPath = mkdtemp(name);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(mPath, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return mPath; }
+  std::string file(const std::string& name) const { return (mPath / name).string(); }
+
+private:
+  std::filesystem::path mPath;
+};
+
+inline std::string testData(const std::string& name) { return std::string(TERRALOD_TEST_DATA) + "/" + name; }
+
+}  // namespace terralod::test
