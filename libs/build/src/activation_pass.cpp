@@ -12,31 +12,6 @@
 namespace terralod {
 namespace {
 
-// A child triangle of a slot triangle: the vertex whose diamond holds it and which slot.
-struct ChildSlot {
-  int32_t dx, dy;  // offset from the parent vertex
-  int slot;
-};
-
-// Child slots, derived from the "/"-when-(i+j)-even diagonal rule (checked against the generic
-// bintree functions in the unit tests). h2 = half of the parent's half length.
-std::array<ChildSlot, 2> horizontalEdgeChildren(int slot, int32_t h2) {
-  if (slot == 0) return {ChildSlot{-h2, h2, 0}, ChildSlot{h2, h2, 0}};  // north triangle
-  return {ChildSlot{-h2, -h2, 1}, ChildSlot{h2, -h2, 1}};              // south triangle
-}
-std::array<ChildSlot, 2> verticalEdgeChildren(int slot, int32_t h2) {
-  if (slot == 0) return {ChildSlot{h2, -h2, 1}, ChildSlot{h2, h2, 0}};  // east triangle
-  return {ChildSlot{-h2, -h2, 1}, ChildSlot{-h2, h2, 0}};              // west triangle
-}
-std::array<ChildSlot, 2> centerChildren(bool rising, int slot, int32_t h) {
-  if (rising) {
-    if (slot == 0) return {ChildSlot{0, -h, 0}, ChildSlot{h, 0, 1}};
-    return {ChildSlot{-h, 0, 0}, ChildSlot{0, h, 1}};
-  }
-  if (slot == 0) return {ChildSlot{-h, 0, 0}, ChildSlot{0, -h, 0}};
-  return {ChildSlot{0, h, 1}, ChildSlot{h, 0, 1}};
-}
-
 struct BlockScratch {
   std::array<std::vector<float>, 2> above, below;
   std::vector<uint8_t> act;
@@ -60,11 +35,18 @@ struct BlockResult {
 
 // Pass 1 over one block: heights in scratch.heights, writes interior activations to the grid.
 class BlockPass {
-public:
+ public:
   BlockPass(BlockScratch& s, const ErrorBudget& budget, ActivationGrid& grid, int32_t side,
             GridPoint origin, int32_t realX, int32_t realY, ActivationStats& stats)
-      : mS(s), mBudget(budget), mGrid(grid), mSide(side), mStride(side + 1), mOrigin(origin),
-        mRealX(realX), mRealY(realY), mStats(stats) {}
+      : mS(s),
+        mBudget(budget),
+        mGrid(grid),
+        mSide(side),
+        mStride(side + 1),
+        mOrigin(origin),
+        mRealX(realX),
+        mRealY(realY),
+        mStats(stats) {}
 
   void run(BlockResult& out) {
     for (int32_t h = 1; h <= mSide / 2; h *= 2) {
@@ -80,7 +62,7 @@ public:
     out.computed = true;
   }
 
-private:
+ private:
   size_t index(int32_t x, int32_t y) const { return size_t(y) * mStride + x; }
   float height(GridPoint p) const { return mS.heights[index(p.x, p.y)]; }
   bool real(GridPoint p) const { return p.x <= mRealX && p.y <= mRealY; }
@@ -142,7 +124,7 @@ private:
     if (h >= 2) {
       for (int s = 0; s < 2; ++s) {
         if (!inside[s]) continue;
-        kids[s] = horizontal ? horizontalEdgeChildren(s, h / 2) : verticalEdgeChildren(s, h / 2);
+        kids[s] = childSlots(cls, false, s);
         for (const ChildSlot& c : kids[s])
           childActivation = std::max(childActivation, mS.act[index(x + c.dx, y + c.dy)]);
       }
@@ -164,7 +146,8 @@ private:
     const std::array<BinTriangle, 2> tris =
         rising ? std::array<BinTriangle, 2>{BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}}
                : std::array<BinTriangle, 2>{BinTriangle{nw, se, sw}, BinTriangle{nw, se, ne}};
-    std::array<ChildSlot, 2> kids[2] = {centerChildren(rising, 0, h), centerChildren(rising, 1, h)};
+    const VertexClass cls{VertexKind::kSquareCenter, h, false};
+    std::array<ChildSlot, 2> kids[2] = {childSlots(cls, rising, 0), childSlots(cls, rising, 1)};
     uint8_t childActivation = 0;
     for (int s = 0; s < 2; ++s)
       for (const ChildSlot& c : kids[s])
@@ -188,11 +171,16 @@ private:
 // Triangles larger than a block: bounds from their children only, on the lattice of half-block
 // points (block corners, border midpoints and centres).
 class CoarsePass {
-public:
+ public:
   CoarsePass(const TreeLayout& layout, const ErrorBudget& budget, const HeightSampler& points,
              ActivationGrid& grid, int32_t block)
-      : mLayout(layout), mBudget(budget), mPoints(points), mGrid(grid), mHalf(block / 2),
-        mLatticeX(layout.gridX() / mHalf + 1), mLatticeY(layout.gridY() / mHalf + 1),
+      : mLayout(layout),
+        mBudget(budget),
+        mPoints(points),
+        mGrid(grid),
+        mHalf(block / 2),
+        mLatticeX(layout.gridX() / mHalf + 1),
+        mLatticeY(layout.gridY() / mHalf + 1),
         mErrors(size_t(mLatticeX) * mLatticeY) {}
 
   void setBlockSquare(GridPoint center, const std::array<TriangleErrorBounds, 2>& e) {
@@ -210,7 +198,7 @@ public:
     }
   }
 
-private:
+ private:
   size_t latticeIndex(GridPoint p) const { return size_t(p.y / mHalf) * mLatticeX + p.x / mHalf; }
 
   // kind: 0 horizontal edge, 1 vertical edge, 2 square centre.
@@ -223,9 +211,7 @@ private:
     uint8_t activation = 0;
     for (int s = 0; s < 2; ++s) {
       if (!insideGrid(tris[s], mLayout.gridX(), mLayout.gridY())) continue;
-      const auto kids = kind == 0   ? horizontalEdgeChildren(s, h / 2)
-                        : kind == 1 ? verticalEdgeChildren(s, h / 2)
-                                    : centerChildren(rising, s, h);
+      const auto kids = childSlots(cls, rising, s);
       TriangleErrorBounds e;
       float childAbove = 0, childBelow = 0;
       for (const ChildSlot& c : kids) {
@@ -238,7 +224,8 @@ private:
       const BinTriangle& t = tris[s];
       if (std::min({t.a.x, t.b.x, t.apex.x}) <= mLayout.cellsX &&
           std::min({t.a.y, t.b.y, t.apex.y}) <= mLayout.cellsY) {
-        const double d = mPoints.at(v.x, v.y) - 0.5 * (mPoints.at(t.a.x, t.a.y) + mPoints.at(t.b.x, t.b.y));
+        const double d =
+            mPoints.at(v.x, v.y) - 0.5 * (mPoints.at(t.a.x, t.a.y) + mPoints.at(t.b.x, t.b.y));
         e = {roundUp(childAbove + std::max(0.0, d)), roundUp(childBelow + std::max(0.0, -d))};
       }
       slots[s] = e;
@@ -330,7 +317,8 @@ Result<ActivationGrid> computeActivations(const TreeLayout& layout, const ErrorB
   CoarsePass coarse(layout, budget, points, grid, block);
   for (size_t i = 0; i < results.size(); ++i) {
     if (!results[i].computed) continue;
-    const GridPoint c{int32_t(i % blocksX) * block + block / 2, int32_t(i / blocksX) * block + block / 2};
+    const GridPoint c{int32_t(i % blocksX) * block + block / 2,
+                      int32_t(i / blocksX) * block + block / 2};
     coarse.setBlockSquare(c, results[i].squareErrors);
   }
   coarse.run(block);

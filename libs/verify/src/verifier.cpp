@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <unordered_map>
 
-#include "sample_raster.h"
 #include "terralod/core/parallel.h"
+#include "terralod/core/sample_raster.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/void_fill.h"
@@ -20,9 +20,9 @@ constexpr double kTolerance = 1e-6;  // metres of floating-point slack in compar
 
 // One point of a chunk side: the drawn top over the morph range and the skirt's depth there.
 struct SidePoint {
-  int32_t coord;            // along the side
-  double top0, top1;        // unmorphed / fully morphed surface height
-  double depth;             // skirt depth (0 when the side has no skirt)
+  int32_t coord;      // along the side
+  double top0, top1;  // unmorphed / fully morphed surface height
+  double depth;       // skirt depth (0 when the side has no skirt)
 };
 
 struct ChunkSides {
@@ -58,7 +58,8 @@ void rasterizeSurface(const Decoded& d, double t, Window& win) {
     for (uint32_t k = 0; k < part.surfaceIndexCount; k += 3) {
       rasterizeTriangle(vertex(part.indices[k]), vertex(part.indices[k + 1]),
                         vertex(part.indices[k + 2]), win.x0, win.x0 + win.w - 1, win.y0,
-                        win.y0 + win.h - 1, [&](int64_t x, int64_t y, double z) { win.at(x, y) = z; });
+                        win.y0 + win.h - 1,
+                        [&](int64_t x, int64_t y, double z) { win.at(x, y) = z; });
     }
   }
 }
@@ -86,21 +87,24 @@ ChunkSides sideProfiles(const Decoded& d) {
           points[along] = {along, z0, z1, 0.0};
         } else if (role[i] & 2) {
           auto [it, fresh] = bottoms.try_emplace(along, z0, z1);
-          if (!fresh) it->second = {std::min(it->second.first, z0), std::min(it->second.second, z1)};
+          if (!fresh)
+            it->second = {std::min(it->second.first, z0), std::min(it->second.second, z1)};
         }
       }
       for (auto& [along, p] : points) {
         const auto b = bottoms.find(along);
         // The skirt's depth is the smaller of its unmorphed and fully morphed depths.
-        p.depth = b == bottoms.end()
-                      ? 0.0
-                      : std::max(0.0, std::min(p.top0 - b->second.first, p.top1 - b->second.second));
+        p.depth =
+            b == bottoms.end()
+                ? 0.0
+                : std::max(0.0, std::min(p.top0 - b->second.first, p.top1 - b->second.second));
         out.sides[s].push_back(p);
       }
     }
   }
   for (auto& side : out.sides)
-    std::sort(side.begin(), side.end(), [](const SidePoint& a, const SidePoint& b) { return a.coord < b.coord; });
+    std::sort(side.begin(), side.end(),
+              [](const SidePoint& a, const SidePoint& b) { return a.coord < b.coord; });
   return out;
 }
 
@@ -135,16 +139,19 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   const auto metadata = nlohmann::json::parse(tileset.metadataJson(), nullptr, false);
   if (!metadata.is_discarded()) {
     if (metadata.contains("source"))
-      dem.encoding = parseHeightEncoding(metadata["source"].value("encoding", "none")).value_or(HeightEncoding::kPlain);
-    if (metadata.contains("build")) dem.verticalScale = metadata["build"].value("vertical_scale", 1.0);
+      dem.encoding = parseHeightEncoding(metadata["source"].value("encoding", "none"))
+                         .value_or(HeightEncoding::kPlain);
+    if (metadata.contains("build"))
+      dem.verticalScale = metadata["build"].value("vertical_scale", 1.0);
   }
   auto source = DemReader::open(sourcePath, dem);
   if (!source) return source.error();
   const DemInfo& info = (*source)->info();
   if (uint32_t(info.columns) != h.sourceColumns || uint32_t(info.rows) != h.sourceRows)
-    return makeError(sourcePath, "is " + std::to_string(info.columns) + "x" + std::to_string(info.rows) +
-                                     " samples but the tileset was built from " +
-                                     std::to_string(h.sourceColumns) + "x" + std::to_string(h.sourceRows));
+    return makeError(sourcePath,
+                     "is " + std::to_string(info.columns) + "x" + std::to_string(info.rows) +
+                         " samples but the tileset was built from " +
+                         std::to_string(h.sourceColumns) + "x" + std::to_string(h.sourceRows));
   Heightfield heights(info.columns, info.rows);
   if (Status s = (*source)->readWindow(0, 0, info.columns, info.rows, heights.values().data()); !s)
     return s.error();
@@ -186,7 +193,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     if (!self) return addFailure(self.error().message);
     const NodeRecord& n = nodes[i];
     sides[i] = sideProfiles(*self);
-    const int64_t x1 = std::min(self->x0 + self->side, cellsX), y1 = std::min(self->y0 + self->side, cellsY);
+    const int64_t x1 = std::min(self->x0 + self->side, cellsX),
+                  y1 = std::min(self->y0 + self->side, cellsY);
 
     // Error and coverage of the unmorphed surface against the source.
     Window surface = makeWindow(self->x0, self->y0, x1, y1);
@@ -205,7 +213,9 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     if (maxError > h.levelError[n.level] + kTolerance)
       addFailure(name(i) + ": error " + std::to_string(maxError) + " m exceeds its level's bound " +
                  std::to_string(h.levelError[n.level]) + " m");
-    if (uncovered) addFailure(name(i) + ": " + std::to_string(uncovered) + " samples not covered by its triangles");
+    if (uncovered)
+      addFailure(name(i) + ": " + std::to_string(uncovered) +
+                 " samples not covered by its triangles");
 
     // The fully morphed surface must be the parent's surface.
     double mismatch = 0;
@@ -236,7 +246,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   // Cracks: every chunk against every chunk across each of its sides, at every level.
   std::unordered_map<uint64_t, uint32_t> byPosition;
   auto key = [](uint64_t level, uint64_t x, uint64_t y) { return (level << 58) | (x << 29) | y; };
-  for (uint32_t i = 0; i < nodes.size(); ++i) byPosition[key(nodes[i].level, nodes[i].x, nodes[i].y)] = i;
+  for (uint32_t i = 0; i < nodes.size(); ++i)
+    byPosition[key(nodes[i].level, nodes[i].x, nodes[i].y)] = i;
   progress.begin("verifying skirts", nodes.size());
   std::atomic<uint64_t> pairs{0}, samples{0};
   parallelFor(nodes.size(), threads, [&](size_t index, unsigned) {

@@ -66,7 +66,8 @@ inline bool squareHasRisingDiagonal(int32_t x0, int32_t y0, int32_t side) {
 /// The two triangles of an axis-aligned square of the hierarchy (slot 0, slot 1).
 inline std::array<BinTriangle, 2> squareTriangles(int32_t x0, int32_t y0, int32_t side) {
   const GridPoint sw{x0, y0}, se{x0 + side, y0}, nw{x0, y0 + side}, ne{x0 + side, y0 + side};
-  if (squareHasRisingDiagonal(x0, y0, side)) return {BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}};
+  if (squareHasRisingDiagonal(x0, y0, side))
+    return {BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}};
   return {BinTriangle{nw, se, sw}, BinTriangle{nw, se, ne}};
 }
 
@@ -96,6 +97,35 @@ inline std::array<GridPoint, 2> dependencyParents(GridPoint v, const VertexClass
   if (squareHasRisingDiagonal(v.x - h, v.y - h, 2 * h))
     return {GridPoint{v.x + h, v.y - h}, GridPoint{v.x - h, v.y + h}};
   return {GridPoint{v.x - h, v.y - h}, GridPoint{v.x + h, v.y + h}};
+}
+
+/// A child triangle of a diamond slot: it is slot `slot` of the vertex at offset (dx, dy).
+struct ChildSlot {
+  int32_t dx = 0, dy = 0;
+  int slot = 0;
+};
+
+/// The two children of slot `slot` of vertex class `c` (half >= 2 for edge midpoints), as
+/// slots of the vertices at the midpoints of its legs. `rising` is the square centre's
+/// diagonal (squareHasRisingDiagonal of its square); ignored for edge midpoints. These follow
+/// from the diagonal rule and are checked against diamondTriangles()/children() in the tests.
+inline std::array<ChildSlot, 2> childSlots(const VertexClass& c, bool rising, int slot) {
+  const int32_t h = c.half;
+  if (c.kind == VertexKind::kSquareCenter) {
+    if (rising) {
+      if (slot == 0) return {ChildSlot{0, -h, 0}, ChildSlot{h, 0, 1}};
+      return {ChildSlot{-h, 0, 0}, ChildSlot{0, h, 1}};
+    }
+    if (slot == 0) return {ChildSlot{-h, 0, 0}, ChildSlot{0, -h, 0}};
+    return {ChildSlot{0, h, 1}, ChildSlot{h, 0, 1}};
+  }
+  const int32_t q = h / 2;
+  if (c.horizontal) {
+    if (slot == 0) return {ChildSlot{-q, q, 0}, ChildSlot{q, q, 0}};  // north triangle
+    return {ChildSlot{-q, -q, 1}, ChildSlot{q, -q, 1}};               // south triangle
+  }
+  if (slot == 0) return {ChildSlot{q, -q, 1}, ChildSlot{q, q, 0}};  // east triangle
+  return {ChildSlot{-q, -q, 1}, ChildSlot{-q, q, 0}};               // west triangle
 }
 
 inline bool insideGrid(GridPoint p, int32_t sizeX, int32_t sizeY) {

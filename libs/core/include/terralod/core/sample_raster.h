@@ -42,7 +42,7 @@ void rasterizeTriangle(SampleVertex a, SampleVertex b, SampleVertex c, int64_t m
         const int64_t bound = k >= 0 ? k / dy : -((-k + dy - 1) / dy);  // floor(k / dy)
         hi = std::min(hi, bound);
       } else {
-        const int64_t n = -dy, m = -k;  // condition: n * x >= m
+        const int64_t n = -dy, m = -k;                                 // condition: n * x >= m
         const int64_t bound = m >= 0 ? (m + n - 1) / n : -((-m) / n);  // ceil(m / n)
         lo = std::max(lo, bound);
       }

@@ -1,0 +1,205 @@
+#include "terralod/build/builder.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include "terralod/format/tileset_reader.h"
+#include "terralod/format/tileset_writer.h"
+#include "terralod/verify/verifier.h"
+#include "test_terrain.h"
+
+namespace terralod {
+namespace {
+
+namespace fs = std::filesystem;
+
+class TempDir {
+ public:
+  TempDir() {
+    char name[] = "/tmp/terralod-build-test-XXXXXX";
+    mPath = mkdtemp(name);
+  }
+  ~TempDir() { fs::remove_all(mPath); }
+  std::string file(const std::string& name) const { return (mPath / name).string(); }
+
+ private:
+  fs::path mPath;
+};
+
+std::vector<uint8_t> fileBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+BuildSummary build(const std::string& input, const std::string& output, double maxError,
+                   unsigned threads = 2, int32_t chunkCells = 0) {
+  BuildOptions options;
+  options.input = input;
+  options.output = output;
+  options.maxError = maxError;
+  options.threads = threads;
+  options.chunkCells = chunkCells;
+  NullProgress progress;
+  auto summary = buildTileset(options, progress, [](const std::string&) {});
+  EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
+  return summary ? *summary : BuildSummary{};
+}
+
+VerifyReport verify(const std::string& tileset, const std::string& source) {
+  NullProgress progress;
+  auto report = verifyTileset(tileset, source, {}, progress);
+  EXPECT_TRUE(report.ok()) << (report ? "" : report.error().message);
+  return report ? *report : VerifyReport{};
+}
+
+struct Case {
+  int32_t columns, rows, chunkCells;
+  double maxError;
+  uint32_t seed;
+  bool voids;
+};
+
+class BuildAndVerify : public ::testing::TestWithParam<Case> {};
+
+// The conservative bound on randomized terrains: verify rasterises every decoded chunk over
+// every source sample and finds no error above its level's bound, no crack, full coverage.
+TEST_P(BuildAndVerify, BoundHoldsOnEverySample) {
+  const Case c = GetParam();
+  TempDir dir;
+  Heightfield h = test::makeTestTerrain(c.columns, c.rows, c.seed);
+  if (c.voids) {
+    for (int32_t y = c.rows / 3; y < c.rows / 2; ++y)
+      for (int32_t x = c.columns / 5; x < c.columns / 3; ++x) h(x, y) = std::nanf("");
+    h(0, 0) = std::nanf("");
+  }
+  test::writeGeoTiff(h, dir.file("in.tif"), 2.5);
+  const BuildSummary s =
+      build(dir.file("in.tif"), dir.file("out.tlod"), c.maxError, 2, c.chunkCells);
+  EXPECT_GT(s.triangles, 0u);
+  if (c.voids) EXPECT_GT(s.filledVoids, 0u);
+  const VerifyReport r = verify(dir.file("out.tlod"), dir.file("in.tif"));
+  EXPECT_TRUE(r.ok()) << (r.failures.empty() ? "" : r.failures.front());
+  ASSERT_EQ(r.levels.size(), size_t(s.levels));
+  for (size_t l = 0; l < r.levels.size(); ++l) {
+    EXPECT_LE(r.levels[l].maxError, r.levels[l].bound) << "level " << l;
+    EXPECT_GT(r.levels[l].maxError, 0.2 * r.levels[l].bound)
+        << "level " << l << " is needlessly fine";
+    EXPECT_EQ(r.levels[l].uncovered, 0u);
+  }
+  EXPECT_GT(r.skirtPairs, 0u);
+  EXPECT_GE(r.worstSkirtMargin, 0.0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Terrains, BuildAndVerify,
+                         ::testing::Values(Case{100, 37, 16, 1.0, 21, false},
+                                           Case{257, 129, 32, 0.5, 22, false},
+                                           Case{300, 300, 16, 2.0, 23, true},
+                                           Case{65, 200, 8, 1.0, 24, true}));
+
+TEST(Builder, OutputDoesNotDependOnThreadCount) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(200, 150, 7), dir.file("in.tif"));
+  build(dir.file("in.tif"), dir.file("one.tlod"), 1.0, 1);
+  build(dir.file("in.tif"), dir.file("two.tlod"), 1.0, 2);
+  const auto a = fileBytes(dir.file("one.tlod")), b = fileBytes(dir.file("two.tlod"));
+  ASSERT_FALSE(a.empty());
+  EXPECT_EQ(a, b);
+}
+
+// Rewrites a tileset with one chunk's geometry changed, to show verify catches it.
+void tamper(const std::string& in, const std::string& out, uint32_t node,
+            const std::function<void(ChunkGeometry&)>& change) {
+  auto reader = TilesetReader::openFile(in).value();
+  auto writer = TilesetWriter::create(out).value();
+  std::vector<NodeRecord> nodes = reader->nodes();
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    std::vector<uint8_t> blob = reader->readBlob(i).value();
+    if (i == node) {
+      ChunkGeometry g = reader->readChunk(i).value();
+      change(g);
+      blob = encodeChunk(g);
+    }
+    nodes[i].blobOffset = writer->appendBlob(blob).value();
+    nodes[i].blobBytes = uint32_t(blob.size());
+    nodes[i].blobCrc = crc32Of(blob);
+  }
+  ASSERT_TRUE(writer->finish(reader->header(), nodes, reader->metadataJson()).ok());
+}
+
+TEST(Verify, CatchesAChunkOutsideItsBound) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(129, 129, 8), dir.file("in.tif"));
+  build(dir.file("in.tif"), dir.file("good.tlod"), 1.0);
+  const uint32_t leaf =
+      uint32_t(TilesetReader::openFile(dir.file("good.tlod")).value()->nodes().size() - 1);
+  tamper(dir.file("good.tlod"), dir.file("bad.tlod"), leaf, [](ChunkGeometry& g) {
+    g.parts[0].vertices[g.parts[0].vertices.size() / 2].z += uint16_t(2.0 / g.zStep);
+  });
+  NullProgress progress;
+  auto report = verifyTileset(dir.file("bad.tlod"), dir.file("in.tif"), {}, progress);
+  ASSERT_TRUE(report.ok());
+  EXPECT_FALSE(report->ok());
+  ASSERT_FALSE(report->failures.empty());
+  EXPECT_NE(report->failures.front().find("exceeds its level's bound"), std::string::npos)
+      << report->failures.front();
+}
+
+TEST(Verify, CatchesMissingSkirts) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(129, 129, 9), dir.file("in.tif"));
+  build(dir.file("in.tif"), dir.file("good.tlod"), 1.0);
+  auto reader = TilesetReader::openFile(dir.file("good.tlod")).value();
+  // Strip the skirts of every level-1 chunk: against level-2 neighbours something must crack.
+  std::string current = dir.file("good.tlod");
+  int stripped = 0;
+  for (uint32_t i = 0; i < reader->nodes().size(); ++i) {
+    if (reader->nodes()[i].level != 1) continue;
+    const std::string next = dir.file("strip" + std::to_string(stripped++) + ".tlod");
+    tamper(current, next, i, [](ChunkGeometry& g) {
+      for (ChunkPart& p : g.parts) p.indices.resize(p.surfaceIndexCount);
+    });
+    current = next;
+  }
+  NullProgress progress;
+  auto report = verifyTileset(current, dir.file("in.tif"), {}, progress);
+  ASSERT_TRUE(report.ok());
+  EXPECT_FALSE(report->ok());
+  bool crack = false;
+  for (const std::string& f : report->failures) crack |= f.find("crack") != std::string::npos;
+  EXPECT_TRUE(crack);
+}
+
+TEST(Builder, RefusesAnUnwritableOutputBeforeReadingAnything) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(65, 65, 1), dir.file("in.tif"));
+  BuildOptions options;
+  options.input = dir.file("in.tif");
+  options.output = dir.file("missing/dir/out.tlod");
+  NullProgress progress;
+  auto summary = buildTileset(options, progress, [](const std::string&) {});
+  ASSERT_FALSE(summary.ok());
+  EXPECT_NE(summary.error().message.find("does not exist"), std::string::npos)
+      << summary.error().message;
+}
+
+TEST(Builder, LeavesNoFileWhenTheInputIsAllVoid) {
+  TempDir dir;
+  Heightfield h(40, 30, std::nanf(""));
+  test::writeGeoTiff(h, dir.file("void.tif"));
+  BuildOptions options;
+  options.input = dir.file("void.tif");
+  options.output = dir.file("out.tlod");
+  NullProgress progress;
+  auto summary = buildTileset(options, progress, [](const std::string&) {});
+  ASSERT_FALSE(summary.ok());
+  EXPECT_NE(summary.error().message.find("nodata"), std::string::npos) << summary.error().message;
+  EXPECT_EQ(std::distance(fs::directory_iterator(fs::path(dir.file("out.tlod")).parent_path()),
+                          fs::directory_iterator{}),
+            1);  // only the input is there: no tileset, no temporary
+}
+
+}  // namespace
+}  // namespace terralod
