@@ -9,22 +9,26 @@
 namespace terralod::cli {
 
 void addBuildCommand(CLI::App& root, Runner& run) {
-  auto* cmd = root.add_subcommand("build", "Preprocess an elevation raster into a chunk tree tileset");
+  auto* cmd =
+      root.add_subcommand("build", "Preprocess an elevation raster into a chunk tree tileset");
   auto options = std::make_shared<BuildOptions>();
   auto encoding = std::make_shared<std::string>("none");
   auto spacing = std::make_shared<std::vector<double>>();
-  cmd->add_option("INPUT", options->input,
-                  "Elevation raster: anything GDAL reads (GeoTIFF, .hgt, .bt, .asc, netCDF, PNG...)")
+  cmd->add_option(
+         "INPUT", options->input,
+         "Elevation raster: anything GDAL reads (GeoTIFF, .hgt, .bt, .asc, netCDF, PNG...)")
       ->required();
   cmd->add_option("-o,--output", options->output, "Tileset to write (.tlod)")->required();
   cmd->add_option("--max-error", options->maxError,
                   "Geometric error of the finest level in metres; each coarser level doubles it")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--encoding", *encoding, "Height encoding of RGB web tiles: none, terrain-rgb, terrarium")
+  cmd->add_option("--encoding", *encoding,
+                  "Height encoding of RGB web tiles: none, terrain-rgb, terrarium")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "terrain-rgb", "terrarium"}));
-  cmd->add_option("--spacing", *spacing, "Horizontal spacing DX[,DY] in metres (overrides georeferencing)")
+  cmd->add_option("--spacing", *spacing,
+                  "Horizontal spacing DX[,DY] in metres (overrides georeferencing)")
       ->delimiter(',')
       ->expected(1, 2)
       ->check(CLI::PositiveNumber);

@@ -46,7 +46,8 @@ int printInfo(const std::string& path, bool json) {
     j["bytes_per_vertex"] = total.vertices ? double(h.fileBytes) / double(total.vertices) : 0.0;
     j["bytes_per_sample"] = double(h.fileBytes) / double(samples);
     j["leaf_error"] = h.leafError;
-    j["level_error"] = std::vector<double>(h.levelError.begin(), h.levelError.begin() + h.levelCount);
+    j["level_error"] =
+        std::vector<double>(h.levelError.begin(), h.levelError.begin() + h.levelCount);
     j["extent"] = {{"min", h.extentMin}, {"max", h.extentMax}};
     j["spacing"] = {h.spacingX, h.spacingY};
     j["source_size"] = {h.sourceColumns, h.sourceRows};
@@ -72,9 +73,9 @@ int printInfo(const std::string& path, bool json) {
   std::printf("%s: terralod tileset, format version %u\n", path.c_str(), h.version);
   if (!metadata.is_discarded() && metadata.contains("source")) {
     const auto& s = metadata["source"];
-    std::printf("  source          %s (%s, %s), %u x %u samples\n",
-                s.value("file", "?").c_str(), s.value("driver", "?").c_str(),
-                s.value("data_type", "?").c_str(), h.sourceColumns, h.sourceRows);
+    std::printf("  source          %s (%s, %s), %u x %u samples\n", s.value("file", "?").c_str(),
+                s.value("driver", "?").c_str(), s.value("data_type", "?").c_str(), h.sourceColumns,
+                h.sourceRows);
     std::printf("  spacing         %.4f x %.4f m (%s)\n", h.spacingX, h.spacingY,
                 s.value("spacing_source", "?").c_str());
   }

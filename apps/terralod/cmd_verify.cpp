@@ -43,8 +43,10 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
       }
       for (const std::string& f : r.failures) std::fprintf(stderr, "  FAIL %s\n", f.c_str());
       if (r.failureCount > r.failures.size())
-        std::fprintf(stderr, "  ... and %llu more\n", (unsigned long long)(r.failureCount - r.failures.size()));
-      return fail(*tileset + ": verification failed with " + std::to_string(r.failureCount) + " problem(s)");
+        std::fprintf(stderr, "  ... and %llu more\n",
+                     (unsigned long long)(r.failureCount - r.failures.size()));
+      return fail(*tileset + ": verification failed with " + std::to_string(r.failureCount) +
+                  " problem(s)");
     };
   });
 }

@@ -12,14 +12,17 @@ int fail(const std::string& message) {
   return 1;
 }
 
-void warn(const std::string& message) { std::fprintf(stderr, "terralod: warning: %s\n", message.c_str()); }
+void warn(const std::string& message) {
+  std::fprintf(stderr, "terralod: warning: %s\n", message.c_str());
+}
 
 }  // namespace terralod::cli
 
 int main(int argc, char** argv) {
   using namespace terralod::cli;
-  CLI::App app{"terralod: massive terrain with chunked level of detail.\n"
-               "Build a tileset from any elevation raster, then inspect, verify or export it."};
+  CLI::App app{
+      "terralod: massive terrain with chunked level of detail.\n"
+      "Build a tileset from any elevation raster, then inspect, verify or export it."};
   app.require_subcommand(1, 1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return std::string("terralod: error: ") + e.what() + " (see --help)\n";

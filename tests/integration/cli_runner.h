@@ -74,7 +74,7 @@ inline RunResult runTerralod(const std::vector<std::string>& args) {
 
 /// A fresh empty directory under /tmp, removed when the object goes away.
 class TempDir {
-public:
+ public:
   TempDir() {
     char name[] = "/tmp/terralod-test-XXXXXX";
     mPath = mkdtemp(name);
@@ -88,10 +88,12 @@ public:
   const std::filesystem::path& path() const { return mPath; }
   std::string file(const std::string& name) const { return (mPath / name).string(); }
 
-private:
+ private:
   std::filesystem::path mPath;
 };
 
-inline std::string testData(const std::string& name) { return std::string(TERRALOD_TEST_DATA) + "/" + name; }
+inline std::string testData(const std::string& name) {
+  return std::string(TERRALOD_TEST_DATA) + "/" + name;
+}
 
 }  // namespace terralod::test

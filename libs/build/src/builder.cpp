@@ -91,22 +91,25 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
       {"spacing", {info.spacingX, info.spacingY}},
       {"spacing_source", info.spacingSource},
       {"crs_wkt", info.crsWkt},
-      {"encoding", info.encoding == HeightEncoding::kPlain ? "none"
-                   : info.encoding == HeightEncoding::kTerrainRgb ? "terrain-rgb" : "terrarium"},
+      {"encoding", info.encoding == HeightEncoding::kPlain        ? "none"
+                   : info.encoding == HeightEncoding::kTerrainRgb ? "terrain-rgb"
+                                                                  : "terrarium"},
   };
   if (info.hasGeoTransform) source["geotransform"] = info.geoTransform;
   if (info.nodata) source["nodata"] = *info.nodata;
   nlohmann::json j = {
       {"generator", "terralod"},
       {"source", source},
-      {"build", {{"max_error", options.maxError},
-                 {"chunk_cells", layout.leafCells},
-                 {"vertical_scale", options.dem.verticalScale},
-                 {"zstd_level", options.compressionLevel}}},
-      {"stats", {{"vertices", s.vertices},
-                 {"triangles", s.triangles},
-                 {"skirt_triangles", s.skirtTriangles},
-                 {"filled_voids", s.filledVoids}}},
+      {"build",
+       {{"max_error", options.maxError},
+        {"chunk_cells", layout.leafCells},
+        {"vertical_scale", options.dem.verticalScale},
+        {"zstd_level", options.compressionLevel}}},
+      {"stats",
+       {{"vertices", s.vertices},
+        {"triangles", s.triangles},
+        {"skirt_triangles", s.skirtTriangles},
+        {"filled_voids", s.filledVoids}}},
   };
   return j.dump(2);
 }
@@ -134,7 +137,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   const uint64_t heightBytes = summary.sourceSamples * sizeof(float);
   if (heightBytes > options.memoryMB * (uint64_t{1} << 20))
     return makeError(info.path, "the raster needs " + std::to_string(heightBytes >> 20) +
-                                    " MB, more than --memory-mb " + std::to_string(options.memoryMB) +
+                                    " MB, more than --memory-mb " +
+                                    std::to_string(options.memoryMB) +
                                     "; windowed builds are not available yet");
 
   auto loaded = loadHeights(reader, progress);
@@ -195,7 +199,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     node.vertexCount = mesh.surfaceVertexCount;
     node.triangleCount = uint32_t(mesh.surfaceIndices.size() / 3);
     node.skirtTriangleCount = uint32_t(mesh.skirtIndices.size() / 3);
-    node.maxSkirtDepth = floatAbove(*std::max_element(mesh.skirtDepth.begin(), mesh.skirtDepth.end()));
+    node.maxSkirtDepth =
+        floatAbove(*std::max_element(mesh.skirtDepth.begin(), mesh.skirtDepth.end()));
     node.blobBytes = uint32_t(blob.size());
     node.blobCrc = crc32Of(blob);
 
@@ -241,13 +246,15 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   header.sourceRows = uint32_t(info.rows);
   header.spacingX = info.spacingX;
   header.spacingY = info.spacingY;
-  for (int32_t l = 0; l < layout->levelCount(); ++l) header.levelError[size_t(l)] = budget->levelError[size_t(l)];
+  for (int32_t l = 0; l < layout->levelCount(); ++l)
+    header.levelError[size_t(l)] = budget->levelError[size_t(l)];
   header.extentMin = {0.0, 0.0, zMin};
   header.extentMax = {layout->cellsX * info.spacingX, layout->cellsY * info.spacingY, zMax};
   header.filledVoids = summary.filledVoids;
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;
-  if (Status s = (*writer)->finish(header, nodes, metadataJson(info, options, summary, *layout)); !s)
+  if (Status s = (*writer)->finish(header, nodes, metadataJson(info, options, summary, *layout));
+      !s)
     return s.error();
   std::error_code ec;
   summary.fileBytes = std::filesystem::file_size(options.output, ec);

@@ -77,8 +77,10 @@ double ChunkMesher::parentSurface(int32_t level, int32_t, int32_t, GridPoint p) 
 void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t) {
   const int32_t w = mLayout.cellsX, h = mLayout.cellsY;
   const GridPoint corners[3] = {t.a, t.b, t.apex};
-  const int32_t maxX = std::max({t.a.x, t.b.x, t.apex.x}), maxY = std::max({t.a.y, t.b.y, t.apex.y});
-  const int32_t minX = std::min({t.a.x, t.b.x, t.apex.x}), minY = std::min({t.a.y, t.b.y, t.apex.y});
+  const int32_t maxX = std::max({t.a.x, t.b.x, t.apex.x}),
+                maxY = std::max({t.a.y, t.b.y, t.apex.y});
+  const int32_t minX = std::min({t.a.x, t.b.x, t.apex.x}),
+                minY = std::min({t.a.y, t.b.y, t.apex.y});
   if (minX >= w || minY >= h) return;  // padding only
 
   auto addTriangle = [&](const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
@@ -134,7 +136,7 @@ void ChunkMesher::addSkirts(ChunkMesh& mesh) {
   const int32_t s = mesh.side;
   for (int side = 0; side < 4; ++side) {
     const bool vertical = side == kEast || side == kWest;
-    const int32_t line = side == kSouth  ? mesh.y0
+    const int32_t line = side == kSouth   ? mesh.y0
                          : side == kNorth ? mesh.y0 + s
                          : side == kWest  ? mesh.x0
                                           : mesh.x0 + s;

@@ -8,10 +8,14 @@
 namespace terralod {
 namespace {
 constexpr int32_t kMaxRootCells = 32768;  // chunk-local coordinates must fit 16 bits
-int32_t nextPow2(int32_t v) { return static_cast<int32_t>(std::bit_ceil(static_cast<uint32_t>(std::max(v, 1)))); }
+int32_t nextPow2(int32_t v) {
+  return static_cast<int32_t>(std::bit_ceil(static_cast<uint32_t>(std::max(v, 1))));
+}
 }  // namespace
 
-int32_t TreeLayout::gridSide() const { return nextPow2(std::max(gridX(), gridY())); }
+int32_t TreeLayout::gridSide() const {
+  return nextPow2(std::max(gridX(), gridY()));
+}
 
 int32_t TreeLayout::chunksX(int32_t level) const {
   const int32_t s = chunkCells(level);

@@ -7,7 +7,9 @@
 
 namespace terralod {
 
-unsigned hardwareThreads() { return std::max(1u, std::thread::hardware_concurrency()); }
+unsigned hardwareThreads() {
+  return std::max(1u, std::thread::hardware_concurrency());
+}
 
 void parallelFor(size_t count, unsigned threads,
                  const std::function<void(size_t index, unsigned worker)>& fn) {

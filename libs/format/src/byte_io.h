@@ -1,18 +1,18 @@
 #pragma once
 // Little-endian field packing for the frozen file format (explicit, never struct memcpy).
 
-#include <cstdint>
 #include <algorithm>
 #include <bit>
+#include <cstdint>
 #include <cstring>
-#include <type_traits>
 #include <span>
+#include <type_traits>
 #include <vector>
 
 namespace terralod {
 
 class ByteWriter {
-public:
+ public:
   explicit ByteWriter(uint8_t* out) : mOut(out) {}
   template <typename T>
   void put(T value) {
@@ -30,13 +30,13 @@ public:
   void seek(size_t pos) { mPos = pos; }
   size_t position() const { return mPos; }
 
-private:
+ private:
   uint8_t* mOut;
   size_t mPos = 0;
 };
 
 class ByteReader {
-public:
+ public:
   explicit ByteReader(const uint8_t* in) : mIn(in) {}
   template <typename T>
   T get() {
@@ -56,7 +56,7 @@ public:
   void seek(size_t pos) { mPos = pos; }
   size_t position() const { return mPos; }
 
-private:
+ private:
   const uint8_t* mIn;
   size_t mPos = 0;
 };

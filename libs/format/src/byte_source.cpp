@@ -11,8 +11,9 @@ namespace terralod {
 namespace {
 
 class FileSource final : public ByteSource {
-public:
-  FileSource(int fd, uint64_t size, std::string path) : mFd(fd), mSize(size), mPath(std::move(path)) {}
+ public:
+  FileSource(int fd, uint64_t size, std::string path)
+      : mFd(fd), mSize(size), mPath(std::move(path)) {}
   ~FileSource() override { ::close(mFd); }
   uint64_t size() const override { return mSize; }
   const std::string& name() const override { return mPath; }
@@ -26,21 +27,23 @@ public:
     while (done < length) {
       const ssize_t n = ::pread(mFd, bytes.data() + done, length - done, off_t(offset + done));
       if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) return makeError(mPath, n == 0 ? "file shrank while reading" : std::strerror(errno));
+      if (n <= 0)
+        return makeError(mPath, n == 0 ? "file shrank while reading" : std::strerror(errno));
       done += uint64_t(n);
     }
     return bytes;
   }
 
-private:
+ private:
   int mFd;
   uint64_t mSize;
   std::string mPath;
 };
 
 class MemorySource final : public ByteSource {
-public:
-  MemorySource(std::vector<uint8_t> bytes, std::string name) : mBytes(std::move(bytes)), mName(std::move(name)) {}
+ public:
+  MemorySource(std::vector<uint8_t> bytes, std::string name)
+      : mBytes(std::move(bytes)), mName(std::move(name)) {}
   uint64_t size() const override { return mBytes.size(); }
   const std::string& name() const override { return mName; }
   Result<std::vector<uint8_t>> read(uint64_t offset, uint64_t length) const override {
@@ -49,7 +52,7 @@ public:
     return std::vector<uint8_t>(mBytes.begin() + offset, mBytes.begin() + offset + length);
   }
 
-private:
+ private:
   std::vector<uint8_t> mBytes;
   std::string mName;
 };

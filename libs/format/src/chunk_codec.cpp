@@ -37,9 +37,9 @@ void optimizeChunkPart(ChunkPart& part) {
   meshopt_optimizeVertexCache(ordered.data() + surface, part.indices.data() + surface,
                               part.indices.size() - surface, vertexCount);
   std::vector<ChunkVertex> vertices(vertexCount);
-  const size_t used = meshopt_optimizeVertexFetch(vertices.data(), ordered.data(), ordered.size(),
-                                                  part.vertices.data(), vertexCount,
-                                                  sizeof(ChunkVertex));
+  const size_t used =
+      meshopt_optimizeVertexFetch(vertices.data(), ordered.data(), ordered.size(),
+                                  part.vertices.data(), vertexCount, sizeof(ChunkVertex));
   vertices.resize(used);
   part.vertices = std::move(vertices);
   part.indices = std::move(ordered);
@@ -85,7 +85,8 @@ std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionL
     w.putBytes(e.indices.data(), e.indices.size());
   }
   std::vector<uint8_t> blob(ZSTD_compressBound(raw.size()));
-  const size_t n = ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), compressionLevel);
+  const size_t n =
+      ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), compressionLevel);
   assert(!ZSTD_isError(n));
   blob.resize(n);
   return blob;
@@ -94,7 +95,8 @@ std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionL
 Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::string& subject) {
   auto bad = [&](const std::string& what) { return makeError(subject, "corrupt chunk: " + what); };
   const unsigned long long size = ZSTD_getFrameContentSize(blob.data(), blob.size());
-  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN) return bad("not a zstd frame");
+  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
+    return bad("not a zstd frame");
   if (size < kChunkHeaderBytes || size > kMaxDecodedBytes) return bad("implausible size");
   std::vector<uint8_t> raw(size);
   const size_t got = ZSTD_decompress(raw.data(), raw.size(), blob.data(), blob.size());
@@ -107,7 +109,8 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   ChunkGeometry g;
   g.zBase = r.get<double>();
   g.zStep = r.get<double>();
-  if (!std::isfinite(g.zBase) || !(g.zStep > 0) || !std::isfinite(g.zStep)) return bad("bad height scale");
+  if (!std::isfinite(g.zBase) || !(g.zStep > 0) || !std::isfinite(g.zStep))
+    return bad("bad height scale");
   if (partCount == 0 || kChunkHeaderBytes + size_t(partCount) * kPartHeaderBytes > raw.size())
     return bad("bad part count");
   struct PartHeader {
@@ -116,7 +119,8 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   std::vector<PartHeader> headers(partCount);
   uint64_t payload = 0;
   for (PartHeader& ph : headers) {
-    ph = {r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>()};
+    ph = {r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(),
+          r.get<uint32_t>()};
     if (ph.vertexCount == 0 || ph.vertexCount > 65536 || ph.indexCount % 3 != 0 ||
         ph.surfaceIndexCount % 3 != 0 || ph.surfaceIndexCount > ph.indexCount ||
         ph.indexCount > (1u << 24))

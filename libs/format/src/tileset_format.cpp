@@ -109,17 +109,21 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   h.leafError = r.get<double>();
   h.verticalScale = r.get<double>();
 
-  auto bad = [&](const std::string& what) { return makeError(subject, "invalid tileset header: " + what); };
+  auto bad = [&](const std::string& what) {
+    return makeError(subject, "invalid tileset header: " + what);
+  };
   if (h.meshKind != MeshKind::kStaticRtin) return bad("unknown chunk mesh kind");
   if (h.levelCount < 1 || h.levelCount > kMaxLevels) return bad("level count out of range");
   if (h.leafCells < 4 || (h.leafCells & (h.leafCells - 1)) != 0) return bad("leaf size");
-  if (h.rootCells != (h.leafCells << (h.levelCount - 1)) || h.rootCells > 32768) return bad("root size");
+  if (h.rootCells != (h.leafCells << (h.levelCount - 1)) || h.rootCells > 32768)
+    return bad("root size");
   if (h.rootsX < 1 || h.rootsY < 1 || h.rootsX > 4096 || h.rootsY > 4096) return bad("root grid");
   if (h.sourceColumns < 2 || h.sourceRows < 2 ||
       uint64_t(h.sourceColumns - 1) > uint64_t(h.rootsX) * h.rootCells ||
       uint64_t(h.sourceRows - 1) > uint64_t(h.rootsY) * h.rootCells)
     return bad("source size does not fit the root grid");
-  if (!(h.spacingX > 0) || !(h.spacingY > 0) || !std::isfinite(h.spacingX) || !std::isfinite(h.spacingY))
+  if (!(h.spacingX > 0) || !(h.spacingY > 0) || !std::isfinite(h.spacingX) ||
+      !std::isfinite(h.spacingY))
     return bad("spacing");
   for (uint32_t l = 0; l < h.levelCount; ++l)
     if (!(h.levelError[l] > 0) || !std::isfinite(h.levelError[l])) return bad("level error");
@@ -189,14 +193,17 @@ Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& node
     if (n.level >= h.levelCount) return bad(i, "has an impossible level");
     if (n.meshKind != MeshKind::kStaticRtin) return bad(i, "has an unknown mesh kind");
     const uint64_t perSide = uint64_t(1) << n.level;
-    if (n.x >= h.rootsX * perSide || n.y >= h.rootsY * perSide) return bad(i, "lies outside the tree");
+    if (n.x >= h.rootsX * perSide || n.y >= h.rootsY * perSide)
+      return bad(i, "lies outside the tree");
     if ((n.level == 0) != (i < rootCount)) return bad(i, "is out of breadth-first order");
-    if (n.level == 0 ? n.parent != kNoNode : (n.parent >= i || nodes[n.parent].level + 1 != n.level))
+    if (n.level == 0 ? n.parent != kNoNode
+                     : (n.parent >= i || nodes[n.parent].level + 1 != n.level))
       return bad(i, "has a bad parent link");
     if (n.childMask > 15) return bad(i, "has a bad child mask");
     if (n.childMask != 0) {
       const uint32_t count = std::popcount(unsigned(n.childMask));
-      if (n.firstChild == kNoNode || n.firstChild <= i || uint64_t(n.firstChild) + count > nodes.size())
+      if (n.firstChild == kNoNode || n.firstChild <= i ||
+          uint64_t(n.firstChild) + count > nodes.size())
         return bad(i, "has children outside the table");
       uint32_t c = n.firstChild;
       for (int q = 0; q < 4; ++q) {

@@ -13,7 +13,8 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
   const std::string& name = source->name();
   const uint64_t fileSize = source->size();
   if (fileSize < kHeaderBytes)
-    return makeError(name, "file is too short to be a terralod tileset (" + std::to_string(fileSize) + " bytes)");
+    return makeError(name, "file is too short to be a terralod tileset (" +
+                               std::to_string(fileSize) + " bytes)");
   auto headerBytes = source->read(0, kHeaderBytes);
   if (!headerBytes) return headerBytes.error();
   auto header = parseHeader(*headerBytes, name);
@@ -26,14 +27,17 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
 
   auto table = source->read(t->mHeader.nodeTableOffset, t->mHeader.nodeTableBytes);
   if (!table) return table.error();
-  if (crc32Of(*table) != t->mHeader.nodeTableCrc) return makeError(name, "node table is corrupt (checksum mismatch)");
+  if (crc32Of(*table) != t->mHeader.nodeTableCrc)
+    return makeError(name, "node table is corrupt (checksum mismatch)");
   t->mNodes.resize(t->mHeader.nodeCount);
-  for (size_t i = 0; i < t->mNodes.size(); ++i) t->mNodes[i] = parseNode(table->data() + i * kNodeRecordBytes);
+  for (size_t i = 0; i < t->mNodes.size(); ++i)
+    t->mNodes[i] = parseNode(table->data() + i * kNodeRecordBytes);
   if (Status s = validateNodes(t->mHeader, t->mNodes, name); !s) return s.error();
 
   auto metadata = source->read(t->mHeader.metadataOffset, t->mHeader.metadataBytes);
   if (!metadata) return metadata.error();
-  if (crc32Of(*metadata) != t->mHeader.metadataCrc) return makeError(name, "metadata is corrupt (checksum mismatch)");
+  if (crc32Of(*metadata) != t->mHeader.metadataCrc)
+    return makeError(name, "metadata is corrupt (checksum mismatch)");
   t->mMetadata.assign(metadata->begin(), metadata->end());
   t->mSource = std::move(source);
   return t;

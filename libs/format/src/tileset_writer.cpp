@@ -27,9 +27,11 @@ Result<std::unique_ptr<TilesetWriter>> TilesetWriter::create(const std::string& 
   namespace fs = std::filesystem;
   const fs::path target(path);
   std::error_code ec;
-  if (fs::is_directory(target, ec)) return makeError(path, "is a directory; give a file name for the tileset");
+  if (fs::is_directory(target, ec))
+    return makeError(path, "is a directory; give a file name for the tileset");
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(dir, ec)) return makeError(path, "cannot write: directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(dir, ec))
+    return makeError(path, "cannot write: directory " + dir.string() + " does not exist");
   std::string temp = (dir / ("." + target.filename().string() + ".partial-XXXXXX")).string();
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) return makeError(path, std::string("cannot write: ") + std::strerror(errno));
@@ -80,7 +82,8 @@ Result<uint64_t> TilesetWriter::appendBlob(std::span<const uint8_t> bytes) {
 Status TilesetWriter::finish(TilesetHeader header, const std::vector<NodeRecord>& nodes,
                              const std::string& metadata) {
   std::vector<uint8_t> table(nodes.size() * kNodeRecordBytes);
-  for (size_t i = 0; i < nodes.size(); ++i) serializeNode(nodes[i], table.data() + i * kNodeRecordBytes);
+  for (size_t i = 0; i < nodes.size(); ++i)
+    serializeNode(nodes[i], table.data() + i * kNodeRecordBytes);
   header.nodeCount = nodes.size();
   header.nodeTableOffset = mOffset;
   header.nodeTableBytes = table.size();
@@ -88,14 +91,17 @@ Status TilesetWriter::finish(TilesetHeader header, const std::vector<NodeRecord>
   if (Status s = writeAll(table.data(), table.size()); !s) return s;
   header.metadataOffset = mOffset;
   header.metadataBytes = metadata.size();
-  header.metadataCrc = crc32Of(std::span(reinterpret_cast<const uint8_t*>(metadata.data()), metadata.size()));
-  if (Status s = writeAll(reinterpret_cast<const uint8_t*>(metadata.data()), metadata.size()); !s) return s;
+  header.metadataCrc =
+      crc32Of(std::span(reinterpret_cast<const uint8_t*>(metadata.data()), metadata.size()));
+  if (Status s = writeAll(reinterpret_cast<const uint8_t*>(metadata.data()), metadata.size()); !s)
+    return s;
   header.fileBytes = mOffset;
   if (Status s = flush(); !s) return s;
   const std::vector<uint8_t> headerBytes = serializeHeader(header);
   if (::pwrite(mFd, headerBytes.data(), headerBytes.size(), 0) != ssize_t(headerBytes.size()))
     return makeError(mPath, std::string("write failed: ") + std::strerror(errno));
-  if (::fsync(mFd) != 0) return makeError(mPath, std::string("sync failed: ") + std::strerror(errno));
+  if (::fsync(mFd) != 0)
+    return makeError(mPath, std::string("sync failed: ") + std::strerror(errno));
   ::close(mFd);
   mFd = -1;
   if (::rename(mTempPath.c_str(), mPath.c_str()) != 0)

@@ -71,8 +71,7 @@ std::optional<double> verticalUnitFactor(std::string unit) {
 Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   const auto& gt = info.geoTransform;
   if (gt[2] != 0.0 || gt[4] != 0.0)
-    return makeError(info.path,
-                     "raster is rotated or sheared; warp it north-up first (gdalwarp)");
+    return makeError(info.path, "raster is rotated or sheared; warp it north-up first (gdalwarp)");
   const double cellX = std::fabs(gt[1]), cellY = std::fabs(gt[5]);
   if (!(cellX > 0) || !(cellY > 0) || !std::isfinite(cellX) || !std::isfinite(cellY))
     return makeError(info.path, "georeferencing has a zero or invalid cell size");
@@ -167,7 +166,8 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   if (!looksLikeGdalSpecialPath(path)) {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return makeError(path, "no such file");
-    if (std::filesystem::is_directory(path, ec)) return makeError(path, "is a directory, not a raster");
+    if (std::filesystem::is_directory(path, ec))
+      return makeError(path, "is a directory, not a raster");
     if (std::filesystem::file_size(path, ec) == 0) return makeError(path, "file is empty");
   }
   auto impl = std::make_unique<Impl>();
@@ -196,13 +196,12 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   impl->bandCount = ds.GetRasterCount();
   if (info.columns < 2 || info.rows < 2)
     return makeError(path, "raster is " + std::to_string(info.columns) + "x" +
-                               std::to_string(info.rows) +
-                               " samples; terralod needs at least 2x2");
+                               std::to_string(info.rows) + " samples; terralod needs at least 2x2");
   if (info.columns > kMaxSide || info.rows > kMaxSide ||
       int64_t(info.columns) * info.rows > kMaxSamples)
-    return makeError(path, "raster is " + std::to_string(info.columns) + "x" +
-                               std::to_string(info.rows) +
-                               " samples, more than terralod supports (1048576 per side, 2^34 in all)");
+    return makeError(path,
+                     "raster is " + std::to_string(info.columns) + "x" + std::to_string(info.rows) +
+                         " samples, more than terralod supports (1048576 per side, 2^34 in all)");
 
   GDALRasterBand* band = ds.GetRasterBand(1);
   impl->bandType = band->GetRasterDataType();
@@ -287,8 +286,8 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
                                      readCols, n, GDT_Byte, 3, bands, 3, 3 * readCols, 1, nullptr);
     } else {
       err = mImpl->dataset->GetRasterBand(1)->RasterIO(GF_Read, gx0, rasterRow, readCols, n,
-                                                       strip.data(), readCols, n, GDT_Float64, 0,
-                                                       0, nullptr);
+                                                       strip.data(), readCols, n, GDT_Float64, 0, 0,
+                                                       nullptr);
     }
     if (err != CE_None) {
       const std::string why = gdal::lastErrorMessage();
@@ -320,7 +319,8 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
       const int32_t oyHi = std::min(h - 1, gridRow == rows - 1 ? h - 1 : gridRow - y0);
       for (int32_t oy = oyLo; oy <= oyHi; ++oy) {
         float* dst = out + size_t(oy) * w;
-        for (int32_t ox = 0; ox < w; ++ox) dst[ox] = rowValues[std::clamp(x0 + ox, 0, cols - 1) - gx0];
+        for (int32_t ox = 0; ox < w; ++ox)
+          dst[ox] = rowValues[std::clamp(x0 + ox, 0, cols - 1) - gx0];
       }
     }
   }

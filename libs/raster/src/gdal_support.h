@@ -17,7 +17,7 @@ std::string lastErrorMessage();
 /// Silences GDAL's default stderr printing for the lifetime of the object on this thread;
 /// errors are still recorded and read back with lastErrorMessage().
 class QuietErrors {
-public:
+ public:
   QuietErrors() {
     CPLPushErrorHandler(CPLQuietErrorHandler);
     CPLErrorReset();

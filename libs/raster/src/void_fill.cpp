@@ -70,8 +70,8 @@ void push(Level& fine, const Level& coarse) {
       for (int32_t x = 0; x < fine.w; ++x) {
         const size_t i = size_t(y) * fine.w + x;
         if (fine.valid[i]) continue;
-        next[i] = 0.25f * (fine.at(x - 1, y) + fine.at(x + 1, y) + fine.at(x, y - 1) +
-                           fine.at(x, y + 1));
+        next[i] =
+            0.25f * (fine.at(x - 1, y) + fine.at(x + 1, y) + fine.at(x, y - 1) + fine.at(x, y + 1));
       }
     }
     fine.value.swap(next);

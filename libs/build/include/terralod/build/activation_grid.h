@@ -12,11 +12,13 @@
 namespace terralod {
 
 class ActivationGrid {
-public:
+ public:
   ActivationGrid() = default;
   /// Points (0..cellsX) x (0..cellsY), all zero.
   ActivationGrid(int32_t cellsX, int32_t cellsY)
-      : mCellsX(cellsX), mCellsY(cellsY), mRowBytes((int64_t(cellsX) + 2) / 2),
+      : mCellsX(cellsX),
+        mCellsY(cellsY),
+        mRowBytes((int64_t(cellsX) + 2) / 2),
         mNibbles(size_t(mRowBytes) * (int64_t(cellsY) + 1), 0) {}
 
   int32_t cellsX() const { return mCellsX; }
@@ -34,7 +36,7 @@ public:
     byte = (x & 1) ? uint8_t((byte & 0x0F) | (value << 4)) : uint8_t((byte & 0xF0) | value);
   }
 
-private:
+ private:
   int32_t mCellsX = 0;
   int32_t mCellsY = 0;
   int64_t mRowBytes = 0;

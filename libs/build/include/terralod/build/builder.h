@@ -15,23 +15,23 @@ struct BuildOptions {
   std::string input;
   std::string output;
   DemOpenOptions dem;
-  double maxError = 1.0;       ///< leaf level geometric error in metres
-  int32_t chunkCells = 0;      ///< leaf chunk side in cells; 0 = automatic
-  unsigned threads = 0;        ///< 0 = all hardware threads
-  uint64_t memoryMB = 2048;    ///< above this the input is read in windows, never whole
-  int compressionLevel = 9;    ///< zstd level for chunk blobs
+  double maxError = 1.0;     ///< leaf level geometric error in metres
+  int32_t chunkCells = 0;    ///< leaf chunk side in cells; 0 = automatic
+  unsigned threads = 0;      ///< 0 = all hardware threads
+  uint64_t memoryMB = 2048;  ///< above this the input is read in windows, never whole
+  int compressionLevel = 9;  ///< zstd level for chunk blobs
 };
 
 struct BuildSummary {
   int32_t levels = 0;
   uint64_t chunks = 0;
-  uint64_t vertices = 0;       ///< surface vertices over all chunks
-  uint64_t triangles = 0;      ///< surface triangles over all chunks
+  uint64_t vertices = 0;   ///< surface vertices over all chunks
+  uint64_t triangles = 0;  ///< surface triangles over all chunks
   uint64_t skirtTriangles = 0;
   uint64_t fileBytes = 0;
   uint64_t filledVoids = 0;
   uint64_t sourceSamples = 0;
-  bool windowed = false;       ///< input was read in windows (larger than the memory budget)
+  bool windowed = false;  ///< input was read in windows (larger than the memory budget)
   double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
   uint64_t trianglesScanned = 0, trianglesBounded = 0;
 };

@@ -27,8 +27,8 @@ enum ChunkSide { kSouth = 0, kEast = 1, kNorth = 2, kWest = 3 };
 
 struct ChunkMesh {
   int32_t level = 0, ix = 0, iy = 0;
-  int32_t x0 = 0, y0 = 0, side = 0;      ///< the chunk's square in grid cells
-  std::vector<MeshVertex> vertices;      ///< surface vertices first, then skirt bottoms
+  int32_t x0 = 0, y0 = 0, side = 0;  ///< the chunk's square in grid cells
+  std::vector<MeshVertex> vertices;  ///< surface vertices first, then skirt bottoms
   uint32_t surfaceVertexCount = 0;
   std::vector<uint32_t> surfaceIndices;  ///< triangles, counter-clockwise seen from above
   std::vector<uint32_t> skirtIndices;    ///< triangles hanging from the sides
@@ -38,7 +38,7 @@ struct ChunkMesh {
 
 /// Builds chunk meshes. Keeps scratch buffers between calls: use one per thread.
 class ChunkMesher {
-public:
+ public:
   ChunkMesher(const TreeLayout& layout, const ErrorBudget& budget, const ActivationGrid& grid,
               const HeightSampler& heights);
 
@@ -48,7 +48,7 @@ public:
   /// the chunk that contains it. Exposed for tests.
   double surfaceHeight(int32_t level, GridPoint p);
 
-private:
+ private:
   struct ClipVertex {
     GridPoint p;
     double z;

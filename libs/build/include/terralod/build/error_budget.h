@@ -17,10 +17,10 @@
 namespace terralod {
 
 struct ErrorBudget {
-  std::vector<double> levelError;      ///< root first
-  std::vector<double> zStep;           ///< height quantisation step per level
-  std::vector<double> buildThreshold;  ///< levelError - zStep/2
-  std::vector<double> chunkRangeBound; ///< largest height range of any chunk incl. skirts
+  std::vector<double> levelError;       ///< root first
+  std::vector<double> zStep;            ///< height quantisation step per level
+  std::vector<double> buildThreshold;   ///< levelError - zStep/2
+  std::vector<double> chunkRangeBound;  ///< largest height range of any chunk incl. skirts
 
   /// Activation of a vertex whose diamond has conservative error `error`: the number of
   /// levels, counted from the leaves, whose threshold it exceeds (0 .. depth+1).
@@ -38,7 +38,6 @@ struct ErrorBudget {
 
 /// `heightRange` is max - min of the (void-filled) heights. Fails when the leaf error is too
 /// small to be kept with 16-bit heights over that relief.
-Result<ErrorBudget> makeErrorBudget(const TreeLayout& layout, double leafError,
-                                    double heightRange);
+Result<ErrorBudget> makeErrorBudget(const TreeLayout& layout, double leafError, double heightRange);
 
 }  // namespace terralod

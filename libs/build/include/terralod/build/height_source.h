@@ -12,7 +12,7 @@
 namespace terralod {
 
 class HeightWindows {
-public:
+ public:
   virtual ~HeightWindows() = default;
   /// Fills out[(y - y0) * w + (x - x0)] for the window; `worker` identifies the calling
   /// thread (0 .. threads-1) so implementations can keep per-thread state.
@@ -21,7 +21,7 @@ public:
 };
 
 class HeightSampler {
-public:
+ public:
   virtual ~HeightSampler() = default;
   /// Height at one grid point. Thread-safe.
   virtual double at(int32_t x, int32_t y) const = 0;
@@ -29,12 +29,12 @@ public:
 
 /// Both views over an in-memory heightfield (the common case).
 class MemoryHeights final : public HeightWindows, public HeightSampler {
-public:
+ public:
   explicit MemoryHeights(const Heightfield& heights) : mHeights(heights) {}
   Status read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out, unsigned) override;
   double at(int32_t x, int32_t y) const override { return mHeights.at(x, y); }
 
-private:
+ private:
   const Heightfield& mHeights;
 };
 

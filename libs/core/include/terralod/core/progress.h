@@ -13,7 +13,7 @@ namespace terralod {
 
 /// Receives progress of one stage at a time. advance() may be called from any thread.
 class Progress {
-public:
+ public:
   virtual ~Progress() = default;
   virtual void begin(std::string_view stage, uint64_t total) = 0;
   virtual void advance(uint64_t amount = 1) = 0;
@@ -22,7 +22,7 @@ public:
 
 /// Discards everything (tests, library use without a terminal).
 class NullProgress final : public Progress {
-public:
+ public:
   void begin(std::string_view, uint64_t) override {}
   void advance(uint64_t) override {}
   void end() override {}
@@ -30,13 +30,13 @@ public:
 
 /// A bar with ETA on stderr when it is a TTY; otherwise silent.
 class TerminalProgress final : public Progress {
-public:
+ public:
   TerminalProgress();
   void begin(std::string_view stage, uint64_t total) override;
   void advance(uint64_t amount = 1) override;
   void end() override;
 
-private:
+ private:
   void draw(bool final);
 
   bool mEnabled;

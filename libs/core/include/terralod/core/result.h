@@ -18,7 +18,7 @@ struct Error {
 /// Either a value or an Error. Cheap to move; checking ok() before value() is mandatory.
 template <typename T>
 class [[nodiscard]] Result {
-public:
+ public:
   Result(T value) : mState(std::in_place_index<0>, std::move(value)) {}
   Result(Error error) : mState(std::in_place_index<1>, std::move(error)) {}
 
@@ -46,14 +46,14 @@ public:
     return std::get<1>(mState);
   }
 
-private:
+ private:
   std::variant<T, Error> mState;
 };
 
 /// Result of an operation that produces nothing but can fail.
 template <>
 class [[nodiscard]] Result<void> {
-public:
+ public:
   Result() = default;
   Result(Error error) : mError(std::move(error)), mFailed(true) {}
 
@@ -64,7 +64,7 @@ public:
     return mError;
   }
 
-private:
+ private:
   Error mError;
   bool mFailed = false;
 };

@@ -13,7 +13,7 @@
 namespace terralod {
 
 class ByteSource {
-public:
+ public:
   virtual ~ByteSource() = default;
   /// Total size in bytes.
   virtual uint64_t size() const = 0;

@@ -39,8 +39,8 @@ struct TilesetHeader {
   uint32_t rootCells = 0;
   uint32_t rootsX = 0, rootsY = 0;
   uint32_t sourceColumns = 0, sourceRows = 0;
-  double spacingX = 1.0, spacingY = 1.0;  ///< metres per cell
-  std::array<double, kMaxLevels> levelError{};  ///< root first; levelCount entries used
+  double spacingX = 1.0, spacingY = 1.0;           ///< metres per cell
+  std::array<double, kMaxLevels> levelError{};     ///< root first; levelCount entries used
   std::array<double, 3> extentMin{}, extentMax{};  ///< world metres
   uint64_t nodeCount = 0;
   uint64_t nodeTableOffset = 0, nodeTableBytes = 0;
@@ -63,11 +63,12 @@ struct NodeRecord {
   uint8_t childMask = 0;
   MeshKind meshKind = MeshKind::kStaticRtin;
   uint8_t flags = 0;
-  uint32_t x = 0, y = 0;  ///< chunk index at its level; the square starts at cell (x, y) * chunkCells
+  uint32_t x = 0,
+           y = 0;  ///< chunk index at its level; the square starts at cell (x, y) * chunkCells
   uint32_t firstChild = kNoNode;
   uint32_t parent = kNoNode;
-  float minZ = 0, maxZ = 0;  ///< drawn surface over its whole morph range (skirts excluded)
-  uint32_t vertexCount = 0;  ///< surface vertices (skirt vertices excluded)
+  float minZ = 0, maxZ = 0;    ///< drawn surface over its whole morph range (skirts excluded)
+  uint32_t vertexCount = 0;    ///< surface vertices (skirt vertices excluded)
   uint32_t triangleCount = 0;  ///< surface triangles
   uint32_t skirtTriangleCount = 0;
   uint64_t blobOffset = 0;

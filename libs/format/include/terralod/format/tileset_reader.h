@@ -13,7 +13,7 @@
 namespace terralod {
 
 class TilesetReader {
-public:
+ public:
   /// Reads and validates header, node table and metadata. Never trusts the file.
   static Result<std::unique_ptr<TilesetReader>> open(std::unique_ptr<ByteSource> source);
   /// Convenience: a local file.
@@ -30,7 +30,7 @@ public:
   /// Reads and decodes a chunk. Thread-safe.
   Result<ChunkGeometry> readChunk(uint32_t node) const;
 
-private:
+ private:
   TilesetReader() = default;
   std::unique_ptr<ByteSource> mSource;
   TilesetHeader mHeader;

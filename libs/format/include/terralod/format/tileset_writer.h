@@ -15,7 +15,7 @@
 namespace terralod {
 
 class TilesetWriter {
-public:
+ public:
   /// Fails with a clear message when the target's directory is missing or not writable.
   static Result<std::unique_ptr<TilesetWriter>> create(const std::string& path);
   ~TilesetWriter();  ///< removes the temporary file unless finish() succeeded
@@ -26,11 +26,12 @@ public:
   Result<uint64_t> appendBlob(std::span<const uint8_t> bytes);
 
   /// Completes the file. Fills in the offsets, sizes and CRCs of the header.
-  Status finish(TilesetHeader header, const std::vector<NodeRecord>& nodes, const std::string& metadata);
+  Status finish(TilesetHeader header, const std::vector<NodeRecord>& nodes,
+                const std::string& metadata);
 
   const std::string& path() const { return mPath; }
 
-private:
+ private:
   TilesetWriter(std::string path, std::string tempPath, int fd);
   Status writeAll(const uint8_t* data, size_t size);
   Status flush();

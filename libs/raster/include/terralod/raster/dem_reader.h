@@ -35,16 +35,18 @@ struct DemInfo {
   std::string path;
   int32_t columns = 0;
   int32_t rows = 0;
-  double spacingX = 1.0;  ///< metres per cell along x (east)
-  double spacingY = 1.0;  ///< metres per cell along y (north)
-  std::string spacingSource;  ///< how the spacing was found, for `info` and warnings
+  double spacingX = 1.0;        ///< metres per cell along x (east)
+  double spacingY = 1.0;        ///< metres per cell along y (north)
+  std::string spacingSource;    ///< how the spacing was found, for `info` and warnings
   bool spacingAssumed = false;  ///< no usable georeferencing: 1 m was assumed
-  double heightScale = 1.0;     ///< applied to raw values: band scale * unit factor * vertical scale
-  double heightOffset = 0.0;    ///< applied after scaling (band offset * unit factor * vertical scale)
-  std::optional<double> nodata;  ///< raw nodata value of the band, if any (NaN/Inf are always voids)
-  std::string dataType;          ///< GDAL type name of the band, e.g. "Int16"
-  std::string driver;            ///< GDAL driver short name, e.g. "GTiff"
-  std::string crsWkt;            ///< the raster's CRS as WKT (empty when unknown)
+  double heightScale = 1.0;  ///< applied to raw values: band scale * unit factor * vertical scale
+  double heightOffset =
+      0.0;  ///< applied after scaling (band offset * unit factor * vertical scale)
+  std::optional<double>
+      nodata;            ///< raw nodata value of the band, if any (NaN/Inf are always voids)
+  std::string dataType;  ///< GDAL type name of the band, e.g. "Int16"
+  std::string driver;    ///< GDAL driver short name, e.g. "GTiff"
+  std::string crsWkt;    ///< the raster's CRS as WKT (empty when unknown)
   std::array<double, 6> geoTransform{0, 1, 0, 0, 0, -1};
   bool hasGeoTransform = false;
   HeightEncoding encoding = HeightEncoding::kPlain;
@@ -52,7 +54,7 @@ struct DemInfo {
 
 /// One open raster. Not thread-safe: each thread that reads needs its own reader (reopen()).
 class DemReader {
-public:
+ public:
   static Result<std::unique_ptr<DemReader>> open(const std::string& path,
                                                  const DemOpenOptions& options);
   ~DemReader();
@@ -69,7 +71,7 @@ public:
   /// sample (edge replication). Voids (nodata, NaN, Inf) come back as NaN.
   Status readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out) const;
 
-private:
+ private:
   struct Impl;
   explicit DemReader(std::unique_ptr<Impl> impl, DemInfo info, DemOpenOptions options);
   std::unique_ptr<Impl> mImpl;

@@ -9,7 +9,7 @@
 namespace terralod {
 
 class Heightfield {
-public:
+ public:
   Heightfield() = default;
   Heightfield(int32_t columns, int32_t rows, float fill = 0.0f)
       : mColumns(columns), mRows(rows), mValues(size_t(columns) * rows, fill) {}
@@ -31,7 +31,7 @@ public:
   std::vector<float>& values() { return mValues; }
   const std::vector<float>& values() const { return mValues; }
 
-private:
+ private:
   int32_t mColumns = 0;
   int32_t mRows = 0;
   std::vector<float> mValues;

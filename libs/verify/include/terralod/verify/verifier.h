@@ -30,10 +30,10 @@ struct LevelCheck {
 struct VerifyReport {
   std::vector<LevelCheck> levels;
   uint64_t chunks = 0;
-  uint64_t skirtPairs = 0;          ///< chunk pairs checked across borders
-  uint64_t skirtSamples = 0;        ///< border samples checked
-  double worstSkirtMargin = 0;      ///< smallest (skirt depth - largest possible step), metres
-  double morphTolerance = 0;        ///< allowed morph mismatch (height quantisation)
+  uint64_t skirtPairs = 0;      ///< chunk pairs checked across borders
+  uint64_t skirtSamples = 0;    ///< border samples checked
+  double worstSkirtMargin = 0;  ///< smallest (skirt depth - largest possible step), metres
+  double morphTolerance = 0;    ///< allowed morph mismatch (height quantisation)
   std::vector<std::string> failures;
   uint64_t failureCount = 0;
   bool ok() const { return failureCount == 0; }
