@@ -1,0 +1,205 @@
+#include "terralod/format/tileset_format.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "terralod/format/tileset_reader.h"
+#include "terralod/format/tileset_writer.h"
+
+namespace terralod {
+namespace {
+
+TilesetHeader sampleHeader() {
+  TilesetHeader h;
+  h.levelCount = 3;
+  h.leafCells = 16;
+  h.rootCells = 64;
+  h.rootsX = 2;
+  h.rootsY = 1;
+  h.sourceColumns = 100;
+  h.sourceRows = 50;
+  h.spacingX = 30.0;
+  h.spacingY = 27.25;
+  h.levelError[0] = 4;
+  h.levelError[1] = 2;
+  h.levelError[2] = 1;
+  h.extentMin = {0, 0, -12.5};
+  h.extentMax = {2970, 1335.25, 4000};
+  h.nodeCount = 2;
+  h.nodeTableOffset = 600;
+  h.nodeTableBytes = 2 * kNodeRecordBytes;
+  h.metadataOffset = 728;
+  h.metadataBytes = 10;
+  h.fileBytes = 738;
+  h.filledVoids = 17;
+  h.leafError = 1.0;
+  return h;
+}
+
+TEST(TilesetHeader, RoundTrips) {
+  const TilesetHeader h = sampleHeader();
+  const std::vector<uint8_t> bytes = serializeHeader(h);
+  ASSERT_EQ(bytes.size(), kHeaderBytes);
+  auto parsed = parseHeader(bytes, "t.tlod");
+  ASSERT_TRUE(parsed.ok()) << parsed.error().message;
+  EXPECT_EQ(parsed->levelCount, 3u);
+  EXPECT_EQ(parsed->spacingY, 27.25);
+  EXPECT_EQ(parsed->extentMax[1], 1335.25);
+  EXPECT_EQ(parsed->filledVoids, 17u);
+  EXPECT_EQ(parsed->levelError[2], 1.0);
+}
+
+TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
+  std::vector<uint8_t> bytes = serializeHeader(sampleHeader());
+  auto wrongMagic = bytes;
+  wrongMagic[0] = 'X';
+  EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
+            "a.tlod: not a terralod tileset (wrong magic bytes)");
+  auto future = bytes;
+  future[8] = 2;
+  EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
+            "b.tlod: tileset format version 2 is not supported (this terralod reads version 1)");
+  auto flipped = bytes;
+  flipped[100] ^= 1;
+  EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,
+            "c.tlod: tileset header is corrupt (checksum mismatch)");
+  EXPECT_FALSE(parseHeader(std::span(bytes.data(), 100), "d.tlod").ok());
+}
+
+TEST(TilesetHeader, RejectsImpossibleValuesEvenWithAValidChecksum) {
+  TilesetHeader h = sampleHeader();
+  h.levelCount = 40;
+  EXPECT_FALSE(parseHeader(serializeHeader(h), "x").ok());
+  h = sampleHeader();
+  h.nodeTableOffset = h.fileBytes;
+  EXPECT_FALSE(parseHeader(serializeHeader(h), "x").ok());
+  h = sampleHeader();
+  h.spacingX = -1;
+  EXPECT_FALSE(parseHeader(serializeHeader(h), "x").ok());
+}
+
+TEST(NodeRecord, RoundTrips) {
+  NodeRecord n;
+  n.level = 5;
+  n.childMask = 0b1011;
+  n.x = 123456;
+  n.y = 7;
+  n.firstChild = 99;
+  n.parent = 3;
+  n.minZ = -1.5f;
+  n.maxZ = 8848.0f;
+  n.vertexCount = 4000;
+  n.triangleCount = 7800;
+  n.skirtTriangleCount = 250;
+  n.blobOffset = (uint64_t{1} << 40) + 5;
+  n.blobBytes = 12345;
+  n.blobCrc = 0xDEADBEEF;
+  n.maxSkirtDepth = 3.25f;
+  uint8_t bytes[kNodeRecordBytes];
+  serializeNode(n, bytes);
+  const NodeRecord m = parseNode(bytes);
+  EXPECT_EQ(m.level, 5);
+  EXPECT_EQ(m.childMask, 0b1011);
+  EXPECT_EQ(m.x, 123456u);
+  EXPECT_EQ(m.blobOffset, n.blobOffset);
+  EXPECT_EQ(m.blobCrc, 0xDEADBEEFu);
+  EXPECT_EQ(m.maxZ, 8848.0f);
+  EXPECT_EQ(m.maxSkirtDepth, 3.25f);
+}
+
+// A whole file through the writer and reader, then damaged in several ways.
+class TinyTileset : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    char name[] = "/tmp/terralod-format-test-XXXXXX";
+    mDir = mkdtemp(name);
+    mPath = mDir + "/t.tlod";
+    auto writer = TilesetWriter::create(mPath).value();
+    ChunkGeometry g;
+    g.zStep = 0.5;
+    ChunkPart& p = g.parts.emplace_back();
+    p.vertices = {{0, 0, 10, 0}, {16, 0, 20, -1}, {16, 16, 30, 2}, {0, 16, 40, 0}};
+    p.indices = {0, 1, 2, 0, 2, 3};
+    p.surfaceIndexCount = 6;
+    const std::vector<uint8_t> blob = encodeChunk(g);
+    NodeRecord root;
+    root.blobOffset = writer->appendBlob(blob).value();
+    root.blobBytes = uint32_t(blob.size());
+    root.blobCrc = crc32Of(blob);
+    root.maxZ = 20;
+    TilesetHeader h;
+    h.levelCount = 1;
+    h.leafCells = 16;
+    h.rootCells = 16;
+    h.rootsX = h.rootsY = 1;
+    h.sourceColumns = h.sourceRows = 17;
+    h.levelError[0] = 1;
+    ASSERT_TRUE(writer->finish(h, {root}, "{\"hello\":1}").ok());
+    mBytes = readAll();
+  }
+  void TearDown() override { std::filesystem::remove_all(mDir); }
+  std::vector<uint8_t> readAll() {
+    auto s = openFileSource(mPath).value();
+    return s->read(0, s->size()).value();
+  }
+  Result<std::unique_ptr<TilesetReader>> openBytes(std::vector<uint8_t> bytes) {
+    return TilesetReader::open(makeMemorySource(std::move(bytes), "mem.tlod"));
+  }
+  std::string mDir, mPath;
+  std::vector<uint8_t> mBytes;
+};
+
+TEST_F(TinyTileset, ReadsBack) {
+  auto t = TilesetReader::openFile(mPath);
+  ASSERT_TRUE(t.ok()) << t.error().message;
+  EXPECT_EQ((*t)->nodes().size(), 1u);
+  EXPECT_EQ((*t)->metadataJson(), "{\"hello\":1}");
+  auto g = (*t)->readChunk(0);
+  ASSERT_TRUE(g.ok());
+  EXPECT_EQ(g->parts[0].vertices.size(), 4u);
+  EXPECT_FALSE((*t)->readChunk(1).ok());
+}
+
+TEST_F(TinyTileset, TruncationIsReportedAsSuch) {
+  for (size_t n : {size_t(0), size_t(100), size_t(kHeaderBytes), mBytes.size() - 1}) {
+    auto t = openBytes(std::vector<uint8_t>(mBytes.begin(), mBytes.begin() + n));
+    ASSERT_FALSE(t.ok());
+    const std::string& m = t.error().message;
+    EXPECT_TRUE(m.find("too short") != std::string::npos ||
+                m.find("truncated") != std::string::npos)
+        << m;
+  }
+}
+
+TEST_F(TinyTileset, DamagedTablesAndBlobsAreCaught) {
+  const TilesetHeader h = parseHeader(mBytes, "x").value();
+  auto table = mBytes;
+  table[h.nodeTableOffset + 3] ^= 0x10;
+  EXPECT_EQ(openBytes(table).error().message,
+            "mem.tlod: node table is corrupt (checksum mismatch)");
+  auto blob = mBytes;
+  blob[kHeaderBytes + 5] ^= 0x01;
+  auto opened = openBytes(blob);
+  ASSERT_TRUE(opened.ok());
+  EXPECT_EQ((*opened)->readChunk(0).error().message,
+            "mem.tlod: chunk 0 is corrupt (checksum mismatch)");
+  auto meta = mBytes;
+  meta[h.metadataOffset] ^= 0x01;
+  EXPECT_FALSE(openBytes(meta).ok());
+}
+
+TEST(TilesetWriter, AbandonedWriteLeavesNothingBehind) {
+  char name[] = "/tmp/terralod-format-test-XXXXXX";
+  const std::string dir = mkdtemp(name);
+  {
+    auto writer = TilesetWriter::create(dir + "/never.tlod").value();
+    ASSERT_TRUE(writer->appendBlob(std::vector<uint8_t>(1000, 7)).ok());
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+  EXPECT_FALSE(TilesetWriter::create(dir + "/no/such/dir/x.tlod").ok());
+  std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace terralod
