@@ -1,0 +1,284 @@
+#include "terralod/raster/dem_reader.h"
+
+#include <gdal_priv.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "terralod/raster/void_fill.h"
+
+namespace terralod {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string data(const std::string& name) {
+  return std::string(TERRALOD_TEST_DATA) + "/" + name;
+}
+
+class ScratchDir {
+ public:
+  ScratchDir() {
+    char name[] = "/tmp/terralod-raster-test-XXXXXX";
+    mPath = mkdtemp(name);
+  }
+  ~ScratchDir() { fs::remove_all(mPath); }
+  std::string file(const std::string& name) const { return (mPath / name).string(); }
+
+ private:
+  fs::path mPath;
+};
+
+std::unique_ptr<DemReader> open(const std::string& path, const DemOpenOptions& options = {}) {
+  auto r = DemReader::open(path, options);
+  EXPECT_TRUE(r.ok()) << (r ? "" : r.error().message);
+  return r ? std::move(r).value() : nullptr;
+}
+
+Heightfield readAll(const DemReader& reader) {
+  Heightfield h(reader.info().columns, reader.info().rows);
+  const Status s = reader.readWindow(0, 0, h.columns(), h.rows(), h.values().data());
+  EXPECT_TRUE(s.ok()) << (s ? "" : s.error().message);
+  return h;
+}
+
+// GDAL's own value at raster (column, row), for cross-checking our grid orientation.
+double gdalValue(const std::string& path, int column, int rasterRow, int band = 1) {
+  GDALAllRegister();
+  GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER));
+  double v = 0;
+  (void)ds->GetRasterBand(band)->RasterIO(GF_Read, column, rasterRow, 1, 1, &v, 1, 1, GDT_Float64,
+                                          0, 0);
+  return v;
+}
+
+TEST(DemReader, GeoTiffInt16ProjectedWithVoids) {
+  auto r = open(data("zion_srtm3_utm12_30m.tif"));
+  const DemInfo& i = r->info();
+  EXPECT_EQ(i.columns, 1128);
+  EXPECT_EQ(i.rows, 1428);
+  EXPECT_EQ(i.dataType, "Int16");
+  EXPECT_DOUBLE_EQ(i.spacingX, 30.0);
+  EXPECT_DOUBLE_EQ(i.spacingY, 30.0);
+  EXPECT_EQ(i.spacingSource, "projected CRS");
+  const Heightfield h = readAll(*r);
+  EXPECT_EQ(countVoids(h), 23982u);
+  // Grid row 0 is the southernmost raster row.
+  EXPECT_TRUE(std::isnan(h(0, 0)));  // the warp's nodata border
+  EXPECT_EQ(h(600, 700), float(gdalValue(data("zion_srtm3_utm12_30m.tif"), 600, 1427 - 700)));
+}
+
+TEST(DemReader, GeoTiffUInt16Geographic) {
+  auto r = open(data("zion_srtm3.tif"));
+  EXPECT_EQ(r->info().dataType, "UInt16");
+  // 3 arc-seconds at 37.3 N on WGS 84.
+  EXPECT_NEAR(r->info().spacingX, 73.86, 0.05);
+  EXPECT_NEAR(r->info().spacingY, 92.49, 0.05);
+  EXPECT_NE(r->info().spacingSource.find("geographic"), std::string::npos);
+  EXPECT_EQ(countVoids(readAll(*r)), 0u);
+}
+
+TEST(DemReader, GeoTiffFloat32WithFloatNodata) {
+  auto r = open(data("gzcommon_dem_squared_129.tif"));
+  EXPECT_EQ(r->info().dataType, "Float32");
+  EXPECT_NEAR(r->info().spacingY, 30.83, 0.05);  // 1 arc-second
+  const Heightfield h = readAll(*r);
+  EXPECT_EQ(countVoids(h), 0u);
+  EXPECT_FLOAT_EQ(h(0, 128), float(gdalValue(data("gzcommon_dem_squared_129.tif"), 0, 0)));
+}
+
+TEST(DemReader, SrtmHgtBigEndianNamedByTile) {
+  auto r = open(data("N43W123.hgt"));
+  EXPECT_EQ(r->info().driver, "SRTMHGT");
+  EXPECT_EQ(r->info().columns, 1201);
+  EXPECT_NEAR(r->info().spacingX, 67.40, 0.05);
+  EXPECT_NEAR(r->info().spacingY, 92.59, 0.05);
+  const Heightfield h = readAll(*r);
+  float lo = 1e9f, hi = -1e9f;
+  for (float v : h.values()) lo = std::min(lo, v), hi = std::max(hi, v);
+  EXPECT_EQ(lo, 143.0f);  // byte order right: real Oregon heights, not swapped garbage
+  EXPECT_EQ(hi, 2731.0f);
+}
+
+TEST(DemReader, VtpBinaryTerrainKeepsAnisotropicCells) {
+  auto r = open(data("crater_lake_0513.bt"));
+  EXPECT_EQ(r->info().driver, "BT");
+  EXPECT_NEAR(r->info().spacingX, 20.1429, 1e-3);
+  EXPECT_NEAR(r->info().spacingY, 27.2515, 1e-3);
+}
+
+TEST(DemReader, EsriAsciiWithAndWithoutProjection) {
+  auto degrees = open(data("landlab_srtmgl3_frontrange.asc"));
+  EXPECT_NE(degrees->info().spacingSource.find("WGS 84 degrees assumed"), std::string::npos);
+  EXPECT_NEAR(degrees->info().spacingY, 92.5, 0.1);
+  auto metres = open(data("landlab_west_bijou_gully_3m.asc"));
+  EXPECT_DOUBLE_EQ(metres->info().spacingX, 3.0);
+  EXPECT_EQ(countVoids(readAll(*metres)), 2739u);  // NODATA 0 outside the gully
+}
+
+TEST(DemReader, VoidsInInt16NodataAndNaN) {
+  EXPECT_EQ(countVoids(readAll(*open(data("osgearth_mt_rainier_90m.tif")))), 9033u);
+  const Heightfield nz = readAll(*open(data("nz_elev_1km.tif")));
+  const double fraction = double(countVoids(nz)) / double(nz.values().size());
+  EXPECT_NEAR(fraction, 0.83, 0.01);
+}
+
+TEST(DemReader, NetCdfAndSixteenBitPng) {
+  ScratchDir dir;
+  GDALAllRegister();
+  GDALDatasetUniquePtr src(GDALDataset::Open(data("zion_srtm3.tif").c_str(), GDAL_OF_RASTER));
+  for (const char* format : {"netCDF", "PNG"}) {
+    const std::string path = dir.file(std::string("copy.") + (format[0] == 'n' ? "nc" : "png"));
+    GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(format);
+    ASSERT_NE(driver, nullptr) << format;
+    GDALDatasetUniquePtr copy(
+        driver->CreateCopy(path.c_str(), src.get(), FALSE, nullptr, nullptr, nullptr));
+    ASSERT_NE(copy, nullptr) << format;
+    copy.reset();
+    auto r = open(path);
+    ASSERT_NE(r, nullptr);
+    EXPECT_EQ(r->info().columns, 465) << format;
+    EXPECT_EQ(r->info().rows, 457) << format;
+    const Heightfield a = readAll(*r), b = readAll(*open(data("zion_srtm3.tif")));
+    EXPECT_EQ(a.values(), b.values()) << format;
+  }
+}
+
+TEST(DemReader, NetCdfWithSeveralVariablesPicksElevation) {
+  ScratchDir dir;
+  GDALAllRegister();
+  GDALDriver* nc = GetGDALDriverManager()->GetDriverByName("netCDF");
+  const std::string path = dir.file("multi.nc");
+  GDALDatasetUniquePtr ds(nc->Create(path.c_str(), 20, 10, 2, GDT_Float32, nullptr));
+  std::vector<float> a(200, 5.0f), b(200, 999.0f);
+  (void)ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 20, 10, a.data(), 20, 10, GDT_Float32, 0, 0);
+  (void)ds->GetRasterBand(2)->RasterIO(GF_Write, 0, 0, 20, 10, b.data(), 20, 10, GDT_Float32, 0, 0);
+  ds.reset();
+  auto r = open(path);
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(readAll(*r)(3, 3), 5.0f);  // variable Band1, not Band2
+}
+
+TEST(DemReader, TerrainRgbAndTerrariumTiles) {
+  ScratchDir dir;
+  GDALAllRegister();
+  // Encode a real DEM as Mapbox terrain-RGB, then decode it.
+  const Heightfield truth = readAll(*open(data("zion_srtm3.tif")));
+  const int w = truth.columns(), h = truth.rows();
+  GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
+  GDALDatasetUniquePtr rgb(mem->Create("", w, h, 3, GDT_Byte, nullptr));
+  std::vector<uint8_t> channel[3];
+  for (auto& c : channel) c.resize(size_t(w) * h);
+  for (int row = 0; row < h; ++row)
+    for (int x = 0; x < w; ++x) {
+      const uint32_t code = uint32_t(std::lround((truth(x, h - 1 - row) + 10000.0) * 10.0));
+      channel[0][size_t(row) * w + x] = uint8_t(code >> 16);
+      channel[1][size_t(row) * w + x] = uint8_t(code >> 8);
+      channel[2][size_t(row) * w + x] = uint8_t(code);
+    }
+  for (int b = 0; b < 3; ++b)
+    (void)rgb->GetRasterBand(b + 1)->RasterIO(GF_Write, 0, 0, w, h, channel[b].data(), w, h,
+                                              GDT_Byte, 0, 0);
+  const std::string png = dir.file("mapbox.png");
+  GDALDatasetUniquePtr(GetGDALDriverManager()->GetDriverByName("PNG")->CreateCopy(
+      png.c_str(), rgb.get(), FALSE, nullptr, nullptr, nullptr));
+  DemOpenOptions options;
+  options.encoding = HeightEncoding::kTerrainRgb;
+  const Heightfield decoded = readAll(*open(png, options));
+  for (size_t i = 0; i < truth.values().size(); i += 97)
+    ASSERT_NEAR(decoded.values()[i], truth.values()[i], 0.051);
+
+  options.encoding = HeightEncoding::kTerrarium;
+  auto terrarium = open(data("loadersgl_terrarium_256.png"), options);
+  EXPECT_TRUE(terrarium->info().spacingAssumed);
+  const Heightfield t = readAll(*terrarium);
+  const std::string tile = data("loadersgl_terrarium_256.png");
+  const double expected = gdalValue(tile, 10, 255, 1) * 256 + gdalValue(tile, 10, 255, 2) +
+                          gdalValue(tile, 10, 255, 3) / 256 - 32768;
+  EXPECT_DOUBLE_EQ(t(10, 0), float(expected));
+  // Plain decoding of an RGB tile is refused rather than misread... no: band 1 alone is a
+  // valid raster; but RGB decoding of a one-band DEM is refused.
+  EXPECT_FALSE(DemReader::open(data("zion_srtm3.tif"), options).ok());
+}
+
+TEST(DemReader, UnitsScaleAndSpacingOverrides) {
+  ScratchDir dir;
+  GDALAllRegister();
+  const std::string path = dir.file("feet.tif");
+  GDALDatasetUniquePtr ds(GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
+      path.c_str(), 4, 3, 1, GDT_Int16, nullptr));
+  std::vector<int16_t> v(12, 1000);
+  (void)ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 4, 3, v.data(), 4, 3, GDT_Int16, 0, 0);
+  ds->GetRasterBand(1)->SetUnitType("ft");
+  ds.reset();
+  DemOpenOptions options;
+  options.verticalScale = 2.0;
+  options.spacing = std::array<double, 2>{5.0, 7.5};
+  auto r = open(path, options);
+  EXPECT_DOUBLE_EQ(r->info().spacingX, 5.0);
+  EXPECT_DOUBLE_EQ(r->info().spacingY, 7.5);
+  EXPECT_FLOAT_EQ(readAll(*r)(1, 1), float(1000 * 0.3048 * 2.0));
+}
+
+TEST(DemReader, WindowsOutsideTheRasterReplicateItsEdges) {
+  auto r = open(data("crater_lake_0513.bt"));
+  const Heightfield all = readAll(*r);
+  std::vector<float> window(10 * 10);
+  ASSERT_TRUE(r->readWindow(-3, 508, 10, 10, window.data()).ok());
+  EXPECT_EQ(window[0], all(0, 508));           // left of column 0
+  EXPECT_EQ(window[9 * 10 + 9], all(6, 512));  // above the top row
+  EXPECT_EQ(window[2 * 10 + 5], all(2, 510));  // inside
+}
+
+TEST(DemReader, BadInputsGetOneClearLine) {
+  ScratchDir dir;
+  auto message = [](const std::string& path) {
+    auto r = DemReader::open(path, {});
+    EXPECT_FALSE(r.ok()) << path;
+    return r ? std::string() : r.error().message;
+  };
+  EXPECT_EQ(message(dir.file("nope.tif")), dir.file("nope.tif") + ": no such file");
+  EXPECT_NE(message(dir.file("")).find("is a directory"), std::string::npos);
+  std::ofstream(dir.file("empty.tif")).close();
+  EXPECT_EQ(message(dir.file("empty.tif")), dir.file("empty.tif") + ": file is empty");
+  std::ofstream(dir.file("notes.txt")) << "these are not heights\n";
+  EXPECT_NE(message(dir.file("notes.txt")).find("not a raster GDAL can read"), std::string::npos);
+
+  GDALAllRegister();
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  GDALDatasetUniquePtr(gtiff->Create(dir.file("one.tif").c_str(), 1, 1, 1, GDT_Float32, nullptr));
+  EXPECT_NE(message(dir.file("one.tif")).find("1x1 samples; terralod needs at least 2x2"),
+            std::string::npos);
+  {
+    GDALDatasetUniquePtr rotated(
+        gtiff->Create(dir.file("rot.tif").c_str(), 8, 8, 1, GDT_Float32, nullptr));
+    double gt[6] = {0, 1, 0.2, 0, 0.1, -1};
+    rotated->SetGeoTransform(gt);
+  }
+  EXPECT_NE(message(dir.file("rot.tif")).find("rotated"), std::string::npos);
+
+  // A truncated GeoTIFF fails either when opened (directory at the end, as in the Rainier
+  // file) or when its data is read (directory first): either way one line naming the file.
+  for (const char* name : {"osgearth_mt_rainier_90m.tif", "zion_srtm3_utm12_30m.tif"}) {
+    const std::string truncated = dir.file(std::string("truncated-") + name);
+    fs::copy_file(data(name), truncated);
+    fs::resize_file(truncated, fs::file_size(truncated) / 2);
+    auto r = DemReader::open(truncated, {});
+    std::string error;
+    if (!r.ok()) {
+      error = r.error().message;
+    } else {
+      Heightfield h((*r)->info().columns, (*r)->info().rows);
+      const Status s = (*r)->readWindow(0, 0, h.columns(), h.rows(), h.values().data());
+      ASSERT_FALSE(s.ok()) << name;
+      error = s.error().message;
+    }
+    EXPECT_EQ(error.rfind(truncated + ": ", 0), 0u) << error;
+    EXPECT_EQ(error.find('\n'), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace terralod
