@@ -124,7 +124,6 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   if (!opened) return opened.error();
   const DemReader& reader = **opened;
   const DemInfo& info = reader.info();
-  if (info.spacingAssumed) warn(info.path + ": " + info.spacingSource);
   summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
   const unsigned threads = options.threads ? options.threads : hardwareThreads();
 
@@ -147,6 +146,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   auto filled = fillVoids(heights, info.path);
   if (!filled) return filled.error();
   summary.filledVoids = *filled;
+  // Warn only once the input has proven usable, so a broken input gets its one error line.
+  if (info.spacingAssumed) warn(info.path + ": " + info.spacingSource);
   double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
   for (float v : heights.values()) {
     zMin = std::min(zMin, double(v));
