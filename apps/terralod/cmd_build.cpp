@@ -45,8 +45,11 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--zstd-level", options->compressionLevel, "zstd level for chunk data (1-22)")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
-  cmd->callback([&run, options, encoding, spacing] {
-    run = [options, encoding, spacing] {
+  auto verbose = std::make_shared<bool>(false);
+  cmd->add_flag("--verbose", *verbose,
+                "Print how the build went: passes, triangles scanned exactly");
+  cmd->callback([&run, options, encoding, spacing, verbose] {
+    run = [options, encoding, spacing, verbose] {
       options->dem.encoding = *parseHeightEncoding(*encoding);
       if (!spacing->empty())
         options->dem.spacing = std::array<double, 2>{(*spacing)[0], spacing->back()};
@@ -56,12 +59,19 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       const BuildSummary& s = *summary;
       std::printf(
           "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %llu vertices, %.2f MB "
-          "(%.2f bytes/vertex, %.3f bytes/sample), %llu voids filled, %.2f s\n",
+          "(%.2f bytes/vertex, %.3f bytes/sample), %llu voids filled, %.2f s (read %.2f s, errors "
+          "%.2f s, meshes %.2f s)\n",
           options->output.c_str(), s.levels, (unsigned long long)s.chunks,
           (unsigned long long)s.triangles, (unsigned long long)s.vertices, s.fileBytes / 1e6,
           s.vertices ? double(s.fileBytes) / double(s.vertices) : 0.0,
           double(s.fileBytes) / double(s.sourceSamples), (unsigned long long)s.filledVoids,
-          s.totalSeconds);
+          s.totalSeconds, s.loadSeconds, s.errorSeconds, s.meshSeconds);
+      if (*verbose)
+        std::printf(
+            "terralod: %s input, %d error pass(es), %llu triangles scanned exactly, %llu "
+            "settled by bounds\n",
+            s.streamed ? "streamed" : "in-memory", s.errorPasses,
+            (unsigned long long)s.trianglesScanned, (unsigned long long)s.trianglesBounded);
       return 0;
     };
   });

@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "commands.h"
+#include "terralod/raster/dem_reader.h"
 
 namespace terralod::cli {
 
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
+  terralod::setGdalCacheBytes(uint64_t{64} << 20);
   try {
     return run ? run() : 0;
   } catch (const std::bad_alloc&) {

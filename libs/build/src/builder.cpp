@@ -1,19 +1,18 @@
 #include "terralod/build/builder.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <mutex>
 #include <nlohmann/json.hpp>
 
 #include "terralod/build/activation_pass.h"
-#include "terralod/build/chunk_encoder.h"
-#include "terralod/build/chunk_mesher.h"
+#include "terralod/build/chunk_pass.h"
+#include "terralod/build/dem_windows.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/height_source.h"
+#include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/parallel.h"
 #include "terralod/format/tileset_writer.h"
@@ -28,43 +27,7 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-float floatBelow(double v) {
-  const float f = static_cast<float>(v);
-  return double(f) <= v ? f : std::nextafter(f, -std::numeric_limits<float>::infinity());
-}
-float floatAbove(double v) {
-  const float f = static_cast<float>(v);
-  return double(f) >= v ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
-}
-
-// Breadth-first node list: roots row-major, then each level's children in SW, SE, NW, NE order.
-std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout) {
-  std::vector<NodeRecord> nodes;
-  for (int32_t y = 0; y < layout.rootsY; ++y)
-    for (int32_t x = 0; x < layout.rootsX; ++x) {
-      NodeRecord n;
-      n.x = uint32_t(x);
-      n.y = uint32_t(y);
-      nodes.push_back(n);
-    }
-  for (size_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].level == layout.depth) continue;
-    const int32_t level = nodes[i].level + 1;
-    for (int q = 0; q < 4; ++q) {
-      const int32_t cx = int32_t(nodes[i].x) * 2 + (q & 1), cy = int32_t(nodes[i].y) * 2 + (q >> 1);
-      if (!layout.chunkExists(level, cx, cy)) continue;
-      if (nodes[i].childMask == 0) nodes[i].firstChild = uint32_t(nodes.size());
-      nodes[i].childMask |= uint8_t(1u << q);
-      NodeRecord c;
-      c.level = uint8_t(level);
-      c.x = uint32_t(cx);
-      c.y = uint32_t(cy);
-      c.parent = uint32_t(i);
-      nodes.push_back(c);
-    }
-  }
-  return nodes;
-}
+constexpr uint64_t kStreamAbove = uint64_t{1} << 24;  // samples
 
 Result<Heightfield> loadHeights(const DemReader& reader, Progress& progress) {
   const DemInfo& info = reader.info();
@@ -114,6 +77,35 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
   return j.dump(2);
 }
 
+// Everything the two passes need to know about where heights come from.
+struct HeightPlan {
+  std::unique_ptr<Heightfield> memory;  // in-memory raster (voids filled)
+  std::unique_ptr<MemoryHeights> memoryHeights;
+  std::unique_ptr<SparseHeights> sparse;  // streamed raster
+  std::unique_ptr<DemWindows> windows;
+  double zMin = 0, zMax = 0;
+};
+
+Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& plan,
+                      BuildSummary& summary) {
+  auto loaded = loadHeights(reader, progress);
+  if (!loaded) return loaded.error();
+  plan.memory = std::make_unique<Heightfield>(std::move(loaded).value());
+  auto filled = fillVoids(*plan.memory, reader.info().path);
+  if (!filled) return filled.error();
+  summary.filledVoids = *filled;
+  plan.zMin = std::numeric_limits<double>::infinity();
+  plan.zMax = -plan.zMin;
+  for (float v : plan.memory->values()) {
+    plan.zMin = std::min(plan.zMin, double(v));
+    plan.zMax = std::max(plan.zMax, double(v));
+  }
+  if (!std::isfinite(plan.zMin) || !std::isfinite(plan.zMax))
+    return makeError(reader.info().path, "heights are not finite after filling voids");
+  plan.memoryHeights = std::make_unique<MemoryHeights>(*plan.memory);
+  return {};
+}
+
 }  // namespace
 
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
@@ -133,100 +125,97 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   auto writer = TilesetWriter::create(options.output);
   if (!writer) return writer.error();
 
-  const uint64_t heightBytes = summary.sourceSamples * sizeof(float);
-  if (heightBytes > options.memoryMB * (uint64_t{1} << 20))
-    return makeError(info.path, "the raster needs " + std::to_string(heightBytes >> 20) +
-                                    " MB, more than --memory-mb " +
-                                    std::to_string(options.memoryMB) +
-                                    "; windowed builds are not available yet");
+  const bool fitsMemory = summary.sourceSamples * sizeof(float) <= options.memoryMB << 20;
+  bool stream = options.streaming == Streaming::kAlways ||
+                (options.streaming == Streaming::kAuto &&
+                 (!fitsMemory || summary.sourceSamples > kStreamAbove) &&
+                 info.encoding == HeightEncoding::kPlain);
+  if (!stream && !fitsMemory)
+    return makeError(info.path,
+                     "the raster needs " + std::to_string((summary.sourceSamples * 4) >> 20) +
+                         " MB, more than --memory-mb " + std::to_string(options.memoryMB));
 
-  auto loaded = loadHeights(reader, progress);
-  if (!loaded) return loaded.error();
-  Heightfield& heights = *loaded;
-  auto filled = fillVoids(heights, info.path);
-  if (!filled) return filled.error();
-  summary.filledVoids = *filled;
-  // Warn only once the input has proven usable, so a broken input gets its one error line.
-  if (info.spacingAssumed) warn(info.path + ": " + info.spacingSource);
-  double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
-  for (float v : heights.values()) {
-    zMin = std::min(zMin, double(v));
-    zMax = std::max(zMax, double(v));
-  }
-  if (!std::isfinite(zMin) || !std::isfinite(zMax))
-    return makeError(info.path, "heights are not finite after filling voids");
-  summary.loadSeconds = secondsSince(start);
-
-  auto budget = makeErrorBudget(*layout, options.maxError, zMax - zMin);
-  if (!budget) return makeError(info.path, budget.error().message);
-
-  const auto errorStart = Clock::now();
-  MemoryHeights memory(heights);
   ActivationOptions activationOptions;
   activationOptions.threads = threads;
-  activationOptions.blockCells = 512;
+  activationOptions.blockCells =
+      std::clamp(options.blockCells, layout->leafCells, layout->rootCells);
+  HeightPlan plan;
+  Result<ErrorBudget> budget = Error{};
+  Result<ActivationGrid> grid = Error{};
   ActivationStats activationStats;
-  auto grid = computeActivations(*layout, *budget, memory, memory, activationOptions, progress,
-                                 &activationStats);
-  if (!grid) return grid.error();
-  summary.errorSeconds = secondsSince(errorStart);
+
+  if (stream) {
+    // Pass 1 reads the raster block by block. Its thresholds depend on the height range,
+    // which is estimated first and checked once every sample has been seen.
+    auto estimate = reader.approximateHeightRange();
+    double guessLo = 0, guessHi = 0;
+    if (estimate) {
+      const double span = (*estimate)[1] - (*estimate)[0];
+      guessLo = (*estimate)[0] - 0.25 * span - 50.0;
+      guessHi = (*estimate)[1] + 0.25 * span + 50.0;
+    }
+    plan.sparse = std::make_unique<SparseHeights>(*layout, activationOptions.blockCells);
+    plan.windows = std::make_unique<DemWindows>(reader, threads, plan.sparse.get());
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      budget = makeErrorBudget(*layout, options.maxError, guessHi - guessLo);
+      if (!budget) return makeError(info.path, budget.error().message);
+      const auto errorStart = Clock::now();
+      activationStats = {};
+      grid = computeActivations(*layout, *budget, *plan.windows, *plan.sparse, activationOptions,
+                                progress, &activationStats);
+      if (!grid) return grid.error();
+      summary.errorSeconds += secondsSince(errorStart);
+      ++summary.errorPasses;
+      if (plan.windows->sawVoid()) break;
+      plan.zMin = plan.windows->minHeight();
+      plan.zMax = plan.windows->maxHeight();
+      if (plan.zMin >= guessLo && plan.zMax <= guessHi) break;
+      guessLo = plan.zMin;
+      guessHi = plan.zMax;
+    }
+    if (plan.windows->sawVoid()) {
+      if (!fitsMemory)
+        return makeError(info.path, "has voids and is larger than --memory-mb " +
+                                        std::to_string(options.memoryMB) +
+                                        "; filling voids out of core is not supported yet "
+                                        "(fill them first, e.g. with gdal_fillnodata)");
+      stream = false;  // voids need the whole raster to be filled: start over in memory
+      plan = HeightPlan{};
+    } else {
+      plan.windows->stopRecording();
+    }
+  }
+  if (!stream) {
+    if (Status s = loadIntoMemory(reader, progress, plan, summary); !s) return s.error();
+    summary.loadSeconds = secondsSince(start);
+    budget = makeErrorBudget(*layout, options.maxError, plan.zMax - plan.zMin);
+    if (!budget) return makeError(info.path, budget.error().message);
+    const auto errorStart = Clock::now();
+    grid = computeActivations(*layout, *budget, *plan.memoryHeights, *plan.memoryHeights,
+                              activationOptions, progress, &activationStats);
+    if (!grid) return grid.error();
+    summary.errorSeconds = secondsSince(errorStart);
+    summary.errorPasses = 1;
+  }
+  summary.streamed = stream;
   summary.trianglesScanned = activationStats.trianglesScanned;
   summary.trianglesBounded = activationStats.trianglesBounded;
+  // Warn only once the input has proven usable, so a broken input gets its one error line.
+  if (info.spacingAssumed) warn(info.path + ": " + info.spacingSource);
 
-  // Mesh, encode and write every chunk. Workers take chunks in node order; blobs are written in
-  // node order too, so the file is the same whatever the thread count.
   const auto meshStart = Clock::now();
   std::vector<NodeRecord> nodes = enumerateNodes(*layout);
-  std::vector<std::vector<uint8_t>> pending(nodes.size());
-  std::vector<uint8_t> ready(nodes.size(), 0);
-  size_t nextToWrite = 0;
-  std::mutex writeMutex;
-  std::optional<Error> failure;
-  std::atomic<bool> failed{false};
-  std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
-  for (auto& m : meshers) m = std::make_unique<ChunkMesher>(*layout, *budget, *grid, memory);
-
-  progress.begin("meshing", nodes.size());
-  parallelFor(nodes.size(), threads, [&](size_t i, unsigned worker) {
-    progress.advance();
-    if (failed) return;
-    NodeRecord& node = nodes[i];
-    const ChunkMesh mesh = meshers[worker]->build(node.level, int32_t(node.x), int32_t(node.y));
-    auto geometry = quantizeChunk(mesh, *budget);
-    std::vector<uint8_t> blob;
-    if (geometry) blob = encodeChunk(*geometry, options.compressionLevel);
-    node.minZ = floatBelow(mesh.minZ);
-    node.maxZ = floatAbove(mesh.maxZ);
-    node.vertexCount = mesh.surfaceVertexCount;
-    node.triangleCount = uint32_t(mesh.surfaceIndices.size() / 3);
-    node.skirtTriangleCount = uint32_t(mesh.skirtIndices.size() / 3);
-    node.maxSkirtDepth =
-        floatAbove(*std::max_element(mesh.skirtDepth.begin(), mesh.skirtDepth.end()));
-    node.blobBytes = uint32_t(blob.size());
-    node.blobCrc = crc32Of(blob);
-
-    std::lock_guard lock(writeMutex);
-    if (!geometry) {
-      failure = geometry.error();
-      failed = true;
-      return;
-    }
-    pending[i] = std::move(blob);
-    ready[i] = 1;
-    while (nextToWrite < nodes.size() && ready[nextToWrite]) {
-      auto offset = (*writer)->appendBlob(pending[nextToWrite]);
-      if (!offset) {
-        failure = offset.error();
-        failed = true;
-        return;
-      }
-      nodes[nextToWrite].blobOffset = *offset;
-      std::vector<uint8_t>().swap(pending[nextToWrite]);
-      ++nextToWrite;
-    }
-  });
-  progress.end();
-  if (failure) return *failure;
+  ChunkPassOptions chunkOptions;
+  chunkOptions.blockCells = activationOptions.blockCells;
+  chunkOptions.threads = threads;
+  chunkOptions.compressionLevel = options.compressionLevel;
+  HeightWindows& windows = stream ? static_cast<HeightWindows&>(*plan.windows)
+                                  : static_cast<HeightWindows&>(*plan.memoryHeights);
+  if (Status s = buildChunks(
+          *layout, *budget, *grid, nodes, windows, stream ? nullptr : plan.memoryHeights.get(),
+          stream ? plan.sparse.get() : nullptr, chunkOptions, **writer, progress);
+      !s)
+    return s.error();
   summary.meshSeconds = secondsSince(meshStart);
 
   for (const NodeRecord& n : nodes) {
@@ -249,8 +238,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   header.spacingY = info.spacingY;
   for (int32_t l = 0; l < layout->levelCount(); ++l)
     header.levelError[size_t(l)] = budget->levelError[size_t(l)];
-  header.extentMin = {0.0, 0.0, zMin};
-  header.extentMax = {layout->cellsX * info.spacingX, layout->cellsY * info.spacingY, zMax};
+  header.extentMin = {0.0, 0.0, plan.zMin};
+  header.extentMax = {layout->cellsX * info.spacingX, layout->cellsY * info.spacingY, plan.zMax};
   header.filledVoids = summary.filledVoids;
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;

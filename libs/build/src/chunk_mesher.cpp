@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <limits>
 
 namespace terralod {
@@ -21,9 +22,9 @@ bool containsPoint(const BinTriangle& t, GridPoint p) {
 
 ChunkMesher::ChunkMesher(const TreeLayout& layout, const ErrorBudget& budget,
                          const ActivationGrid& grid, const HeightSampler& heights)
-    : mLayout(layout), mBudget(budget), mGrid(grid), mHeights(heights) {}
+    : mLayout(layout), mBudget(budget), mGrid(grid), mHeights(&heights) {}
 
-uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z) {
+uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const Plane& parent) {
   const int32_t lx = p.x - mOriginX, ly = p.y - mOriginY;
   assert(lx >= 0 && ly >= 0 && lx <= mSide && ly <= mSide);
   const auto next = static_cast<uint32_t>(mesh.vertices.size());
@@ -38,7 +39,7 @@ uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z) {
     const auto [it, inserted] = mSparseIndex.try_emplace(key, next);
     if (!inserted) return it->second;
   }
-  mesh.vertices.push_back({p.x, p.y, z, z});
+  mesh.vertices.push_back({p.x, p.y, z, parent.at(p)});
   return next;
 }
 
@@ -47,16 +48,20 @@ double ChunkMesher::planeHeight(const BinTriangle& t, GridPoint p) const {
   const double wa = double(orient2d(t.b, t.apex, p)) / area;
   const double wb = double(orient2d(t.apex, t.a, p)) / area;
   const double wc = 1.0 - wa - wb;
-  return wa * mHeights.at(t.a.x, t.a.y) + wb * mHeights.at(t.b.x, t.b.y) +
-         wc * mHeights.at(t.apex.x, t.apex.y);
+  return wa * mHeights->at(t.a.x, t.a.y) + wb * mHeights->at(t.b.x, t.b.y) +
+         wc * mHeights->at(t.apex.x, t.apex.y);
 }
 
 double ChunkMesher::surfaceHeight(int32_t level, GridPoint p) {
   const int32_t s = mLayout.chunkCells(level);
-  const int32_t ix = std::min(p.x / s, mLayout.chunksX(level) - 1);
-  const int32_t iy = std::min(p.y / s, mLayout.chunksY(level) - 1);
+  return surfaceHeightIn(level, std::min(p.x / s, mLayout.chunksX(level) - 1),
+                         std::min(p.y / s, mLayout.chunksY(level) - 1), p);
+}
+
+double ChunkMesher::surfaceHeightIn(int32_t level, int32_t ix, int32_t iy, GridPoint p) {
   if (mCachedParentLevel == level && containsPoint(mCachedParentTriangle, p))
     return planeHeight(mCachedParentTriangle, p);
+  const int32_t s = mLayout.chunkCells(level);
   const auto roots = squareTriangles(ix * s, iy * s, s);
   BinTriangle t = containsPoint(roots[0], p) ? roots[0] : roots[1];
   const uint8_t needed = mBudget.activationForLevel(level);
@@ -70,11 +75,16 @@ double ChunkMesher::surfaceHeight(int32_t level, GridPoint p) {
   return planeHeight(t, p);
 }
 
-double ChunkMesher::parentSurface(int32_t level, int32_t, int32_t, GridPoint p) {
-  return surfaceHeight(level - 1, p);
+ChunkMesher::Plane ChunkMesher::planeOf(const BinTriangle& t) const {
+  const double za = mHeights->at(t.a.x, t.a.y), zb = mHeights->at(t.b.x, t.b.y),
+               zc = mHeights->at(t.apex.x, t.apex.y);
+  const double x1 = t.b.x - t.a.x, y1 = t.b.y - t.a.y, z1 = zb - za;
+  const double x2 = t.apex.x - t.a.x, y2 = t.apex.y - t.a.y, z2 = zc - za;
+  const double det = x1 * y2 - x2 * y1;
+  return Plane{t.a, za, (z1 * y2 - z2 * y1) / det, (x1 * z2 - x2 * z1) / det};
 }
 
-void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t) {
+void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plane& parent) {
   const int32_t w = mLayout.cellsX, h = mLayout.cellsY;
   const GridPoint corners[3] = {t.a, t.b, t.apex};
   const int32_t maxX = std::max({t.a.x, t.b.x, t.apex.x}),
@@ -86,8 +96,9 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t) {
   auto addTriangle = [&](const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
     const int64_t o = orient2d(a.p, b.p, c.p);
     if (o == 0) return;
-    const uint32_t ia = vertexIndex(mesh, a.p, a.z), ib = vertexIndex(mesh, b.p, b.z),
-                   ic = vertexIndex(mesh, c.p, c.z);
+    const uint32_t ia = vertexIndex(mesh, a.p, a.z, parent),
+                   ib = vertexIndex(mesh, b.p, b.z, parent),
+                   ic = vertexIndex(mesh, c.p, c.z, parent);
     if (o > 0) {
       mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {ia, ib, ic});
     } else {
@@ -97,7 +108,7 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t) {
 
   ClipVertex poly[8];
   int n = 3;
-  for (int i = 0; i < 3; ++i) poly[i] = {corners[i], mHeights.at(corners[i].x, corners[i].y)};
+  for (int i = 0; i < 3; ++i) poly[i] = {corners[i], mHeights->at(corners[i].x, corners[i].y)};
   if (maxX <= w && maxY <= h) {
     addTriangle(poly[0], poly[1], poly[2]);
     return;
@@ -152,21 +163,29 @@ void ChunkMesher::addSkirts(ChunkMesh& mesh) {
 
     // How far above the data can this side be drawn (over its whole morph range)?
     double up = 0.0;
+    bool missing = false;  // a height the source could not give: poison the skirt, not hide it
     size_t segment = 0;
     for (int32_t q = onSide.front().first; q <= onSide.back().first; ++q) {
       while (segment + 2 < onSide.size() && onSide[segment + 1].first < q) ++segment;
       const auto& [qa, ia] = onSide[segment];
       const auto& [qb, ib] = onSide[segment + 1];
       const double f = double(q - qa) / double(qb - qa);
-      const double drawn = mesh.vertices[ia].z + f * (mesh.vertices[ib].z - mesh.vertices[ia].z);
+      const MeshVertex &va = mesh.vertices[ia], &vb = mesh.vertices[ib];
+      const double drawn = va.z + f * (vb.z - va.z);
+      // The child refines the parent, so along the side the parent's surface is linear
+      // between the child's side vertices too: the fully morphed side.
+      const double parent = va.morphTarget + f * (vb.morphTarget - va.morphTarget);
       const GridPoint p = vertical ? GridPoint{line, q} : GridPoint{q, line};
-      const double parent = mesh.level > 0 ? parentSurface(mesh.level, mesh.ix, mesh.iy, p) : drawn;
-      up = std::max(up, std::max(drawn, parent) - mHeights.at(p.x, p.y));
+      const double above = std::max(drawn, parent) - mHeights->at(p.x, p.y);
+      missing |= std::isnan(above) || std::isnan(drawn) || std::isnan(parent);
+      up = std::max(up, above);
     }
     // ...plus how far below the data the coarsest possible neighbour across it can be.
     const int32_t coarsest = mLayout.coarsestLevelOfBorder(line, mesh.level);
     const double neighbour = mBudget.levelError[std::max(coarsest - 1, 0)];
-    const double depth = up + neighbour + mBudget.zStep[mesh.level] + mBudget.zStep[coarsest];
+    const double depth = missing
+                             ? std::nan("")
+                             : up + neighbour + mBudget.zStep[mesh.level] + mBudget.zStep[coarsest];
     mesh.skirtDepth[side] = depth;
 
     const auto first = static_cast<uint32_t>(mesh.vertices.size());
@@ -202,29 +221,65 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
     mSparseIndex.clear();
   }
 
+  // Walk the chunk's bintree. Alongside, find for every emitted triangle the parent level's
+  // triangle it lies in (the child refines the parent, so it is an ancestor or itself): its
+  // plane gives the morph targets, with no search.
   const uint8_t needed = mBudget.activationForLevel(level);
-  const auto roots = squareTriangles(mesh.x0, mesh.y0, mesh.side);
-  mStack.assign(roots.begin(), roots.end());
-  while (!mStack.empty()) {
-    const BinTriangle t = mStack.back();
-    mStack.pop_back();
-    if (t.splittable()) {
-      const GridPoint m = t.hypotenuseMidpoint();
-      if (mGrid.get(m.x, m.y) >= needed) {
+  const uint8_t parentNeeds = uint8_t(needed + 1);
+  auto splitAt = [&](const BinTriangle& t, uint8_t need) {
+    if (!t.splittable()) return false;
+    const GridPoint m = t.hypotenuseMidpoint();
+    return mGrid.get(m.x, m.y) >= need;
+  };
+  mStack.clear();
+  for (const BinTriangle& root : squareTriangles(mesh.x0, mesh.y0, mesh.side)) {
+    Pending item{root, false, {}};
+    if (level > 0) {
+      // From the parent chunk's triangles down to this root (two bintree levels).
+      const int32_t ps = 2 * mesh.side;
+      const GridPoint centroid3{root.a.x + root.b.x + root.apex.x,
+                                root.a.y + root.b.y + root.apex.y};
+      auto contains3 = [&](const BinTriangle& t) {
+        const BinTriangle scaled{
+            {3 * t.a.x, 3 * t.a.y}, {3 * t.b.x, 3 * t.b.y}, {3 * t.apex.x, 3 * t.apex.y}};
+        return containsPoint(scaled, centroid3);
+      };
+      const auto parentRoots = squareTriangles((ix >> 1) * ps, (iy >> 1) * ps, ps);
+      BinTriangle t = contains3(parentRoots[0]) ? parentRoots[0] : parentRoots[1];
+      for (int depth = 0; depth < 2 && splitAt(t, parentNeeds); ++depth) {
         const auto kids = t.children();
-        mStack.push_back(kids[1]);
-        mStack.push_back(kids[0]);
-        continue;
+        t = contains3(kids[0]) ? kids[0] : kids[1];
+      }
+      if (!splitAt(t, parentNeeds)) {
+        item.parentKnown = true;
+        item.parent = planeOf(t);
       }
     }
-    emitTriangle(mesh, t);
+    mStack.push_back(item);
+  }
+  while (!mStack.empty()) {
+    Pending item = mStack.back();
+    mStack.pop_back();
+    if (level > 0 && !item.parentKnown && !splitAt(item.t, parentNeeds)) {
+      item.parentKnown = true;
+      item.parent = planeOf(item.t);
+    }
+    if (splitAt(item.t, needed)) {
+      const auto kids = item.t.children();
+      mStack.push_back({kids[1], item.parentKnown, item.parent});
+      mStack.push_back({kids[0], item.parentKnown, item.parent});
+      continue;
+    }
+    // A leaf here is unsplit in the parent too, so its parent triangle is known by now; the
+    // roots (level 0) have no parent and morph to themselves.
+    assert(level == 0 || item.parentKnown);
+    emitTriangle(mesh, item.t, level > 0 ? item.parent : planeOf(item.t));
   }
   mesh.surfaceVertexCount = static_cast<uint32_t>(mesh.vertices.size());
 
   mesh.minZ = std::numeric_limits<double>::infinity();
   mesh.maxZ = -std::numeric_limits<double>::infinity();
-  for (MeshVertex& v : mesh.vertices) {
-    v.morphTarget = level > 0 ? parentSurface(level, ix, iy, {v.x, v.y}) : v.z;
+  for (const MeshVertex& v : mesh.vertices) {
     mesh.minZ = std::min({mesh.minZ, v.z, v.morphTarget});
     mesh.maxZ = std::max({mesh.maxZ, v.z, v.morphTarget});
   }

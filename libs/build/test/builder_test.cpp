@@ -35,8 +35,11 @@ std::vector<uint8_t> fileBytes(const std::string& path) {
 }
 
 BuildSummary build(const std::string& input, const std::string& output, double maxError,
-                   unsigned threads = 2, int32_t chunkCells = 0) {
+                   unsigned threads = 2, int32_t chunkCells = 0,
+                   Streaming streaming = Streaming::kNever, int32_t blockCells = 512) {
   BuildOptions options;
+  options.streaming = streaming;
+  options.blockCells = blockCells;
   options.input = input;
   options.output = output;
   options.maxError = maxError;
@@ -99,14 +102,48 @@ INSTANTIATE_TEST_SUITE_P(Terrains, BuildAndVerify,
                                            Case{300, 300, 16, 2.0, 23, true},
                                            Case{65, 200, 8, 1.0, 24, true}));
 
+// The streamed path (windows, sparse heights for the coarse levels) builds the same kind of
+// tileset as the in-memory one: it verifies, and its meshes differ only through the height
+// quantisation step, which it derives from an estimated height range.
+TEST(Builder, StreamedBuildMatchesInMemory) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(301, 211, 31), dir.file("in.tif"), 5.0);
+  const BuildSummary memory =
+      build(dir.file("in.tif"), dir.file("memory.tlod"), 1.0, 2, 16, Streaming::kNever, 32);
+  const BuildSummary streamed =
+      build(dir.file("in.tif"), dir.file("streamed.tlod"), 1.0, 2, 16, Streaming::kAlways, 32);
+  EXPECT_FALSE(memory.streamed);
+  EXPECT_TRUE(streamed.streamed);
+  EXPECT_EQ(streamed.chunks, memory.chunks);
+  EXPECT_NEAR(double(streamed.triangles), double(memory.triangles),
+              0.02 * double(memory.triangles));
+  EXPECT_TRUE(verify(dir.file("streamed.tlod"), dir.file("in.tif")).ok());
+  EXPECT_TRUE(verify(dir.file("memory.tlod"), dir.file("in.tif")).ok());
+}
+
+TEST(Builder, StreamedBuildFallsBackToMemoryForVoids) {
+  TempDir dir;
+  Heightfield h = test::makeTestTerrain(150, 150, 32);
+  for (int32_t y = 60; y < 70; ++y)
+    for (int32_t x = 20; x < 90; ++x) h(x, y) = std::nanf("");
+  test::writeGeoTiff(h, dir.file("in.tif"));
+  const BuildSummary s =
+      build(dir.file("in.tif"), dir.file("out.tlod"), 1.0, 2, 16, Streaming::kAlways, 32);
+  EXPECT_FALSE(s.streamed);
+  EXPECT_EQ(s.filledVoids, 700u);
+  EXPECT_TRUE(verify(dir.file("out.tlod"), dir.file("in.tif")).ok());
+}
+
 TEST(Builder, OutputDoesNotDependOnThreadCount) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(200, 150, 7), dir.file("in.tif"));
-  build(dir.file("in.tif"), dir.file("one.tlod"), 1.0, 1);
-  build(dir.file("in.tif"), dir.file("two.tlod"), 1.0, 2);
-  const auto a = fileBytes(dir.file("one.tlod")), b = fileBytes(dir.file("two.tlod"));
-  ASSERT_FALSE(a.empty());
-  EXPECT_EQ(a, b);
+  for (Streaming streaming : {Streaming::kNever, Streaming::kAlways}) {
+    build(dir.file("in.tif"), dir.file("one.tlod"), 1.0, 1, 0, streaming, 64);
+    build(dir.file("in.tif"), dir.file("two.tlod"), 1.0, 2, 0, streaming, 64);
+    const auto a = fileBytes(dir.file("one.tlod")), b = fileBytes(dir.file("two.tlod"));
+    ASSERT_FALSE(a.empty());
+    EXPECT_EQ(a, b);
+  }
 }
 
 // Rewrites a tileset with one chunk's geometry changed, to show verify catches it.

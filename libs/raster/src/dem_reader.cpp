@@ -146,6 +146,11 @@ struct DemReader::Impl {
   GDALDataType bandType = GDT_Float64;
 };
 
+void setGdalCacheBytes(uint64_t bytes) {
+  gdal::ensureRegistered();
+  GDALSetCacheMax64(static_cast<GIntBig>(bytes));
+}
+
 std::optional<HeightEncoding> parseHeightEncoding(const std::string& text) {
   const std::string t = lower(text);
   if (t == "none" || t == "plain") return HeightEncoding::kPlain;
@@ -257,6 +262,21 @@ Result<std::unique_ptr<DemReader>> DemReader::reopen() const {
   return again;
 }
 
+Result<std::array<double, 2>> DemReader::approximateHeightRange() const {
+  gdal::QuietErrors quiet;
+  if (mInfo.encoding != HeightEncoding::kPlain) return Error{"no approximate range for RGB tiles"};
+  double minMax[2] = {0, 0};
+  if (GDALComputeRasterMinMax(mImpl->dataset->GetRasterBand(1), TRUE, minMax) != CE_None)
+    return makeError(mInfo.path,
+                     "cannot estimate the height range (" + gdal::lastErrorMessage() + ")");
+  std::array<double, 2> range = {minMax[0] * mInfo.heightScale + mInfo.heightOffset,
+                                 minMax[1] * mInfo.heightScale + mInfo.heightOffset};
+  if (range[0] > range[1]) std::swap(range[0], range[1]);
+  if (!std::isfinite(range[0]) || !std::isfinite(range[1]))
+    return makeError(mInfo.path, "height range is not finite");
+  return range;
+}
+
 Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out) const {
   gdal::QuietErrors quiet;
   const int32_t cols = mInfo.columns, rows = mInfo.rows;
@@ -265,64 +285,93 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
   const int32_t gy0 = std::clamp(y0, 0, rows - 1), gy1 = std::clamp(y0 + h - 1, 0, rows - 1);
   const int32_t readCols = gx1 - gx0 + 1;
   const bool rgb = mInfo.encoding != HeightEncoding::kPlain;
+  // 32-bit integers and doubles do not fit a float exactly; everything else is read as float.
+  const bool wide = mImpl->bandType == GDT_Float64 || mImpl->bandType == GDT_Int32 ||
+                    mImpl->bandType == GDT_UInt32;
   const bool nativeFloat = mImpl->bandType == GDT_Float32;
-  const float nodataF = mInfo.nodata ? static_cast<float>(*mInfo.nodata) : 0.0f;
+  const bool hasNodata = mInfo.nodata.has_value();
+  const double nodata = hasNodata ? *mInfo.nodata : 0.0;
+  const float nodataF = static_cast<float>(nodata);
+  const bool identity = mInfo.heightScale == 1.0 && mInfo.heightOffset == 0.0;
 
-  // Read a strip of raster rows at a time so memory stays small for whole-raster loads.
-  constexpr int32_t kStripRows = 64;
-  std::vector<double> strip(size_t(readCols) * kStripRows);
-  std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * kStripRows * 3 : 0);
+  // Strips of whole raster blocks, so each block is decoded once.
+  GDALRasterBand* band = mImpl->dataset->GetRasterBand(1);
+  int blockX = 0, blockY = 0;
+  band->GetBlockSize(&blockX, &blockY);
+  const int32_t stripRows = std::max(64, (std::max(blockY, 1) + 63) / 64 * 64);
+  std::vector<float> strip(rgb || wide ? 0 : size_t(readCols) * stripRows);
+  std::vector<double> wideStrip(wide ? size_t(readCols) * stripRows : 0);
+  std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * stripRows * 3 : 0);
   std::vector<float> rowValues(readCols);
 
-  for (int32_t s0 = gy0; s0 <= gy1; s0 += kStripRows) {
-    const int32_t s1 = std::min(gy1, s0 + kStripRows - 1);
-    const int32_t n = s1 - s0 + 1;
-    // Grid rows s0..s1 are raster rows (rows-1-s1)..(rows-1-s0).
-    const int32_t rasterRow = rows - 1 - s1;
+  // Strips aligned to raster rows, walking from the north edge of the window southwards.
+  const int32_t rasterFirst = rows - 1 - gy1, rasterLast = rows - 1 - gy0;
+  for (int32_t r0 = rasterFirst; r0 <= rasterLast;) {
+    const int32_t alignedEnd = (r0 / stripRows + 1) * stripRows;
+    const int32_t n = std::min(alignedEnd, rasterLast + 1) - r0;
     CPLErr err;
     if (rgb) {
       int bands[3] = {1, 2, 3};
-      err = mImpl->dataset->RasterIO(GF_Read, gx0, rasterRow, readCols, n, rgbStrip.data(),
-                                     readCols, n, GDT_Byte, 3, bands, 3, 3 * readCols, 1, nullptr);
+      err = mImpl->dataset->RasterIO(GF_Read, gx0, r0, readCols, n, rgbStrip.data(), readCols, n,
+                                     GDT_Byte, 3, bands, 3, 3 * readCols, 1, nullptr);
+    } else if (wide) {
+      err = band->RasterIO(GF_Read, gx0, r0, readCols, n, wideStrip.data(), readCols, n,
+                           GDT_Float64, 0, 0, nullptr);
     } else {
-      err = mImpl->dataset->GetRasterBand(1)->RasterIO(GF_Read, gx0, rasterRow, readCols, n,
-                                                       strip.data(), readCols, n, GDT_Float64, 0, 0,
-                                                       nullptr);
+      err = band->RasterIO(GF_Read, gx0, r0, readCols, n, strip.data(), readCols, n, GDT_Float32, 0,
+                           0, nullptr);
     }
     if (err != CE_None) {
       const std::string why = gdal::lastErrorMessage();
-      return makeError(mInfo.path, "cannot read raster rows " + std::to_string(rasterRow) + "-" +
-                                       std::to_string(rasterRow + n - 1) +
+      return makeError(mInfo.path, "cannot read raster rows " + std::to_string(r0) + "-" +
+                                       std::to_string(r0 + n - 1) +
                                        (why.empty() ? "" : " (" + why + ")"));
     }
     for (int32_t i = 0; i < n; ++i) {
-      const int32_t gridRow = s1 - i;  // strip row i is raster row rasterRow+i
-      for (int32_t c = 0; c < readCols; ++c) {
-        double value;
-        if (rgb) {
-          const uint8_t* p = &rgbStrip[(size_t(i) * readCols + c) * 3];
-          value = mInfo.encoding == HeightEncoding::kTerrainRgb
-                      ? (p[0] * 65536.0 + p[1] * 256.0 + p[2]) * 0.1 - 10000.0
-                      : p[0] * 256.0 + p[1] + p[2] / 256.0 - 32768.0;
-          value *= mOptions.verticalScale;
-        } else {
-          const double raw = strip[size_t(i) * readCols + c];
-          bool isVoid = !std::isfinite(raw);
-          if (!isVoid && mInfo.nodata)
-            isVoid = nativeFloat ? static_cast<float>(raw) == nodataF : raw == *mInfo.nodata;
-          value = isVoid ? std::nan("") : raw * mInfo.heightScale + mInfo.heightOffset;
+      const size_t base = size_t(i) * readCols;
+      if (rgb) {
+        for (int32_t c = 0; c < readCols; ++c) {
+          const uint8_t* p = &rgbStrip[(base + c) * 3];
+          const double value = mInfo.encoding == HeightEncoding::kTerrainRgb
+                                   ? (p[0] * 65536.0 + p[1] * 256.0 + p[2]) * 0.1 - 10000.0
+                                   : p[0] * 256.0 + p[1] + p[2] / 256.0 - 32768.0;
+          rowValues[c] = static_cast<float>(value * mOptions.verticalScale);
         }
-        rowValues[c] = static_cast<float>(value);
+      } else if (wide) {
+        for (int32_t c = 0; c < readCols; ++c) {
+          const double raw = wideStrip[base + c];
+          const bool isVoid = !std::isfinite(raw) || (hasNodata && raw == nodata);
+          rowValues[c] = isVoid ? std::nanf("")
+                                : static_cast<float>(raw * mInfo.heightScale + mInfo.heightOffset);
+        }
+      } else {
+        const float* src = strip.data() + base;
+        for (int32_t c = 0; c < readCols; ++c) {
+          const float raw = src[c];
+          // Compare nodata in the band's own precision (a float nodata tag is not a double).
+          const bool isVoid = !std::isfinite(raw) ||
+                              (hasNodata && (nativeFloat ? raw == nodataF : double(raw) == nodata));
+          rowValues[c] = isVoid ? std::nanf("")
+                         : identity
+                             ? raw
+                             : static_cast<float>(raw * mInfo.heightScale + mInfo.heightOffset);
+        }
       }
       // Emit every output row that maps (after clamping) to this grid row.
+      const int32_t gridRow = rows - 1 - (r0 + i);
       const int32_t oyLo = std::max(0, gridRow == 0 ? 0 : gridRow - y0);
       const int32_t oyHi = std::min(h - 1, gridRow == rows - 1 ? h - 1 : gridRow - y0);
       for (int32_t oy = oyLo; oy <= oyHi; ++oy) {
         float* dst = out + size_t(oy) * w;
-        for (int32_t ox = 0; ox < w; ++ox)
-          dst[ox] = rowValues[std::clamp(x0 + ox, 0, cols - 1) - gx0];
+        const int32_t insideLo = std::clamp(-x0, 0, w), insideHi = std::clamp(cols - x0, 0, w);
+        for (int32_t ox = 0; ox < insideLo; ++ox) dst[ox] = rowValues[0];
+        std::copy(rowValues.begin() + (x0 + insideLo - gx0),
+                  rowValues.begin() + (x0 + insideHi - gx0), dst + insideLo);
+        for (int32_t ox = std::max(insideLo, insideHi); ox < w; ++ox)
+          dst[ox] = rowValues[readCols - 1];
       }
     }
+    r0 += n;
   }
   return {};
 }

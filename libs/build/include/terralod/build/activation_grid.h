@@ -36,6 +36,16 @@ class ActivationGrid {
     byte = (x & 1) ? uint8_t((byte & 0x0F) | (value << 4)) : uint8_t((byte & 0xF0) | value);
   }
 
+  /// Sets `count` consecutive points of row y from x on. Only the bytes holding those points
+  /// are touched (the neighbours sharing the first and last byte are preserved).
+  void setRun(int32_t x, int32_t y, const uint8_t* values, int32_t count) {
+    int32_t i = 0;
+    if (count > 0 && (x & 1)) set(x, y, values[i++]);
+    uint8_t* row = mNibbles.data() + size_t(y) * mRowBytes;
+    for (; i + 1 < count; i += 2) row[(x + i) >> 1] = uint8_t(values[i] | (values[i + 1] << 4));
+    if (i < count) set(x + i, y, values[i]);
+  }
+
  private:
   int32_t mCellsX = 0;
   int32_t mCellsY = 0;

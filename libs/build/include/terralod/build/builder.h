@@ -11,6 +11,13 @@
 
 namespace terralod {
 
+/// Whether the raster is read whole into memory or streamed in windows.
+enum class Streaming {
+  kAuto,    ///< stream rasters over 16 M samples or over the memory budget, load the rest
+  kAlways,  ///< always stream (the path huge rasters take; slower for small ones)
+  kNever,   ///< always load whole; fails over the memory budget
+};
+
 struct BuildOptions {
   std::string input;
   std::string output;
@@ -19,7 +26,9 @@ struct BuildOptions {
   int32_t chunkCells = 0;    ///< leaf chunk side in cells; 0 = automatic
   unsigned threads = 0;      ///< 0 = all hardware threads
   uint64_t memoryMB = 2048;  ///< above this the input is read in windows, never whole
-  int compressionLevel = 9;  ///< zstd level for chunk blobs
+  int compressionLevel = 3;  ///< zstd level for chunk blobs
+  Streaming streaming = Streaming::kAuto;
+  int32_t blockCells = 512;  ///< side of the blocks both passes work in
 };
 
 struct BuildSummary {
@@ -31,7 +40,8 @@ struct BuildSummary {
   uint64_t fileBytes = 0;
   uint64_t filledVoids = 0;
   uint64_t sourceSamples = 0;
-  bool windowed = false;  ///< input was read in windows (larger than the memory budget)
+  bool streamed = false;  ///< the raster was read in windows, never whole
+  int errorPasses = 0;    ///< 2 when the streamed height range estimate was too small
   double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
   uint64_t trianglesScanned = 0, trianglesBounded = 0;
 };

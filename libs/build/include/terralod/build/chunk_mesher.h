@@ -44,30 +44,46 @@ class ChunkMesher {
 
   ChunkMesh build(int32_t level, int32_t ix, int32_t iy);
 
+  /// Switches the height source (e.g. to the window of the next block).
+  void setHeights(const HeightSampler& heights) { mHeights = &heights; }
+
   /// The surface of `level` at grid point p (p inside the data), by descending the bintree of
   /// the chunk that contains it. Exposed for tests.
   double surfaceHeight(int32_t level, GridPoint p);
+  /// The same within the given chunk of that level (p inside or on its square).
+  double surfaceHeightIn(int32_t level, int32_t ix, int32_t iy, GridPoint p);
 
  private:
   struct ClipVertex {
     GridPoint p;
     double z;
   };
-  uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, double z);
-  void emitTriangle(ChunkMesh& mesh, const BinTriangle& t);
+  /// The plane of a bintree triangle through its corners' heights.
+  struct Plane {
+    GridPoint origin;
+    double z0 = 0, gx = 0, gy = 0;
+    double at(GridPoint p) const { return z0 + gx * (p.x - origin.x) + gy * (p.y - origin.y); }
+  };
+  Plane planeOf(const BinTriangle& t) const;
+  uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const Plane& parent);
+  void emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plane& parent);
   void addSkirts(ChunkMesh& mesh);
-  double parentSurface(int32_t level, int32_t ix, int32_t iy, GridPoint p);
   double planeHeight(const BinTriangle& t, GridPoint p) const;
 
   const TreeLayout& mLayout;
   const ErrorBudget& mBudget;
   const ActivationGrid& mGrid;
-  const HeightSampler& mHeights;
+  const HeightSampler* mHeights;
   int32_t mOriginX = 0, mOriginY = 0, mSide = 0;
   std::vector<int32_t> mDenseIndex;  // (side+1)^2 for small chunks, -1 = unused
   std::vector<size_t> mTouched;
   std::unordered_map<uint64_t, uint32_t> mSparseIndex;
-  std::vector<BinTriangle> mStack;
+  struct Pending {
+    BinTriangle t;
+    bool parentKnown;  ///< the parent level's triangle over t is found (and is `parent`)
+    Plane parent;
+  };
+  std::vector<Pending> mStack;
   BinTriangle mCachedParentTriangle{};
   int32_t mCachedParentLevel = -1;
 };

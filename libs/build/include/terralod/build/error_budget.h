@@ -9,6 +9,7 @@
 // 16 bits, and never finer than levelError[L]/64 (finer steps only cost bytes).
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "terralod/build/tree_layout.h"
@@ -29,6 +30,19 @@ struct ErrorBudget {
     uint8_t a = 0;
     while (a < levels && error > buildThreshold[levels - 1 - a]) ++a;
     return a;
+  }
+  /// The same, knowing it is at least `from` (skips the thresholds below).
+  uint8_t activationFrom(double error, uint8_t from) const {
+    const int32_t levels = static_cast<int32_t>(buildThreshold.size());
+    uint8_t a = from;
+    while (a < levels && error > buildThreshold[levels - 1 - a]) ++a;
+    return a;
+  }
+  /// The error a vertex must exceed to have an activation above `activation`.
+  double thresholdAbove(uint8_t activation) const {
+    const int32_t levels = static_cast<int32_t>(buildThreshold.size());
+    return activation < levels ? buildThreshold[levels - 1 - activation]
+                               : std::numeric_limits<double>::infinity();
   }
   /// Activation a vertex needs to be part of level L's meshes.
   uint8_t activationForLevel(int32_t level) const {

@@ -66,6 +66,10 @@ class DemReader {
   /// Opens the same raster again, for another thread.
   Result<std::unique_ptr<DemReader>> reopen() const;
 
+  /// A quick estimate of the height range (min, max) in metres from GDAL's approximate
+  /// statistics (overviews or a subsample); it can miss the extremes. Fails if unknown.
+  Result<std::array<double, 2>> approximateHeightRange() const;
+
   /// Reads grid window [x0, x0+w) x [y0, y0+h) as heights in metres, south row first,
   /// `w` values per row. Points outside the raster take the value of the nearest raster
   /// sample (edge replication). Voids (nodata, NaN, Inf) come back as NaN.
@@ -78,6 +82,11 @@ class DemReader {
   DemInfo mInfo;
   DemOpenOptions mOptions;
 };
+
+/// Caps GDAL's process-wide block cache. terralod streams each raster block once or twice, so
+/// a small cache is enough, keeps memory flat, and recycles pages instead of faulting in new
+/// ones. Call once at start-up (it is GDAL global state).
+void setGdalCacheBytes(uint64_t bytes);
 
 /// Parses "terrain-rgb" / "terrarium" / "none".
 std::optional<HeightEncoding> parseHeightEncoding(const std::string& text);
