@@ -85,7 +85,9 @@ Result<ChunkGeometry> quantizeChunk(const ChunkMesh& mesh, const ErrorBudget& bu
     splitIntoParts(mesh, vertices, mesh.surfaceIndices, mesh.skirtIndices, mesh.x0, mesh.y0,
                    mesh.side, g.parts);
   }
-  for (ChunkPart& part : g.parts) optimizeChunkPart(part);
+  // No vertex cache optimisation: the mesher emits triangles along a Sierpinski curve with
+  // vertices in first-use order, which the index codec compresses about as well as a
+  // cache-optimised order (docs/benchmarks.md) at no cost.
   return g;
 }
 

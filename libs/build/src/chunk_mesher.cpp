@@ -96,14 +96,13 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
   auto addTriangle = [&](const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
     const int64_t o = orient2d(a.p, b.p, c.p);
     if (o == 0) return;
-    const uint32_t ia = vertexIndex(mesh, a.p, a.z, parent),
-                   ib = vertexIndex(mesh, b.p, b.z, parent),
-                   ic = vertexIndex(mesh, c.p, c.z, parent);
-    if (o > 0) {
-      mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {ia, ib, ic});
-    } else {
-      mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {ia, ic, ib});
-    }
+    // Number new vertices in the order the index list first names them (fetch order).
+    const ClipVertex& second = o > 0 ? b : c;
+    const ClipVertex& third = o > 0 ? c : b;
+    const uint32_t i0 = vertexIndex(mesh, a.p, a.z, parent);
+    const uint32_t i1 = vertexIndex(mesh, second.p, second.z, parent);
+    const uint32_t i2 = vertexIndex(mesh, third.p, third.z, parent);
+    mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
   };
 
   ClipVertex poly[8];
@@ -233,7 +232,7 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   };
   mStack.clear();
   for (const BinTriangle& root : squareTriangles(mesh.x0, mesh.y0, mesh.side)) {
-    Pending item{root, false, {}};
+    Pending item{root, 0, false, {}};
     if (level > 0) {
       // From the parent chunk's triangles down to this root (two bintree levels).
       const int32_t ps = 2 * mesh.side;
@@ -266,8 +265,11 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
     }
     if (splitAt(item.t, needed)) {
       const auto kids = item.t.children();
-      mStack.push_back({kids[1], item.parentKnown, item.parent});
-      mStack.push_back({kids[0], item.parentKnown, item.parent});
+      // Alternating the child order by depth walks the leaves along a Sierpinski curve:
+      // consecutive triangles touch, which the index codec rewards.
+      const int first = (item.depth & 1) ? 1 : 0;
+      mStack.push_back({kids[1 - first], item.depth + 1, item.parentKnown, item.parent});
+      mStack.push_back({kids[first], item.depth + 1, item.parentKnown, item.parent});
       continue;
     }
     // A leaf here is unsplit in the parent too, so its parent triangle is known by now; the

@@ -80,6 +80,7 @@ class ChunkMesher {
   std::unordered_map<uint64_t, uint32_t> mSparseIndex;
   struct Pending {
     BinTriangle t;
+    int depth;         ///< below the chunk's root triangles (sets the Sierpinski visit order)
     bool parentKnown;  ///< the parent level's triangle over t is found (and is `parent`)
     Plane parent;
   };
