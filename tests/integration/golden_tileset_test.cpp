@@ -1,0 +1,54 @@
+// The format is frozen: a tileset written by format version 1 must always read, and building its
+// source again must give the same bytes (or scripts/update-golden-tileset.sh was run on
+// purpose and the change reviewed).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "terralod/format/tileset_reader.h"
+
+namespace terralod::test {
+namespace {
+
+const std::string kGolden = testData("golden/v1/gully.tlod");
+
+TEST(GoldenTileset, VersionOneStillReads) {
+  const auto expected = nlohmann::json::parse(readWholeFile(testData("golden/v1/gully.json")));
+  auto opened = TilesetReader::openFile(kGolden);
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  const TilesetReader& t = **opened;
+  EXPECT_EQ(t.header().version, 1u);
+  EXPECT_EQ(t.header().levelCount, expected["levels"].get<uint32_t>());
+  EXPECT_EQ(t.nodes().size(), expected["chunks"].get<size_t>());
+  EXPECT_EQ(t.header().filledVoids, expected["filled_voids"].get<uint64_t>());
+  for (uint32_t l = 0; l < t.header().levelCount; ++l)
+    EXPECT_EQ(t.header().levelError[l], expected["level_error"][l].get<double>());
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(t.header().extentMin[k], expected["extent"]["min"][k].get<double>());
+    EXPECT_EQ(t.header().extentMax[k], expected["extent"]["max"][k].get<double>());
+  }
+  uint64_t triangles = 0, vertices = 0;
+  for (uint32_t i = 0; i < t.nodes().size(); ++i) {
+    auto chunk = t.readChunk(i);
+    ASSERT_TRUE(chunk.ok()) << chunk.error().message;
+    for (const ChunkPart& p : chunk->parts) triangles += p.surfaceIndexCount / 3;
+    vertices += t.nodes()[i].vertexCount;
+  }
+  EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
+  EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
+}
+
+TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
+  TempDir dir;
+  const RunResult r =
+      runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
+                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGolden))
+      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+}
+
+}  // namespace
+}  // namespace terralod::test
