@@ -121,7 +121,7 @@ TEST_F(BadInputs, BuildRefusesEveryBrokenInputCleanly) {
 
 TEST_F(BadInputs, ReadersRefuseBrokenTilesetsCleanly) {
   const std::string d = mDir.path().string();
-  for (const std::string& command : {"info", "verify"}) {
+  for (const std::string command : {"info", "verify"}) {
     auto args = [&](const std::string& file) {
       std::vector<std::string> a = {command, d + "/" + file};
       if (command == "verify")
@@ -147,6 +147,24 @@ TEST_F(BadInputs, VerifyRefusesTheWrongSource) {
   expectOneErrorLine(
       runTerralod({"verify", mDir.file("good.tlod"), "--source", testData("crater_lake_0513.bt")}),
       "crater_lake_0513.bt: is 513x513 samples but the tileset was built from 129x129");
+}
+
+TEST_F(BadInputs, SynthRefusesBadRequestsCleanly) {
+  const std::string d = mDir.path().string();
+  const std::vector<BadCase> cases = {
+      {"absurd size", {"synth", "--size", "100000", "-o", d + "/s.tif"}, "outside 2..65537"},
+      {"tiny size", {"synth", "--size", "1", "-o", d + "/s.tif"}, "outside 2..65537"},
+      {"missing output dir",
+       {"synth", "--size", "64", "-o", d + "/no/dir/s.tif"},
+       d + "/no/dir/s.tif: cannot create file"},
+      {"unwritable output", {"synth", "--size", "64", "-o", "/proc/s.tif"}, "/proc/s.tif"},
+  };
+  const std::vector<std::string> before = filesIn(mDir.path());
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    expectOneErrorLine(runTerralod(c.args), c.expected);
+    EXPECT_EQ(filesIn(mDir.path()), before) << "partial output left behind";
+  }
 }
 
 TEST_F(BadInputs, UsageErrorsAreOneLineToo) {

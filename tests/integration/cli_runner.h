@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "temp_dir.h"
+
 namespace terralod::test {
 
 struct RunResult {
@@ -70,30 +72,6 @@ inline RunResult runProgram(const std::string& program, const std::vector<std::s
 /// Runs the terralod CLI built alongside the tests.
 inline RunResult runTerralod(const std::vector<std::string>& args) {
   return runProgram(TERRALOD_CLI, args);
-}
-
-/// A fresh empty directory under /tmp, removed when the object goes away.
-class TempDir {
- public:
-  TempDir() {
-    char name[] = "/tmp/terralod-test-XXXXXX";
-    mPath = mkdtemp(name);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    std::filesystem::remove_all(mPath, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return mPath; }
-  std::string file(const std::string& name) const { return (mPath / name).string(); }
-
- private:
-  std::filesystem::path mPath;
-};
-
-inline std::string testData(const std::string& name) {
-  return std::string(TERRALOD_TEST_DATA) + "/" + name;
 }
 
 }  // namespace terralod::test

@@ -17,6 +17,11 @@ struct Dem {
   uint64_t voids;                  ///< expected filled voids
 };
 
+// Names the case in ctest's output instead of dumping its bytes.
+void PrintTo(const Dem& dem, std::ostream* out) {
+  *out << dem.file;
+}
+
 class EveryDem : public ::testing::TestWithParam<Dem> {};
 
 TEST_P(EveryDem, BuildsAndVerifies) {
@@ -53,8 +58,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Dem{"landlab_srtmgl3_frontrange.asc", {}, 0},
                       Dem{"landlab_west_bijou_gully_3m.asc", {"--max-error", "0.1"}, 2739},
                       Dem{"loadersgl_terrarium_256.png", {"--encoding", "terrarium"}, 0}),
-    [](const auto& info) {
-      std::string name = info.param.file.substr(0, info.param.file.find('.'));
+    [](const ::testing::TestParamInfo<Dem>& param) {
+      std::string name = param.param.file.substr(0, param.param.file.find('.'));
       for (char& c : name)
         if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
       return name;

@@ -82,7 +82,9 @@ TEST_P(BuildAndVerify, BoundHoldsOnEverySample) {
   const BuildSummary s =
       build(dir.file("in.tif"), dir.file("out.tlod"), c.maxError, 2, c.chunkCells);
   EXPECT_GT(s.triangles, 0u);
-  if (c.voids) EXPECT_GT(s.filledVoids, 0u);
+  if (c.voids) {
+    EXPECT_GT(s.filledVoids, 0u);
+  }
   const VerifyReport r = verify(dir.file("out.tlod"), dir.file("in.tif"));
   EXPECT_TRUE(r.ok()) << (r.failures.empty() ? "" : r.failures.front());
   ASSERT_EQ(r.levels.size(), size_t(s.levels));

@@ -137,10 +137,12 @@ TEST_P(MesherProperties, SameLevelChunksShareTheirBorderVertices) {
     for (const ChunkMesh& m : meshes) {
       for (uint32_t i = 0; i < m.surfaceVertexCount; ++i) {
         const MeshVertex& v = m.vertices[i];
-        if (v.x == m.x0 + m.side && verticesByChunk.count({m.ix + 1, m.iy}))
+        if (v.x == m.x0 + m.side && verticesByChunk.count({m.ix + 1, m.iy})) {
           EXPECT_TRUE((verticesByChunk[{m.ix + 1, m.iy}].count({v.x, v.y})));
-        if (v.y == m.y0 + m.side && verticesByChunk.count({m.ix, m.iy + 1}))
+        }
+        if (v.y == m.y0 + m.side && verticesByChunk.count({m.ix, m.iy + 1})) {
           EXPECT_TRUE((verticesByChunk[{m.ix, m.iy + 1}].count({v.x, v.y})));
+        }
       }
     }
   }

@@ -3,6 +3,7 @@
 // roughness, a cliff, a flat plateau, isolated spikes and pits.
 
 #include <gdal_priv.h>
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
@@ -60,8 +61,9 @@ inline void writeGeoTiff(const Heightfield& h, const std::string& path, double s
   for (int32_t r = 0; r < h.rows(); ++r) {
     const float* src = h.row(h.rows() - 1 - r);
     for (int32_t x = 0; x < h.columns(); ++x) row[x] = std::isnan(src[x]) ? -9999.0f : src[x];
-    (void)band->RasterIO(GF_Write, 0, r, h.columns(), 1, row.data(), h.columns(), 1, GDT_Float32, 0,
-                         0);
+    EXPECT_EQ(band->RasterIO(GF_Write, 0, r, h.columns(), 1, row.data(), h.columns(), 1,
+                             GDT_Float32, 0, 0),
+              CE_None);
   }
   GDALClose(ds);
 }

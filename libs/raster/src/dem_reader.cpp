@@ -80,11 +80,11 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   bool geographic = false;
   double angularUnit = std::numbers::pi / 180.0;  // radians per unit
   double semiMajor = 6378137.0, inverseFlattening = 298.257223563;
-  if (srs && srs->IsProjected()) {
+  if (srs && (srs->IsProjected() || srs->IsLocal())) {
     const double metresPerUnit = srs->GetLinearUnits();
     info.spacingX = cellX * metresPerUnit;
     info.spacingY = cellY * metresPerUnit;
-    info.spacingSource = "projected CRS";
+    info.spacingSource = srs->IsProjected() ? "projected CRS" : "local CRS";
     if (metresPerUnit != 1.0) info.spacingSource += " (units converted to metres)";
     return {};
   }

@@ -7,29 +7,15 @@
 #include <filesystem>
 #include <fstream>
 
+#include "temp_dir.h"
 #include "terralod/raster/void_fill.h"
 
 namespace terralod {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string data(const std::string& name) {
-  return std::string(TERRALOD_TEST_DATA) + "/" + name;
-}
-
-class ScratchDir {
- public:
-  ScratchDir() {
-    char name[] = "/tmp/terralod-raster-test-XXXXXX";
-    mPath = mkdtemp(name);
-  }
-  ~ScratchDir() { fs::remove_all(mPath); }
-  std::string file(const std::string& name) const { return (mPath / name).string(); }
-
- private:
-  fs::path mPath;
-};
+using test::TempDir;
+using test::testData;
 
 std::unique_ptr<DemReader> open(const std::string& path, const DemOpenOptions& options = {}) {
   auto r = DemReader::open(path, options);
@@ -49,13 +35,14 @@ double gdalValue(const std::string& path, int column, int rasterRow, int band = 
   GDALAllRegister();
   GDALDatasetUniquePtr ds(GDALDataset::Open(path.c_str(), GDAL_OF_RASTER));
   double v = 0;
-  (void)ds->GetRasterBand(band)->RasterIO(GF_Read, column, rasterRow, 1, 1, &v, 1, 1, GDT_Float64,
-                                          0, 0);
+  EXPECT_EQ(ds->GetRasterBand(band)->RasterIO(GF_Read, column, rasterRow, 1, 1, &v, 1, 1,
+                                              GDT_Float64, 0, 0),
+            CE_None);
   return v;
 }
 
 TEST(DemReader, GeoTiffInt16ProjectedWithVoids) {
-  auto r = open(data("zion_srtm3_utm12_30m.tif"));
+  auto r = open(testData("zion_srtm3_utm12_30m.tif"));
   const DemInfo& i = r->info();
   EXPECT_EQ(i.columns, 1128);
   EXPECT_EQ(i.rows, 1428);
@@ -67,11 +54,11 @@ TEST(DemReader, GeoTiffInt16ProjectedWithVoids) {
   EXPECT_EQ(countVoids(h), 23982u);
   // Grid row 0 is the southernmost raster row.
   EXPECT_TRUE(std::isnan(h(0, 0)));  // the warp's nodata border
-  EXPECT_EQ(h(600, 700), float(gdalValue(data("zion_srtm3_utm12_30m.tif"), 600, 1427 - 700)));
+  EXPECT_EQ(h(600, 700), float(gdalValue(testData("zion_srtm3_utm12_30m.tif"), 600, 1427 - 700)));
 }
 
 TEST(DemReader, GeoTiffUInt16Geographic) {
-  auto r = open(data("zion_srtm3.tif"));
+  auto r = open(testData("zion_srtm3.tif"));
   EXPECT_EQ(r->info().dataType, "UInt16");
   // 3 arc-seconds at 37.3 N on WGS 84.
   EXPECT_NEAR(r->info().spacingX, 73.86, 0.05);
@@ -81,16 +68,16 @@ TEST(DemReader, GeoTiffUInt16Geographic) {
 }
 
 TEST(DemReader, GeoTiffFloat32WithFloatNodata) {
-  auto r = open(data("gzcommon_dem_squared_129.tif"));
+  auto r = open(testData("gzcommon_dem_squared_129.tif"));
   EXPECT_EQ(r->info().dataType, "Float32");
   EXPECT_NEAR(r->info().spacingY, 30.83, 0.05);  // 1 arc-second
   const Heightfield h = readAll(*r);
   EXPECT_EQ(countVoids(h), 0u);
-  EXPECT_FLOAT_EQ(h(0, 128), float(gdalValue(data("gzcommon_dem_squared_129.tif"), 0, 0)));
+  EXPECT_FLOAT_EQ(h(0, 128), float(gdalValue(testData("gzcommon_dem_squared_129.tif"), 0, 0)));
 }
 
 TEST(DemReader, SrtmHgtBigEndianNamedByTile) {
-  auto r = open(data("N43W123.hgt"));
+  auto r = open(testData("N43W123.hgt"));
   EXPECT_EQ(r->info().driver, "SRTMHGT");
   EXPECT_EQ(r->info().columns, 1201);
   EXPECT_NEAR(r->info().spacingX, 67.40, 0.05);
@@ -103,32 +90,32 @@ TEST(DemReader, SrtmHgtBigEndianNamedByTile) {
 }
 
 TEST(DemReader, VtpBinaryTerrainKeepsAnisotropicCells) {
-  auto r = open(data("crater_lake_0513.bt"));
+  auto r = open(testData("crater_lake_0513.bt"));
   EXPECT_EQ(r->info().driver, "BT");
   EXPECT_NEAR(r->info().spacingX, 20.1429, 1e-3);
   EXPECT_NEAR(r->info().spacingY, 27.2515, 1e-3);
 }
 
 TEST(DemReader, EsriAsciiWithAndWithoutProjection) {
-  auto degrees = open(data("landlab_srtmgl3_frontrange.asc"));
+  auto degrees = open(testData("landlab_srtmgl3_frontrange.asc"));
   EXPECT_NE(degrees->info().spacingSource.find("WGS 84 degrees assumed"), std::string::npos);
   EXPECT_NEAR(degrees->info().spacingY, 92.5, 0.1);
-  auto metres = open(data("landlab_west_bijou_gully_3m.asc"));
+  auto metres = open(testData("landlab_west_bijou_gully_3m.asc"));
   EXPECT_DOUBLE_EQ(metres->info().spacingX, 3.0);
   EXPECT_EQ(countVoids(readAll(*metres)), 2739u);  // NODATA 0 outside the gully
 }
 
 TEST(DemReader, VoidsInInt16NodataAndNaN) {
-  EXPECT_EQ(countVoids(readAll(*open(data("osgearth_mt_rainier_90m.tif")))), 9033u);
-  const Heightfield nz = readAll(*open(data("nz_elev_1km.tif")));
+  EXPECT_EQ(countVoids(readAll(*open(testData("osgearth_mt_rainier_90m.tif")))), 9033u);
+  const Heightfield nz = readAll(*open(testData("nz_elev_1km.tif")));
   const double fraction = double(countVoids(nz)) / double(nz.values().size());
   EXPECT_NEAR(fraction, 0.83, 0.01);
 }
 
 TEST(DemReader, NetCdfAndSixteenBitPng) {
-  ScratchDir dir;
+  TempDir dir;
   GDALAllRegister();
-  GDALDatasetUniquePtr src(GDALDataset::Open(data("zion_srtm3.tif").c_str(), GDAL_OF_RASTER));
+  GDALDatasetUniquePtr src(GDALDataset::Open(testData("zion_srtm3.tif").c_str(), GDAL_OF_RASTER));
   for (const char* format : {"netCDF", "PNG"}) {
     const std::string path = dir.file(std::string("copy.") + (format[0] == 'n' ? "nc" : "png"));
     GDALDriver* driver = GetGDALDriverManager()->GetDriverByName(format);
@@ -141,20 +128,24 @@ TEST(DemReader, NetCdfAndSixteenBitPng) {
     ASSERT_NE(r, nullptr);
     EXPECT_EQ(r->info().columns, 465) << format;
     EXPECT_EQ(r->info().rows, 457) << format;
-    const Heightfield a = readAll(*r), b = readAll(*open(data("zion_srtm3.tif")));
+    const Heightfield a = readAll(*r), b = readAll(*open(testData("zion_srtm3.tif")));
     EXPECT_EQ(a.values(), b.values()) << format;
   }
 }
 
 TEST(DemReader, NetCdfWithSeveralVariablesPicksElevation) {
-  ScratchDir dir;
+  TempDir dir;
   GDALAllRegister();
   GDALDriver* nc = GetGDALDriverManager()->GetDriverByName("netCDF");
   const std::string path = dir.file("multi.nc");
   GDALDatasetUniquePtr ds(nc->Create(path.c_str(), 20, 10, 2, GDT_Float32, nullptr));
   std::vector<float> a(200, 5.0f), b(200, 999.0f);
-  (void)ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 20, 10, a.data(), 20, 10, GDT_Float32, 0, 0);
-  (void)ds->GetRasterBand(2)->RasterIO(GF_Write, 0, 0, 20, 10, b.data(), 20, 10, GDT_Float32, 0, 0);
+  EXPECT_EQ(
+      ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 20, 10, a.data(), 20, 10, GDT_Float32, 0, 0),
+      CE_None);
+  EXPECT_EQ(
+      ds->GetRasterBand(2)->RasterIO(GF_Write, 0, 0, 20, 10, b.data(), 20, 10, GDT_Float32, 0, 0),
+      CE_None);
   ds.reset();
   auto r = open(path);
   ASSERT_NE(r, nullptr);
@@ -162,10 +153,10 @@ TEST(DemReader, NetCdfWithSeveralVariablesPicksElevation) {
 }
 
 TEST(DemReader, TerrainRgbAndTerrariumTiles) {
-  ScratchDir dir;
+  TempDir dir;
   GDALAllRegister();
   // Encode a real DEM as Mapbox terrain-RGB, then decode it.
-  const Heightfield truth = readAll(*open(data("zion_srtm3.tif")));
+  const Heightfield truth = readAll(*open(testData("zion_srtm3.tif")));
   const int w = truth.columns(), h = truth.rows();
   GDALDriver* mem = GetGDALDriverManager()->GetDriverByName("MEM");
   GDALDatasetUniquePtr rgb(mem->Create("", w, h, 3, GDT_Byte, nullptr));
@@ -179,8 +170,9 @@ TEST(DemReader, TerrainRgbAndTerrariumTiles) {
       channel[2][size_t(row) * w + x] = uint8_t(code);
     }
   for (int b = 0; b < 3; ++b)
-    (void)rgb->GetRasterBand(b + 1)->RasterIO(GF_Write, 0, 0, w, h, channel[b].data(), w, h,
-                                              GDT_Byte, 0, 0);
+    EXPECT_EQ(rgb->GetRasterBand(b + 1)->RasterIO(GF_Write, 0, 0, w, h, channel[b].data(), w, h,
+                                                  GDT_Byte, 0, 0),
+              CE_None);
   const std::string png = dir.file("mapbox.png");
   GDALDatasetUniquePtr(GetGDALDriverManager()->GetDriverByName("PNG")->CreateCopy(
       png.c_str(), rgb.get(), FALSE, nullptr, nullptr, nullptr));
@@ -191,26 +183,27 @@ TEST(DemReader, TerrainRgbAndTerrariumTiles) {
     ASSERT_NEAR(decoded.values()[i], truth.values()[i], 0.051);
 
   options.encoding = HeightEncoding::kTerrarium;
-  auto terrarium = open(data("loadersgl_terrarium_256.png"), options);
+  auto terrarium = open(testData("loadersgl_terrarium_256.png"), options);
   EXPECT_TRUE(terrarium->info().spacingAssumed);
   const Heightfield t = readAll(*terrarium);
-  const std::string tile = data("loadersgl_terrarium_256.png");
+  const std::string tile = testData("loadersgl_terrarium_256.png");
   const double expected = gdalValue(tile, 10, 255, 1) * 256 + gdalValue(tile, 10, 255, 2) +
                           gdalValue(tile, 10, 255, 3) / 256 - 32768;
   EXPECT_DOUBLE_EQ(t(10, 0), float(expected));
   // Plain decoding of an RGB tile is refused rather than misread... no: band 1 alone is a
   // valid raster; but RGB decoding of a one-band DEM is refused.
-  EXPECT_FALSE(DemReader::open(data("zion_srtm3.tif"), options).ok());
+  EXPECT_FALSE(DemReader::open(testData("zion_srtm3.tif"), options).ok());
 }
 
 TEST(DemReader, UnitsScaleAndSpacingOverrides) {
-  ScratchDir dir;
+  TempDir dir;
   GDALAllRegister();
   const std::string path = dir.file("feet.tif");
   GDALDatasetUniquePtr ds(GetGDALDriverManager()->GetDriverByName("GTiff")->Create(
       path.c_str(), 4, 3, 1, GDT_Int16, nullptr));
   std::vector<int16_t> v(12, 1000);
-  (void)ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 4, 3, v.data(), 4, 3, GDT_Int16, 0, 0);
+  EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 4, 3, v.data(), 4, 3, GDT_Int16, 0, 0),
+            CE_None);
   ds->GetRasterBand(1)->SetUnitType("ft");
   ds.reset();
   DemOpenOptions options;
@@ -223,7 +216,7 @@ TEST(DemReader, UnitsScaleAndSpacingOverrides) {
 }
 
 TEST(DemReader, WindowsOutsideTheRasterReplicateItsEdges) {
-  auto r = open(data("crater_lake_0513.bt"));
+  auto r = open(testData("crater_lake_0513.bt"));
   const Heightfield all = readAll(*r);
   std::vector<float> window(10 * 10);
   ASSERT_TRUE(r->readWindow(-3, 508, 10, 10, window.data()).ok());
@@ -233,7 +226,7 @@ TEST(DemReader, WindowsOutsideTheRasterReplicateItsEdges) {
 }
 
 TEST(DemReader, BadInputsGetOneClearLine) {
-  ScratchDir dir;
+  TempDir dir;
   auto message = [](const std::string& path) {
     auto r = DemReader::open(path, {});
     EXPECT_FALSE(r.ok()) << path;
@@ -263,7 +256,7 @@ TEST(DemReader, BadInputsGetOneClearLine) {
   // file) or when its data is read (directory first): either way one line naming the file.
   for (const char* name : {"osgearth_mt_rainier_90m.tif", "zion_srtm3_utm12_30m.tif"}) {
     const std::string truncated = dir.file(std::string("truncated-") + name);
-    fs::copy_file(data(name), truncated);
+    fs::copy_file(testData(name), truncated);
     fs::resize_file(truncated, fs::file_size(truncated) / 2);
     auto r = DemReader::open(truncated, {});
     std::string error;

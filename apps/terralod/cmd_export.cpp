@@ -1,6 +1,5 @@
-// Subcommands not written yet.
+// terralod export: not written yet.
 #include "commands.h"
 namespace terralod::cli {
 void addExportCommand(CLI::App&, Runner&) {}
-void addSynthCommand(CLI::App&, Runner&) {}
 }  // namespace terralod::cli
