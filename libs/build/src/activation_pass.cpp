@@ -88,7 +88,8 @@ class CoarsePass {
 };
 
 // Raises every vertex to at least the activation of the vertices that depend on it, starting
-// from `seeds` (the only places where pass 1 could have left the invariant broken).
+// from the borders of `block`-sized blocks (the only places where pass 1 could have left the
+// invariant broken).
 void propagateBorders(const TreeLayout& layout, ActivationGrid& grid, int32_t block) {
   const int32_t side = layout.gridSide();
   std::vector<GridPoint> stack;

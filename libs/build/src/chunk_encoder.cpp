@@ -67,7 +67,9 @@ Result<ChunkGeometry> quantizeChunk(const ChunkMesh& mesh, const ErrorBudget& bu
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const MeshVertex& v = mesh.vertices[i];
     const double zq = std::round((v.z - g.zBase) / g.zStep);
-    const double dq = std::round((v.morphTarget - (g.zBase + zq * g.zStep)) / g.zStep);
+    // The target is rounded on the same grid as the height, so a vertex whose target is its
+    // own height gets a delta of exactly 0 even when it lies halfway between two steps.
+    const double dq = std::round((v.morphTarget - g.zBase) / g.zStep) - zq;
     if (zq < 0 || zq > 65535 || dq < -32768 || dq > 32767)
       return Error{"internal error: chunk " + std::to_string(mesh.level) + "/" +
                    std::to_string(mesh.ix) + "/" + std::to_string(mesh.iy) +

@@ -194,10 +194,17 @@ void ChunkMesher::addSkirts(ChunkMesh& mesh) {
       bottom.morphTarget -= depth;
       mesh.vertices.push_back(bottom);
     }
+    // Skirts face outwards (counter-clockwise seen from outside the chunk), like the surface
+    // seen from above, so back-face culling keeps them. Along increasing q the south and east
+    // sides wind that way as (a, a2, b2); the north and west sides need the mirror image.
+    const bool mirrored = side == kNorth || side == kWest;
     for (uint32_t k = 0; k + 1 < onSide.size(); ++k) {
       const uint32_t a = onSide[k].second, b = onSide[k + 1].second;
       const uint32_t a2 = first + k, b2 = first + k + 1;
-      mesh.skirtIndices.insert(mesh.skirtIndices.end(), {a, a2, b2, a, b2, b});
+      if (mirrored)
+        mesh.skirtIndices.insert(mesh.skirtIndices.end(), {a, b2, a2, a, b, b2});
+      else
+        mesh.skirtIndices.insert(mesh.skirtIndices.end(), {a, a2, b2, a, b2, b});
     }
   }
 }

@@ -57,8 +57,10 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
   auto geometry = quantizeChunk(mesh, budget);
   if (!geometry) return geometry.error();
   std::vector<uint8_t> blob = encodeChunk(*geometry, compressionLevel);
-  node.minZ = floatBelow(mesh.minZ);
-  node.maxZ = floatAbove(mesh.maxZ);
+  // Quantisation moves a drawn height (own or morphed) by up to half a step either way.
+  const double halfStep = 0.5 * geometry->zStep;
+  node.minZ = floatBelow(mesh.minZ - halfStep);
+  node.maxZ = floatAbove(mesh.maxZ + halfStep);
   node.vertexCount = mesh.surfaceVertexCount;
   node.triangleCount = uint32_t(mesh.surfaceIndices.size() / 3);
   node.skirtTriangleCount = uint32_t(mesh.skirtIndices.size() / 3);

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <map>
 #include <set>
@@ -152,6 +153,40 @@ INSTANTIATE_TEST_SUITE_P(Terrains, MesherProperties,
                          ::testing::Values(std::make_tuple(65, 65, 11),
                                            std::make_tuple(100, 37, 12),
                                            std::make_tuple(129, 97, 13)));
+
+TEST_P(MesherProperties, SurfaceFacesUpAndSkirtsFaceOutwards) {
+  // Back-face culling must keep every triangle a camera above the terrain or beside a crack
+  // can see: surface triangles counter-clockwise from above, skirts from outside the chunk.
+  const auto [columns, rows, seed] = GetParam();
+  Fixture f(columns, rows, 16, 0.5, uint32_t(seed));
+  uint64_t skirts = 0;
+  for (int32_t l = 0; l <= f.layout.depth; ++l)
+    for (const ChunkMesh& m : f.level(l)) {
+      auto corner = [&](uint32_t i) {
+        const MeshVertex& v = m.vertices[i];
+        return std::array<double, 3>{double(v.x), double(v.y), v.z};
+      };
+      auto normal = [&](const std::vector<uint32_t>& indices, size_t k) {
+        const auto a = corner(indices[k]), b = corner(indices[k + 1]), c = corner(indices[k + 2]);
+        const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+        const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+        return std::array<double, 4>{uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx,
+                                     (a[0] + b[0] + c[0]) / 3 - (m.x0 + m.side / 2.0)};
+      };
+      for (size_t k = 0; k < m.surfaceIndices.size(); k += 3)
+        ASSERT_GT(normal(m.surfaceIndices, k)[2], 0.0) << "surface triangle faces down";
+      for (size_t k = 0; k < m.skirtIndices.size(); k += 3, ++skirts) {
+        const auto n = normal(m.skirtIndices, k);
+        double cy = 0;
+        for (int j = 0; j < 3; ++j) cy += m.vertices[m.skirtIndices[k + j]].y / 3.0;
+        // Outwards: the horizontal normal points from the chunk's centre to the skirt.
+        const double outX = n[3], outY = cy - (m.y0 + m.side / 2.0);
+        ASSERT_GT(n[0] * outX + n[1] * outY, 0.0)
+            << "skirt triangle of chunk " << l << "/" << m.ix << "/" << m.iy << " faces inwards";
+      }
+    }
+  EXPECT_GT(skirts, 0u);
+}
 
 TEST(Mesher, FlatLandTakesFewTriangles) {
   Heightfield flat(129, 129, 42.0f);

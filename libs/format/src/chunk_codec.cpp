@@ -3,6 +3,7 @@
 #include <meshoptimizer.h>
 #include <zstd.h>
 
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <mutex>
@@ -12,6 +13,9 @@
 namespace terralod {
 namespace {
 
+// Vertices and the blob's fields are copied to and from memory as they lie: little-endian.
+static_assert(std::endian::native == std::endian::little, "terralod's format is little-endian");
+
 constexpr uint32_t kChunkMagic = 0x42434C54;  // "TLCB"
 constexpr uint16_t kChunkVersion = 1;
 constexpr size_t kChunkHeaderBytes = 4 + 2 + 2 + 8 + 8;
@@ -19,6 +23,7 @@ constexpr size_t kPartHeaderBytes = 5 * 4;
 constexpr uint64_t kMaxDecodedBytes = uint64_t{1} << 28;
 
 // The frozen format pins the codec versions; newer meshoptimizer releases still decode them.
+// The setting is meshoptimizer's process-wide state: nothing else in terralod may change it.
 void pinCodecVersions() {
   static std::once_flag once;
   std::call_once(once, [] {

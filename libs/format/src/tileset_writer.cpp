@@ -98,8 +98,13 @@ Status TilesetWriter::finish(TilesetHeader header, const std::vector<NodeRecord>
   header.fileBytes = mOffset;
   if (Status s = flush(); !s) return s;
   const std::vector<uint8_t> headerBytes = serializeHeader(header);
-  if (::pwrite(mFd, headerBytes.data(), headerBytes.size(), 0) != ssize_t(headerBytes.size()))
-    return makeError(mPath, std::string("write failed: ") + std::strerror(errno));
+  for (size_t done = 0; done < headerBytes.size();) {
+    const ssize_t n =
+        ::pwrite(mFd, headerBytes.data() + done, headerBytes.size() - done, off_t(done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return makeError(mPath, std::string("write failed: ") + std::strerror(errno));
+    done += size_t(n);
+  }
   if (::fsync(mFd) != 0)
     return makeError(mPath, std::string("sync failed: ") + std::strerror(errno));
   ::close(mFd);
@@ -107,6 +112,13 @@ Status TilesetWriter::finish(TilesetHeader header, const std::vector<NodeRecord>
   if (::rename(mTempPath.c_str(), mPath.c_str()) != 0)
     return makeError(mPath, std::string("cannot replace: ") + std::strerror(errno));
   mFinished = true;
+  // The rename is durable once the directory is synced; a failure here loses nothing.
+  const std::filesystem::path parent = std::filesystem::path(mPath).parent_path();
+  const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
   return {};
 }
 

@@ -67,7 +67,8 @@ std::optional<double> verticalUnitFactor(std::string unit) {
   return std::nullopt;
 }
 
-// Metres per cell from a north-up geotransform and the CRS (or a documented guess without one).
+// Metres per cell from an axis-aligned geotransform and the CRS (or a documented guess without
+// one).
 Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   const auto& gt = info.geoTransform;
   if (gt[2] != 0.0 || gt[4] != 0.0)
@@ -238,6 +239,10 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
     CPLFree(wkt);
   }
   info.hasGeoTransform = ds.GetGeoTransform(info.geoTransform.data()) == CE_None;
+  if (info.hasGeoTransform && info.geoTransform[1] < 0.0)
+    return makeError(path, "raster columns run east to west; warp it first (gdalwarp)");
+  // Rows may run either way; readWindow turns both into grid order (south row first).
+  info.southUp = info.hasGeoTransform && info.geoTransform[5] > 0.0;
   if (options.spacing) {
     info.spacingX = (*options.spacing)[0];
     info.spacingY = (*options.spacing)[1];
@@ -304,8 +309,11 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
   std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * stripRows * 3 : 0);
   std::vector<float> rowValues(readCols);
 
-  // Strips aligned to raster rows, walking from the north edge of the window southwards.
-  const int32_t rasterFirst = rows - 1 - gy1, rasterLast = rows - 1 - gy0;
+  // Grid rows run south to north; raster rows usually north to south.
+  auto flip = [&](int32_t row) { return mInfo.southUp ? row : rows - 1 - row; };
+  // Strips aligned to raster rows, walking the window in raster order.
+  const int32_t rasterFirst = std::min(flip(gy0), flip(gy1));
+  const int32_t rasterLast = std::max(flip(gy0), flip(gy1));
   for (int32_t r0 = rasterFirst; r0 <= rasterLast;) {
     const int32_t alignedEnd = (r0 / stripRows + 1) * stripRows;
     const int32_t n = std::min(alignedEnd, rasterLast + 1) - r0;
@@ -358,7 +366,7 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
         }
       }
       // Emit every output row that maps (after clamping) to this grid row.
-      const int32_t gridRow = rows - 1 - (r0 + i);
+      const int32_t gridRow = flip(r0 + i);
       const int32_t oyLo = std::max(0, gridRow == 0 ? 0 : gridRow - y0);
       const int32_t oyHi = std::min(h - 1, gridRow == rows - 1 ? h - 1 : gridRow - y0);
       for (int32_t oy = oyLo; oy <= oyHi; ++oy) {

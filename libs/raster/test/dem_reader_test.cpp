@@ -6,6 +6,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "temp_dir.h"
 #include "terralod/raster/void_fill.h"
@@ -213,6 +214,33 @@ TEST(DemReader, UnitsScaleAndSpacingOverrides) {
   EXPECT_DOUBLE_EQ(r->info().spacingX, 5.0);
   EXPECT_DOUBLE_EQ(r->info().spacingY, 7.5);
   EXPECT_FLOAT_EQ(readAll(*r)(1, 1), float(1000 * 0.3048 * 2.0));
+}
+
+TEST(DemReader, SouthUpRastersComeOutInGridOrderToo) {
+  // The same heights stored north-up and south-up (positive y step) read identically.
+  GDALAllRegister();
+  TempDir dir;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  const int w = 5, h = 4;
+  std::vector<float> north(w * h);
+  for (int i = 0; i < w * h; ++i) north[i] = float(100 + i);  // raster order, north row first
+  std::vector<float> south(w * h);
+  for (int r = 0; r < h; ++r)
+    std::copy_n(north.begin() + (h - 1 - r) * w, w, south.begin() + r * w);
+  const double northUp[6] = {500000, 30, 0, 4000000, 0, -30};
+  const double southUp[6] = {500000, 30, 0, 4000000 - 30 * h, 0, 30};
+  for (auto [name, gt, values] :
+       {std::tuple{"n.tif", northUp, &north}, std::tuple{"s.tif", southUp, &south}}) {
+    GDALDatasetUniquePtr ds(gtiff->Create(dir.file(name).c_str(), w, h, 1, GDT_Float32, nullptr));
+    ds->SetGeoTransform(const_cast<double*>(gt));
+    EXPECT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, w, h, values->data(), w, h,
+                                             GDT_Float32, 0, 0),
+              CE_None);
+  }
+  const Heightfield a = readAll(*open(dir.file("n.tif"))), b = readAll(*open(dir.file("s.tif")));
+  EXPECT_EQ(a.values(), b.values());
+  EXPECT_EQ(a(0, 0), 115.0f);  // the south-west sample
+  EXPECT_EQ(a(4, 3), 104.0f);  // the north-east sample
 }
 
 TEST(DemReader, WindowsOutsideTheRasterReplicateItsEdges) {

@@ -9,6 +9,7 @@
 
 #include "terralod/core/parallel.h"
 #include "terralod/core/sample_raster.h"
+#include "terralod/format/chunk_position.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/void_fill.h"
@@ -52,8 +53,7 @@ void rasterizeSurface(const Decoded& d, double t, Window& win) {
   for (const ChunkPart& part : d.geometry.parts) {
     auto vertex = [&](uint32_t i) {
       const ChunkVertex& v = part.vertices[i];
-      return SampleVertex{d.x0 + v.x, d.y0 + v.y,
-                          d.geometry.zBase + (double(v.z) + t * v.morphDelta) * d.geometry.zStep};
+      return SampleVertex{d.x0 + v.x, d.y0 + v.y, chunkVertexHeight(d.geometry, v, t)};
     };
     for (uint32_t k = 0; k < part.surfaceIndexCount; k += 3) {
       rasterizeTriangle(vertex(part.indices[k]), vertex(part.indices[k + 1]),
@@ -81,7 +81,7 @@ ChunkSides sideProfiles(const Decoded& d) {
         const ChunkVertex& v = part.vertices[i];
         if ((vertical ? v.x : v.y) != line) continue;
         const int32_t along = vertical ? v.y : v.x;
-        const double z0 = d.geometry.zBase + double(v.z) * d.geometry.zStep;
+        const double z0 = chunkVertexHeight(d.geometry, v);
         const double z1 = z0 + v.morphDelta * d.geometry.zStep;
         if (role[i] & 1) {
           points[along] = {along, z0, z1, 0.0};
@@ -109,6 +109,33 @@ ChunkSides sideProfiles(const Decoded& d) {
 }
 
 // Linear interpolation of a side profile at `coord`; false when outside it.
+// The node table is what a renderer culls and budgets with before it reads a blob: its
+// triangle counts and height bounds must describe the decoded chunk. "" when they do.
+std::string nodeRecordMismatch(const NodeRecord& n, const ChunkGeometry& g) {
+  uint64_t surface = 0, skirt = 0;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const ChunkPart& part : g.parts) {
+    surface += part.surfaceIndexCount / 3;
+    skirt += (part.indices.size() - part.surfaceIndexCount) / 3;
+    for (uint32_t k = 0; k < part.surfaceIndexCount; ++k) {
+      const ChunkVertex& v = part.vertices[part.indices[k]];
+      for (double t : {0.0, 1.0}) {
+        lo = std::min(lo, chunkVertexHeight(g, v, t));
+        hi = std::max(hi, chunkVertexHeight(g, v, t));
+      }
+    }
+  }
+  if (surface != n.triangleCount || skirt != n.skirtTriangleCount)
+    return "node table says " + std::to_string(n.triangleCount) + "+" +
+           std::to_string(n.skirtTriangleCount) + " surface+skirt triangles, chunk has " +
+           std::to_string(surface) + "+" + std::to_string(skirt);
+  if (surface && (lo < double(n.minZ) || hi > double(n.maxZ)))
+    return "drawn heights " + std::to_string(lo) + ".." + std::to_string(hi) +
+           " m leave the node's bounds " + std::to_string(n.minZ) + ".." + std::to_string(n.maxZ) +
+           " m";
+  return {};
+}
+
 bool interpolate(const std::vector<SidePoint>& side, int32_t coord, SidePoint& out) {
   if (side.empty() || coord < side.front().coord || coord > side.back().coord) return false;
   auto hi = std::lower_bound(side.begin(), side.end(), coord,
@@ -174,8 +201,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     const NodeRecord& n = nodes[i];
     auto g = tileset.readChunk(i);
     if (!g) return g.error();
-    const int64_t side = h.chunkCells(n.level);
-    return Decoded{int64_t(n.x) * side, int64_t(n.y) * side, side, std::move(g).value()};
+    const auto [x0, y0] = chunkCellOrigin(h, n);
+    return Decoded{x0, y0, h.chunkCells(n.level), std::move(g).value()};
   };
   auto name = [&](uint32_t i) {
     const NodeRecord& n = nodes[i];
@@ -192,6 +219,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     auto self = decode(i);
     if (!self) return addFailure(self.error().message);
     const NodeRecord& n = nodes[i];
+    if (std::string problem = nodeRecordMismatch(n, self->geometry); !problem.empty())
+      addFailure(name(i) + ": " + problem);
     sides[i] = sideProfiles(*self);
     const int64_t x1 = std::min(self->x0 + self->side, cellsX),
                   y1 = std::min(self->y0 + self->side, cellsY);

@@ -7,13 +7,15 @@
 
 #include "terralod/core/progress.h"
 #include "terralod/core/result.h"
+#include "terralod/format/chunk_codec.h"
 #include "terralod/raster/dem_reader.h"
 
 namespace terralod {
 
 /// Whether the raster is read whole into memory or streamed in windows.
 enum class Streaming {
-  kAuto,    ///< stream rasters over 16 M samples or over the memory budget, load the rest
+  kAuto,    ///< stream plain rasters over 16 M samples or over the memory budget, load the rest
+            ///< (RGB-encoded tiles are always loaded)
   kAlways,  ///< always stream (the path huge rasters take; slower for small ones)
   kNever,   ///< always load whole; fails over the memory budget
 };
@@ -26,7 +28,7 @@ struct BuildOptions {
   int32_t chunkCells = 0;    ///< leaf chunk side in cells; 0 = automatic
   unsigned threads = 0;      ///< 0 = all hardware threads
   uint64_t memoryMB = 2048;  ///< above this the input is read in windows, never whole
-  int compressionLevel = 3;  ///< zstd level for chunk blobs
+  int compressionLevel = kDefaultChunkCompressionLevel;  ///< zstd level for chunk blobs
   Streaming streaming = Streaming::kAuto;
   int32_t blockCells = 512;  ///< side of the blocks both passes work in
 };

@@ -1,6 +1,6 @@
 #pragma once
 // From a chunk mesh in metres to its stored geometry: heights quantised on the level's step,
-// morph targets as deltas, split into 16-bit parts if needed, cache-optimised.
+// morph targets as deltas, split into 16-bit parts if needed.
 
 #include "terralod/build/chunk_mesher.h"
 #include "terralod/build/error_budget.h"

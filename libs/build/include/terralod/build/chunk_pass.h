@@ -15,6 +15,7 @@
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/progress.h"
+#include "terralod/format/chunk_codec.h"
 #include "terralod/format/tileset_format.h"
 #include "terralod/format/tileset_writer.h"
 
@@ -23,7 +24,7 @@ namespace terralod {
 struct ChunkPassOptions {
   int32_t blockCells = 512;
   unsigned threads = 1;
-  int compressionLevel = 9;
+  int compressionLevel = kDefaultChunkCompressionLevel;
 };
 
 /// Breadth-first node list of the tree (roots row-major, children SW, SE, NW, NE).

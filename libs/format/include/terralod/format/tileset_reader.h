@@ -1,6 +1,6 @@
 #pragma once
-// Opening a tileset: header and node table are read and validated up front (two reads); chunk
-// blobs are read on demand, one read each, and checked against their CRC before decoding.
+// Opening a tileset: header, node table and metadata are read and validated up front (three reads);
+// chunk blobs are read on demand, one read each, and checked against their CRC before decoding.
 
 #include <memory>
 #include <string>

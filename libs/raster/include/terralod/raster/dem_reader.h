@@ -49,6 +49,7 @@ struct DemInfo {
   std::string crsWkt;    ///< the raster's CRS as WKT (empty when unknown)
   std::array<double, 6> geoTransform{0, 1, 0, 0, 0, -1};
   bool hasGeoTransform = false;
+  bool southUp = false;  ///< raster row 0 is the southern edge (positive geotransform y step)
   HeightEncoding encoding = HeightEncoding::kPlain;
 };
 
