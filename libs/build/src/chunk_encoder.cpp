@@ -61,15 +61,19 @@ Result<ChunkGeometry> quantizeChunk(const ChunkMesh& mesh, const ErrorBudget& bu
   g.zStep = budget.zStep[mesh.level];
   double zMin = std::numeric_limits<double>::infinity();
   for (const MeshVertex& v : mesh.vertices) zMin = std::min(zMin, v.z);
-  g.zBase = std::floor(zMin / g.zStep) * g.zStep;
+  // Heights are rounded on one grid per level, the multiples of zStep, not relative to each
+  // chunk's base: neighbours then store a shared border vertex at exactly the same height even
+  // when it lies halfway between two steps.
+  const double baseSteps = std::floor(zMin / g.zStep);
+  g.zBase = baseSteps * g.zStep;
 
   std::vector<ChunkVertex> vertices(mesh.vertices.size());
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const MeshVertex& v = mesh.vertices[i];
-    const double zq = std::round((v.z - g.zBase) / g.zStep);
-    // The target is rounded on the same grid as the height, so a vertex whose target is its
-    // own height gets a delta of exactly 0 even when it lies halfway between two steps.
-    const double dq = std::round((v.morphTarget - g.zBase) / g.zStep) - zq;
+    const double zq = std::round(v.z / g.zStep) - baseSteps;
+    // The target is rounded on the same grid, so a vertex whose target is its own height gets
+    // a delta of exactly 0.
+    const double dq = std::round(v.morphTarget / g.zStep) - baseSteps - zq;
     if (zq < 0 || zq > 65535 || dq < -32768 || dq > 32767)
       return Error{"internal error: chunk " + std::to_string(mesh.level) + "/" +
                    std::to_string(mesh.ix) + "/" + std::to_string(mesh.iy) +
