@@ -98,6 +98,35 @@ void encodeStages(benchmark::State& state) {
 }
 BENCHMARK(encodeStages)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
+// Encoded size of the leaf level as the mesher orders it (Arg 0: Sierpinski curve, vertices in
+// first-use order) and after meshoptimizer's vertex cache and fetch optimisation (Arg 1).
+void encodedSize(benchmark::State& state) {
+  Prepared p;
+  NullProgress progress;
+  const ActivationGrid grid =
+      computeActivations(p.layout, p.budget, p.heights, p.heights, {}, progress).value();
+  ChunkMesher mesher(p.layout, p.budget, grid, p.heights);
+  const bool optimise = state.range(0) != 0;
+  uint64_t bytes = 0, triangles = 0, vertices = 0;
+  for (auto _ : state) {
+    bytes = triangles = vertices = 0;
+    for (int32_t iy = 0; iy < p.layout.chunksY(p.layout.depth); ++iy)
+      for (int32_t ix = 0; ix < p.layout.chunksX(p.layout.depth); ++ix) {
+        const ChunkMesh mesh = mesher.build(p.layout.depth, ix, iy);
+        ChunkGeometry g = quantizeChunk(mesh, p.budget).value();
+        if (optimise)
+          for (ChunkPart& part : g.parts) optimizeChunkPart(part);
+        bytes += encodeChunk(g).size();
+        triangles += mesh.surfaceIndices.size() / 3;
+        vertices += mesh.surfaceVertexCount;
+      }
+  }
+  state.counters["bytes"] = double(bytes);
+  state.counters["bytes/vertex"] = double(bytes) / double(vertices);
+  state.counters["bytes/triangle"] = double(bytes) / double(triangles);
+}
+BENCHMARK(encodedSize)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 }  // namespace
 }  // namespace terralod
 

@@ -66,11 +66,11 @@ Result<DatasetPtr> createDataset(const SyntheticDemOptions& o, const std::string
   createOptions.SetNameValue("BLOCKXSIZE", std::to_string(kTileSide).c_str());
   createOptions.SetNameValue("BLOCKYSIZE", std::to_string(kTileSide).c_str());
   createOptions.SetNameValue("COMPRESS", gdalCompression(o.compression).c_str());
-  if (o.compression != "none") {
-    createOptions.SetNameValue("PREDICTOR", "3");
+  // No floating-point predictor: it would make the file 40 % smaller, but undoing it costs
+  // more than the rest of reading, and the build reads every tile twice (docs/benchmarks.md).
+  if (o.compression != "none")
     createOptions.SetNameValue("NUM_THREADS", std::to_string(o.threads).c_str());
-  }
-  if (o.compression == "zstd") createOptions.SetNameValue("ZSTD_LEVEL", "3");
+  if (o.compression == "zstd") createOptions.SetNameValue("ZSTD_LEVEL", "1");
   // Compressed sizes are unknown up front; BigTIFF whenever classic TIFF's 4 GB could be near.
   createOptions.SetNameValue("BIGTIFF", bytes > 2e9 ? "YES" : "NO");
   GDALDataset* ds = driver->Create(path.c_str(), int(o.columns), int(o.rows), 1, GDT_Float32,
