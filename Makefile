@@ -1,5 +1,6 @@
 # terralod — the two commands that do everything on a fresh Debian 12 machine:
-#   make demo   install dependencies, build, build the bundled default DEM into a tileset and describe it
+#   make demo   install dependencies, build, turn the bundled default DEM into a tileset, describe,
+#               verify and render it (an overview and the first frames of the automatic flight)
 #   make test   install dependencies, build, run every test
 PRESET ?= release
 BUILD_DIR := build/$(PRESET)
@@ -25,6 +26,9 @@ demo: build
 	$(TERRALOD) build $(DEMO_DEM) -o $(DEMO_DIR)/zion.tlod
 	$(TERRALOD) info $(DEMO_DIR)/zion.tlod
 	$(TERRALOD) verify $(DEMO_DIR)/zion.tlod --source $(DEMO_DEM)
+	$(TERRALOD) render $(DEMO_DIR)/zion.tlod -o $(DEMO_DIR)/zion.png
+	mkdir -p $(DEMO_DIR)/flight
+	$(TERRALOD) render $(DEMO_DIR)/zion.tlod --auto-flight --frames 48 --size 640x480 --frames-dir $(DEMO_DIR)/flight
 
 test: build
 	./scripts/check-format.sh

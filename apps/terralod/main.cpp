@@ -34,10 +34,12 @@ int main(int argc, char** argv) {
   addInfoCommand(app, run);
   addVerifyCommand(app, run);
   addExportCommand(app, run);
+  addRenderCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help exits 0; every usage error exits 1, like every other error.
+    return app.exit(e) == 0 ? 0 : 1;
   }
   terralod::setGdalCacheBytes(uint64_t{64} << 20);
   try {

@@ -167,6 +167,45 @@ TEST_F(BadInputs, SynthRefusesBadRequestsCleanly) {
   }
 }
 
+TEST_F(BadInputs, RenderRefusesBadRequestsCleanly) {
+  const std::string d = mDir.path().string();
+  const std::string good = d + "/good.tlod", out = d + "/out.png";
+  std::ofstream(d + "/broken.json") << "{\"keyframes\": [{\"eye\": [0, 0, 1]";
+  std::ofstream(d + "/short.json")
+      << R"({"keyframes": [{"eye": [0, 0, 100], "target": [1, 1, 0]}]})";
+  const std::vector<BadCase> cases = {
+      {"future version", {"render", d + "/future.tlod", "-o", out}, "version 9 is not supported"},
+      {"truncated tileset", {"render", d + "/truncated.tlod", "-o", out}, "tileset is truncated"},
+      {"eye equals target",
+       {"render", good, "-o", out, "--eye", "1,2,3", "--target", "1,2,3"},
+       "eye and target must be different points"},
+      {"non-finite eye",
+       {"render", good, "-o", out, "--eye", "nan,2,3", "--target", "1,2,3"},
+       "--eye must be X,Y,Z"},
+      {"zero-size viewport", {"render", good, "-o", out, "--size", "0x0"}, "--size must be"},
+      {"tau not positive", {"render", good, "-o", out, "--tau", "0"}, "--tau"},
+      {"malformed flight",
+       {"render", good, "--flight", d + "/broken.json", "--frames-dir", d},
+       "broken.json: flight is not valid JSON"},
+      {"one keyframe",
+       {"render", good, "--flight", d + "/short.json", "--frames-dir", d},
+       "short.json: flight needs \"keyframes\": an array of at least two"},
+      {"bad colour", {"render", good, "-o", out, "--background", "blue"}, "--background must be"},
+      {"no EGL display", {"render", good, "-o", out}, "no EGL display available"},
+  };
+  const std::vector<std::string> before = filesIn(mDir.path());
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    // No EGL vendor library at all: what a machine without GL drivers looks like.
+    const std::vector<std::string> env =
+        c.name == "no EGL display"
+            ? std::vector<std::string>{"__EGL_VENDOR_LIBRARY_FILENAMES=/nonexistent.json"}
+            : std::vector<std::string>{};
+    expectOneErrorLine(runTerralod(c.args, env), c.expected);
+    EXPECT_EQ(filesIn(mDir.path()), before) << "partial output left behind";
+  }
+}
+
 TEST_F(BadInputs, UsageErrorsAreOneLineToo) {
   const RunResult r = runTerralod({"build", testData("crater_lake_0513.bt")});
   EXPECT_NE(r.exitCode, 0);

@@ -37,8 +37,10 @@ inline std::string readWholeFile(const std::filesystem::path& path) {
   return s.str();
 }
 
-/// Runs `program args...` with stdout and stderr captured through temporary files.
-inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args) {
+/// Runs `program args...` with stdout and stderr captured through temporary files; `env` holds
+/// NAME=VALUE settings added to the child's environment.
+inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args,
+                            const std::vector<std::string>& env = {}) {
   namespace fs = std::filesystem;
   char outTemplate[] = "/tmp/terralod-test-out-XXXXXX";
   char errTemplate[] = "/tmp/terralod-test-err-XXXXXX";
@@ -49,6 +51,7 @@ inline RunResult runProgram(const std::string& program, const std::vector<std::s
   if (pid == 0) {
     dup2(outFd, STDOUT_FILENO);
     dup2(errFd, STDERR_FILENO);
+    for (const std::string& setting : env) putenv(const_cast<char*>(setting.c_str()));
     std::vector<char*> argv;
     argv.push_back(const_cast<char*>(program.c_str()));
     for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
@@ -70,8 +73,9 @@ inline RunResult runProgram(const std::string& program, const std::vector<std::s
 }
 
 /// Runs the terralod CLI built alongside the tests.
-inline RunResult runTerralod(const std::vector<std::string>& args) {
-  return runProgram(TERRALOD_CLI, args);
+inline RunResult runTerralod(const std::vector<std::string>& args,
+                             const std::vector<std::string>& env = {}) {
+  return runProgram(TERRALOD_CLI, args, env);
 }
 
 }  // namespace terralod::test

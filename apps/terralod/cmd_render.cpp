@@ -1,0 +1,103 @@
+// terralod render TILESET -o OUT.png [camera, selection and style options]
+// terralod render TILESET (--flight F.json | --auto-flight) --frames-dir DIR
+
+#include <cstdio>
+#include <filesystem>
+
+#include "commands.h"
+#include "render_options.h"
+#include "terralod/render/contact_sheet.h"
+#include "terralod/render/framebuffer.h"
+#include "terralod/render/gl_context.h"
+#include "terralod/render/terrain_scene.h"
+
+namespace terralod::cli {
+namespace {
+
+constexpr int kContactSheetFrames = 24;
+
+struct RenderCommand {
+  RenderOptions options;
+  std::string output;
+  std::string framesDir;
+};
+
+std::string framePath(const std::string& dir, size_t i) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%05zu.png", i);
+  return (std::filesystem::path(dir) / name).string();
+}
+
+int runRender(const RenderCommand& r) {
+  const bool flight = !r.options.flightFile.empty() || r.options.autoFlight;
+  if (flight && r.framesDir.empty()) return fail("a flight needs --frames-dir DIR for its frames");
+  if (!flight && r.output.empty()) return fail("give -o OUT.png (or a flight with --frames-dir)");
+  if (!r.framesDir.empty() && !std::filesystem::is_directory(r.framesDir))
+    return fail(r.framesDir + ": not a directory");
+  auto selection = selectionOptions(r.options);
+  if (!selection) return fail(selection.error().message);
+  auto style = terrainStyle(r.options);
+  if (!style) return fail(style.error().message);
+
+  auto tileset = TilesetReader::openFile(r.options.tileset);
+  if (!tileset) return fail(tileset.error().message);
+  auto context = GlContext::createHeadless();
+  if (!context) return fail(context.error().message);
+  auto scene = TerrainScene::create(std::move(tileset).value());
+  if (!scene) return fail(scene.error().message);
+  auto cameras = camerasFor(r.options, (*scene)->tree());
+  if (!cameras) return fail(cameras.error().message);
+  if (cameras->empty()) return fail("the flight has no frames");
+
+  std::vector<Image> sheet;
+  const size_t every =
+      std::max<size_t>(1, (cameras->size() + kContactSheetFrames - 1) / kContactSheetFrames);
+  std::optional<Framebuffer> target;
+  for (size_t i = 0; i < cameras->size(); ++i) {
+    auto view = makeView((*cameras)[i]);
+    if (!view) return fail("frame " + std::to_string(i) + ": " + view.error().message);
+    if (!target || target->width() != view->camera.width ||
+        target->height() != view->camera.height) {
+      auto created = Framebuffer::create(view->camera.width, view->camera.height);
+      if (!created) return fail(created.error().message);
+      target.emplace(std::move(created).value());
+    }
+    target->bind();
+    auto frame = (*scene)->renderFrame(*view, *selection, *style);
+    if (!frame) return fail(frame.error().message);
+    const Image image = target->readPixels();
+    const std::string path = flight ? framePath(r.framesDir, i) : r.output;
+    if (Status written = writePng(image, path); !written) return fail(written.error().message);
+    if (flight && i % every == 0) sheet.push_back(image);
+    if (!flight)
+      std::printf("terralod: wrote %s: %u chunks, %llu triangles, %u draw calls, select %.0f us\n",
+                  path.c_str(), frame->selection.selected,
+                  (unsigned long long)frame->draw.triangles, frame->draw.drawCalls,
+                  frame->selectMicroseconds);
+  }
+  if (flight) {
+    const std::string sheetPath =
+        (std::filesystem::path(r.framesDir) / "contact_sheet.png").string();
+    if (Status written = writePng(makeContactSheet(sheet, 6, 256), sheetPath); !written)
+      return fail(written.error().message);
+    std::printf("terralod: wrote %zu frames and %s\n", cameras->size(), sheetPath.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addRenderCommand(CLI::App& root, Runner& run) {
+  auto* cmd = root.add_subcommand(
+      "render",
+      "Render a tileset headless (OpenGL through EGL) to PNG: one view, or every frame of a "
+      "flight plus a contact sheet");
+  auto r = std::make_shared<RenderCommand>();
+  addRenderOptions(*cmd, r->options, true);
+  cmd->add_option("-o,--output", r->output, "PNG to write (a single view)");
+  cmd->add_option("--frames-dir", r->framesDir,
+                  "Directory for a flight's frames (frame_00000.png, ...) and contact_sheet.png");
+  cmd->callback([&run, r] { run = [r] { return runRender(*r); }; });
+}
+
+}  // namespace terralod::cli

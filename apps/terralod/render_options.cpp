@@ -1,0 +1,105 @@
+#include "render_options.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "cli_values.h"
+
+namespace terralod::cli {
+
+void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
+  c.add_option("TILESET", o.tileset, "Tileset file (.tlod)")->required();
+  if (withCamera) {
+    c.add_option("--eye", o.eye, "Eye position X,Y,Z in world metres (z up)");
+    c.add_option("--target", o.target, "Point looked at, X,Y,Z in world metres");
+  }
+  c.add_option("--fov", o.fovDegrees, "Horizontal field of view in degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 179.0));
+  c.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+  c.add_option("--tau", o.tau, "Screen-space error bound τ in pixels")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  c.add_option("--background", o.background, "Colour RRGGBB of the empty sky overhead")
+      ->capture_default_str();
+  c.add_flag("--wireframe", o.wireframe, "Draw triangle edges over the surface");
+  c.add_flag("--no-morph", o.noMorph, "Draw every chunk unmorphed (shows the pops morphing hides)");
+  c.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows the cracks they hide)");
+  c.add_option("--color-by", o.colorBy, "Surface colour: relief, level (chunk level) or morph")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"relief", "level", "morph"}));
+  c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
+  c.add_flag("--auto-flight", o.autoFlight,
+             "Fly the default flight: a low pass across the terrain, then a climb");
+  c.add_option("--frames", o.frames, "Frames to fly (default: the whole flight)")
+      ->check(CLI::PositiveNumber);
+}
+
+Result<SelectionOptions> selectionOptions(const RenderOptions& o) {
+  if (!(o.tau > 0) || !std::isfinite(o.tau)) return Error{"--tau must be a positive number"};
+  SelectionOptions s;
+  s.tau = o.tau;
+  s.morph = !o.noMorph;
+  return s;
+}
+
+Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
+  TerrainStyle style;
+  auto background = parseColor(o.background, "--background");
+  if (!background) return background.error();
+  style.background = *background;
+  style.wireframe = o.wireframe;
+  style.skirts = !o.noSkirts;
+  style.colorBy = o.colorBy == "level"   ? ColorBy::kLevel
+                  : o.colorBy == "morph" ? ColorBy::kMorph
+                                         : ColorBy::kRelief;
+  return style;
+}
+
+Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& tree) {
+  auto size = parseSize(o.size, "--size");
+  if (!size) return size.error();
+  const int ways = int(!o.flightFile.empty()) + int(o.autoFlight) + int(!o.eye.empty());
+  if (ways > 1) return Error{"give one of --flight, --auto-flight or --eye/--target"};
+  Flight flight;
+  if (!o.flightFile.empty()) {
+    std::ifstream in(o.flightFile, std::ios::binary);
+    if (!in) return makeError(o.flightFile, "cannot read the flight file");
+    std::stringstream text;
+    text << in.rdbuf();
+    auto parsed = parseFlight(text.str(), o.flightFile);
+    if (!parsed) return parsed.error();
+    flight = std::move(parsed).value();
+  } else if (o.autoFlight) {
+    flight = autoFlight(tree, (*size)[0], (*size)[1], o.fovDegrees, o.frames);
+  } else {
+    Camera c;
+    c.width = (*size)[0];
+    c.height = (*size)[1];
+    c.hfovDegrees = o.fovDegrees;
+    if (o.eye.empty() != o.target.empty()) return Error{"--eye and --target go together"};
+    if (!o.eye.empty()) {
+      auto eye = parsePoint(o.eye, "--eye");
+      if (!eye) return eye.error();
+      auto target = parsePoint(o.target, "--target");
+      if (!target) return target.error();
+      c.eye = *eye;
+      c.target = *target;
+    } else {
+      // From the south, high enough to see the whole extent, looking at its centre.
+      const Box& e = tree.extent();
+      const glm::dvec3 centre{0.5 * (e.min[0] + e.max[0]), 0.5 * (e.min[1] + e.max[1]),
+                              0.5 * (e.min[2] + e.max[2])};
+      const double span = std::max(e.max[0] - e.min[0], e.max[1] - e.min[1]);
+      c.target = centre;
+      c.eye = centre + glm::dvec3(0.0, -0.75 * span, 0.6 * span + (e.max[2] - e.min[2]));
+    }
+    return std::vector<Camera>{c};
+  }
+  // A file's keyframes are resampled to --frames; the automatic flight was cut to it above.
+  if (!o.flightFile.empty() && o.frames > 0) flight.frames = o.frames;
+  return flightCameras(flight);
+}
+
+}  // namespace terralod::cli

@@ -1,0 +1,42 @@
+#pragma once
+// The options `render` and `bench` share: which tileset, how to select and draw it, and which
+// cameras to fly (one view, a flight file or the automatic flight).
+
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "terralod/render/terrain_renderer.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/flight.h"
+#include "terralod/runtime/selection.h"
+
+namespace terralod::cli {
+
+struct RenderOptions {
+  std::string tileset;
+  std::string eye, target;  ///< "X,Y,Z"; both empty: a default overview
+  double fovDegrees = 60.0;
+  std::string size = "1024x768";
+  double tau = 2.0;
+  std::string background = "9CC3E6";
+  bool wireframe = false, noMorph = false, noSkirts = false;
+  std::string colorBy = "relief";
+  std::string flightFile;
+  bool autoFlight = false;
+  int frames = 0;  ///< 0: the whole flight
+};
+
+/// Registers the shared options on `command`.
+void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera);
+
+/// The selection options and style the command line asks for (values already validated).
+Result<SelectionOptions> selectionOptions(const RenderOptions& options);
+Result<TerrainStyle> terrainStyle(const RenderOptions& options);
+
+/// The cameras to render: the flight file, the automatic flight, or the single view given by
+/// --eye/--target (a default overview of the whole tileset without them).
+Result<std::vector<Camera>> camerasFor(const RenderOptions& options, const ChunkTree& tree);
+
+}  // namespace terralod::cli

@@ -1,0 +1,62 @@
+#pragma once
+// Chunk geometry on the GPU. Every chunk lives in one shared vertex buffer and one shared
+// 16-bit index buffer, so that a frame's chunks draw with a single multi-draw call; ranges are
+// carved by first-fit allocators and the buffers grow (by copying on the GPU) when full.
+// Render thread only: create, use and destroy it where its GlContext is current.
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/format/chunk_codec.h"
+#include "terralod/render/range_allocator.h"
+
+namespace terralod {
+
+/// Where one part of a chunk is in the shared buffers (units: vertices and indices).
+struct GpuChunkPart {
+  uint32_t baseVertex = 0;
+  uint32_t vertexCount = 0;
+  uint32_t firstIndex = 0;
+  uint32_t surfaceIndexCount = 0;  ///< surface indices first...
+  uint32_t indexCount = 0;         ///< ...then skirt indices up to here
+};
+
+struct GpuChunk {
+  double zBase = 0.0, zStep = 1.0;
+  std::vector<GpuChunkPart> parts;
+  uint64_t bytes = 0;  ///< GPU memory it takes
+};
+
+class GpuChunkStore {
+ public:
+  /// Makes empty buffers with room for about `initialBytes` of chunk data (they grow).
+  explicit GpuChunkStore(uint64_t initialBytes = uint64_t{16} << 20);
+  ~GpuChunkStore();
+  GpuChunkStore(const GpuChunkStore&) = delete;
+  GpuChunkStore& operator=(const GpuChunkStore&) = delete;
+
+  /// Copies a decoded chunk to the GPU under `node` (replacing what was there).
+  void upload(uint32_t node, const ChunkGeometry& geometry);
+  /// Frees a chunk's GPU memory; nothing happens if it is not there.
+  void release(uint32_t node);
+  /// The chunk uploaded under `node`, or nullptr.
+  const GpuChunk* find(uint32_t node) const;
+
+  uint32_t vertexBuffer() const { return mVertexBuffer; }
+  uint32_t indexBuffer() const { return mIndexBuffer; }
+  /// GPU bytes held by chunks (not the buffers' spare room).
+  uint64_t residentBytes() const { return mResidentBytes; }
+  size_t chunkCount() const { return mChunks.size(); }
+
+ private:
+  uint64_t allocate(RangeAllocator& allocator, uint32_t& buffer, uint64_t count, size_t unit);
+
+  uint32_t mVertexBuffer = 0, mIndexBuffer = 0;
+  RangeAllocator mVertices, mIndices;
+  std::unordered_map<uint32_t, GpuChunk> mChunks;
+  uint64_t mResidentBytes = 0;
+};
+
+}  // namespace terralod

@@ -1,0 +1,33 @@
+#pragma once
+// An 8-bit RGBA image in memory and its PNG files: what renders come back as, what golden
+// tests compare and what the CLI writes.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+/// Pixels row by row, top row first, 4 bytes (R, G, B, A) per pixel, no row padding.
+/// A plain value: copy it, move it, use it on any thread.
+struct Image {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> rgba;  ///< width * height * 4 bytes
+
+  /// The pixel in column x of row y (row 0 is the top). Both must be inside the image.
+  std::array<uint8_t, 4> pixel(int x, int y) const;
+};
+
+/// Writes `image` as an RGBA PNG. The file appears complete or not at all (written beside
+/// the target, then renamed over it). Fails with a message naming `path`. Any thread.
+Status writePng(const Image& image, const std::string& path);
+
+/// Reads a PNG into RGBA8 (grey, grey-alpha and RGB are expanded; 16-bit is reduced).
+/// Fails with a message naming `path` when it is missing or not a readable PNG. Any thread.
+Result<Image> readPng(const std::string& path);
+
+}  // namespace terralod

@@ -1,0 +1,68 @@
+#pragma once
+// Draws a selection of chunks: one multi-draw-indirect call for all of them (gl_DrawIDARB picks
+// each draw's placement), the morph in the vertex shader, skirts on or off, shaded relief or
+// diagnostic colours, a sky behind. Render thread only; create and destroy it where its
+// GlContext is current.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/render/gpu_chunk_store.h"
+#include "terralod/render/shader_program.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/view.h"
+
+namespace terralod {
+
+enum class ColorBy { kRelief, kLevel, kMorph };
+
+struct TerrainStyle {
+  ColorBy colorBy = ColorBy::kRelief;
+  bool wireframe = false;  ///< draw triangle edges over the surface
+  bool skirts = true;
+  bool sky = true;  ///< false: empty pixels keep exactly the background colour
+  std::array<uint8_t, 3> background{0x9C, 0xC3, 0xE6};  ///< sRGB; the sky overhead
+  double sunAzimuthDegrees = 315.0;                     ///< clockwise from north
+  double sunElevationDegrees = 40.0;
+};
+
+struct DrawStats {
+  uint32_t chunks = 0;        ///< selected chunks that were on the GPU and drawn
+  uint32_t missing = 0;       ///< selected chunks not in the store (skipped)
+  uint32_t drawCalls = 0;     ///< GL draw calls issued (multi-draws count once)
+  uint32_t drawCommands = 0;  ///< indirect commands in them
+  uint64_t triangles = 0;     ///< triangles drawn, skirts included when on
+};
+
+class TerrainRenderer {
+ public:
+  /// Compiles the shaders.
+  static Result<TerrainRenderer> create();
+  ~TerrainRenderer();
+  TerrainRenderer(TerrainRenderer&& other) noexcept;
+  TerrainRenderer& operator=(TerrainRenderer&&) = delete;
+  TerrainRenderer(const TerrainRenderer&) = delete;
+  TerrainRenderer& operator=(const TerrainRenderer&) = delete;
+
+  /// Clears the bound framebuffer (viewport: the view's size) and draws the selected chunks
+  /// of `tree` that `store` holds.
+  DrawStats draw(const View& view, const ChunkTree& tree, std::span<const SelectedChunk> selection,
+                 const GpuChunkStore& store, const TerrainStyle& style);
+
+ private:
+  TerrainRenderer(ShaderProgram terrain, ShaderProgram sky);
+
+  ShaderProgram mTerrain, mSky;
+  uint32_t mVertexArray = 0, mDrawBuffer = 0, mIndirectBuffer = 0;
+  uint64_t mDrawBufferBytes = 0, mIndirectBufferBytes = 0;
+  uint32_t mBoundVertexBuffer = 0;
+  // Per-frame staging, kept to avoid allocating once they are big enough.
+  std::vector<float> mDraws;
+  std::vector<uint32_t> mCommands;
+};
+
+}  // namespace terralod

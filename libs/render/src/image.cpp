@@ -1,0 +1,76 @@
+#include "terralod/render/image.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include <cassert>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <span>
+
+#include "terralod/core/atomic_file.h"
+
+// Debian's libstb ships the stb implementations compiled (libstb.so), so no
+// STB_*_IMPLEMENTATION here.
+
+namespace terralod {
+namespace {
+
+constexpr uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+
+void appendBytes(void* context, void* data, int size) {
+  auto* bytes = static_cast<std::vector<uint8_t>*>(context);
+  const auto* begin = static_cast<const uint8_t*>(data);
+  bytes->insert(bytes->end(), begin, begin + size);
+}
+
+}  // namespace
+
+std::array<uint8_t, 4> Image::pixel(int x, int y) const {
+  assert(x >= 0 && x < width && y >= 0 && y < height);
+  const uint8_t* p = rgba.data() + (size_t(y) * size_t(width) + size_t(x)) * 4;
+  return {p[0], p[1], p[2], p[3]};
+}
+
+Status writePng(const Image& image, const std::string& path) {
+  if (image.width < 1 || image.height < 1)
+    return makeError(path, "cannot write an empty image (" + std::to_string(image.width) + "x" +
+                               std::to_string(image.height) + ")");
+  assert(image.rgba.size() == size_t(image.width) * size_t(image.height) * 4);
+  // Encode in memory first so a failed encode never touches the file system.
+  std::vector<uint8_t> png;
+  if (!stbi_write_png_to_func(appendBytes, &png, image.width, image.height, 4, image.rgba.data(),
+                              image.width * 4))
+    return makeError(path, "PNG encoding failed");
+  auto file = AtomicFile::create(path);
+  if (!file) return file.error();
+  if (Status s = file->write(std::span<const uint8_t>(png)); !s) return s;
+  return file->commit();
+}
+
+Result<Image> readPng(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path, std::string("cannot open: ") + std::strerror(errno));
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (in.bad()) return makeError(path, "read failed");
+  if (bytes.size() < sizeof(kPngSignature) ||
+      std::memcmp(bytes.data(), kPngSignature, sizeof(kPngSignature)) != 0)
+    return makeError(path, "not a PNG file");
+  int width = 0, height = 0, channels = 0;
+  std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
+      stbi_load_from_memory(bytes.data(), int(bytes.size()), &width, &height, &channels, 4),
+      stbi_image_free);
+  if (!pixels)
+    return makeError(path, std::string("cannot decode PNG (") + stbi_failure_reason() + ")");
+  Image image;
+  image.width = width;
+  image.height = height;
+  image.rgba.assign(pixels.get(), pixels.get() + size_t(width) * size_t(height) * 4);
+  return image;
+}
+
+}  // namespace terralod

@@ -1,0 +1,199 @@
+#include "terralod/render/terrain_renderer.h"
+
+#include <epoxy/gl.h>
+
+#include <bit>
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <numbers>
+
+#include "terrain_shaders.h"
+
+namespace terralod {
+namespace {
+
+constexpr double kNearPlane = 0.05;  // metres; reversed depth keeps precision far away
+
+// An infinite reversed-depth perspective (depth 1 at the near plane, 0 at infinity), with
+// clip control set to [0, 1]: precision is spread evenly in log distance.
+glm::dmat4 reversedInfinitePerspective(const View& v) {
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / v.tanHalfWidth;
+  p[1][1] = 1.0 / v.tanHalfHeight;
+  p[2][3] = -1.0;
+  p[3][2] = kNearPlane;
+  return p;
+}
+
+// World to camera rotation (the eye is the origin of the positions the shader sees).
+glm::dmat4 viewRotation(const View& v) {
+  return glm::lookAt(glm::dvec3(0.0), v.forward, v.up);
+}
+
+template <typename T>
+void uploadGrowing(uint32_t& buffer, uint64_t& capacity, const std::vector<T>& data) {
+  const uint64_t bytes = data.size() * sizeof(T);
+  if (bytes > capacity) {
+    if (buffer) glDeleteBuffers(1, &buffer);
+    capacity = std::max<uint64_t>(bytes * 2, 4096);
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, GLsizeiptr(capacity), nullptr, GL_DYNAMIC_STORAGE_BIT);
+  }
+  if (bytes) glNamedBufferSubData(buffer, 0, GLsizeiptr(bytes), data.data());
+}
+
+}  // namespace
+
+Result<TerrainRenderer> TerrainRenderer::create() {
+  auto terrain =
+      ShaderProgram::create("terrain", {shaders::kTerrainVertex, shaders::kTerrainFragment, {}});
+  if (!terrain) return terrain.error();
+  auto sky = ShaderProgram::create("sky", {shaders::kSkyVertex, shaders::kSkyFragment, {}});
+  if (!sky) return sky.error();
+  return TerrainRenderer(std::move(terrain).value(), std::move(sky).value());
+}
+
+TerrainRenderer::TerrainRenderer(ShaderProgram terrain, ShaderProgram sky)
+    : mTerrain(std::move(terrain)), mSky(std::move(sky)) {
+  glCreateVertexArrays(1, &mVertexArray);
+  // 8-byte vertices: three 16-bit unsigned (x, y, z) and a signed 16-bit morph delta.
+  glVertexArrayAttribIFormat(mVertexArray, 0, 3, GL_UNSIGNED_SHORT, 0);
+  glVertexArrayAttribIFormat(mVertexArray, 1, 1, GL_SHORT, 6);
+  glVertexArrayAttribBinding(mVertexArray, 0, 0);
+  glVertexArrayAttribBinding(mVertexArray, 1, 0);
+  glEnableVertexArrayAttrib(mVertexArray, 0);
+  glEnableVertexArrayAttrib(mVertexArray, 1);
+}
+
+TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
+    : mTerrain(std::move(o.mTerrain)),
+      mSky(std::move(o.mSky)),
+      mVertexArray(std::exchange(o.mVertexArray, 0)),
+      mDrawBuffer(std::exchange(o.mDrawBuffer, 0)),
+      mIndirectBuffer(std::exchange(o.mIndirectBuffer, 0)),
+      mDrawBufferBytes(o.mDrawBufferBytes),
+      mIndirectBufferBytes(o.mIndirectBufferBytes),
+      mBoundVertexBuffer(o.mBoundVertexBuffer) {}
+
+TerrainRenderer::~TerrainRenderer() {
+  if (mVertexArray) glDeleteVertexArrays(1, &mVertexArray);
+  if (mDrawBuffer) glDeleteBuffers(1, &mDrawBuffer);
+  if (mIndirectBuffer) glDeleteBuffers(1, &mIndirectBuffer);
+}
+
+DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
+                                std::span<const SelectedChunk> selection,
+                                const GpuChunkStore& store, const TerrainStyle& style) {
+  DrawStats stats;
+  const glm::dvec3 eye = view.camera.eye;
+  const auto spacing = tree.spacing();
+  mDraws.clear();
+  mCommands.clear();
+  for (const SelectedChunk& s : selection) {
+    const GpuChunk* chunk = store.find(s.node);
+    if (!chunk) {
+      ++stats.missing;
+      continue;
+    }
+    ++stats.chunks;
+    const ChunkNode& n = tree.node(s.node);
+    for (const GpuChunkPart& p : chunk->parts) {
+      const uint32_t count = style.skirts ? p.indexCount : p.surfaceIndexCount;
+      if (count == 0) continue;
+      mDraws.insert(
+          mDraws.end(),
+          {float(n.box.min[0] - eye.x), float(n.box.min[1] - eye.y), float(chunk->zBase - eye.z),
+           s.morph, float(spacing[0]), float(spacing[1]), float(chunk->zStep), float(n.level),
+           std::bit_cast<float>(p.surfaceIndexCount / 3), 0.0f, 0.0f, 0.0f});
+      // DrawElementsIndirectCommand: count, instanceCount, firstIndex, baseVertex, baseInstance.
+      mCommands.insert(mCommands.end(), {count, 1u, p.firstIndex, p.baseVertex, 0u});
+      stats.triangles += count / 3;
+    }
+  }
+  stats.drawCommands = uint32_t(mCommands.size() / 5);
+
+  const glm::dmat4 projection = reversedInfinitePerspective(view);
+  const glm::mat4 viewProjection(projection * viewRotation(view));
+  const glm::vec3 background{style.background[0] / 255.0f, style.background[1] / 255.0f,
+                             style.background[2] / 255.0f};
+  // Haze: the background lightened towards white, as distant air looks.
+  const glm::vec3 haze = glm::mix(background, glm::vec3(0.92f, 0.93f, 0.95f), 0.55f);
+
+  glViewport(0, 0, view.camera.width, view.camera.height);
+  glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  glClearColor(background.r, background.g, background.b, 1.0f);
+  glClearDepth(0.0);
+  glDepthMask(GL_TRUE);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glBindVertexArray(mVertexArray);
+
+  if (style.sky) {
+    glDisable(GL_DEPTH_TEST);
+    mSky.use();
+    const glm::mat4 inverse(glm::inverse(projection * viewRotation(view)));
+    glUniformMatrix4fv(mSky.uniformLocation("uInverseViewProjection"), 1, GL_FALSE,
+                       glm::value_ptr(inverse));
+    glUniform3fv(mSky.uniformLocation("uBackground"), 1, glm::value_ptr(background));
+    glUniform3fv(mSky.uniformLocation("uHaze"), 1, glm::value_ptr(haze));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    ++stats.drawCalls;
+  }
+  if (mCommands.empty()) return stats;
+
+  uploadGrowing(mDrawBuffer, mDrawBufferBytes, mDraws);
+  uploadGrowing(mIndirectBuffer, mIndirectBufferBytes, mCommands);
+  glVertexArrayVertexBuffer(mVertexArray, 0, store.vertexBuffer(), 0, sizeof(ChunkVertex));
+  glVertexArrayElementBuffer(mVertexArray, store.indexBuffer());
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, mDrawBuffer);
+  glBindBuffer(GL_DRAW_INDIRECT_BUFFER, mIndirectBuffer);
+
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glFrontFace(GL_CCW);
+  mTerrain.use();
+  const double azimuth = style.sunAzimuthDegrees * std::numbers::pi / 180.0;
+  const double elevation = style.sunElevationDegrees * std::numbers::pi / 180.0;
+  const glm::vec3 sun(std::sin(azimuth) * std::cos(elevation),
+                      std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
+  const Box& extent = tree.extent();
+  const double diagonal = std::hypot(extent.max[0] - extent.min[0], extent.max[1] - extent.min[1]);
+  const GLuint program = mTerrain.id();
+  glProgramUniformMatrix4fv(program, mTerrain.uniformLocation("uViewProjection"), 1, GL_FALSE,
+                            glm::value_ptr(viewProjection));
+  glProgramUniform1f(program, mTerrain.uniformLocation("uEyeHeight"), float(eye.z));
+  glProgramUniform1i(program, mTerrain.uniformLocation("uColorBy"), int(style.colorBy));
+  glProgramUniform3fv(program, mTerrain.uniformLocation("uSun"), 1, glm::value_ptr(sun));
+  glProgramUniform2f(program, mTerrain.uniformLocation("uHeightRange"), float(extent.min[2]),
+                     float(extent.max[2]));
+  const glm::vec3 hazeLinear = glm::pow(haze, glm::vec3(2.2f));
+  glProgramUniform3fv(program, mTerrain.uniformLocation("uHaze"), 1, glm::value_ptr(hazeLinear));
+  glProgramUniform1f(program, mTerrain.uniformLocation("uHazeDistance"),
+                     float(std::max(diagonal, 1.0) * 1.5));
+  const GLint wire = mTerrain.uniformLocation("uWire");
+  glProgramUniform1i(program, wire, 0);
+  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT, nullptr, GLsizei(stats.drawCommands),
+                              0);
+  ++stats.drawCalls;
+  if (style.wireframe) {
+    // Edges on top of the surface: drawn again as lines, pulled towards the eye a little.
+    glProgramUniform1i(program, wire, 1);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    glEnable(GL_POLYGON_OFFSET_LINE);
+    glPolygonOffset(1.0f, 1.0f);
+    glDepthFunc(GL_GEQUAL);
+    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT, nullptr,
+                                GLsizei(stats.drawCommands), 0);
+    ++stats.drawCalls;
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_POLYGON_OFFSET_LINE);
+  }
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+  return stats;
+}
+
+}  // namespace terralod

@@ -1,0 +1,50 @@
+#include "terralod/render/terrain_scene.h"
+
+namespace terralod {
+namespace {
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<TilesetReader> tileset) {
+  for (const NodeRecord& n : tileset->nodes())
+    if (n.meshKind != MeshKind::kStaticRtin)
+      return makeError(tileset->name(), "chunk mesh kind " + std::to_string(int(n.meshKind)) +
+                                            " is not supported by this renderer");
+  auto renderer = TerrainRenderer::create();
+  if (!renderer) return renderer.error();
+  ChunkTree tree(tileset->header(), tileset->nodes());
+  return std::unique_ptr<TerrainScene>(
+      new TerrainScene(std::move(tileset), std::move(tree), std::move(renderer).value()));
+}
+
+TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree,
+                           TerrainRenderer renderer)
+    : mTileset(std::move(tileset)), mTree(std::move(tree)), mRenderer(std::move(renderer)) {
+  mSelected.reserve(mTree.nodes().size());
+}
+
+Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOptions& options,
+                                             const TerrainStyle& style) {
+  FrameStats stats;
+  const auto selectStart = std::chrono::steady_clock::now();
+  stats.selection = selectChunks(mTree, view, options, mSelected);
+  stats.selectMicroseconds = secondsSince(selectStart) * 1e6;
+
+  const auto loadStart = std::chrono::steady_clock::now();
+  for (const SelectedChunk& s : mSelected) {
+    if (mStore.find(s.node)) continue;
+    auto geometry = mTileset->readChunk(s.node);
+    if (!geometry) return geometry.error();
+    mStore.upload(s.node, *geometry);
+    ++stats.loads;
+  }
+  stats.loadMilliseconds = secondsSince(loadStart) * 1e3;
+  stats.draw = mRenderer.draw(view, mTree, mSelected, mStore, style);
+  return stats;
+}
+
+}  // namespace terralod

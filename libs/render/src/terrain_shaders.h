@@ -1,0 +1,123 @@
+#pragma once
+// GLSL of the terrain and sky passes (one place, so the renderer reads as C++).
+
+namespace terralod::shaders {
+
+// Chunk vertices are 16-bit grid offsets and heights; each draw's placement comes from the
+// draws[] buffer indexed by gl_DrawIDARB. Positions are relative to the eye (computed in double
+// on the CPU per chunk), so float keeps millimetres even hundreds of kilometres from the origin.
+inline constexpr const char* kTerrainVertex = R"(#version 450 core
+#extension GL_ARB_shader_draw_parameters : require
+layout(location = 0) in uvec3 aGrid;   // x, y cells from the chunk's corner; quantised height
+layout(location = 1) in int aMorphDelta;
+struct Draw {
+  vec4 origin;  // chunk corner relative to the eye (z: zBase - eye z), w: morph parameter t
+  vec4 scale;   // spacing x, spacing y, zStep, level
+  uvec4 counts; // x: surface triangles (skirt triangles follow them)
+};
+layout(std430, binding = 0) readonly buffer Draws { Draw draws[]; };
+uniform mat4 uViewProjection;  // eye at the origin
+uniform float uEyeHeight;
+out vec3 vRelative;
+out float vHeight;
+flat out float vLevel;
+flat out float vMorph;
+flat out uint vSurfaceTriangles;
+void main() {
+  Draw d = draws[gl_DrawIDARB];
+  float steps = float(aGrid.z) + d.origin.w * float(aMorphDelta);
+  vec3 p = d.origin.xyz + vec3(float(aGrid.x) * d.scale.x, float(aGrid.y) * d.scale.y,
+                               steps * d.scale.z);
+  vRelative = p;
+  vHeight = p.z + uEyeHeight;
+  vLevel = d.scale.w;
+  vMorph = d.origin.w;
+  vSurfaceTriangles = d.counts.x;
+  gl_Position = uViewProjection * vec4(p, 1.0);
+}
+)";
+
+// Normals come from the drawn (morphed) surface itself, one per triangle. The surface is
+// continuous through every split and merge, so its lighting is too: nothing jumps when the
+// level of detail changes. (Normal maps from the full-resolution heightfield come with the
+// texture quadtree.)
+inline constexpr const char* kTerrainFragment = R"(#version 450 core
+in vec3 vRelative;
+in float vHeight;
+flat in float vLevel;
+flat in float vMorph;
+flat in uint vSurfaceTriangles;
+uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
+uniform int uWire;         // 1: the wireframe overlay pass
+uniform vec3 uSun;         // unit vector towards the sun
+uniform vec2 uHeightRange; // data min, max z
+uniform vec3 uHaze;
+uniform float uHazeDistance;
+out vec4 fragColor;
+
+vec3 hypsometric(float h) {
+  const vec3 lowland = vec3(0.30, 0.45, 0.22), hills = vec3(0.55, 0.55, 0.33);
+  const vec3 rock = vec3(0.52, 0.44, 0.38), snow = vec3(0.93, 0.94, 0.96);
+  if (h < 0.35) return mix(lowland, hills, h / 0.35);
+  if (h < 0.75) return mix(hills, rock, (h - 0.35) / 0.40);
+  return mix(rock, snow, smoothstep(0.82, 0.95, h));
+}
+
+vec3 levelColor(float level) {
+  const vec3 palette[8] = vec3[8](vec3(0.90, 0.25, 0.20), vec3(0.95, 0.60, 0.15),
+      vec3(0.90, 0.85, 0.20), vec3(0.35, 0.75, 0.25), vec3(0.20, 0.70, 0.75),
+      vec3(0.25, 0.40, 0.90), vec3(0.60, 0.35, 0.85), vec3(0.85, 0.40, 0.65));
+  return palette[int(level) % 8];
+}
+
+void main() {
+  if (uWire == 1) {
+    fragColor = vec4(0.05, 0.05, 0.05, 1.0);
+    return;
+  }
+  vec3 n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));
+  if (n.z < 0.0) n = -n;
+  // A skirt shows only where it fills a crack between chunks: light it like level ground so
+  // the filled crack does not stand out as a dark seam.
+  if (uint(gl_PrimitiveID) >= vSurfaceTriangles) n = vec3(0.0, 0.0, 1.0);
+  float range = max(uHeightRange.y - uHeightRange.x, 1e-3);
+  vec3 base = hypsometric(clamp((vHeight - uHeightRange.x) / range, 0.0, 1.0));
+  // Steep slopes show bare rock whatever their height.
+  base = mix(base, vec3(0.45, 0.41, 0.38), smoothstep(0.55, 0.85, 1.0 - n.z));
+  if (uColorBy == 1) base = levelColor(vLevel);
+  if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), vMorph);
+  float diffuse = max(dot(n, uSun), 0.0);
+  float sky = 0.30 + 0.20 * n.z;
+  vec3 color = base * (sky + 0.85 * diffuse);
+  float haze = 1.0 - exp(-length(vRelative) / uHazeDistance);
+  color = mix(color, uHaze, clamp(haze, 0.0, 0.7));
+  fragColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
+}
+)";
+
+// A full-screen triangle at the far plane: a gradient from the haze colour at the horizon to
+// the background colour overhead.
+inline constexpr const char* kSkyVertex = R"(#version 450 core
+uniform mat4 uInverseViewProjection;
+out vec3 vDirection;
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2)) * 2.0 - 1.0;
+  vec4 far = uInverseViewProjection * vec4(p, 0.5, 1.0);
+  vDirection = far.xyz / far.w;
+  gl_Position = vec4(p, 0.0, 1.0);  // reversed depth: 0 is infinitely far
+}
+)";
+
+inline constexpr const char* kSkyFragment = R"(#version 450 core
+in vec3 vDirection;
+uniform vec3 uBackground;
+uniform vec3 uHaze;
+out vec4 fragColor;
+void main() {
+  float up = normalize(vDirection).z;
+  vec3 color = mix(uHaze, uBackground, smoothstep(-0.02, 0.45, up));
+  fragColor = vec4(color, 1.0);
+}
+)";
+
+}  // namespace terralod::shaders

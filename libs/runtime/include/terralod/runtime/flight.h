@@ -1,0 +1,53 @@
+#pragma once
+// Camera flights: the JSON file bench, render and the viewer share, its smooth interpolation to
+// frames, and a default flight made from a tileset's extent.
+//
+//   {"fov_deg": 60, "size": [1024, 768], "frames": 300,
+//    "keyframes": [{"eye": [x, y, z], "target": [x, y, z]}, ...]}
+//
+// World metres, z up. Eye and target each follow a centripetal Catmull-Rom spline through the
+// keyframes, sampled at equal steps of the eye path's length, so speed is even.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/view.h"
+
+namespace terralod {
+
+struct Keyframe {
+  glm::dvec3 eye{0.0}, target{0.0};
+};
+
+struct Flight {
+  double fovDegrees = 60.0;
+  int width = 1024, height = 768;
+  int frames = 0;  ///< frames to fly; with keyframes.size() == frames they are the frames
+  std::vector<Keyframe> keyframes;
+};
+
+/// Parses and validates a flight (at least two keyframes, positive size and frame count, a
+/// field of view in (0, 180), finite numbers, eye != target); `subject` names the file.
+Result<Flight> parseFlight(std::string_view json, const std::string& subject);
+/// The flight as JSON, keyframes and all (what the viewer records).
+std::string flightToJson(const Flight& flight);
+
+/// One camera per frame.
+std::vector<Camera> flightCameras(const Flight& flight);
+
+/// The default flight over a tileset: a low pass diagonally across the data, looking ahead
+/// and 15 degrees down at about 1/200 of the extent's diagonal above the ground, then a climb
+/// that turns to look at the whole. Every frame moves the eye at most 0.5 % of its height above
+/// the ground (a 60 fps flight), so the flight has as many frames as that takes; `maxFrames`
+/// (if > 0) keeps only its first frames. Every frame is a keyframe.
+Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegrees,
+                  int maxFrames = 0);
+
+/// An upper bound of the terrain's height at (x, y): the top of the finest chunk over it, or
+/// the extent's top outside the data.
+double groundHeightBound(const ChunkTree& tree, double x, double y);
+
+}  // namespace terralod

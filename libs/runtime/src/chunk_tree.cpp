@@ -1,0 +1,35 @@
+#include "terralod/runtime/chunk_tree.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace terralod {
+
+ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> nodes) {
+  const double cellsX = double(header.sourceColumns - 1), cellsY = double(header.sourceRows - 1);
+  mNodes.resize(nodes.size());
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const NodeRecord& r = nodes[i];
+    ChunkNode& n = mNodes[i];
+    const double side = double(header.chunkCells(r.level));
+    const double x0 = double(r.x) * side, y0 = double(r.y) * side;
+    n.box.min = {x0 * header.spacingX, y0 * header.spacingY, double(r.minZ)};
+    n.box.max = {std::min(x0 + side, cellsX) * header.spacingX,
+                 std::min(y0 + side, cellsY) * header.spacingY, double(r.maxZ)};
+    n.skirtBottom = double(r.minZ) - double(r.maxSkirtDepth);
+    n.firstChild = r.firstChild;
+    n.parent = r.parent;
+    n.childCount = uint8_t(std::popcount(unsigned(r.childMask)));
+    n.level = r.level;
+    n.meshKind = r.meshKind;
+    n.triangleCount = r.triangleCount;
+    n.skirtTriangleCount = r.skirtTriangleCount;
+    if (r.level == 0) ++mRootCount;
+  }
+  mLevelError.assign(header.levelError.begin(), header.levelError.begin() + header.levelCount);
+  mExtent.min = header.extentMin;
+  mExtent.max = header.extentMax;
+  mSpacing = {header.spacingX, header.spacingY};
+}
+
+}  // namespace terralod

@@ -1,0 +1,88 @@
+#include "terralod/runtime/flight.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace terralod {
+namespace {
+
+const char* kFlight = R"({"fov_deg": 45, "size": [640, 480], "frames": 50,
+  "keyframes": [{"eye": [0, 0, 100], "target": [0, 100, 0]},
+                {"eye": [100, 0, 100], "target": [100, 100, 0]},
+                {"eye": [100, 300, 150], "target": [100, 400, 0]}]})";
+
+TEST(Flight, ParsesAndRoundTrips) {
+  auto f = parseFlight(kFlight, "f.json");
+  ASSERT_TRUE(f.ok()) << f.error().message;
+  EXPECT_EQ(f->frames, 50);
+  EXPECT_EQ(f->width, 640);
+  EXPECT_DOUBLE_EQ(f->fovDegrees, 45.0);
+  ASSERT_EQ(f->keyframes.size(), 3u);
+  auto again = parseFlight(flightToJson(*f), "again.json");
+  ASSERT_TRUE(again.ok());
+  EXPECT_EQ(again->keyframes[2].eye, f->keyframes[2].eye);
+  EXPECT_EQ(again->frames, 50);
+}
+
+TEST(Flight, RejectsBrokenFlightsNamingTheFile) {
+  for (
+      const char* bad :
+      {"", "[]", R"({"keyframes": []})", R"({"keyframes": [{"eye": [0,0,0], "target": [1,1,1]}]})",
+       R"({"keyframes": [{"eye": [0,0], "target": [1,1,1]}, {"eye": [0,0,1], "target": [1,1,1]}]})",
+       R"({"fov_deg": 0, "keyframes": [{"eye": [0,0,0], "target": [1,1,1]}, {"eye": [0,0,1], "target": [1,1,1]}]})",
+       R"({"frames": 0, "keyframes": [{"eye": [0,0,0], "target": [1,1,1]}, {"eye": [0,0,1], "target": [1,1,1]}]})",
+       R"({"keyframes": [{"eye": [1,1,1], "target": [1,1,1]}, {"eye": [0,0,1], "target": [1,1,1]}]})"}) {
+    auto f = parseFlight(bad, "bad.json");
+    ASSERT_FALSE(f.ok()) << bad;
+    EXPECT_EQ(f.error().message.rfind("bad.json: ", 0), 0u) << f.error().message;
+  }
+}
+
+TEST(Flight, PassesThroughItsKeyframesAtAnEvenPace) {
+  auto f = parseFlight(kFlight, "f.json").value();
+  const auto cameras = flightCameras(f);
+  ASSERT_EQ(cameras.size(), 50u);
+  EXPECT_NEAR(glm::length(cameras.front().eye - f.keyframes.front().eye), 0.0, 1e-6);
+  EXPECT_NEAR(glm::length(cameras.back().eye - f.keyframes.back().eye), 0.0, 1e-6);
+  double shortest = 1e9, longest = 0;
+  for (size_t i = 1; i < cameras.size(); ++i) {
+    const double step = glm::length(cameras[i].eye - cameras[i - 1].eye);
+    shortest = std::min(shortest, step);
+    longest = std::max(longest, step);
+  }
+  EXPECT_LT(longest / shortest, 1.1) << "steps should be equal arc lengths";
+  EXPECT_EQ(cameras[10].width, 640);
+}
+
+TEST(Flight, AutoFlightMovesAtMostHalfAPercentOfItsHeightPerFrame) {
+  // A flat 10 km square, heights 0..50 m, one level.
+  TilesetHeader h;
+  h.levelCount = 1;
+  h.rootCells = h.leafCells = 1024;
+  h.rootsX = h.rootsY = 1;
+  h.sourceColumns = h.sourceRows = 1025;
+  h.spacingX = h.spacingY = 10.0;
+  h.levelError[0] = 1.0;
+  h.extentMax = {10240.0, 10240.0, 50.0};
+  std::vector<NodeRecord> nodes(1);
+  nodes[0].maxZ = 50.0f;
+  const ChunkTree tree(h, nodes);
+  const Flight f = autoFlight(tree, 320, 240, 60.0);
+  ASSERT_GT(f.frames, 100);
+  const auto cameras = flightCameras(f);
+  ASSERT_EQ(int(cameras.size()), f.frames);
+  for (size_t i = 1; i < cameras.size(); ++i) {
+    const double above =
+        cameras[i - 1].eye.z - groundHeightBound(tree, cameras[i - 1].eye.x, cameras[i - 1].eye.y);
+    ASSERT_LE(glm::length(cameras[i].eye - cameras[i - 1].eye), 0.005 * above * 1.0001) << i;
+    ASSERT_GT(above, 0.0);
+  }
+  // It ends high above the whole extent, looking at its centre.
+  EXPECT_GT(cameras.back().eye.z, 10000.0);
+  EXPECT_NEAR(cameras.back().target.x, 5120.0, 1.0);
+  EXPECT_EQ(autoFlight(tree, 320, 240, 60.0, 25).frames, 25);
+}
+
+}  // namespace
+}  // namespace terralod

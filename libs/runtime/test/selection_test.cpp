@@ -1,0 +1,208 @@
+#include "terralod/runtime/selection.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace terralod {
+namespace {
+
+// A complete in-memory quadtree over a square of `cells` cells at 1 m, heights 0..100 m,
+// δ(L) = 16 / 2^L metres; no file involved.
+struct FullTree {
+  TilesetHeader header;
+  std::vector<NodeRecord> nodes;
+
+  explicit FullTree(int levels, uint32_t cells = 1024) {
+    header.levelCount = uint32_t(levels);
+    header.rootCells = cells;
+    header.leafCells = cells >> (levels - 1);
+    header.rootsX = header.rootsY = 1;
+    header.sourceColumns = header.sourceRows = cells + 1;
+    for (int l = 0; l < levels; ++l) header.levelError[size_t(l)] = 16.0 / double(1 << l);
+    header.extentMax = {double(cells), double(cells), 100.0};
+    // Breadth-first, children in SW, SE, NW, NE order.
+    nodes.push_back(NodeRecord{});
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      NodeRecord& n = nodes[i];
+      n.minZ = 0.0f;
+      n.maxZ = 100.0f;
+      n.triangleCount = 100;
+      n.maxSkirtDepth = 5.0f;
+      if (int(n.level) + 1 >= levels) continue;
+      n.childMask = 0xF;
+      n.firstChild = uint32_t(nodes.size());
+      const NodeRecord parent = n;  // push_back may move it
+      for (uint32_t k = 0; k < 4; ++k) {
+        NodeRecord c;
+        c.level = uint8_t(parent.level + 1);
+        c.x = parent.x * 2 + (k & 1);
+        c.y = parent.y * 2 + (k >> 1);
+        c.parent = uint32_t(i);
+        nodes.push_back(c);
+      }
+    }
+  }
+  ChunkTree tree() const { return ChunkTree(header, nodes); }
+};
+
+View viewFrom(glm::dvec3 eye, glm::dvec3 target, int width = 1000) {
+  Camera c;
+  c.eye = eye;
+  c.target = target;
+  c.width = width;
+  c.height = width * 3 / 4;
+  c.hfovDegrees = 90.0;  // K = width / 2
+  return makeView(c).value();
+}
+
+TEST(View, RejectsImpossibleCameras) {
+  Camera c;
+  c.eye = c.target = {1, 2, 3};
+  EXPECT_FALSE(makeView(c).ok());
+  c.target = {1, 2, 4};
+  c.eye.x = std::nan("");
+  EXPECT_FALSE(makeView(c).ok());
+  c.eye = {0, 0, 0};
+  c.width = 0;
+  EXPECT_FALSE(makeView(c).ok());
+  c.width = 100;
+  c.hfovDegrees = 180;
+  EXPECT_FALSE(makeView(c).ok());
+  c.hfovDegrees = 60;
+  EXPECT_TRUE(makeView(c).ok()) << "straight up is a legal camera";
+}
+
+TEST(View, FrustumKeepsWhatIsInFrontAndCullsWhatIsBehind) {
+  const View v = viewFrom({0, 0, 10}, {0, 100, 10});
+  EXPECT_DOUBLE_EQ(v.pixelsPerRadian, 500.0);
+  EXPECT_TRUE(boxInFrustum(v, Box{{-1, 50, 9}, {1, 51, 11}}));
+  EXPECT_FALSE(boxInFrustum(v, Box{{-1, -51, 9}, {1, -50, 11}})) << "behind the eye";
+  EXPECT_FALSE(boxInFrustum(v, Box{{200, 50, 9}, {201, 51, 11}})) << "right of a 90 degree view";
+  EXPECT_TRUE(boxInFrustum(v, Box{{-5, -5, 0}, {5, 5, 20}})) << "around the eye";
+  EXPECT_DOUBLE_EQ(distanceToBox({0, 0, 0}, Box{{3, 4, -1}, {5, 6, 1}}), 5.0);
+}
+
+TEST(Selection, SplitsExactlyWhereRhoPassesTau) {
+  const FullTree f(3);
+  const ChunkTree tree = f.tree();
+  // Eye due south of the root's box at height 50, looking north: D is the horizontal gap.
+  // ρ = δ(0) K / D = 16 * 500 / D; with τ = 2 the root splits below D = 4000 m.
+  SelectionOptions o;
+  o.tau = 2.0;
+  std::vector<SelectedChunk> out;
+  auto at = [&](double gap) {
+    const View v = viewFrom({512, -gap, 50}, {512, 512, 50});
+    return selectChunks(tree, v, o, out);
+  };
+  EXPECT_EQ(at(4000.5).selected, 1u);
+  EXPECT_EQ(out[0].node, 0u);
+  const SelectionStats split = at(3999.5);
+  EXPECT_GT(split.selected, 1u);
+  EXPECT_EQ(split.deepestLevel, 1);
+}
+
+TEST(Selection, ChildrenStartAsTheirParentAndSplitAtZeroMorph) {
+  const FullTree f(4);
+  const ChunkTree tree = f.tree();
+  SelectionOptions o;
+  o.tau = 2.0;
+  std::vector<SelectedChunk> out;
+  // Walk the eye towards the terrain in small steps; at every frame where a chunk appears that
+  // was not there before, it must start at t = 1 (its parent's shape); a chunk that is about
+  // to split must be at t = 0 the frame before.
+  std::vector<float> previous(f.nodes.size(), -1.0f);
+  int splits = 0;
+  for (double gap = 5000; gap > 10; gap *= 0.999) {
+    const View v = viewFrom({300, -gap, 60}, {300, 512, 40});
+    selectChunks(tree, v, o, out);
+    std::vector<float> now(f.nodes.size(), -1.0f);
+    for (const SelectedChunk& c : out) now[c.node] = c.morph;
+    for (const SelectedChunk& c : out) {
+      const uint32_t parent = tree.node(c.node).parent;
+      if (previous[c.node] < 0 && parent != kNoNode && previous[parent] >= 0) {
+        ++splits;
+        EXPECT_GT(c.morph, 0.995f) << "chunk " << c.node << " appeared at t=" << c.morph;
+        EXPECT_LT(previous[parent], 0.01f)
+            << "parent " << parent << " split at t=" << previous[parent];
+      }
+    }
+    previous = now;
+  }
+  EXPECT_GT(splits, 10);
+}
+
+TEST(Selection, MorphedErrorNeverExceedsTau) {
+  // For any camera: every drawn chunk that did not want to split has (1 + t) ρ <= τ.
+  const FullTree f(5);
+  const ChunkTree tree = f.tree();
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> xy(-500, 1500), z(1, 2000);
+  std::vector<SelectedChunk> out;
+  for (int k = 0; k < 300; ++k) {
+    SelectionOptions o;
+    o.tau = 1.0 + k % 4;
+    const View v = viewFrom({xy(rng), xy(rng), z(rng)}, {xy(rng), xy(rng), 0.0});
+    const SelectionStats s = selectChunks(tree, v, o, out);
+    EXPECT_EQ(s.coarserThanWanted, 0u);
+    for (const SelectedChunk& c : out) {
+      const ChunkNode& n = tree.node(c.node);
+      const double rho =
+          screenSpaceError(v, tree.levelError(n.level), distanceToBox(v.camera.eye, n.box));
+      if (n.childCount == 0 && rho > o.tau) continue;  // finest data: nothing better to draw
+      EXPECT_LE((1.0 + c.morph) * rho, o.tau * (1 + 1e-6)) << "node " << c.node;
+    }
+  }
+}
+
+TEST(Selection, CullsWhatIsOutOfViewAndDrawsNothingLookingAway) {
+  const FullTree f(3);
+  const ChunkTree tree = f.tree();
+  std::vector<SelectedChunk> out;
+  const SelectionStats away =
+      selectChunks(tree, viewFrom({512, -100, 50}, {512, -1000, 50}), SelectionOptions{}, out);
+  EXPECT_EQ(away.selected, 0u);
+  EXPECT_EQ(away.culled, 1u);
+  // Close to the ground in a corner looking out along the south edge: much is culled.
+  const SelectionStats corner =
+      selectChunks(tree, viewFrom({10, 10, 5}, {1000, 10, 5}), SelectionOptions{}, out);
+  EXPECT_GT(corner.culled, 0u);
+  EXPECT_GT(corner.selected, 0u);
+}
+
+TEST(Selection, DrawsTheParentWhileChildrenAreMissing) {
+  const FullTree f(3);
+  const ChunkTree tree = f.tree();
+  std::vector<uint8_t> drawable(f.nodes.size(), 1);
+  drawable[3] = 0;  // one child of the root is not loaded
+  SelectionOptions o;
+  o.drawable = drawable;
+  std::vector<SelectedChunk> out;
+  const SelectionStats s = selectChunks(tree, viewFrom({512, -100, 50}, {512, 512, 0}), o, out);
+  ASSERT_EQ(s.selected, 1u);
+  EXPECT_EQ(out[0].node, 0u);
+  EXPECT_EQ(out[0].morph, 0.0f);
+  EXPECT_EQ(s.coarserThanWanted, 1u);
+  drawable[0] = 0;
+  EXPECT_EQ(selectChunks(tree, viewFrom({512, -100, 50}, {512, 512, 0}), o, out).undrawableRoots,
+            1u);
+}
+
+TEST(Selection, NoMorphMeansZeroAndNoAllocationAfterReserve) {
+  const FullTree f(5);
+  const ChunkTree tree = f.tree();
+  std::vector<SelectedChunk> out;
+  out.reserve(f.nodes.size());
+  const SelectedChunk* storage = out.data();
+  SelectionOptions o;
+  o.morph = false;
+  for (int k = 0; k < 50; ++k) {
+    selectChunks(tree, viewFrom({512, -50.0 * k, 30}, {512, 512, 0}), o, out);
+    for (const SelectedChunk& c : out) ASSERT_EQ(c.morph, 0.0f);
+  }
+  EXPECT_EQ(out.data(), storage);
+}
+
+}  // namespace
+}  // namespace terralod

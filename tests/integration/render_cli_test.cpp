@@ -1,0 +1,79 @@
+// `terralod render` end to end: one view to a PNG, and a flight to frames plus a contact sheet.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+
+#include "cli_runner.h"
+#include "terralod/render/image.h"
+
+namespace terralod::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RenderCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const RunResult built =
+        runTerralod({"build", testData("crater_lake_0513.bt"), "-o", mDir.file("c.tlod")});
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+  }
+  static size_t distinctColours(const Image& image) {
+    std::set<uint32_t> colours;
+    for (size_t i = 0; i < image.rgba.size(); i += 4)
+      colours.insert(uint32_t(image.rgba[i]) << 16 | uint32_t(image.rgba[i + 1]) << 8 |
+                     image.rgba[i + 2]);
+    return colours.size();
+  }
+  TempDir mDir;
+};
+
+TEST_F(RenderCli, OneViewBecomesAPngOfTerrain) {
+  const RunResult r = runTerralod({"render", mDir.file("c.tlod"), "-o", mDir.file("v.png"),
+                                   "--size", "200x150", "--eye", "5500,2500,3000", "--target",
+                                   "8800,7500,1900", "--wireframe", "--color-by", "morph"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("draw calls"), std::string::npos) << r.out;
+  auto image = readPng(mDir.file("v.png"));
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(image->width, 200);
+  EXPECT_EQ(image->height, 150);
+  EXPECT_GT(distinctColours(*image), 50u) << "a blank or single-colour image";
+}
+
+TEST_F(RenderCli, FlightWritesEveryFrameAndAContactSheet) {
+  std::ofstream(mDir.file("f.json")) << R"({"fov_deg": 50, "size": [96, 72], "frames": 7,
+    "keyframes": [{"eye": [2000, 1000, 3500], "target": [6000, 7000, 1800]},
+                  {"eye": [5000, 2000, 3000], "target": [8800, 7500, 1900]},
+                  {"eye": [8000, 2500, 3200], "target": [9000, 8000, 1900]}]})";
+  fs::create_directory(mDir.file("frames"));
+  const RunResult r = runTerralod({"render", mDir.file("c.tlod"), "--flight", mDir.file("f.json"),
+                                   "--frames-dir", mDir.file("frames")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (int i = 0; i < 7; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "frame_%05d.png", i);
+    auto frame = readPng(mDir.file("frames/" + std::string(name)));
+    ASSERT_TRUE(frame.ok()) << name;
+    EXPECT_EQ(frame->width, 96);
+  }
+  EXPECT_FALSE(fs::exists(mDir.file("frames/frame_00007.png")));
+  auto sheet = readPng(mDir.file("frames/contact_sheet.png"));
+  ASSERT_TRUE(sheet.ok());
+  EXPECT_GT(sheet->width, 6 * 96);  // six 256-pixel thumbnails across
+}
+
+TEST_F(RenderCli, AutoFlightFliesTheFirstFrames) {
+  fs::create_directory(mDir.file("auto"));
+  const RunResult r = runTerralod({"render", mDir.file("c.tlod"), "--auto-flight", "--frames", "3",
+                                   "--size", "64x48", "--frames-dir", mDir.file("auto")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(fs::exists(mDir.file("auto/frame_00002.png")));
+  EXPECT_FALSE(fs::exists(mDir.file("auto/frame_00003.png")));
+}
+
+}  // namespace
+}  // namespace terralod::test
