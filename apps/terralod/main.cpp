@@ -35,6 +35,7 @@ int main(int argc, char** argv) {
   addVerifyCommand(app, run);
   addExportCommand(app, run);
   addRenderCommand(app, run);
+  addBenchCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -154,14 +154,8 @@ bool interpolate(const std::vector<SidePoint>& side, int32_t coord, SidePoint& o
 
 }  // namespace
 
-Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::string& sourcePath,
-                                   const VerifyOptions& options, Progress& progress) {
-  auto opened = TilesetReader::openFile(tilesetPath);
-  if (!opened) return opened.error();
-  const TilesetReader& tileset = **opened;
+Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath) {
   const TilesetHeader& h = tileset.header();
-  const auto& nodes = tileset.nodes();
-
   DemOpenOptions dem;
   const auto metadata = nlohmann::json::parse(tileset.metadataJson(), nullptr, false);
   if (!metadata.is_discarded()) {
@@ -183,8 +177,22 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   if (Status s = (*source)->readWindow(0, 0, info.columns, info.rows, heights.values().data()); !s)
     return s.error();
   if (auto filled = fillVoids(heights, sourcePath); !filled) return filled.error();
+  return heights;
+}
 
-  const int64_t cellsX = info.columns - 1, cellsY = info.rows - 1;
+Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::string& sourcePath,
+                                   const VerifyOptions& options, Progress& progress) {
+  auto opened = TilesetReader::openFile(tilesetPath);
+  if (!opened) return opened.error();
+  const TilesetReader& tileset = **opened;
+  const TilesetHeader& h = tileset.header();
+  const auto& nodes = tileset.nodes();
+  auto loaded = loadTilesetSource(tileset, sourcePath);
+  if (!loaded) return loaded.error();
+  const Heightfield& heights = *loaded;
+  const int32_t columns = heights.columns(), rows = heights.rows();
+
+  const int64_t cellsX = columns - 1, cellsY = rows - 1;
   VerifyReport report;
   report.levels.resize(h.levelCount);
   for (uint32_t l = 0; l < h.levelCount; ++l) report.levels[l].bound = h.levelError[l];

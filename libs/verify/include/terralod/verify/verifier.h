@@ -11,6 +11,8 @@
 
 #include "terralod/core/progress.h"
 #include "terralod/core/result.h"
+#include "terralod/format/tileset_reader.h"
+#include "terralod/raster/heightfield.h"
 
 namespace terralod {
 
@@ -38,6 +40,11 @@ struct VerifyReport {
   uint64_t failureCount = 0;
   bool ok() const { return failureCount == 0; }
 };
+
+/// The source raster read the way the tileset's metadata says it was built (same encoding and
+/// vertical scale), with its voids filled as the builder fills them. Fails naming the source
+/// when it cannot be read or is not the size the tileset was built from.
+Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath);
 
 /// Verifies `tilesetPath` against `sourcePath` (read the way the tileset's metadata says it
 /// was built: same encoding and vertical scale).

@@ -1,0 +1,174 @@
+#include "quality_metrics.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+
+#include "terralod/core/parallel.h"
+#include "terralod/core/sample_raster.h"
+#include "terralod/format/chunk_position.h"
+
+namespace terralod::cli {
+namespace {
+
+uint64_t sampleKey(int64_t x, int64_t y) {
+  return (uint64_t(x) << 32) | uint64_t(y);
+}
+
+}  // namespace
+
+QualityMetrics::QualityMetrics(const TilesetReader& tileset, const ChunkTree& tree,
+                               const Heightfield& source, int stride, unsigned threads)
+    : mTileset(tileset),
+      mTree(tree),
+      mSource(source),
+      mStride(std::max(stride, 1)),
+      mThreads(std::max(threads, 1u)),
+      mMark(tree.nodes().size(), 0) {}
+
+Result<const ChunkGeometry*> QualityMetrics::geometry(uint32_t node) {
+  auto it = mGeometry.find(node);
+  if (it != mGeometry.end()) return &it->second;
+  auto decoded = mTileset.readChunk(node);
+  if (!decoded) return decoded.error();
+  return &mGeometry.emplace(node, std::move(decoded).value()).first->second;
+}
+
+bool QualityMetrics::inView(const View& view, int64_t x, int64_t y, double z) const {
+  const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
+  for (const glm::dvec4& plane : view.planes)
+    if (glm::dot(glm::dvec3(plane), p) + plane.w < 0.0) return false;
+  return true;
+}
+
+template <typename Visit>
+Status QualityMetrics::rasterizeChunk(uint32_t node, double morph, Visit&& visit) {
+  auto g = geometry(node);
+  if (!g) return g.error();
+  const ChunkGeometry& geometry = **g;
+  const TilesetHeader& h = mTileset.header();
+  const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[node]);
+  const int64_t side = h.chunkCells(mTileset.nodes()[node].level);
+  const int64_t maxX = std::min<int64_t>(x0 + side, mSource.columns() - 1);
+  const int64_t maxY = std::min<int64_t>(y0 + side, mSource.rows() - 1);
+  const int64_t s = mStride;
+  for (const ChunkPart& part : geometry.parts)
+    for (uint32_t k = 0; k + 2 < part.surfaceIndexCount; k += 3) {
+      SampleVertex v[3];
+      for (int j = 0; j < 3; ++j) {
+        const ChunkVertex& cv = part.vertices[part.indices[k + j]];
+        v[j] = {x0 + cv.x, y0 + cv.y, chunkVertexHeight(geometry, cv, morph)};
+      }
+      if (s == 1) {
+        rasterizeTriangle(v[0], v[1], v[2], x0, maxX, y0, maxY, visit);
+      } else {
+        rasterizeTriangle(v[0], v[1], v[2], x0, maxX, y0, maxY,
+                          [&](int64_t x, int64_t y, double z) {
+                            if (x % s == 0 && y % s == 0) visit(x, y, z);
+                          });
+      }
+    }
+  return {};
+}
+
+Result<double> QualityMetrics::maxErrorPixels(const View& view,
+                                              std::span<const SelectedChunk> selection) {
+  // Decode on this thread (the cache is not thread-safe), then measure in parallel.
+  for (const SelectedChunk& c : selection)
+    if (auto g = geometry(c.node); !g) return g.error();
+  std::vector<double> worst(mThreads, 0.0);
+  parallelFor(selection.size(), mThreads, [&](size_t i, unsigned worker) {
+    const SelectedChunk& c = selection[i];
+    double& w = worst[worker];
+    (void)rasterizeChunk(c.node, c.morph, [&](int64_t x, int64_t y, double z) {
+      const double truth = mSource(int32_t(x), int32_t(y));
+      if (!inView(view, x, y, truth)) return;
+      const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], truth};
+      const double distance = glm::length(p - view.camera.eye);
+      w = std::max(w, screenSpaceError(view, std::fabs(z - truth), distance));
+    });
+  });
+  return *std::max_element(worst.begin(), worst.end());
+}
+
+Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOptions& options,
+                                            std::span<const SelectedChunk> previous,
+                                            std::span<const SelectedChunk> current) {
+  // Only where the two selections differ can the surfaces differ: chunks in both are drawn
+  // with the same morph parameter (frame i's) in both.
+  for (const SelectedChunk& c : previous) mMark[c.node] |= 1;
+  for (const SelectedChunk& c : current) mMark[c.node] |= 2;
+  std::vector<uint32_t> gone, added;
+  for (const SelectedChunk& c : previous)
+    if (mMark[c.node] == 1) gone.push_back(c.node);
+  for (const SelectedChunk& c : current)
+    if (mMark[c.node] == 2) added.push_back(c.node);
+  for (const SelectedChunk& c : previous) mMark[c.node] = 0;
+  for (const SelectedChunk& c : current) mMark[c.node] = 0;
+  if (gone.empty() || added.empty()) return 0.0;
+
+  std::unordered_map<uint64_t, double> before;
+  for (uint32_t node : gone) {
+    const double t = morphParameter(mTree, view, options, node);
+    if (Status s = rasterizeChunk(
+            node, t, [&](int64_t x, int64_t y, double z) { before[sampleKey(x, y)] = z; });
+        !s)
+      return s.error();
+  }
+  double worst = 0.0;
+  for (uint32_t node : added) {
+    const double t = morphParameter(mTree, view, options, node);
+    if (Status s = rasterizeChunk(
+            node, t,
+            [&](int64_t x, int64_t y, double z) {
+              const auto it = before.find(sampleKey(x, y));
+              if (it == before.end()) return;
+              const double truth = mSource(int32_t(x), int32_t(y));
+              if (!inView(view, x, y, truth)) return;
+              const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
+              worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
+                                                       glm::length(p - view.camera.eye)));
+            });
+        !s)
+      return s.error();
+  }
+  return worst;
+}
+
+uint64_t QualityMetrics::holes(const Image& image, const View& view,
+                               std::array<uint8_t, 3> background) const {
+  const Box& e = mTree.extent();
+  auto overData = [&](const glm::dvec3& ray, double z) {
+    if (ray.z >= 0.0) return false;  // never comes down to the terrain
+    const double t = (z - view.camera.eye.z) / ray.z;
+    if (t < 0.0) return false;
+    const glm::dvec3 p = view.camera.eye + ray * t;
+    return p.x >= e.min[0] && p.x <= e.max[0] && p.y >= e.min[1] && p.y <= e.max[1];
+  };
+  uint64_t holes = 0;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const auto px = image.pixel(x, y);
+      if (px[0] != background[0] || px[1] != background[1] || px[2] != background[2]) continue;
+      // The pixel's ray, through its centre (row 0 is the top).
+      const double u = (2.0 * (x + 0.5) / image.width - 1.0) * view.tanHalfWidth;
+      const double v = (1.0 - 2.0 * (y + 0.5) / image.height) * view.tanHalfHeight;
+      const glm::dvec3 ray = glm::normalize(view.forward + view.right * u + view.up * v);
+      // Over the data all the way from its top to its bottom: it must have hit terrain.
+      if (view.camera.eye.z > e.max[2] && overData(ray, e.max[2]) && overData(ray, e.min[2]))
+        ++holes;
+    }
+  return holes;
+}
+
+Camera lookDownCamera(const View& view) {
+  Camera c = view.camera;
+  glm::dvec2 heading(view.forward.x, view.forward.y);
+  if (glm::length(heading) < 1e-9) heading = {view.up.x, view.up.y};
+  heading = glm::normalize(heading);
+  const double pitch = -60.0 * 3.14159265358979323846 / 180.0;
+  c.target = c.eye + glm::dvec3(heading * std::cos(pitch), std::sin(pitch)) * 100.0;
+  return c;
+}
+
+}  // namespace terralod::cli

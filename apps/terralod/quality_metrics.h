@@ -1,0 +1,65 @@
+#pragma once
+// The bench's quality figures, measured against the source heightfield on the CPU from the
+// chunks a frame selected (decoded from the tileset as the renderer draws them):
+//  - screen-space error: over every source sample in view, |true height - drawn (morphed)
+//    surface height| * K / distance from the eye;
+//  - pops: from frame i's camera, the surface of frame i-1's selection and of frame i's, both
+//    morphed for frame i, compared at every sample in view where the selections differ;
+//  - holes: background pixels of a look-down image over the data.
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/format/tileset_reader.h"
+#include "terralod/raster/heightfield.h"
+#include "terralod/render/image.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/view.h"
+
+namespace terralod::cli {
+
+class QualityMetrics {
+ public:
+  /// `source` is the tileset's source grid; every `stride`-th sample (in x and y) is measured.
+  QualityMetrics(const TilesetReader& tileset, const ChunkTree& tree, const Heightfield& source,
+                 int stride, unsigned threads);
+
+  /// The largest screen-space error of the drawn surface of `selection` in `view`, pixels.
+  Result<double> maxErrorPixels(const View& view, std::span<const SelectedChunk> selection);
+
+  /// The largest screen-space change between `previous` and `current` selections, both
+  /// evaluated with morph parameters for `view` (frame i's camera), pixels.
+  Result<double> maxPopPixels(const View& view, const SelectionOptions& options,
+                              std::span<const SelectedChunk> previous,
+                              std::span<const SelectedChunk> current);
+
+  /// Pixels of `image` (rendered from `view` without a sky) with exactly the `background`
+  /// colour whose ray certainly meets the data (it stays over the data's footprint from the
+  /// highest to the lowest height), i.e. holes in the terrain.
+  uint64_t holes(const Image& image, const View& view, std::array<uint8_t, 3> background) const;
+
+  int stride() const { return mStride; }
+
+ private:
+  Result<const ChunkGeometry*> geometry(uint32_t node);
+  // Calls visit(x, y, drawnHeight) for each measured sample under the chunk's surface at morph t.
+  template <typename Visit>
+  Status rasterizeChunk(uint32_t node, double morph, Visit&& visit);
+  bool inView(const View& view, int64_t x, int64_t y, double z) const;
+
+  const TilesetReader& mTileset;
+  const ChunkTree& mTree;
+  const Heightfield& mSource;
+  int mStride;
+  unsigned mThreads;
+  std::unordered_map<uint32_t, ChunkGeometry> mGeometry;
+  std::vector<uint8_t> mMark;  // per node, which selection it is in (pops)
+};
+
+/// The camera that looks for holes from `eye`: 60 degrees down, facing `view`'s heading.
+Camera lookDownCamera(const View& view);
+
+}  // namespace terralod::cli

@@ -1,0 +1,71 @@
+// `terralod bench` measures what it claims: with morphing and skirts a descending flight shows
+// no pops and no holes and stays within τ; without morphing the pops appear, without skirts
+// the cracks do. (The full flights over every DEM are benchmarks: docs/benchmarks.md.)
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+
+namespace terralod::test {
+namespace {
+
+class BenchCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    const RunResult built =
+        runTerralod({"build", testData("crater_lake_0513.bt"), "-o", sDir->file("c.tlod")});
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    // Down from 6 km towards the south-west rim, about 0.5 % of the height per frame.
+    std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
+      "frames": 300, "keyframes": [
+        {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
+        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  }
+  static void TearDownTestSuite() { delete sDir; }
+
+  static nlohmann::json bench(const std::string& tau, const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"bench",    sDir->file("c.tlod"),
+                                     "--flight", sDir->file("descend.json"),
+                                     "--source", testData("crater_lake_0513.bt"),
+                                     "--tau",    tau,
+                                     "--json",   sDir->file("b.json")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(readWholeFile(sDir->file("b.json")));
+  }
+
+  static inline TempDir* sDir = nullptr;
+};
+
+TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {
+  const auto j = bench("1", {});
+  for (const char* key :
+       {"frames", "tau", "select_us_p50", "select_us_max", "frame_ms_p50", "frame_ms_p99",
+        "triangles_p50", "draws_p50", "max_error_px", "max_pop_px", "holes_total"})
+    EXPECT_TRUE(j.contains(key)) << key;
+  EXPECT_EQ(j["frames"], 300);
+  EXPECT_LE(j["max_error_px"].get<double>(), 1.0);
+  EXPECT_GT(j["max_error_px"].get<double>(), 0.0);
+  EXPECT_LE(j["max_pop_px"].get<double>(), 0.1);
+  EXPECT_EQ(j["holes_total"], 0);
+  EXPECT_EQ(j["draws_p50"], 2.0) << "sky plus one multi-draw";
+}
+
+TEST_F(BenchCli, WithoutMorphingThePopsShow) {
+  const auto j = bench("1", {"--no-morph"});
+  EXPECT_GE(j["max_pop_px"].get<double>(), 0.25);
+}
+
+TEST_F(BenchCli, WithoutSkirtsTheCracksShow) {
+  const auto j = bench("0.5", {"--no-skirts"});
+  EXPECT_GT(j["holes_total"].get<uint64_t>(), 0u);
+}
+
+}  // namespace
+}  // namespace terralod::test
