@@ -1,6 +1,7 @@
 # terralod — the two commands that do everything on a fresh Debian 12 machine:
 #   make demo   install dependencies, build, turn the bundled default DEM into a tileset, describe,
-#               verify and render it (an overview and the first frames of the automatic flight)
+#               verify and render it (an overview and the first frames of the automatic flight),
+#               then benchmark part of the flight against the source
 #   make test   install dependencies, build, run every test
 PRESET ?= release
 BUILD_DIR := build/$(PRESET)
@@ -29,6 +30,7 @@ demo: build
 	$(TERRALOD) render $(DEMO_DIR)/zion.tlod -o $(DEMO_DIR)/zion.png
 	mkdir -p $(DEMO_DIR)/flight
 	$(TERRALOD) render $(DEMO_DIR)/zion.tlod --auto-flight --frames 48 --size 640x480 --frames-dir $(DEMO_DIR)/flight
+	$(TERRALOD) bench $(DEMO_DIR)/zion.tlod --auto-flight --climb-only --frames 300 --size 640x480 --source $(DEMO_DEM) --json $(DEMO_DIR)/bench.json
 
 test: build
 	./scripts/check-format.sh

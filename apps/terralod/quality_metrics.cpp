@@ -141,7 +141,7 @@ uint64_t QualityMetrics::holes(const Image& image, const View& view,
   auto overData = [&](const glm::dvec3& ray, double z) {
     if (ray.z >= 0.0) return false;  // never comes down to the terrain
     const double t = (z - view.camera.eye.z) / ray.z;
-    if (t < 0.0) return false;
+    if (t < -1e-9) return false;
     const glm::dvec3 p = view.camera.eye + ray * t;
     return p.x >= e.min[0] && p.x <= e.max[0] && p.y >= e.min[1] && p.y <= e.max[1];
   };
@@ -154,9 +154,11 @@ uint64_t QualityMetrics::holes(const Image& image, const View& view,
       const double u = (2.0 * (x + 0.5) / image.width - 1.0) * view.tanHalfWidth;
       const double v = (1.0 - 2.0 * (y + 0.5) / image.height) * view.tanHalfHeight;
       const glm::dvec3 ray = glm::normalize(view.forward + view.right * u + view.up * v);
-      // Over the data all the way from its top to its bottom: it must have hit terrain.
-      if (view.camera.eye.z > e.max[2] && overData(ray, e.max[2]) && overData(ray, e.min[2]))
-        ++holes;
+      // Over the data all the way down from the eye (or the data's top, if lower) to the
+      // data's bottom: starting above the ground and ending at or below it, the ray must have
+      // met the terrain.
+      const double top = std::min(view.camera.eye.z, e.max[2]);
+      if (overData(ray, top) && overData(ray, e.min[2])) ++holes;
     }
   return holes;
 }

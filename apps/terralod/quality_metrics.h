@@ -37,8 +37,9 @@ class QualityMetrics {
                               std::span<const SelectedChunk> current);
 
   /// Pixels of `image` (rendered from `view` without a sky) with exactly the `background`
-  /// colour whose ray certainly meets the data (it stays over the data's footprint from the
-  /// highest to the lowest height), i.e. holes in the terrain.
+  /// colour whose ray certainly meets the terrain (it stays over the data's footprint from the
+  /// eye, or the data's top if lower, down to the data's lowest height), i.e. holes. The eye
+  /// must be above the ground.
   uint64_t holes(const Image& image, const View& view, std::array<uint8_t, 3> background) const;
 
   int stride() const { return mStride; }

@@ -32,6 +32,8 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");
+  c.add_flag("--climb-only", o.climbOnly,
+             "With --auto-flight: fly only its climb (every level merges on the way up)");
   c.add_option("--frames", o.frames, "Frames to fly (default: the whole flight)")
       ->check(CLI::PositiveNumber);
 }
@@ -62,6 +64,7 @@ Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& 
   if (!size) return size.error();
   const int ways = int(!o.flightFile.empty()) + int(o.autoFlight) + int(!o.eye.empty());
   if (ways > 1) return Error{"give one of --flight, --auto-flight or --eye/--target"};
+  if (o.climbOnly && !o.autoFlight) return Error{"--climb-only goes with --auto-flight"};
   Flight flight;
   if (!o.flightFile.empty()) {
     std::ifstream in(o.flightFile, std::ios::binary);
@@ -72,7 +75,8 @@ Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& 
     if (!parsed) return parsed.error();
     flight = std::move(parsed).value();
   } else if (o.autoFlight) {
-    flight = autoFlight(tree, (*size)[0], (*size)[1], o.fovDegrees, o.frames);
+    flight = o.climbOnly ? autoFlightClimb(tree, (*size)[0], (*size)[1], o.fovDegrees, o.frames)
+                         : autoFlight(tree, (*size)[0], (*size)[1], o.fovDegrees, o.frames);
   } else {
     Camera c;
     c.width = (*size)[0];

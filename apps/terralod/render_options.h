@@ -25,7 +25,8 @@ struct RenderOptions {
   std::string colorBy = "relief";
   std::string flightFile;
   bool autoFlight = false;
-  int frames = 0;  ///< 0: the whole flight
+  bool climbOnly = false;  ///< with autoFlight: only its climb
+  int frames = 0;          ///< 0: the whole flight
 };
 
 /// Registers the shared options on `command`.

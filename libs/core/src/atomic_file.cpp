@@ -78,6 +78,17 @@ Status AtomicFile::writeAll(const uint8_t* data, size_t size) {
   return {};
 }
 
+Status AtomicFile::writeAt(uint64_t offset, std::span<const uint8_t> bytes) {
+  if (Status s = flush(); !s) return s;
+  for (size_t done = 0; done < bytes.size();) {
+    const ssize_t n = ::pwrite(mFd, bytes.data() + done, bytes.size() - done, off_t(offset + done));
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return makeError(mPath, std::string("write failed: ") + std::strerror(errno));
+    done += size_t(n);
+  }
+  return {};
+}
+
 Status AtomicFile::commit() {
   if (Status s = flush(); !s) return s;
   if (::fsync(mFd) != 0)
@@ -87,6 +98,13 @@ Status AtomicFile::commit() {
   if (::rename(mTempPath.c_str(), mPath.c_str()) != 0)
     return makeError(mPath, std::string("cannot replace: ") + std::strerror(errno));
   mCommitted = true;
+  // The rename is durable once the directory is synced; a failure here loses nothing.
+  const std::filesystem::path parent = std::filesystem::path(mPath).parent_path();
+  const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY);
+  if (dir >= 0) {
+    ::fsync(dir);
+    ::close(dir);
+  }
   return {};
 }
 

@@ -234,6 +234,7 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
     f.frames = int(f.keyframes.size());
     return f;
   }
+  f.climbStart = int(f.keyframes.size());
 
   // The climb: up and back until the whole extent is in view, turning towards its centre.
   const glm::dvec3 centre{lo.x + 0.5 * size.x, lo.y + 0.5 * size.y, 0.5 * (e.min[2] + e.max[2])};
@@ -260,6 +261,16 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
     eye += move;
   }
   f.frames = int(f.keyframes.size());
+  return f;
+}
+
+Flight autoFlightClimb(const ChunkTree& tree, int width, int height, double fovDegrees,
+                       int maxFrames) {
+  Flight f = autoFlight(tree, width, height, fovDegrees);
+  f.keyframes.erase(f.keyframes.begin(), f.keyframes.begin() + f.climbStart);
+  if (maxFrames > 0 && int(f.keyframes.size()) > maxFrames) f.keyframes.resize(size_t(maxFrames));
+  f.frames = int(f.keyframes.size());
+  f.climbStart = 0;
   return f;
 }
 

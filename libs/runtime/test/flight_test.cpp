@@ -82,6 +82,9 @@ TEST(Flight, AutoFlightMovesAtMostHalfAPercentOfItsHeightPerFrame) {
   EXPECT_GT(cameras.back().eye.z, 10000.0);
   EXPECT_NEAR(cameras.back().target.x, 5120.0, 1.0);
   EXPECT_EQ(autoFlight(tree, 320, 240, 60.0, 25).frames, 25);
+  const Flight climb = autoFlightClimb(tree, 320, 240, 60.0);
+  EXPECT_EQ(climb.frames, f.frames - f.climbStart);
+  EXPECT_EQ(climb.keyframes.front().eye, f.keyframes[size_t(f.climbStart)].eye);
 }
 
 }  // namespace

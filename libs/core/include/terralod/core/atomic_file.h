@@ -30,7 +30,11 @@ class AtomicFile {
   Status write(std::string_view text) {
     return write(std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
   }
-  /// Flushes, syncs and renames the file into place. Call once, after the last write.
+  /// Overwrites bytes already written, at `offset` (e.g. a header filled in last). Not
+  /// thread-safe.
+  Status writeAt(uint64_t offset, std::span<const uint8_t> bytes);
+  /// Flushes, syncs and renames the file into place, then syncs the directory so the rename
+  /// survives a crash. Call once, after the last write.
   Status commit();
 
   const std::string& path() const { return mPath; }

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "terralod/core/atomic_file.h"
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {
@@ -18,7 +19,7 @@ class TilesetWriter {
  public:
   /// Fails with a clear message when the target's directory is missing or not writable.
   static Result<std::unique_ptr<TilesetWriter>> create(const std::string& path);
-  ~TilesetWriter();  ///< removes the temporary file unless finish() succeeded
+  ~TilesetWriter() = default;  ///< removes the temporary file unless finish() succeeded
   TilesetWriter(const TilesetWriter&) = delete;
   TilesetWriter& operator=(const TilesetWriter&) = delete;
 
@@ -29,18 +30,12 @@ class TilesetWriter {
   Status finish(TilesetHeader header, const std::vector<NodeRecord>& nodes,
                 const std::string& metadata);
 
-  const std::string& path() const { return mPath; }
+  const std::string& path() const { return mFile.path(); }
 
  private:
-  TilesetWriter(std::string path, std::string tempPath, int fd);
-  Status writeAll(const uint8_t* data, size_t size);
-  Status flush();
+  explicit TilesetWriter(AtomicFile file) : mFile(std::move(file)) {}
 
-  std::string mPath, mTempPath;
-  int mFd = -1;
-  uint64_t mOffset = 0;
-  std::vector<uint8_t> mBuffer;
-  bool mFinished = false;
+  AtomicFile mFile;
 };
 
 }  // namespace terralod

@@ -27,6 +27,7 @@ struct Flight {
   int width = 1024, height = 768;
   int frames = 0;  ///< frames to fly; with keyframes.size() == frames they are the frames
   std::vector<Keyframe> keyframes;
+  int climbStart = 0;  ///< autoFlight(): the frame where the climb begins (not in the JSON)
 };
 
 /// Parses and validates a flight (at least two keyframes, positive size and frame count, a
@@ -45,6 +46,11 @@ std::vector<Camera> flightCameras(const Flight& flight);
 /// (if > 0) keeps only its first frames. Every frame is a keyframe.
 Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegrees,
                   int maxFrames = 0);
+
+/// Only the climb of autoFlight(): every level's chunks merge on the way up, which is where
+/// pops would show. `maxFrames` as above.
+Flight autoFlightClimb(const ChunkTree& tree, int width, int height, double fovDegrees,
+                       int maxFrames = 0);
 
 /// An upper bound of the terrain's height at (x, y): the top of the finest chunk over it, or
 /// the extent's top outside the data.
