@@ -1,4 +1,4 @@
-// terralod: build, inspect, verify and export chunked-LOD terrain tilesets.
+// terralod: build, inspect, verify, export, render and benchmark chunked-LOD terrain tilesets.
 
 #include <cstdio>
 #include <exception>
@@ -23,7 +23,8 @@ int main(int argc, char** argv) {
   using namespace terralod::cli;
   CLI::App app{
       "terralod: massive terrain with chunked level of detail.\n"
-      "Build a tileset from any elevation raster, then inspect, verify or export it."};
+      "Build a tileset from any elevation raster, then inspect, verify, export, render or "
+      "benchmark it."};
   app.require_subcommand(1, 1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
     return std::string("terralod: error: ") + e.what() + " (see --help)\n";

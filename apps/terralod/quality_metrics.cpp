@@ -145,6 +145,9 @@ uint64_t QualityMetrics::holes(const Image& image, const View& view,
     const glm::dvec3 p = view.camera.eye + ray * t;
     return p.x >= e.min[0] && p.x <= e.max[0] && p.y >= e.min[1] && p.y <= e.max[1];
   };
+  // Every level's drawn surface lies within its error of the data, the coarsest error of all.
+  const double slack = mTree.levelError(0);
+  const double lowest = e.min[2] - slack, highest = e.max[2] + slack;
   uint64_t holes = 0;
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x) {
@@ -154,11 +157,11 @@ uint64_t QualityMetrics::holes(const Image& image, const View& view,
       const double u = (2.0 * (x + 0.5) / image.width - 1.0) * view.tanHalfWidth;
       const double v = (1.0 - 2.0 * (y + 0.5) / image.height) * view.tanHalfHeight;
       const glm::dvec3 ray = glm::normalize(view.forward + view.right * u + view.up * v);
-      // Over the data all the way down from the eye (or the data's top, if lower) to the
-      // data's bottom: starting above the ground and ending at or below it, the ray must have
-      // met the terrain.
-      const double top = std::min(view.camera.eye.z, e.max[2]);
-      if (overData(ray, top) && overData(ray, e.min[2])) ++holes;
+      // Over the data all the way down from the eye (or the drawn surface's highest point, if
+      // lower) to the drawn surface's lowest: starting above the surface and ending below it,
+      // the ray must have met it.
+      const double top = std::min(view.camera.eye.z, highest);
+      if (overData(ray, top) && overData(ray, lowest)) ++holes;
     }
   return holes;
 }

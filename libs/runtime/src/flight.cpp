@@ -12,6 +12,8 @@ using nlohmann::json;
 
 constexpr double kStepOfHeight = 0.005;  // per frame, of the height above ground
 constexpr double kLookDownDegrees = 15.0;
+// The smallest τ the automatic flight is meant for.
+constexpr double kMinimumTauPixels = 1.0;
 
 Result<glm::dvec3> point(const json& j, const std::string& subject, const std::string& what) {
   if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -190,7 +192,13 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
   const glm::dvec2 lo{e.min[0], e.min[1]}, hi{e.max[0], e.max[1]};
   const glm::dvec2 size = hi - lo;
   const double diagonal = std::max(glm::length(size), 1.0);
-  const double clearance = std::max(diagonal / 200.0, 4.0 * std::max(tree.spacing()[0], 1e-3));
+  // Low, but not so low that the finest level's error would reach a pixel: closer than that
+  // the data itself cannot meet the error bound, whatever the selection does.
+  const double pixelsPerRadian =
+      double(width) / (2.0 * std::tan(fovDegrees * std::numbers::pi / 360.0));
+  const double finestError = tree.levelError(tree.levelCount() - 1);
+  const double clearance = std::max({diagonal / 200.0, 4.0 * std::max(tree.spacing()[0], 1e-3),
+                                     finestError * pixelsPerRadian / kMinimumTauPixels});
   const double ahead = 8.0 * clearance;
   const double tanDown = std::tan(kLookDownDegrees * std::numbers::pi / 180.0);
   const glm::dvec2 start = lo + 0.1 * size, end = lo + 0.9 * size;
