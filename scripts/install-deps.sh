@@ -13,6 +13,8 @@ packages=(
   libglm-dev libcli11-dev nlohmann-json3-dev libstb-dev
   # OpenGL 4.5 core through EGL (headless) and GLFW (windows), Dear ImGui
   libepoxy-dev libegl-dev libgl-dev libglfw3-dev libimgui-dev libgl1-mesa-dri libegl-mesa0
+  # a virtual X server for the windowed tests
+  xvfb xauth
   # network
   libcurl4-openssl-dev
   # tests and benchmarks
