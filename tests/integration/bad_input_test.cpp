@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "cli_expectations.h"
 #include "cli_runner.h"
 
 namespace terralod::test {
@@ -19,21 +20,6 @@ struct BadCase {
   std::vector<std::string> args;  ///< "{dir}" is replaced by the scratch directory
   std::string expected;           ///< substring of the one error line
 };
-
-void expectOneErrorLine(const RunResult& r, const std::string& expected) {
-  EXPECT_EQ(r.exitCode, 1);
-  const auto lines = r.errLines();
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_EQ(lines[0].rfind("terralod: error: ", 0), 0u) << lines[0];
-  EXPECT_NE(lines[0].find(expected), std::string::npos) << lines[0];
-}
-
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
-}
 
 class BadInputs : public ::testing::Test {
  protected:

@@ -16,6 +16,7 @@
 #include <set>
 #include <sstream>
 
+#include "cli_expectations.h"
 #include "cli_runner.h"
 #include "terralod/format/tileset_reader.h"
 
@@ -178,21 +179,6 @@ void expectLevelSurface(const Mesh& mesh, const LevelFacts& facts, const nlohman
         << "grid point " << grid.first << "," << grid.second << " is not on the level's surface";
     ASSERT_NEAR(p[2], expected->second, floatSlack(expected->second));
   }
-}
-
-void expectOneErrorLine(const RunResult& r, const std::string& expected) {
-  EXPECT_EQ(r.exitCode, 1);
-  const auto lines = r.errLines();
-  ASSERT_EQ(lines.size(), 1u) << r.err;
-  EXPECT_EQ(lines[0].rfind("terralod: error: ", 0), 0u) << lines[0];
-  EXPECT_NE(lines[0].find(expected), std::string::npos) << lines[0];
-}
-
-std::vector<std::string> filesIn(const fs::path& dir) {
-  std::vector<std::string> names;
-  for (const auto& e : fs::directory_iterator(dir)) names.push_back(e.path().filename().string());
-  std::sort(names.begin(), names.end());
-  return names;
 }
 
 nlohmann::json infoJson(const std::string& tileset) {
