@@ -26,12 +26,22 @@ QualityMetrics::QualityMetrics(const TilesetReader& tileset, const ChunkTree& tr
       mThreads(std::max(threads, 1u)),
       mMark(tree.nodes().size(), 0) {}
 
-Result<const ChunkGeometry*> QualityMetrics::geometry(uint32_t node) {
-  auto it = mGeometry.find(node);
-  if (it != mGeometry.end()) return &it->second;
+Result<const QualityMetrics::CachedChunk*> QualityMetrics::chunk(uint32_t node) {
+  auto it = mChunks.find(node);
+  if (it != mChunks.end()) return &it->second;
   auto decoded = mTileset.readChunk(node);
   if (!decoded) return decoded.error();
-  return &mGeometry.emplace(node, std::move(decoded).value()).first->second;
+  CachedChunk c{std::move(decoded).value(), 1e300, -1e300};
+  const TilesetHeader& h = mTileset.header();
+  const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[node]);
+  const int64_t side = h.chunkCells(mTileset.nodes()[node].level);
+  for (int64_t y = y0; y <= std::min<int64_t>(y0 + side, mSource.rows() - 1); ++y)
+    for (int64_t x = x0; x <= std::min<int64_t>(x0 + side, mSource.columns() - 1); ++x) {
+      const double z = mSource(int32_t(x), int32_t(y));
+      c.truthMin = std::min(c.truthMin, z);
+      c.truthMax = std::max(c.truthMax, z);
+    }
+  return &mChunks.emplace(node, std::move(c)).first->second;
 }
 
 bool QualityMetrics::inView(const View& view, int64_t x, int64_t y, double z) const {
@@ -42,10 +52,10 @@ bool QualityMetrics::inView(const View& view, int64_t x, int64_t y, double z) co
 }
 
 template <typename Visit>
-Status QualityMetrics::rasterizeChunk(uint32_t node, double morph, Visit&& visit) {
-  auto g = geometry(node);
-  if (!g) return g.error();
-  const ChunkGeometry& geometry = **g;
+void QualityMetrics::rasterizeChunk(uint32_t node, double morph, const View& view,
+                                    Visit&& visit) const {
+  const CachedChunk& cached = mChunks.at(node);
+  const ChunkGeometry& geometry = cached.geometry;
   const TilesetHeader& h = mTileset.header();
   const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[node]);
   const int64_t side = h.chunkCells(mTileset.nodes()[node].level);
@@ -59,6 +69,16 @@ Status QualityMetrics::rasterizeChunk(uint32_t node, double morph, Visit&& visit
         const ChunkVertex& cv = part.vertices[part.indices[k + j]];
         v[j] = {x0 + cv.x, y0 + cv.y, chunkVertexHeight(geometry, cv, morph)};
       }
+      // Samples are tested in view at their true height; the drawn surface may lie anywhere
+      // between, so the triangle's box spans both.
+      Box box;
+      box.min = {double(std::min({v[0].x, v[1].x, v[2].x})) * mTree.spacing()[0],
+                 double(std::min({v[0].y, v[1].y, v[2].y})) * mTree.spacing()[1],
+                 std::min({v[0].z, v[1].z, v[2].z, cached.truthMin})};
+      box.max = {double(std::max({v[0].x, v[1].x, v[2].x})) * mTree.spacing()[0],
+                 double(std::max({v[0].y, v[1].y, v[2].y})) * mTree.spacing()[1],
+                 std::max({v[0].z, v[1].z, v[2].z, cached.truthMax})};
+      if (!boxInFrustum(view, box)) continue;
       if (s == 1) {
         rasterizeTriangle(v[0], v[1], v[2], x0, maxX, y0, maxY, visit);
       } else {
@@ -68,19 +88,18 @@ Status QualityMetrics::rasterizeChunk(uint32_t node, double morph, Visit&& visit
                           });
       }
     }
-  return {};
 }
 
 Result<double> QualityMetrics::maxErrorPixels(const View& view,
                                               std::span<const SelectedChunk> selection) {
   // Decode on this thread (the cache is not thread-safe), then measure in parallel.
   for (const SelectedChunk& c : selection)
-    if (auto g = geometry(c.node); !g) return g.error();
+    if (auto cached = chunk(c.node); !cached) return cached.error();
   std::vector<double> worst(mThreads, 0.0);
   parallelFor(selection.size(), mThreads, [&](size_t i, unsigned worker) {
     const SelectedChunk& c = selection[i];
     double& w = worst[worker];
-    (void)rasterizeChunk(c.node, c.morph, [&](int64_t x, int64_t y, double z) {
+    rasterizeChunk(c.node, c.morph, view, [&](int64_t x, int64_t y, double z) {
       const double truth = mSource(int32_t(x), int32_t(y));
       if (!inView(view, x, y, truth)) return;
       const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], truth};
@@ -107,31 +126,26 @@ Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOpt
   for (const SelectedChunk& c : current) mMark[c.node] = 0;
   if (gone.empty() || added.empty()) return 0.0;
 
+  for (const std::vector<uint32_t>* nodes : {&gone, &added})
+    for (uint32_t node : *nodes)
+      if (auto cached = chunk(node); !cached) return cached.error();
   std::unordered_map<uint64_t, double> before;
-  for (uint32_t node : gone) {
-    const double t = morphParameter(mTree, view, options, node);
-    if (Status s = rasterizeChunk(
-            node, t, [&](int64_t x, int64_t y, double z) { before[sampleKey(x, y)] = z; });
-        !s)
-      return s.error();
-  }
+  for (uint32_t node : gone)
+    rasterizeChunk(node, morphParameter(mTree, view, options, node), view,
+                   [&](int64_t x, int64_t y, double z) { before[sampleKey(x, y)] = z; });
   double worst = 0.0;
-  for (uint32_t node : added) {
-    const double t = morphParameter(mTree, view, options, node);
-    if (Status s = rasterizeChunk(
-            node, t,
-            [&](int64_t x, int64_t y, double z) {
-              const auto it = before.find(sampleKey(x, y));
-              if (it == before.end()) return;
-              const double truth = mSource(int32_t(x), int32_t(y));
-              if (!inView(view, x, y, truth)) return;
-              const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
-              worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
-                                                       glm::length(p - view.camera.eye)));
-            });
-        !s)
-      return s.error();
-  }
+  for (uint32_t node : added)
+    rasterizeChunk(
+        node, morphParameter(mTree, view, options, node), view,
+        [&](int64_t x, int64_t y, double z) {
+          const auto it = before.find(sampleKey(x, y));
+          if (it == before.end()) return;
+          const double truth = mSource(int32_t(x), int32_t(y));
+          if (!inView(view, x, y, truth)) return;
+          const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
+          worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
+                                                   glm::length(p - view.camera.eye)));
+        });
   return worst;
 }
 

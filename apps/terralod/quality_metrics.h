@@ -45,10 +45,17 @@ class QualityMetrics {
   int stride() const { return mStride; }
 
  private:
-  Result<const ChunkGeometry*> geometry(uint32_t node);
-  // Calls visit(x, y, drawnHeight) for each measured sample under the chunk's surface at morph t.
+  struct CachedChunk {
+    ChunkGeometry geometry;
+    double truthMin = 0, truthMax = 0;  // source heights over the chunk's footprint
+  };
+  // Decodes a chunk (once) and finds the source's height range under it. Not thread-safe.
+  Result<const CachedChunk*> chunk(uint32_t node);
+  // Calls visit(x, y, drawnHeight) for each measured sample under the chunk's surface at morph
+  // t, skipping triangles whose samples cannot be in `view` (drawn and true heights both
+  // considered). The chunk must have been cached. Thread-safe.
   template <typename Visit>
-  Status rasterizeChunk(uint32_t node, double morph, Visit&& visit);
+  void rasterizeChunk(uint32_t node, double morph, const View& view, Visit&& visit) const;
   bool inView(const View& view, int64_t x, int64_t y, double z) const;
 
   const TilesetReader& mTileset;
@@ -56,7 +63,7 @@ class QualityMetrics {
   const Heightfield& mSource;
   int mStride;
   unsigned mThreads;
-  std::unordered_map<uint32_t, ChunkGeometry> mGeometry;
+  std::unordered_map<uint32_t, CachedChunk> mChunks;
   std::vector<uint8_t> mMark;  // per node, which selection it is in (pops)
 };
 
