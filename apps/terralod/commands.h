@@ -17,6 +17,7 @@ void addExportCommand(CLI::App& root, Runner& run);
 void addSynthCommand(CLI::App& root, Runner& run);
 void addRenderCommand(CLI::App& root, Runner& run);
 void addBenchCommand(CLI::App& root, Runner& run);
+void addViewCommand(CLI::App& root, Runner& run);
 
 /// Prints "terralod: error: <message>" on stderr and returns the exit code 1.
 int fail(const std::string& message);

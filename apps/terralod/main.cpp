@@ -37,6 +37,7 @@ int main(int argc, char** argv) {
   addExportCommand(app, run);
   addRenderCommand(app, run);
   addBenchCommand(app, run);
+  addViewCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -28,11 +28,14 @@ TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tre
 }
 
 Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOptions& options,
-                                             const TerrainStyle& style) {
+                                             const TerrainStyle& style, bool reselect) {
   FrameStats stats;
-  const auto selectStart = std::chrono::steady_clock::now();
-  stats.selection = selectChunks(mTree, view, options, mSelected);
-  stats.selectMicroseconds = secondsSince(selectStart) * 1e6;
+  if (reselect) {
+    const auto selectStart = std::chrono::steady_clock::now();
+    mLastSelection = selectChunks(mTree, view, options, mSelected);
+    stats.selectMicroseconds = secondsSince(selectStart) * 1e6;
+  }
+  stats.selection = mLastSelection;
 
   const auto loadStart = std::chrono::steady_clock::now();
   for (const SelectedChunk& s : mSelected) {

@@ -33,9 +33,11 @@ class TerrainScene {
   static Result<std::unique_ptr<TerrainScene>> create(std::unique_ptr<TilesetReader> tileset);
 
   /// Selects for `view`, loads what is missing and draws into the bound framebuffer. Fails
-  /// when a chunk cannot be read (naming it); nothing is drawn then.
+  /// when a chunk cannot be read (naming it); nothing is drawn then. With `reselect` false the
+  /// last frame's selection and morph parameters are drawn again from the new view (the
+  /// viewer's "freeze selection", to look at what was chosen from elsewhere).
   Result<FrameStats> renderFrame(const View& view, const SelectionOptions& selection,
-                                 const TerrainStyle& style);
+                                 const TerrainStyle& style, bool reselect = true);
 
   const ChunkTree& tree() const { return mTree; }
   const TilesetReader& tileset() const { return *mTileset; }
@@ -51,6 +53,7 @@ class TerrainScene {
   GpuChunkStore mStore;
   TerrainRenderer mRenderer;
   std::vector<SelectedChunk> mSelected;
+  SelectionStats mLastSelection;
 };
 
 }  // namespace terralod
