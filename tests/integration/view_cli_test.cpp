@@ -21,10 +21,10 @@ TEST(ViewCli, PlaysAFlightUnderXvfbAndMatchesTheHeadlessRender) {
     "keyframes": [{"eye": [5000, 1000, 3500], "target": [8800, 7500, 1900]},
                   {"eye": [5500, 2500, 3000], "target": [8800, 7500, 1900]}]})";
   // xvfb-run gets its own range of display numbers, so it never races the window test.
-  const RunResult viewed =
-      runProgram(TERRALOD_XVFB_RUN,
-                 {"-a", "-n", "250", TERRALOD_CLI, "view", dir.file("c.tlod"), "--play",
-                  dir.file("f.json"), "--screenshot", dir.file("shot.png"), "--exit-after-play"});
+  const RunResult viewed = runProgram(
+      TERRALOD_XVFB_RUN, {"-a", "-n", "250", "-s", "-screen 0 1280x1024x24 -noreset", TERRALOD_CLI,
+                          "view", dir.file("c.tlod"), "--play", dir.file("f.json"), "--screenshot",
+                          dir.file("shot.png"), "--exit-after-play"});
   ASSERT_EQ(viewed.exitCode, 0) << viewed.out << viewed.err;
   const RunResult rendered =
       runTerralod({"render", dir.file("c.tlod"), "-o", dir.file("headless.png"), "--eye",
