@@ -11,7 +11,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <fstream>
 
 #include "commands.h"
 #include "fly_camera.h"
@@ -100,11 +99,7 @@ int runView(const ViewCommand& v) {
   if (!tileset) return fail(tileset.error().message);
   std::optional<Flight> playback;
   if (!v.play.empty()) {
-    std::ifstream in(v.play, std::ios::binary);
-    if (!in) return fail(v.play + ": cannot read the flight file");
-    std::stringstream text;
-    text << in.rdbuf();
-    auto parsed = parseFlight(text.str(), v.play);
+    auto parsed = readFlightFile(v.play);
     if (!parsed) return fail(parsed.error().message);
     playback = std::move(parsed).value();
   }

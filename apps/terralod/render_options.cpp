@@ -59,6 +59,14 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   return style;
 }
 
+Result<Flight> readFlightFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path, "cannot read the flight file");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseFlight(text.str(), path);
+}
+
 Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& tree) {
   auto size = parseSize(o.size, "--size");
   if (!size) return size.error();
@@ -67,11 +75,7 @@ Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& 
   if (o.climbOnly && !o.autoFlight) return Error{"--climb-only goes with --auto-flight"};
   Flight flight;
   if (!o.flightFile.empty()) {
-    std::ifstream in(o.flightFile, std::ios::binary);
-    if (!in) return makeError(o.flightFile, "cannot read the flight file");
-    std::stringstream text;
-    text << in.rdbuf();
-    auto parsed = parseFlight(text.str(), o.flightFile);
+    auto parsed = readFlightFile(o.flightFile);
     if (!parsed) return parsed.error();
     flight = std::move(parsed).value();
   } else if (o.autoFlight) {

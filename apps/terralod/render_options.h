@@ -36,6 +36,9 @@ void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera
 Result<SelectionOptions> selectionOptions(const RenderOptions& options);
 Result<TerrainStyle> terrainStyle(const RenderOptions& options);
 
+/// Reads and parses a flight file; errors name it.
+Result<Flight> readFlightFile(const std::string& path);
+
 /// The cameras to render: the flight file, the automatic flight, or the single view given by
 /// --eye/--target (a default overview of the whole tileset without them).
 Result<std::vector<Camera>> camerasFor(const RenderOptions& options, const ChunkTree& tree);
