@@ -9,7 +9,8 @@
 #
 #   bench/render_quality.sh [FRAMES] [TAU] [SIZE]     defaults: 1000 2 320x240
 #
-# Scratch files: $BENCH_DIR/quality.
+# Scratch files: $BENCH_DIR/quality. ONLY="name ..." measures just those DEMs (file names
+# without extension).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=${1:-1000}
@@ -38,6 +39,7 @@ for entry in "${dems[@]}"; do
   file=${entry%%|*}
   opts=${entry#*|}
   name=${file%%.*}
+  if [ -n "${ONLY:-}" ] && [[ " $ONLY " != *" $name "* ]]; then continue; fi
   # shellcheck disable=SC2086
   "$terralod" build "$data/$file" -o "$dir/$name.tlod" $opts >/dev/null
   run() {

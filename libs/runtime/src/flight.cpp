@@ -200,7 +200,11 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
   const double clearance = std::max({diagonal / 200.0, 4.0 * std::max(tree.spacing()[0], 1e-3),
                                      finestError * pixelsPerRadian / kMinimumTauPixels});
   const double ahead = 8.0 * clearance;
-  const double tanDown = std::tan(kLookDownDegrees * std::numbers::pi / 180.0);
+  // The eye looks at the ground a little way ahead: 15 degrees down, or steeper when the data
+  // is small next to the clearance, so that it stays in view.
+  const double lookDistance = std::min(ahead, 0.25 * diagonal);
+  const double tanDown =
+      std::max(std::tan(kLookDownDegrees * std::numbers::pi / 180.0), clearance / lookDistance);
   const glm::dvec2 start = lo + 0.1 * size, end = lo + 0.9 * size;
   const glm::dvec2 heading = glm::normalize(end - start);
   const double passLength = glm::length(end - start);
@@ -229,7 +233,8 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
   glm::dvec3 target;
   for (;;) {
     const glm::dvec3 eye{p.x, p.y, z};
-    target = {p.x + heading.x * ahead, p.y + heading.y * ahead, z - ahead * tanDown};
+    target = {p.x + heading.x * lookDistance, p.y + heading.y * lookDistance,
+              z - lookDistance * tanDown};
     if (push(eye, target) || travelled >= passLength) break;
     const double step = kStepOfHeight * aboveGround(eye);
     const double rise = std::clamp(groundAhead(p) + clearance - z, -0.6 * step, 0.6 * step);

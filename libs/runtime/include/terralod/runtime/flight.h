@@ -40,11 +40,12 @@ std::string flightToJson(const Flight& flight);
 std::vector<Camera> flightCameras(const Flight& flight);
 
 /// The default flight over a tileset: a low pass diagonally across the data, looking ahead
-/// and 15 degrees down at about 1/200 of the extent's diagonal above the ground (higher where
-/// the finest level's error would otherwise exceed 1 pixel, so any τ >= 1 can be met), then a climb
-/// that turns to look at the whole. Every frame moves the eye at most 0.5 % of its height above
-/// the ground (a 60 fps flight), so the flight has as many frames as that takes; `maxFrames`
-/// (if > 0) keeps only its first frames. Every frame is a keyframe.
+/// and 15 degrees down (steeper over data small next to the height) at about 1/200 of the extent's
+/// diagonal above the ground (higher where the finest level's error would otherwise exceed 1 pixel,
+/// so any τ >= 1 can be met), then a climb that turns to look at the whole. Every frame moves the
+/// eye at most 0.5 % of its height above the ground (a 60 fps flight), so the flight has as many
+/// frames as that takes; `maxFrames` (if > 0) keeps only its first frames. Every frame is a
+/// keyframe.
 Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegrees,
                   int maxFrames = 0);
 
