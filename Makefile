@@ -29,7 +29,7 @@ demo: build
 	$(TERRALOD) verify $(DEMO_DIR)/zion.tlod --source $(DEMO_DEM)
 	$(TERRALOD) render $(DEMO_DIR)/zion.tlod -o $(DEMO_DIR)/zion.png
 	mkdir -p $(DEMO_DIR)/flight
-	$(TERRALOD) render $(DEMO_DIR)/zion.tlod --auto-flight --frames 48 --size 640x480 --frames-dir $(DEMO_DIR)/flight
+	$(TERRALOD) render $(DEMO_DIR)/zion.tlod --auto-flight --climb-only --every 30 --size 640x480 --frames-dir $(DEMO_DIR)/flight
 	$(TERRALOD) bench $(DEMO_DIR)/zion.tlod --auto-flight --climb-only --frames 300 --size 640x480 --source $(DEMO_DEM) --json $(DEMO_DIR)/bench.json
 
 test: build

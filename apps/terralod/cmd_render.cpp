@@ -20,6 +20,7 @@ struct RenderCommand {
   RenderOptions options;
   std::string output;
   std::string framesDir;
+  int every = 1;  ///< render every k-th frame of a flight
 };
 
 std::string framePath(const std::string& dir, size_t i) {
@@ -50,10 +51,12 @@ int runRender(const RenderCommand& r) {
   if (cameras->empty()) return fail("the flight has no frames");
 
   std::vector<Image> sheet;
-  const size_t every =
-      std::max<size_t>(1, (cameras->size() + kContactSheetFrames - 1) / kContactSheetFrames);
+  // Frames rendered, and every how many flight frames one goes on the contact sheet.
+  const size_t rendered = (cameras->size() + size_t(r.every) - 1) / size_t(r.every);
+  const size_t every = size_t(r.every) * std::max<size_t>(1, (rendered + kContactSheetFrames - 1) /
+                                                                 kContactSheetFrames);
   std::optional<Framebuffer> target;
-  for (size_t i = 0; i < cameras->size(); ++i) {
+  for (size_t i = 0; i < cameras->size(); i += size_t(r.every)) {
     auto view = makeView((*cameras)[i]);
     if (!view) return fail("frame " + std::to_string(i) + ": " + view.error().message);
     if (!target || target->width() != view->camera.width ||
@@ -80,7 +83,7 @@ int runRender(const RenderCommand& r) {
         (std::filesystem::path(r.framesDir) / "contact_sheet.png").string();
     if (Status written = writePng(makeContactSheet(sheet, 6, 256), sheetPath); !written)
       return fail(written.error().message);
-    std::printf("terralod: wrote %zu frames and %s\n", cameras->size(), sheetPath.c_str());
+    std::printf("terralod: wrote %zu frames and %s\n", rendered, sheetPath.c_str());
   }
   return 0;
 }
@@ -97,6 +100,10 @@ void addRenderCommand(CLI::App& root, Runner& run) {
   cmd->add_option("-o,--output", r->output, "PNG to write (a single view)");
   cmd->add_option("--frames-dir", r->framesDir,
                   "Directory for a flight's frames (frame_00000.png, ...) and contact_sheet.png");
+  cmd->add_option(
+         "--every", r->every,
+         "Render only every k-th frame of a flight (frame files keep their flight numbers)")
+      ->check(CLI::PositiveNumber);
   cmd->callback([&run, r] { run = [r] { return runRender(*r); }; });
 }
 
