@@ -66,6 +66,20 @@ TEST_F(RenderCli, FlightWritesEveryFrameAndAContactSheet) {
   EXPECT_GT(sheet->width, 6 * 96);  // six 256-pixel thumbnails across
 }
 
+TEST_F(RenderCli, EveryKthFrameKeepsItsFlightNumber) {
+  fs::create_directory(mDir.file("some"));
+  const RunResult r =
+      runTerralod({"render", mDir.file("c.tlod"), "--auto-flight", "--frames", "7", "--every", "3",
+                   "--size", "64x48", "--frames-dir", mDir.file("some")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (int i = 0; i < 7; ++i) {
+    char name[32];
+    std::snprintf(name, sizeof name, "some/frame_%05d.png", i);
+    EXPECT_EQ(fs::exists(mDir.file(name)), i % 3 == 0) << name;
+  }
+  EXPECT_NE(r.out.find("wrote 3 frames"), std::string::npos) << r.out;
+}
+
 TEST_F(RenderCli, AutoFlightFliesTheFirstFrames) {
   fs::create_directory(mDir.file("auto"));
   const RunResult r = runTerralod({"render", mDir.file("c.tlod"), "--auto-flight", "--frames", "3",
