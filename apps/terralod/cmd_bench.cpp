@@ -86,12 +86,8 @@ int runBench(const BenchCommand& b) {
   for (size_t i = 0; i < cameras->size(); ++i) {
     auto view = makeView((*cameras)[i]);
     if (!view) return fail("frame " + std::to_string(i) + ": " + view.error().message);
-    if (!target) {
-      auto fb = Framebuffer::create(view->camera.width, view->camera.height);
-      if (!fb) return fail(fb.error().message);
-      target.emplace(std::move(fb).value());
-    }
-    target->bind();
+    if (Status s = bindFramebufferOfSize(target, view->camera.width, view->camera.height); !s)
+      return fail(s.error().message);
     const auto start = std::chrono::steady_clock::now();
     auto frame = scene.renderFrame(*view, *selection, *style);
     if (!frame) return fail(frame.error().message);
@@ -117,12 +113,9 @@ int runBench(const BenchCommand& b) {
 
     auto downView = makeView(lookDownCamera(*view));
     if (!downView) return fail(downView.error().message);
-    if (!lookDown) {
-      auto fb = Framebuffer::create(downView->camera.width, downView->camera.height);
-      if (!fb) return fail(fb.error().message);
-      lookDown.emplace(std::move(fb).value());
-    }
-    lookDown->bind();
+    if (Status s = bindFramebufferOfSize(lookDown, downView->camera.width, downView->camera.height);
+        !s)
+      return fail(s.error().message);
     auto down = scene.renderFrame(*downView, *selection, holeStyle);
     if (!down) return fail(down.error().message);
     holes += metrics->holes(lookDown->readPixels(), *downView, holeStyle.background);

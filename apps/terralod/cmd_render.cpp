@@ -59,13 +59,8 @@ int runRender(const RenderCommand& r) {
   for (size_t i = 0; i < cameras->size(); i += size_t(r.every)) {
     auto view = makeView((*cameras)[i]);
     if (!view) return fail("frame " + std::to_string(i) + ": " + view.error().message);
-    if (!target || target->width() != view->camera.width ||
-        target->height() != view->camera.height) {
-      auto created = Framebuffer::create(view->camera.width, view->camera.height);
-      if (!created) return fail(created.error().message);
-      target.emplace(std::move(created).value());
-    }
-    target->bind();
+    if (Status s = bindFramebufferOfSize(target, view->camera.width, view->camera.height); !s)
+      return fail(s.error().message);
     auto frame = (*scene)->renderFrame(*view, *selection, *style);
     if (!frame) return fail(frame.error().message);
     const Image image = target->readPixels();

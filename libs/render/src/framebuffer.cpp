@@ -181,4 +181,15 @@ Image Framebuffer::readPixels() const {
   return image;
 }
 
+Status bindFramebufferOfSize(std::optional<Framebuffer>& target, int width, int height) {
+  if (!target || target->width() != width || target->height() != height) {
+    target.reset();  // free the old one's memory first
+    auto created = Framebuffer::create(width, height);
+    if (!created) return created.error();
+    target.emplace(std::move(created).value());
+  }
+  target->bind();
+  return {};
+}
+
 }  // namespace terralod

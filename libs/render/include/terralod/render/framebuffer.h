@@ -3,6 +3,7 @@
 // and golden images all draw into one of these and read it back.
 
 #include <cstdint>
+#include <optional>
 
 #include "terralod/core/result.h"
 #include "terralod/render/image.h"
@@ -55,5 +56,9 @@ class Framebuffer {
   uint32_t mMultisampleColor = 0;  // renderbuffers, only with multisampling
   uint32_t mMultisampleDepth = 0;
 };
+
+/// Makes `target` a width x height single-sample Framebuffer, creating it when it is empty or
+/// of another size (as a flight's frames may ask), and binds it.
+Status bindFramebufferOfSize(std::optional<Framebuffer>& target, int width, int height);
 
 }  // namespace terralod
