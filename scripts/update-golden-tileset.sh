@@ -5,7 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terralod=${TERRALOD:-build/release/apps/terralod/terralod}
-out=tests/data/golden/v1
-"$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/gully.tlod" --max-error 0.25 --threads 1
-"$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
-echo "updated $out/gully.tlod and $out/gully.json"
+# Version 1 is what untextured builds write; version 2 adds textures.
+for version in v1 v2; do
+  out=tests/data/golden/$version
+  mkdir -p "$out"
+  extra=()
+  [ "$version" = v1 ] && extra=(--no-texture)
+  "$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/gully.tlod" \
+    --max-error 0.25 --threads 1 "${extra[@]}"
+  "$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
+  echo "updated $out/gully.tlod and $out/gully.json"
+done

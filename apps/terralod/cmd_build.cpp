@@ -45,11 +45,25 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--zstd-level", options->compressionLevel, "zstd level for chunk data (1-22)")
       ->capture_default_str()
       ->check(CLI::Range(1, 22));
+  cmd->add_option("--texture", options->textureImage,
+                  "Image to drape (any georeferenced raster GDAL reads, in any CRS and "
+                  "resolution); default: a generated colour (height tint, rock, snow, occlusion)");
+  cmd->add_option("--min-tau", options->textureTau,
+                  "Size textures so that no texel covers more than one pixel at this τ "
+                  "(pixels) or below (the source's own resolution permitting)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  auto noTexture = std::make_shared<bool>(false);
+  cmd->add_flag("--no-texture", *noTexture,
+                "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
-  cmd->callback([&run, options, encoding, spacing, verbose] {
-    run = [options, encoding, spacing, verbose] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture] {
+    run = [options, encoding, spacing, verbose, noTexture] {
+      if (*noTexture && !options->textureImage.empty())
+        return fail("--texture and --no-texture contradict each other");
+      options->textures = !*noTexture;
       options->dem.encoding = *parseHeightEncoding(*encoding);
       if (!spacing->empty())
         options->dem.spacing = std::array<double, 2>{(*spacing)[0], spacing->back()};
@@ -60,15 +74,19 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       // A streamed build reads as it goes: its reading time is inside the two passes.
       char read[32] = "streamed";
       if (!s.streamed) std::snprintf(read, sizeof read, "read %.2f s", s.loadSeconds);
+      const uint64_t geometryBytes = s.fileBytes - s.textureBytes;
+      char texture[64] = "";
+      if (s.textureBytes)
+        std::snprintf(texture, sizeof texture, " + %.2f MB textures", s.textureBytes / 1e6);
       std::printf(
           "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %llu vertices, %.2f MB "
-          "(%.2f bytes/vertex, %.3f bytes/sample), %llu voids filled, %.2f s (%s, errors "
-          "%.2f s, meshes %.2f s)\n",
+          "geometry (%.2f bytes/vertex, %.3f bytes/sample)%s, %llu voids filled, %.2f s (%s, "
+          "errors %.2f s, meshes %.2f s)\n",
           options->output.c_str(), s.levels, (unsigned long long)s.chunks,
-          (unsigned long long)s.triangles, (unsigned long long)s.vertices, s.fileBytes / 1e6,
-          s.vertices ? double(s.fileBytes) / double(s.vertices) : 0.0,
-          double(s.fileBytes) / double(s.sourceSamples), (unsigned long long)s.filledVoids,
-          s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
+          (unsigned long long)s.triangles, (unsigned long long)s.vertices, geometryBytes / 1e6,
+          s.vertices ? double(geometryBytes) / double(s.vertices) : 0.0,
+          double(geometryBytes) / double(s.sourceSamples), texture,
+          (unsigned long long)s.filledVoids, s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
       if (*verbose)
         std::printf(
             "terralod: %s input, %d error pass(es), %llu triangles scanned exactly, %llu "

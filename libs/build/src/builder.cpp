@@ -17,6 +17,7 @@
 #include "terralod/core/parallel.h"
 #include "terralod/format/tileset_writer.h"
 #include "terralod/raster/heightfield.h"
+#include "terralod/raster/image_drape.h"
 #include "terralod/raster/void_fill.h"
 
 namespace terralod {
@@ -44,7 +45,7 @@ Result<Heightfield> loadHeights(const DemReader& reader, Progress& progress) {
 }
 
 std::string metadataJson(const DemInfo& info, const BuildOptions& options, const BuildSummary& s,
-                         const TreeLayout& layout) {
+                         const TreeLayout& layout, const TextureBuild* textures) {
   nlohmann::json source = {
       {"file", std::filesystem::path(info.path).filename().string()},
       {"driver", info.driver},
@@ -74,6 +75,22 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
         {"skirt_triangles", s.skirtTriangles},
         {"filled_voids", s.filledVoids}}},
   };
+  if (textures) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const TextureLevel& t : textures->plan)
+      levels.push_back({{"color_size", t.colorSize},
+                        {"normal_size", t.normalSize},
+                        {"color_source_limited", t.colorFlags != 0},
+                        {"normal_source_limited", t.normalFlags != 0}});
+    j["texture"] = {
+        {"color", options.textureImage.empty()
+                      ? "generated"
+                      : std::filesystem::path(options.textureImage).filename().string()},
+        {"min_tau", options.textureTau},
+        {"color_refine", s.textureRefine ? s.textureRefine : 1},
+        {"bytes", s.textureBytes},
+        {"levels", levels}};
+  }
   return j.dump(2);
 }
 
@@ -121,6 +138,16 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
 
   auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
   if (!layout) return layout.error();
+  if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
+    return Error{"--min-tau must be a positive number of pixels"};
+  // A draped image is checked (readable, georeferenced, overlapping) before any work.
+  std::unique_ptr<ImageDrape> image;
+  if (options.textures && !options.textureImage.empty()) {
+    auto drape = ImageDrape::open(options.textureImage, info);
+    if (!drape) return drape.error();
+    image = std::move(drape).value();
+    summary.textureRefine = image->refine();
+  }
   // Fail on an unwritable output before doing any work.
   auto writer = TilesetWriter::create(options.output);
   if (!writer) return writer.error();
@@ -209,6 +236,14 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   chunkOptions.blockCells = activationOptions.blockCells;
   chunkOptions.threads = threads;
   chunkOptions.compressionLevel = options.compressionLevel;
+  TextureBuild textures;
+  if (options.textures) {
+    textures.plan = planTextures(*layout, budget->levelError, info.spacingX, info.spacingY,
+                                 options.textureTau, image ? image->refine() : 1);
+    textures.surface = {info.spacingX, info.spacingY, plan.zMin, plan.zMax};
+    textures.image = image.get();
+    chunkOptions.textures = &textures;
+  }
   HeightWindows& windows = stream ? static_cast<HeightWindows&>(*plan.windows)
                                   : static_cast<HeightWindows&>(*plan.memoryHeights);
   if (Status s = buildChunks(
@@ -219,6 +254,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   summary.meshSeconds = secondsSince(meshStart);
 
   for (const NodeRecord& n : nodes) {
+    summary.textureBytes += n.textureBytes;
     summary.vertices += n.vertexCount;
     summary.triangles += n.triangleCount;
     summary.skirtTriangles += n.skirtTriangleCount;
@@ -243,7 +279,14 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   header.filledVoids = summary.filledVoids;
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;
-  if (Status s = (*writer)->finish(header, nodes, metadataJson(info, options, summary, *layout));
+  if (options.textures) {
+    header.version = 2;
+    header.flags |= kTilesetTextured;
+    header.textureMinTau = options.textureTau;
+  }
+  if (Status s = (*writer)->finish(
+          header, nodes,
+          metadataJson(info, options, summary, *layout, options.textures ? &textures : nullptr));
       !s)
     return s.error();
   std::error_code ec;

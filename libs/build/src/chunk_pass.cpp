@@ -8,6 +8,7 @@
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <unordered_map>
 
 #include "terralod/build/chunk_encoder.h"
 #include "terralod/build/chunk_mesher.h"
@@ -71,6 +72,12 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
   return blob;
 }
 
+// A built chunk waiting for its turn to be written.
+struct Built {
+  uint32_t node = 0;
+  std::vector<uint8_t> blob, texture;
+};
+
 }  // namespace
 
 std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout) {
@@ -125,9 +132,18 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   for (Worker& w : workers)
     w.mesher = std::make_unique<ChunkMesher>(layout, budget, grid, coarseHeights);
 
+  std::unique_ptr<TexturePass> texturePass;
+  if (options.textures) {
+    texturePass = std::make_unique<TexturePass>(layout, *options.textures, nodes, threads);
+    if (Status s = texturePass->open(); !s) return s;
+  }
+  // Block nodes' texture tiles, kept for the coarser levels' textures.
+  std::vector<ChunkTiles> blockTiles(options.textures ? blockNodes.size() : 0);
+  std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
+
   // Blobs go to the file in task order whatever order tasks finish in.
   std::mutex writeMutex;
-  std::vector<std::vector<std::pair<uint32_t, std::vector<uint8_t>>>> done(blockNodes.size());
+  std::vector<std::vector<Built>> done(blockNodes.size());
   std::vector<uint8_t> ready(blockNodes.size(), 0);
   size_t nextTask = 0;
   std::optional<Error> failure;
@@ -137,10 +153,17 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     if (!failure) failure = std::move(e);
     failed = true;
   };
-  auto append = [&](uint32_t node, const std::vector<uint8_t>& blob) -> Status {
+  auto append = [&](uint32_t node, const std::vector<uint8_t>& blob,
+                    const std::vector<uint8_t>& texture) -> Status {
     auto offset = writer.appendBlob(blob);
     if (!offset) return offset.error();
     nodes[node].blobOffset = *offset;
+    if (!texture.empty()) {
+      auto at = writer.appendBlob(texture);
+      if (!at) return at.error();
+      nodes[node].flags |= kNodeHasTexture;
+      nodes[node].textureBytes = uint32_t(texture.size());
+    }
     return {};
   };
 
@@ -159,7 +182,7 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
       worker.sampler.set(worker.window.data(), x0, y0, block);
       worker.mesher->setHeights(worker.sampler);
     }
-    std::vector<std::pair<uint32_t, std::vector<uint8_t>>> built;
+    std::vector<Built> built;
     std::deque<uint32_t> queue;
     auto pushChildren = [&](uint32_t i) {
       const NodeRecord& n = nodes[i];
@@ -172,9 +195,23 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
       queue.pop_front();
       auto blob = buildChunk(*worker.mesher, budget, nodes[i], options.compressionLevel);
       if (!blob) return fail(blob.error());
-      built.emplace_back(i, std::move(blob).value());
+      built.push_back({i, std::move(blob).value(), {}});
       pushChildren(i);
       progress.advance();
+    }
+    if (texturePass) {
+      std::vector<std::pair<uint32_t, std::vector<uint8_t>>> textures;
+      auto tiles = texturePass->buildBlock(blockNodes[task], windows, w, textures);
+      if (!tiles) return fail(tiles.error());
+      blockTiles[task] = std::move(tiles).value();
+      std::unordered_map<uint32_t, size_t> where;
+      for (size_t k = 0; k < built.size(); ++k) where.emplace(built[k].node, k);
+      for (auto& [node, blob] : textures) {
+        if (node == blockNodes[task])
+          blockTextures[task] = std::move(blob);
+        else
+          built[where.at(node)].texture = std::move(blob);
+      }
     }
     if (sparse) {
       // Vertices the block-level and coarser chunks will need, for after the window is gone.
@@ -192,8 +229,8 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     done[task] = std::move(built);
     ready[task] = 1;
     for (; nextTask < done.size() && ready[nextTask]; ++nextTask) {
-      for (const auto& [node, blob] : done[nextTask])
-        if (Status s = append(node, blob); !s) {
+      for (const Built& chunk : done[nextTask])
+        if (Status s = append(chunk.node, chunk.blob, chunk.texture); !s) {
           if (!failure) failure = s.error();
           failed = true;
           return;
@@ -215,8 +252,38 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     progress.advance();
   });
   if (failure) return *failure;
+  std::vector<std::vector<uint8_t>> coarseTextures(coarseNodes.size());
+  if (texturePass) {
+    // Level by level up from the block level, each from its children's tiles.
+    std::unordered_map<uint32_t, ChunkTiles> tiles;
+    for (size_t t = 0; t < blockNodes.size(); ++t)
+      tiles.emplace(blockNodes[t], std::move(blockTiles[t]));
+    std::unordered_map<uint32_t, size_t> coarseIndex;
+    for (size_t k = 0; k < coarseNodes.size(); ++k) coarseIndex.emplace(coarseNodes[k], k);
+    for (size_t t = 0; t < blockNodes.size(); ++t)
+      coarseTextures[coarseIndex.at(blockNodes[t])] = std::move(blockTextures[t]);
+    for (int32_t level = blockLevel - 1; level >= 0; --level) {
+      std::vector<uint32_t> atLevel;
+      for (uint32_t i : coarseNodes)
+        if (nodes[i].level == level) atLevel.push_back(i);
+      std::vector<ChunkTiles> made(atLevel.size());
+      parallelFor(atLevel.size(), threads, [&](size_t k, unsigned) {
+        const NodeRecord& n = nodes[atLevel[k]];
+        std::array<const ChunkTiles*, 4> children{};
+        uint32_t c = n.firstChild;
+        for (int q = 0; q < 4; ++q)
+          if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);
+        made[k] = texturePass->fromChildren(atLevel[k], children);
+        coarseTextures[coarseIndex.at(atLevel[k])] = texturePass->encode(atLevel[k], made[k]);
+      });
+      for (uint32_t i : atLevel)
+        for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(nodes[i].childMask))); ++j)
+          tiles.erase(nodes[i].firstChild + j);
+      for (size_t k = 0; k < atLevel.size(); ++k) tiles.emplace(atLevel[k], std::move(made[k]));
+    }
+  }
   for (size_t k = 0; k < coarseNodes.size(); ++k)
-    if (Status s = append(coarseNodes[k], coarseBlobs[k]); !s) return s;
+    if (Status s = append(coarseNodes[k], coarseBlobs[k], coarseTextures[k]); !s) return s;
   progress.end();
   if (sparse && sparse->misses() > 0)
     return Error{"internal error: " + std::to_string(sparse->misses()) +

@@ -55,6 +55,7 @@ std::vector<uint8_t> serializeHeader(const TilesetHeader& h) {
   w.put<uint32_t>(h.metadataCrc);
   w.put<double>(h.leafError);
   w.put<double>(h.verticalScale);
+  if (h.version >= 2) w.put<double>(h.textureMinTau);
   // Bytes up to 508 are reserved (zero); the last four hold the CRC of everything before.
   w.seek(kHeaderBytes - 4);
   w.put<uint32_t>(crc32Of(std::span(out.data(), kHeaderBytes - 4)));
@@ -71,9 +72,9 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   r.seek(8);
   TilesetHeader h;
   h.version = r.get<uint32_t>();
-  if (h.version != kTilesetVersion)
+  if (h.version < 1 || h.version > kTilesetVersion)
     return makeError(subject, "tileset format version " + std::to_string(h.version) +
-                                  " is not supported (this terralod reads version " +
+                                  " is not supported (this terralod reads versions 1 to " +
                                   std::to_string(kTilesetVersion) + ")");
   const uint32_t headerBytes = r.get<uint32_t>();
   const uint32_t nodeBytes = r.get<uint32_t>();
@@ -108,11 +109,20 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   h.metadataCrc = r.get<uint32_t>();
   h.leafError = r.get<double>();
   h.verticalScale = r.get<double>();
+  // Version 1 reserves what later versions use: never look at it.
+  if (h.version >= 2) {
+    h.textureMinTau = r.get<double>();
+  } else {
+    h.flags = 0;
+  }
 
   auto bad = [&](const std::string& what) {
     return makeError(subject, "invalid tileset header: " + what);
   };
   if (h.meshKind != MeshKind::kStaticRtin) return bad("unknown chunk mesh kind");
+  if ((h.flags & ~kTilesetTextured) != 0) return bad("unknown flags");
+  if (h.textured() && !(h.textureMinTau > 0 && std::isfinite(h.textureMinTau)))
+    return bad("texture τ");
   if (h.levelCount < 1 || h.levelCount > kMaxLevels) return bad("level count out of range");
   if (h.leafCells < 4 || (h.leafCells & (h.leafCells - 1)) != 0) return bad("leaf size");
   if (h.rootCells != (h.leafCells << (h.levelCount - 1)) || h.rootCells > 32768)
@@ -157,9 +167,10 @@ void serializeNode(const NodeRecord& n, uint8_t* out) {
   w.put<uint32_t>(n.blobBytes);
   w.put<uint32_t>(n.blobCrc);
   w.put<float>(n.maxSkirtDepth);
+  w.put<uint32_t>(n.textureBytes);
 }
 
-NodeRecord parseNode(const uint8_t* in) {
+NodeRecord parseNode(const uint8_t* in, uint32_t version) {
   ByteReader r(in);
   NodeRecord n;
   n.level = r.get<uint8_t>();
@@ -179,6 +190,11 @@ NodeRecord parseNode(const uint8_t* in) {
   n.blobBytes = r.get<uint32_t>();
   n.blobCrc = r.get<uint32_t>();
   n.maxSkirtDepth = r.get<float>();
+  if (version >= 2) {
+    n.textureBytes = r.get<uint32_t>();
+  } else {
+    n.flags = 0;  // reserved in version 1
+  }
   return n;
 }
 
@@ -218,6 +234,12 @@ Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& node
     }
     if (n.blobBytes == 0 || n.blobOffset < kHeaderBytes || n.blobOffset + n.blobBytes > h.fileBytes)
       return bad(i, "points outside the file");
+    if ((n.flags & ~kNodeHasTexture) != 0) return bad(i, "has unknown flags");
+    if (n.hasTexture() != h.textured()) return bad(i, "disagrees with the header about textures");
+    if (n.hasTexture()
+            ? n.textureBytes == 0 || n.blobOffset + n.blobBytes + n.textureBytes > h.fileBytes
+            : n.textureBytes != 0)
+      return bad(i, "has a texture outside the file");
     if (!(n.minZ <= n.maxZ)) return bad(i, "has an invalid height range");
   }
   return {};

@@ -31,7 +31,7 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
     return makeError(name, "node table is corrupt (checksum mismatch)");
   t->mNodes.resize(t->mHeader.nodeCount);
   for (size_t i = 0; i < t->mNodes.size(); ++i)
-    t->mNodes[i] = parseNode(table->data() + i * kNodeRecordBytes);
+    t->mNodes[i] = parseNode(table->data() + i * kNodeRecordBytes, t->mHeader.version);
   if (Status s = validateNodes(t->mHeader, t->mNodes, name); !s) return s.error();
 
   auto metadata = source->read(t->mHeader.metadataOffset, t->mHeader.metadataBytes);
@@ -57,6 +57,28 @@ Result<ChunkGeometry> TilesetReader::readChunk(uint32_t node) const {
   auto bytes = readBlob(node);
   if (!bytes) return bytes.error();
   return decodeChunk(*bytes, name() + " chunk " + std::to_string(node));
+}
+
+Result<ChunkData> TilesetReader::readChunkData(uint32_t node) const {
+  if (node >= mNodes.size()) return makeError(name(), "no chunk " + std::to_string(node));
+  const NodeRecord& n = mNodes[node];
+  auto bytes = mSource->read(n.blobOffset, uint64_t(n.blobBytes) + n.textureBytes);
+  if (!bytes) return bytes.error();
+  const std::span<const uint8_t> all(*bytes);
+  const std::string subject = name() + " chunk " + std::to_string(node);
+  if (crc32Of(all.first(n.blobBytes)) != n.blobCrc)
+    return makeError(name(), "chunk " + std::to_string(node) + " is corrupt (checksum mismatch)");
+  ChunkData data;
+  data.bytesRead = bytes->size();
+  auto geometry = decodeChunk(all.first(n.blobBytes), subject);
+  if (!geometry) return geometry.error();
+  data.geometry = std::move(geometry).value();
+  if (n.hasTexture()) {
+    auto texture = decodeTexture(all.subspan(n.blobBytes), subject);
+    if (!texture) return texture.error();
+    data.texture = std::move(texture).value();
+  }
+  return data;
 }
 
 }  // namespace terralod

@@ -57,9 +57,10 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
             "a.tlod: not a terralod tileset (wrong magic bytes)");
   auto future = bytes;
-  future[8] = 2;
+  future[8] = 3;
   EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
-            "b.tlod: tileset format version 2 is not supported (this terralod reads version 1)");
+            "b.tlod: tileset format version 3 is not supported (this terralod reads versions 1 "
+            "to 2)");
   auto flipped = bytes;
   flipped[100] ^= 1;
   EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,
@@ -98,7 +99,7 @@ TEST(NodeRecord, RoundTrips) {
   n.maxSkirtDepth = 3.25f;
   uint8_t bytes[kNodeRecordBytes];
   serializeNode(n, bytes);
-  const NodeRecord m = parseNode(bytes);
+  const NodeRecord m = parseNode(bytes, kTilesetVersion);
   EXPECT_EQ(m.level, 5);
   EXPECT_EQ(m.childMask, 0b1011);
   EXPECT_EQ(m.x, 123456u);

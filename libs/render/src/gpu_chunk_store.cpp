@@ -49,7 +49,8 @@ uint64_t GpuChunkStore::allocate(RangeAllocator& allocator, uint32_t& buffer, ui
   return *offset;
 }
 
-void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry) {
+void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
+                           const ChunkTexture* texture) {
   release(node);
   GpuChunk chunk;
   chunk.zBase = geometry.zBase;
@@ -71,6 +72,16 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry) {
     chunk.bytes += uint64_t(p.vertexCount) * kVertexBytes + uint64_t(p.indexCount) * kIndexBytes;
     chunk.parts.push_back(p);
   }
+  if (texture) {
+    const TextureLayer* color = texture->find(TextureLayerKind::kColor);
+    const TextureLayer* normal = texture->find(TextureLayerKind::kNormal);
+    assert(color && normal);
+    chunk.textured = true;
+    chunk.color = mTextures.upload(*color);
+    chunk.normal = mTextures.upload(*normal);
+    chunk.bytes +=
+        mTextures.layerBytes(chunk.color.array) + mTextures.layerBytes(chunk.normal.array);
+  }
   mResidentBytes += chunk.bytes;
   mChunks.emplace(node, std::move(chunk));
 }
@@ -81,6 +92,10 @@ void GpuChunkStore::release(uint32_t node) {
   for (const GpuChunkPart& p : it->second.parts) {
     if (p.vertexCount) mVertices.release(p.baseVertex, p.vertexCount);
     if (p.indexCount) mIndices.release(p.firstIndex, p.indexCount);
+  }
+  if (it->second.textured) {
+    mTextures.release(it->second.color);
+    mTextures.release(it->second.normal);
   }
   mResidentBytes -= it->second.bytes;
   mChunks.erase(it);

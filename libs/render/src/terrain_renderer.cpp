@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
@@ -88,8 +89,8 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
   DrawStats stats;
   const glm::dvec3 eye = view.camera.eye;
   const auto spacing = tree.spacing();
-  mDraws.clear();
-  mCommands.clear();
+  // Draws are grouped by the texture arrays they sample: one multi-draw per group.
+  mPending.clear();
   for (const SelectedChunk& s : selection) {
     const GpuChunk* chunk = store.find(s.node);
     if (!chunk) {
@@ -98,18 +99,41 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     }
     ++stats.chunks;
     const ChunkNode& n = tree.node(s.node);
+    const uint32_t cells = uint32_t(tree.chunkCells(n.level));
+    const uint64_t group =
+        chunk->textured ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array : ~uint64_t{0};
     for (const GpuChunkPart& p : chunk->parts) {
       const uint32_t count = style.skirts ? p.indexCount : p.surfaceIndexCount;
       if (count == 0) continue;
-      mDraws.insert(
-          mDraws.end(),
-          {float(n.box.min[0] - eye.x), float(n.box.min[1] - eye.y), float(chunk->zBase - eye.z),
-           s.morph, float(spacing[0]), float(spacing[1]), float(chunk->zStep), float(n.level),
-           std::bit_cast<float>(p.surfaceIndexCount / 3), 0.0f, 0.0f, 0.0f});
+      PendingDraw d;
+      d.group = group;
+      d.colorSize = chunk->color.size;
+      d.normalSize = chunk->normal.size;
+      d.draw = {float(n.box.min[0] - eye.x),
+                float(n.box.min[1] - eye.y),
+                float(chunk->zBase - eye.z),
+                s.morph,
+                float(spacing[0]),
+                float(spacing[1]),
+                float(chunk->zStep),
+                float(n.level),
+                std::bit_cast<float>(p.surfaceIndexCount / 3),
+                std::bit_cast<float>(chunk->color.layer),
+                std::bit_cast<float>(chunk->normal.layer),
+                std::bit_cast<float>(cells)};
       // DrawElementsIndirectCommand: count, instanceCount, firstIndex, baseVertex, baseInstance.
-      mCommands.insert(mCommands.end(), {count, 1u, p.firstIndex, p.baseVertex, 0u});
+      d.command = {count, 1u, p.firstIndex, p.baseVertex, 0u};
+      mPending.push_back(d);
       stats.triangles += count / 3;
     }
+  }
+  std::stable_sort(mPending.begin(), mPending.end(),
+                   [](const PendingDraw& a, const PendingDraw& b) { return a.group < b.group; });
+  mDraws.clear();
+  mCommands.clear();
+  for (const PendingDraw& d : mPending) {
+    mDraws.insert(mDraws.end(), d.draw.begin(), d.draw.end());
+    mCommands.insert(mCommands.end(), d.command.begin(), d.command.end());
   }
   stats.drawCommands = uint32_t(mCommands.size() / 5);
 
@@ -173,20 +197,40 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
   glProgramUniform1f(program, mTerrain.uniformLocation("uHazeDistance"),
                      float(std::max(diagonal, 1.0) * 1.5));
   const GLint wire = mTerrain.uniformLocation("uWire");
-  glProgramUniform1i(program, wire, 0);
-  glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT, nullptr, GLsizei(stats.drawCommands),
-                              0);
-  ++stats.drawCalls;
+  const GLint drawBase = mTerrain.uniformLocation("uDrawBase");
+  const GLint textured = mTerrain.uniformLocation("uTextured");
+  const GLint tileSizes = mTerrain.uniformLocation("uTileSizes");
+  glProgramUniform1i(program, mTerrain.uniformLocation("uColor"), 0);
+  glProgramUniform1i(program, mTerrain.uniformLocation("uNormal"), 1);
+  auto drawGroups = [&](int wireframe) {
+    glProgramUniform1i(program, wire, wireframe);
+    for (size_t first = 0; first < mPending.size();) {
+      size_t last = first;
+      while (last < mPending.size() && mPending[last].group == mPending[first].group) ++last;
+      const PendingDraw& d = mPending[first];
+      const bool hasTexture = d.group != ~uint64_t{0};
+      glProgramUniform1i(program, textured, hasTexture ? 1 : 0);
+      if (hasTexture) {
+        glBindTextureUnit(0, store.textures().arrayTexture(uint32_t(d.group >> 32)));
+        glBindTextureUnit(1, store.textures().arrayTexture(uint32_t(d.group & 0xFFFFFFFFu)));
+        glProgramUniform2f(program, tileSizes, float(d.colorSize), float(d.normalSize));
+      }
+      glProgramUniform1i(program, drawBase, GLint(first));
+      glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT,
+                                  reinterpret_cast<const void*>(first * 5 * sizeof(uint32_t)),
+                                  GLsizei(last - first), 0);
+      ++stats.drawCalls;
+      first = last;
+    }
+  };
+  drawGroups(0);
   if (style.wireframe) {
     // Edges on top of the surface: drawn again as lines, pulled towards the eye a little.
-    glProgramUniform1i(program, wire, 1);
     glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     glEnable(GL_POLYGON_OFFSET_LINE);
     glPolygonOffset(1.0f, 1.0f);
     glDepthFunc(GL_GEQUAL);
-    glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT, nullptr,
-                                GLsizei(stats.drawCommands), 0);
-    ++stats.drawCalls;
+    drawGroups(1);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_POLYGON_OFFSET_LINE);
   }

@@ -40,9 +40,14 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   const auto loadStart = std::chrono::steady_clock::now();
   for (const SelectedChunk& s : mSelected) {
     if (mStore.find(s.node)) continue;
-    auto geometry = mTileset->readChunk(s.node);
-    if (!geometry) return geometry.error();
-    mStore.upload(s.node, *geometry);
+    auto chunk = mTileset->readChunkData(s.node);
+    if (!chunk) return chunk.error();
+    if (mTileset->header().textured() &&
+        (!chunk->texture || !chunk->texture->find(TextureLayerKind::kColor) ||
+         !chunk->texture->find(TextureLayerKind::kNormal)))
+      return makeError(mTileset->name(),
+                       "chunk " + std::to_string(s.node) + " lacks its colour or normal texture");
+    mStore.upload(s.node, chunk->geometry, chunk->texture ? &*chunk->texture : nullptr);
     ++stats.loads;
   }
   stats.loadMilliseconds = secondsSince(loadStart) * 1e3;

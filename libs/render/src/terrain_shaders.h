@@ -13,40 +13,53 @@ layout(location = 1) in int aMorphDelta;
 struct Draw {
   vec4 origin;  // chunk corner relative to the eye (z: zBase - eye z), w: morph parameter t
   vec4 scale;   // spacing x, spacing y, zStep, level
-  uvec4 counts; // x: surface triangles (skirt triangles follow them)
+  uvec4 counts; // x: surface triangles (skirt triangles follow them), y: colour layer,
+                // z: normal layer, w: chunk side in cells
 };
 layout(std430, binding = 0) readonly buffer Draws { Draw draws[]; };
 uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
+uniform int uDrawBase;  // this call's first entry in draws[]
 out vec3 vRelative;
 out float vHeight;
+out vec2 vChunkUv;  // 0..1 across the chunk's square
 flat out float vLevel;
 flat out float vMorph;
 flat out uint vSurfaceTriangles;
+flat out uvec2 vLayers;
 void main() {
-  Draw d = draws[gl_DrawIDARB];
+  Draw d = draws[uDrawBase + gl_DrawIDARB];
   float steps = float(aGrid.z) + d.origin.w * float(aMorphDelta);
   vec3 p = d.origin.xyz + vec3(float(aGrid.x) * d.scale.x, float(aGrid.y) * d.scale.y,
                                steps * d.scale.z);
   vRelative = p;
   vHeight = p.z + uEyeHeight;
+  vChunkUv = vec2(aGrid.xy) / float(d.counts.w);
   vLevel = d.scale.w;
   vMorph = d.origin.w;
   vSurfaceTriangles = d.counts.x;
+  vLayers = d.counts.yz;
   gl_Position = uViewProjection * vec4(p, 1.0);
 }
 )";
 
-// Normals come from the drawn (morphed) surface itself, one per triangle. The surface is
-// continuous through every split and merge, so its lighting is too: nothing jumps when the
-// level of detail changes. (Normal maps from the full-resolution heightfield come with the
-// texture quadtree.)
+// Textured tilesets: colour and normal per pixel from the chunk's tiles (the normal map comes
+// from the full-resolution heightfield, so lighting does not change when geometry changes
+// level). Tilesets without textures: normals from the drawn (morphed) surface itself, one per
+// triangle, continuous through every split and merge because the surface is.
+// Tile texel i of n lies at i / (n - 1) of the chunk's side (edge-aligned).
 inline constexpr const char* kTerrainFragment = R"(#version 450 core
 in vec3 vRelative;
 in float vHeight;
+in vec2 vChunkUv;
 flat in float vLevel;
 flat in float vMorph;
 flat in uint vSurfaceTriangles;
+flat in uvec2 vLayers;
+uniform int uTextured;
+uniform sampler2DArray uColor;   // unit 0
+uniform sampler2DArray uNormal;  // unit 1
+uniform vec2 uTileSizes;         // colour, normal texels per side
 uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
 uniform int uWire;         // 1: the wireframe overlay pass
 uniform vec3 uSun;         // unit vector towards the sun
@@ -75,15 +88,25 @@ void main() {
     fragColor = vec4(0.05, 0.05, 0.05, 1.0);
     return;
   }
-  vec3 n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));
-  if (n.z < 0.0) n = -n;
-  // A skirt shows only where it fills a crack between chunks: light it like level ground so
-  // the filled crack does not stand out as a dark seam.
-  if (uint(gl_PrimitiveID) >= vSurfaceTriangles) n = vec3(0.0, 0.0, 1.0);
-  float range = max(uHeightRange.y - uHeightRange.x, 1e-3);
-  vec3 base = hypsometric(clamp((vHeight - uHeightRange.x) / range, 0.0, 1.0));
-  // Steep slopes show bare rock whatever their height.
-  base = mix(base, vec3(0.45, 0.41, 0.38), smoothstep(0.55, 0.85, 1.0 - n.z));
+  vec3 n;
+  vec3 base;
+  if (uTextured == 1) {
+    vec2 uvColor = (0.5 + vChunkUv * (uTileSizes.x - 1.0)) / uTileSizes.x;
+    vec2 uvNormal = (0.5 + vChunkUv * (uTileSizes.y - 1.0)) / uTileSizes.y;
+    base = pow(texture(uColor, vec3(uvColor, float(vLayers.x))).rgb, vec3(2.2));
+    vec2 xy = texture(uNormal, vec3(uvNormal, float(vLayers.y))).rg * 2.0 - 1.0;
+    n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
+  } else {
+    n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));
+    if (n.z < 0.0) n = -n;
+    // A skirt shows only where it fills a crack between chunks: light it like level ground
+    // so the filled crack does not stand out as a dark seam.
+    if (uint(gl_PrimitiveID) >= vSurfaceTriangles) n = vec3(0.0, 0.0, 1.0);
+    float range = max(uHeightRange.y - uHeightRange.x, 1e-3);
+    base = hypsometric(clamp((vHeight - uHeightRange.x) / range, 0.0, 1.0));
+    // Steep slopes show bare rock whatever their height.
+    base = mix(base, vec3(0.45, 0.41, 0.38), smoothstep(0.55, 0.85, 1.0 - n.z));
+  }
   if (uColorBy == 1) base = levelColor(vLevel);
   if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), vMorph);
   float diffuse = max(dot(n, uSun), 0.0);

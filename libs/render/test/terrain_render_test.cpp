@@ -25,6 +25,7 @@ class TerrainRender : public ::testing::Test {
     options.input = test::testData("crater_lake_0513.bt");
     options.output = sDir->file("crater.tlod");
     options.maxError = 0.5;
+    options.textures = false;  // lit from the geometry (textured views: textured_render_test)
     NullProgress progress;
     auto built = buildTileset(options, progress, [](const std::string&) {});
     ASSERT_TRUE(built.ok()) << built.error().message;

@@ -30,6 +30,7 @@ ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> no
   mExtent.min = header.extentMin;
   mExtent.max = header.extentMax;
   mSpacing = {header.spacingX, header.spacingY};
+  mRootCells = int32_t(header.rootCells);
 }
 
 }  // namespace terralod

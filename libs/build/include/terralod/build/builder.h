@@ -31,6 +31,9 @@ struct BuildOptions {
   int compressionLevel = kDefaultChunkCompressionLevel;  ///< zstd level for chunk blobs
   Streaming streaming = Streaming::kAuto;
   int32_t blockCells = 512;  ///< side of the blocks both passes work in
+  bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
+  std::string textureImage;  ///< draped image; empty: the generated colour
+  double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
 };
 
 struct BuildSummary {
@@ -46,6 +49,8 @@ struct BuildSummary {
   int errorPasses = 0;    ///< 2 when the streamed height range estimate was too small
   double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
   uint64_t trianglesScanned = 0, trianglesBounded = 0;
+  uint64_t textureBytes = 0;   ///< texture blobs over all chunks
+  uint32_t textureRefine = 0;  ///< draped image texels per DEM cell (0: generated colour)
 };
 
 /// Builds `options.output` from `options.input`. Warnings (e.g. assumed spacing) go to `warn`.

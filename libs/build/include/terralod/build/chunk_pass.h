@@ -13,6 +13,7 @@
 #include "terralod/build/error_budget.h"
 #include "terralod/build/height_source.h"
 #include "terralod/build/sparse_heights.h"
+#include "terralod/build/texture_pass.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/progress.h"
 #include "terralod/format/chunk_codec.h"
@@ -25,12 +26,14 @@ struct ChunkPassOptions {
   int32_t blockCells = 512;
   unsigned threads = 1;
   int compressionLevel = kDefaultChunkCompressionLevel;
+  const TextureBuild* textures = nullptr;  ///< null: geometry only
 };
 
 /// Breadth-first node list of the tree (roots row-major, children SW, SE, NW, NE).
 std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout);
 
-/// Builds every node's chunk and appends its blob to `writer`, filling in the node records.
+/// Builds every node's chunk and appends its blob to `writer` (with its texture blob right
+/// after it when `options.textures` is set), filling in the node records.
 /// Exactly one of `allHeights` (in-memory raster) and `sparse` (streamed raster, recorded
 /// into during this pass) is non-null; `windows` serves the blocks in the streamed case.
 Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const ActivationGrid& grid,

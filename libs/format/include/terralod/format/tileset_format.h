@@ -1,6 +1,8 @@
 #pragma once
-// The terralod tileset file, version 1. docs/format.md is the normative description; this
-// header mirrors it. Little-endian throughout.
+// The terralod tileset file, versions 1 and 2. docs/format.md is the normative description;
+// this header mirrors it. Little-endian throughout. Version 2 adds per-chunk textures (a
+// texture blob right after each chunk's geometry blob); files without textures are written
+// as version 1, byte for byte as before.
 //
 //   [0, 512)            header (fixed size, CRC-protected)
 //   [512, ...)          chunk blobs, each readable with one read at a known offset
@@ -18,7 +20,8 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 1;
+inline constexpr uint32_t kTilesetVersion = 2;  ///< the newest version this code reads
+inline constexpr uint32_t kTilesetVersionUntextured = 1;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;
 inline constexpr int kMaxLevels = 16;
@@ -30,8 +33,13 @@ enum class MeshKind : uint8_t {
   kStaticRtin = 1,  ///< static RTIN mesh with per-vertex morph deltas and skirts
 };
 
+/// TilesetHeader::flags (version 2).
+inline constexpr uint32_t kTilesetTextured = 1u;  ///< every node has a texture blob
+/// NodeRecord::flags (version 2).
+inline constexpr uint8_t kNodeHasTexture = 1u;
+
 struct TilesetHeader {
-  uint32_t version = kTilesetVersion;
+  uint32_t version = kTilesetVersionUntextured;
   uint32_t flags = 0;
   MeshKind meshKind = MeshKind::kStaticRtin;
   uint32_t levelCount = 0;
@@ -50,6 +58,9 @@ struct TilesetHeader {
   uint32_t nodeTableCrc = 0, metadataCrc = 0;
   double leafError = 0.0;      ///< --max-error the tileset was built with
   double verticalScale = 1.0;  ///< applied to source heights
+  double textureMinTau = 0.0;  ///< version 2, textured: the τ textures were sized for (eq. 7)
+
+  bool textured() const { return (flags & kTilesetTextured) != 0; }
 
   int32_t depth() const { return int32_t(levelCount) - 1; }
   int32_t chunkCells(int32_t level) const { return int32_t(rootCells >> level); }
@@ -75,6 +86,9 @@ struct NodeRecord {
   uint32_t blobBytes = 0;
   uint32_t blobCrc = 0;  ///< CRC-32 of the stored blob bytes
   float maxSkirtDepth = 0;
+  uint32_t textureBytes = 0;  ///< version 2: texture blob length, at blobOffset + blobBytes
+
+  bool hasTexture() const { return (flags & kNodeHasTexture) != 0; }
 };
 
 /// CRC-32 (zlib polynomial) of a byte range.
@@ -85,7 +99,8 @@ std::vector<uint8_t> serializeHeader(const TilesetHeader& header);
 Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::string& subject);
 
 void serializeNode(const NodeRecord& node, uint8_t* out);
-NodeRecord parseNode(const uint8_t* in);
+/// `version` is the file's: fields a version reserves are not read.
+NodeRecord parseNode(const uint8_t* in, uint32_t version);
 
 /// Checks the node table's structure: levels, parent/child links, ranges inside the file.
 Status validateNodes(const TilesetHeader& header, const std::vector<NodeRecord>& nodes,

@@ -3,14 +3,23 @@
 // chunk blobs are read on demand, one read each, and checked against their CRC before decoding.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "terralod/format/byte_source.h"
 #include "terralod/format/chunk_codec.h"
+#include "terralod/format/texture_codec.h"
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {
+
+/// Everything stored for one chunk.
+struct ChunkData {
+  ChunkGeometry geometry;
+  std::optional<ChunkTexture> texture;  ///< textured (version 2) tilesets
+  uint64_t bytesRead = 0;               ///< stored bytes read for it
+};
 
 class TilesetReader {
  public:
@@ -27,8 +36,10 @@ class TilesetReader {
 
   /// The stored bytes of a chunk, CRC-checked. Thread-safe.
   Result<std::vector<uint8_t>> readBlob(uint32_t node) const;
-  /// Reads and decodes a chunk. Thread-safe.
+  /// Reads and decodes a chunk's geometry. Thread-safe.
   Result<ChunkGeometry> readChunk(uint32_t node) const;
+  /// Reads geometry and texture with one read, checks both checksums, decodes. Thread-safe.
+  Result<ChunkData> readChunkData(uint32_t node) const;
 
  private:
   TilesetReader() = default;

@@ -2,7 +2,8 @@
 // Chunk geometry on the GPU. Every chunk lives in one shared vertex buffer and one shared
 // 16-bit index buffer, so that a frame's chunks draw with a single multi-draw call; ranges are
 // carved by first-fit allocators and the buffers grow (by copying on the GPU) when full.
-// Render thread only: create, use and destroy it where its GlContext is current.
+// Textures go to per-size array textures (TextureArrays). Render thread only: create, use and
+// destroy it where its GlContext is current.
 
 #include <cstdint>
 #include <unordered_map>
@@ -10,7 +11,9 @@
 
 #include "terralod/core/result.h"
 #include "terralod/format/chunk_codec.h"
+#include "terralod/format/texture_codec.h"
 #include "terralod/render/range_allocator.h"
+#include "terralod/render/texture_arrays.h"
 
 namespace terralod {
 
@@ -26,7 +29,9 @@ struct GpuChunkPart {
 struct GpuChunk {
   double zBase = 0.0, zStep = 1.0;
   std::vector<GpuChunkPart> parts;
-  uint64_t bytes = 0;  ///< GPU memory it takes
+  bool textured = false;
+  TextureSlot color, normal;  ///< when textured
+  uint64_t bytes = 0;         ///< GPU memory it takes (geometry and textures)
 };
 
 class GpuChunkStore {
@@ -37,8 +42,9 @@ class GpuChunkStore {
   GpuChunkStore(const GpuChunkStore&) = delete;
   GpuChunkStore& operator=(const GpuChunkStore&) = delete;
 
-  /// Copies a decoded chunk to the GPU under `node` (replacing what was there).
-  void upload(uint32_t node, const ChunkGeometry& geometry);
+  /// Copies a decoded chunk to the GPU under `node` (replacing what was there). A texture
+  /// must have a colour and a normal layer.
+  void upload(uint32_t node, const ChunkGeometry& geometry, const ChunkTexture* texture = nullptr);
   /// Frees a chunk's GPU memory; nothing happens if it is not there.
   void release(uint32_t node);
   /// The chunk uploaded under `node`, or nullptr.
@@ -46,6 +52,7 @@ class GpuChunkStore {
 
   uint32_t vertexBuffer() const { return mVertexBuffer; }
   uint32_t indexBuffer() const { return mIndexBuffer; }
+  const TextureArrays& textures() const { return mTextures; }
   /// GPU bytes held by chunks (not the buffers' spare room).
   uint64_t residentBytes() const { return mResidentBytes; }
   size_t chunkCount() const { return mChunks.size(); }
@@ -55,6 +62,7 @@ class GpuChunkStore {
 
   uint32_t mVertexBuffer = 0, mIndexBuffer = 0;
   RangeAllocator mVertices, mIndices;
+  TextureArrays mTextures;
   std::unordered_map<uint32_t, GpuChunk> mChunks;
   uint64_t mResidentBytes = 0;
 };

@@ -1,8 +1,8 @@
 #pragma once
-// Draws a selection of chunks: one multi-draw-indirect call for all of them (gl_DrawIDARB picks
-// each draw's placement), the morph in the vertex shader, skirts on or off, shaded relief or
-// diagnostic colours, a sky behind. Render thread only; create and destroy it where its
-// GlContext is current.
+// Draws a selection of chunks: one multi-draw-indirect call per texture array pair (a few per
+// frame; gl_DrawIDARB picks each draw's placement), the morph in the vertex shader, skirts on or
+// off, shaded relief or diagnostic colours, a sky behind. Render thread only; create and destroy it
+// where its GlContext is current.
 
 #include <array>
 #include <cstdint>
@@ -61,6 +61,13 @@ class TerrainRenderer {
   uint64_t mDrawBufferBytes = 0, mIndirectBufferBytes = 0;
   uint32_t mBoundVertexBuffer = 0;
   // Per-frame staging, kept to avoid allocating once they are big enough.
+  struct PendingDraw {
+    uint64_t group = 0;  // colour array << 32 | normal array; all ones: untextured
+    uint32_t colorSize = 0, normalSize = 0;
+    std::array<float, 12> draw{};
+    std::array<uint32_t, 5> command{};
+  };
+  std::vector<PendingDraw> mPending;
   std::vector<float> mDraws;
   std::vector<uint32_t> mCommands;
 };

@@ -45,11 +45,14 @@ class ChunkTree {
   const Box& extent() const { return mExtent; }
   /// Metres per grid cell along x (east) and y (north).
   const std::array<double, 2>& spacing() const { return mSpacing; }
+  /// Side of a chunk's square at a level, in grid cells (its texture spans this square).
+  int32_t chunkCells(int level) const { return mRootCells >> level; }
 
  private:
   std::vector<ChunkNode> mNodes;
   std::vector<double> mLevelError;
   uint32_t mRootCount = 0;
+  int32_t mRootCells = 0;
   Box mExtent;
   std::array<double, 2> mSpacing{1.0, 1.0};
 };

@@ -1,0 +1,41 @@
+#pragma once
+// Square tiles of float texels while a chunk's texture is built, and the two resampling steps
+// of the texture quadtree. Placement is edge-aligned: texel i of n lies at i / (n - 1) of the
+// side, so a tile's outermost rows and columns lie on the chunk's border.
+//
+// Resampling keeps borders shared: a border row (or column) of the result is computed from
+// the source's border row alone. Two neighbouring chunks whose border texels agree therefore
+// still agree after any resampling (mips, parents): no seams, at any level, at any mip.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace terralod {
+
+struct TexelTile {
+  uint32_t size = 0;      ///< texels per side
+  uint32_t channels = 0;  ///< interleaved
+  std::vector<float> values;
+
+  TexelTile() = default;
+  TexelTile(uint32_t side, uint32_t channelCount)
+      : size(side), channels(channelCount), values(size_t(side) * side * channelCount, 0.0f) {}
+  float* at(uint32_t x, uint32_t y) { return values.data() + (size_t(y) * size + x) * channels; }
+  const float* at(uint32_t x, uint32_t y) const {
+    return values.data() + (size_t(y) * size + x) * channels;
+  }
+};
+
+/// `source` resampled to `size` texels per side: a tent filter as wide as the step (so
+/// downsampling averages, upsampling interpolates), borders from borders only.
+TexelTile resampleTile(const TexelTile& source, uint32_t size);
+
+/// The four children's tiles (SW, SE, NW, NE; nullptr where a child does not exist) side by
+/// side as one tile of 2n - 1 texels (neighbours share their border texels). A missing
+/// child's quadrant repeats the nearest existing texels. At least one child must exist, and
+/// the existing ones must have the same size and channels.
+TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children);
+
+}  // namespace terralod

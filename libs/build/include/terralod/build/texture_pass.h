@@ -1,0 +1,62 @@
+#pragma once
+// The texture quadtree, built alongside the chunk meshes: leaf chunks get their colour and
+// normal tiles from the full-resolution heights (and draped image) of their block, every other
+// chunk from its four children's tiles (so the whole pyramid is built from the full-resolution
+// data with one pass over it). Tile sizes follow the TexturePlan.
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include "terralod/build/height_source.h"
+#include "terralod/build/surface_texels.h"
+#include "terralod/build/texel_tile.h"
+#include "terralod/build/texture_plan.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/core/result.h"
+#include "terralod/format/tileset_format.h"
+
+namespace terralod {
+
+class ImageDrape;
+
+struct TextureBuild {
+  std::vector<TextureLevel> plan;  ///< per level, root first
+  SurfaceTexelOptions surface;
+  const ImageDrape* image = nullptr;  ///< null: the generated colour
+};
+
+struct ChunkTiles {
+  TexelTile color, normal;
+};
+
+class TexturePass {
+ public:
+  TexturePass(const TreeLayout& layout, const TextureBuild& build,
+              const std::vector<NodeRecord>& nodes, unsigned threads);
+  ~TexturePass();
+  /// Opens the per-thread image readers.
+  Status open();
+
+  /// Tiles of `root` and every node below it, bottom-up, for the block whose square is
+  /// `root`'s. Each node's texture blob is appended to `blobs`; `root`'s tiles are returned
+  /// for its ancestors.
+  Result<ChunkTiles> buildBlock(uint32_t root, HeightWindows& heights, unsigned worker,
+                                std::vector<std::pair<uint32_t, std::vector<uint8_t>>>& blobs);
+
+  /// Tiles of a node from its children's (entries null where a child does not exist).
+  ChunkTiles fromChildren(uint32_t node, const std::array<const ChunkTiles*, 4>& children) const;
+  /// The stored texture blob of a node's tiles.
+  std::vector<uint8_t> encode(uint32_t node, const ChunkTiles& tiles) const;
+
+ private:
+  const TreeLayout& mLayout;
+  const TextureBuild& mBuild;
+  const std::vector<NodeRecord>& mNodes;
+  std::vector<std::unique_ptr<ImageDrape>> mImages;  // per worker
+  std::vector<std::unique_ptr<BlockTexels>> mTexels;
+};
+
+}  // namespace terralod

@@ -1,0 +1,115 @@
+#include "terralod/build/texel_tile.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <cstring>
+
+namespace terralod {
+namespace {
+
+// Filter taps of one output texel along one axis.
+struct Taps {
+  uint32_t first = 0;
+  std::vector<float> weights;
+};
+
+std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
+  std::vector<Taps> taps(to);
+  const double step = double(from - 1) / double(to - 1);
+  const double radius = std::max(1.0, step);
+  for (uint32_t k = 0; k < to; ++k) {
+    Taps& t = taps[k];
+    if (k == 0 || k == to - 1) {
+      t.first = k == 0 ? 0 : from - 1;
+      t.weights = {1.0f};
+      continue;
+    }
+    const double centre = k * step;
+    const int64_t lo = std::max<int64_t>(0, int64_t(std::floor(centre - radius)) + 1);
+    const int64_t hi = std::min<int64_t>(from - 1, int64_t(std::ceil(centre + radius)) - 1);
+    double sum = 0;
+    t.first = uint32_t(lo);
+    for (int64_t j = lo; j <= hi; ++j) {
+      const double w = 1.0 - std::abs(double(j) - centre) / radius;
+      t.weights.push_back(float(std::max(0.0, w)));
+      sum += std::max(0.0, w);
+    }
+    if (t.weights.empty()) {  // centre on a texel with radius 1: that texel
+      t.first = uint32_t(std::lround(centre));
+      t.weights = {1.0f};
+      sum = 1;
+    }
+    for (float& w : t.weights) w = float(w / sum);
+  }
+  return taps;
+}
+
+}  // namespace
+
+TexelTile resampleTile(const TexelTile& source, uint32_t size) {
+  assert(source.size >= 2 && size >= 2);
+  if (size == source.size) return source;
+  const uint32_t c = source.channels;
+  const std::vector<Taps> taps = makeTaps(source.size, size);
+  // Rows first (source rows, output columns), then columns.
+  TexelTile rows(0, c);
+  rows.size = size;
+  rows.values.assign(size_t(source.size) * size * c, 0.0f);
+  for (uint32_t y = 0; y < source.size; ++y)
+    for (uint32_t x = 0; x < size; ++x) {
+      float* out = rows.values.data() + (size_t(y) * size + x) * c;
+      const Taps& t = taps[x];
+      for (size_t i = 0; i < t.weights.size(); ++i) {
+        const float* in = source.at(t.first + uint32_t(i), y);
+        for (uint32_t ch = 0; ch < c; ++ch) out[ch] += t.weights[i] * in[ch];
+      }
+    }
+  TexelTile result(size, c);
+  for (uint32_t y = 0; y < size; ++y) {
+    const Taps& t = taps[y];
+    float* out = result.at(0, y);
+    for (size_t i = 0; i < t.weights.size(); ++i) {
+      const float* in = rows.values.data() + size_t(t.first + i) * size * c;
+      const float w = t.weights[i];
+      for (size_t k = 0; k < size_t(size) * c; ++k) out[k] += w * in[k];
+    }
+  }
+  return result;
+}
+
+TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
+  const TexelTile* any = nullptr;
+  for (const TexelTile* t : children)
+    if (t) any = t;
+  assert(any);
+  const uint32_t n = any->size, c = any->channels, m = 2 * n - 1;
+  TexelTile result(m, c);
+  std::vector<uint8_t> filled(size_t(m) * m, 0);
+  for (int q = 0; q < 4; ++q) {
+    const TexelTile* t = children[size_t(q)];
+    if (!t) continue;
+    assert(t->size == n && t->channels == c);
+    const uint32_t ox = (q & 1) * (n - 1), oy = (q >> 1) * (n - 1);
+    for (uint32_t y = 0; y < n; ++y) {
+      std::memcpy(result.at(ox, oy + y), t->at(0, y), sizeof(float) * n * c);
+      std::fill_n(filled.begin() + std::ptrdiff_t(size_t(oy + y) * m + ox), n, uint8_t(1));
+    }
+  }
+  // Missing quadrants lie east or north of existing ones (chunks exist from the south-west):
+  // extend rows eastwards, then whole rows northwards.
+  for (uint32_t y = 0; y < m; ++y) {
+    const uint8_t* f = filled.data() + size_t(y) * m;
+    if (!f[0]) continue;
+    for (uint32_t x = 1; x < m; ++x)
+      if (!f[x]) std::memcpy(result.at(x, y), result.at(x - 1, y), sizeof(float) * c);
+    std::fill_n(filled.begin() + std::ptrdiff_t(size_t(y) * m), m, uint8_t(1));
+  }
+  for (uint32_t y = 1; y < m; ++y)
+    if (!filled[size_t(y) * m])
+      std::memcpy(result.at(0, y), result.at(0, y - 1), sizeof(float) * m * c);
+  return result;
+}
+
+}  // namespace terralod
