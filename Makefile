@@ -1,5 +1,6 @@
 # terralod — the two commands that do everything on a fresh Debian 12 machine:
-#   make demo   install dependencies, build, turn the bundled default DEM into a tileset, describe,
+#   make demo   install dependencies, build, turn the bundled default DEM (with its Landsat image
+#               draped over it) into a tileset, describe,
 #               verify and render it (an overview and the first frames of the automatic flight),
 #               then benchmark part of the flight against the source
 #   make test   install dependencies, build, run every test
@@ -7,6 +8,7 @@ PRESET ?= release
 BUILD_DIR := build/$(PRESET)
 TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
 DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
+DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
 .PHONY: all deps configure build demo test format check-format clean
@@ -24,7 +26,7 @@ build: configure
 
 demo: build
 	mkdir -p $(DEMO_DIR)
-	$(TERRALOD) build $(DEMO_DEM) -o $(DEMO_DIR)/zion.tlod
+	$(TERRALOD) build $(DEMO_DEM) --texture $(DEMO_IMAGE) -o $(DEMO_DIR)/zion.tlod
 	$(TERRALOD) info $(DEMO_DIR)/zion.tlod
 	$(TERRALOD) verify $(DEMO_DIR)/zion.tlod --source $(DEMO_DEM)
 	$(TERRALOD) render $(DEMO_DIR)/zion.tlod -o $(DEMO_DIR)/zion.png

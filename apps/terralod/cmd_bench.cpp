@@ -16,6 +16,7 @@
 #include "terralod/render/gl_context.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/verify/verifier.h"
+#include "texture_metrics.h"
 
 namespace terralod::cli {
 namespace {
@@ -79,7 +80,12 @@ int runBench(const BenchCommand& b) {
   holeStyle.sky = false;
 
   std::vector<double> selectUs, frameMs, triangles, draws, chunks;
-  double maxError = 0.0, maxPop = 0.0;
+  double maxError = 0.0, maxPop = 0.0, uploadMsMax = 0.0, loadMsMax = 0.0;
+  double imagePopMax = 0.0, imagePopSum = 0.0;
+  uint64_t imagePopFrames = 0;
+  TexelDensity texels;
+  std::vector<SelectedChunk> previousNow;
+  std::optional<Framebuffer> popTarget;
   uint64_t holes = 0, loads = 0;
   std::vector<SelectedChunk> previous, current;
   std::optional<Framebuffer> target, lookDown;
@@ -98,9 +104,30 @@ int runBench(const BenchCommand& b) {
     draws.push_back(double(frame->draw.drawCalls));
     chunks.push_back(double(frame->selection.selected));
     loads += frame->loads;
+    uploadMsMax = std::max(uploadMsMax, frame->uploadMilliseconds);
+    loadMsMax = std::max(loadMsMax, frame->loadMilliseconds);
+    addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), texels);
     if (!metrics) continue;
 
     current = scene.selected();
+    if (i > 0 && selectionsDiffer(previous, current)) {
+      // The picture's change from LOD alone: last frame's chunks and this frame's, both
+      // morphed for this camera, rendered from it.
+      previousNow = previous;
+      for (SelectedChunk& c : previousNow)
+        c.morph = morphParameter(scene.tree(), *view, *selection, c.node);
+      if (Status s = bindFramebufferOfSize(popTarget, view->camera.width, view->camera.height); !s)
+        return fail(s.error().message);
+      auto before = scene.drawChunks(*view, previousNow, *style);
+      if (!before) return fail(before.error().message);
+      const Image beforeImage = popTarget->readPixels();
+      auto after = scene.drawChunks(*view, current, *style);
+      if (!after) return fail(after.error().message);
+      const double change = meanAbsoluteDifference(beforeImage, popTarget->readPixels());
+      imagePopMax = std::max(imagePopMax, change);
+      imagePopSum += change;
+      ++imagePopFrames;
+    }
     auto error = metrics->maxErrorPixels(*view, current);
     if (!error) return fail(error.error().message);
     maxError = std::max(maxError, *error);
@@ -139,6 +166,11 @@ int runBench(const BenchCommand& b) {
   j["draws_p50"] = percentile(draws, 0.5);
   j["chunks_p50"] = percentile(chunks, 0.5);
   j["loads"] = loads;
+  j["upload_ms_max"] = uploadMsMax;
+  j["load_ms_max"] = loadMsMax;
+  j["textured"] = scene.tileset().header().textured();
+  if (texels.any) j["max_texel_per_px"] = texels.max;
+  if (texels.anySourceLimited) j["max_texel_per_px_source_limited"] = texels.sourceLimitedMax;
   j["gpu_mb"] = double(scene.gpuBytes()) / 1e6;
   if (metrics) {
     j["source"] = b.source;
@@ -146,6 +178,11 @@ int runBench(const BenchCommand& b) {
     j["max_error_px"] = maxError;
     j["max_pop_px"] = maxPop;
     j["holes_total"] = holes;
+    // 8-bit units: the largest per-frame mean absolute pixel change from LOD alone, and its
+    // average over the frames whose selection changed.
+    j["image_pop_mean"] = imagePopMax;
+    j["image_pop_mean_avg"] = imagePopFrames ? imagePopSum / double(imagePopFrames) : 0.0;
+    j["image_pop_frames"] = imagePopFrames;
   }
   const std::string text = j.dump(2) + "\n";
   if (Status s = output->write(text); !s) return fail(s.error().message);
@@ -156,9 +193,10 @@ int runBench(const BenchCommand& b) {
       cameras->size(), selection->tau, j["frame_ms_p50"].get<double>(),
       j["frame_ms_p99"].get<double>(), j["select_us_p50"].get<double>(),
       j["triangles_p50"].get<double>(), j["draws_p50"].get<double>());
+  if (texels.any) std::printf("; %.2f px per texel max", texels.max);
   if (metrics)
-    std::printf("; max error %.3f px, max pop %.3f px, %llu holes", maxError, maxPop,
-                (unsigned long long)holes);
+    std::printf("; max error %.3f px, max pop %.3f px, %llu holes, image pop %.3f/255", maxError,
+                maxPop, (unsigned long long)holes, imagePopMax);
   std::printf("\nterralod: wrote %s\n", b.jsonPath.c_str());
   return 0;
 }

@@ -29,6 +29,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_option("--color-by", o.colorBy, "Surface colour: relief, level (chunk level) or morph")
       ->capture_default_str()
       ->check(CLI::IsMember({"relief", "level", "morph"}));
+  c.add_option("--sun", o.sun,
+               "Sun direction AZ,EL in degrees: azimuth clockwise from north, elevation above "
+               "the horizon (default 315,40)")
+      ->delimiter(',')
+      ->expected(2);
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");
@@ -53,6 +58,13 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.background = *background;
   style.wireframe = o.wireframe;
   style.skirts = !o.noSkirts;
+  if (!o.sun.empty()) {
+    if (o.sun.size() != 2 || !std::isfinite(o.sun[0]) || !std::isfinite(o.sun[1]) ||
+        o.sun[1] < -90 || o.sun[1] > 90)
+      return Error{"--sun must be AZ,EL in degrees with the elevation in [-90, 90]"};
+    style.sunAzimuthDegrees = o.sun[0];
+    style.sunElevationDegrees = o.sun[1];
+  }
   style.colorBy = o.colorBy == "level"   ? ColorBy::kLevel
                   : o.colorBy == "morph" ? ColorBy::kMorph
                                          : ColorBy::kRelief;

@@ -23,6 +23,7 @@ struct RenderOptions {
   std::string background = "9CC3E6";
   bool wireframe = false, noMorph = false, noSkirts = false;
   std::string colorBy = "relief";
+  std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   std::string flightFile;
   bool autoFlight = false;
   bool climbOnly = false;  ///< with autoFlight: only its climb

@@ -153,6 +153,40 @@ TEST_F(BadInputs, SynthRefusesBadRequestsCleanly) {
   }
 }
 
+TEST_F(BadInputs, BuildRefusesBadTextureImagesCleanly) {
+  const std::string d = mDir.path().string();
+  const std::string dem = testData("zion_srtm3_utm12_30m.tif"), out = d + "/t.tlod";
+  {
+    std::ofstream junk(d + "/junk.tif", std::ios::binary);
+    for (int i = 0; i < 4096; ++i) junk.put(char((i * 7919) % 251));
+  }
+  // A raster in a local (engineering) CRS: no transformation to UTM exists.
+  ASSERT_EQ(runTerralod({"synth", "--size", "65", "-o", d + "/local.tif"}).exitCode, 0);
+  auto texture = [&](const std::string& image) {
+    return std::vector<std::string>{"build", dem, "--texture", image, "-o", out};
+  };
+  const std::vector<BadCase> cases = {
+      {"missing image", texture(d + "/none.tif"), d + "/none.tif: no such file"},
+      {"corrupt image", texture(d + "/junk.tif"), d + "/junk.tif: cannot be read as an image"},
+      {"no georeferencing", texture(testData("loadersgl_terrarium_256.png")),
+       "loadersgl_terrarium_256.png: has no georeferencing, so it cannot be placed on the DEM"},
+      {"no overlap", texture(testData("N43W123.hgt")),
+       "N43W123.hgt: does not overlap the DEM zion_srtm3_utm12_30m.tif"},
+      {"no transformation", texture(d + "/local.tif"),
+       "local.tif: cannot be transformed from its coordinate system to the DEM's"},
+      {"contradiction",
+       {"build", dem, "--texture", d + "/local.tif", "--no-texture", "-o", out},
+       "--texture and --no-texture contradict each other"},
+      {"min tau", {"build", dem, "--min-tau", "0", "-o", out}, "--min-tau"},
+  };
+  const std::vector<std::string> before = filesIn(mDir.path());
+  for (const BadCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    expectOneErrorLine(runTerralod(c.args), c.expected);
+    EXPECT_EQ(filesIn(mDir.path()), before) << "partial output left behind";
+  }
+}
+
 TEST_F(BadInputs, RenderRefusesBadRequestsCleanly) {
   const std::string d = mDir.path().string();
   const std::string good = d + "/good.tlod", out = d + "/out.png";
@@ -177,6 +211,7 @@ TEST_F(BadInputs, RenderRefusesBadRequestsCleanly) {
        {"render", good, "--flight", d + "/short.json", "--frames-dir", d},
        "short.json: flight needs \"keyframes\": an array of at least two"},
       {"bad colour", {"render", good, "-o", out, "--background", "blue"}, "--background must be"},
+      {"sun below", {"render", good, "-o", out, "--sun", "10,-95"}, "--sun must be AZ,EL"},
       {"no EGL display", {"render", good, "-o", out}, "no EGL display available"},
   };
   const std::vector<std::string> before = filesIn(mDir.path());

@@ -79,6 +79,11 @@ TexelTile resampleTile(const TexelTile& source, uint32_t size) {
   return result;
 }
 
+TexelTile resampleTile(TexelTile&& source, uint32_t size) {
+  if (size == source.size) return std::move(source);
+  return resampleTile(static_cast<const TexelTile&>(source), size);
+}
+
 TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
   const TexelTile* any = nullptr;
   for (const TexelTile* t : children)

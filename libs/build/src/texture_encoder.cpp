@@ -12,7 +12,9 @@
 namespace terralod {
 namespace {
 
-uint8_t toByte(float v) { return uint8_t(std::clamp(std::lround(v * 255.0f), 0L, 255L)); }
+uint8_t toByte(float v) {
+  return uint8_t(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
+}
 
 // Encodes one mip level block by block; texels past the edge repeat the last row/column.
 template <typename Block>
@@ -24,8 +26,8 @@ std::vector<uint8_t> encodeBlocks(const TexelTile& tile, size_t blockBytes, Bloc
       const float* texels[16];
       for (uint32_t j = 0; j < 4; ++j)
         for (uint32_t i = 0; i < 4; ++i)
-          texels[j * 4 + i] = tile.at(std::min(bx * 4 + i, tile.size - 1),
-                                      std::min(by * 4 + j, tile.size - 1));
+          texels[j * 4 + i] =
+              tile.at(std::min(bx * 4 + i, tile.size - 1), std::min(by * 4 + j, tile.size - 1));
       block(out.data() + (size_t(by) * blocks + bx) * blockBytes, texels);
     }
   return out;
@@ -39,21 +41,21 @@ TextureLayer encodeLayer(const TexelTile& tile, TextureLayerKind kind, TextureEn
   layer.encoding = encoding;
   layer.flags = flags;
   layer.size = tile.size;
-  TexelTile level = tile;
   const uint32_t mips = mipCount(tile.size);
-  for (uint32_t m = 0; m < mips; ++m) {
-    if (m > 0) {
-      const uint32_t size = mipSize(tile.size, m);
-      if (size >= 2) {
-        level = resampleTile(level, size);
-      } else {  // the 1x1 level: the mean
-        TexelTile one(1, level.channels);
-        for (uint32_t y = 0; y < level.size; ++y)
-          for (uint32_t x = 0; x < level.size; ++x)
-            for (uint32_t c = 0; c < level.channels; ++c)
-              one.values[c] += level.at(x, y)[c] / float(level.size * level.size);
-        level = std::move(one);
-      }
+  layer.mips.push_back(encodeLevel(tile));
+  TexelTile level;
+  for (uint32_t m = 1; m < mips; ++m) {
+    const TexelTile& above = m == 1 ? tile : level;
+    const uint32_t size = mipSize(tile.size, m);
+    if (size >= 2) {
+      level = resampleTile(above, size);
+    } else {  // the 1x1 level: the mean
+      TexelTile one(1, above.channels);
+      for (uint32_t y = 0; y < above.size; ++y)
+        for (uint32_t x = 0; x < above.size; ++x)
+          for (uint32_t c = 0; c < above.channels; ++c)
+            one.values[c] += above.at(x, y)[c] / float(above.size * above.size);
+      level = std::move(one);
     }
     layer.mips.push_back(encodeLevel(level));
   }

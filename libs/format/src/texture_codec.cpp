@@ -15,14 +15,22 @@ constexpr size_t kBlobHeaderBytes = 16;
 constexpr size_t kLayerHeaderBytes = 16;
 constexpr uint32_t kMaxLayers = 4;
 
-uint32_t blockBytes(TextureEncoding e) { return e == TextureEncoding::kBc1 ? 8 : 16; }
+uint32_t blockBytes(TextureEncoding e) {
+  return e == TextureEncoding::kBc1 ? 8 : 16;
+}
 
-bool knownKind(uint8_t k) { return k == 1 || k == 2; }
-bool knownEncoding(uint8_t e) { return e == 1 || e == 2; }
+bool knownKind(uint8_t k) {
+  return k == 1 || k == 2;
+}
+bool knownEncoding(uint8_t e) {
+  return e == 1 || e == 2;
+}
 
 }  // namespace
 
-uint32_t mipCount(uint32_t size) { return size == 0 ? 0 : uint32_t(std::bit_width(size)); }
+uint32_t mipCount(uint32_t size) {
+  return size == 0 ? 0 : uint32_t(std::bit_width(size));
+}
 
 uint64_t mipBytes(TextureEncoding encoding, uint32_t size, uint32_t m) {
   const uint64_t blocks = (mipSize(size, m) + 3) / 4;
@@ -108,7 +116,8 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
     if (offset + bytes > blob.size()) return bad("layer data runs past the end");
     for (uint32_t m = 0; m < mips; ++m) {
       const uint64_t n = mipBytes(layer.encoding, size, m);
-      layer.mips.emplace_back(blob.begin() + ptrdiff_t(offset), blob.begin() + ptrdiff_t(offset + n));
+      layer.mips.emplace_back(blob.begin() + ptrdiff_t(offset),
+                              blob.begin() + ptrdiff_t(offset + n));
       offset += n;
     }
     texture.layers.push_back(std::move(layer));

@@ -52,8 +52,8 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return makeError(path, "no such file");
   auto impl = std::make_unique<ImageDrape::Impl>();
-  impl->source = GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr,
-                            nullptr);
+  impl->source =
+      GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
   if (!impl->source) {
     const std::string why = gdal::lastErrorMessage();
     return makeError(path, "cannot be read as an image" + (why.empty() ? "" : ": " + why));
@@ -110,8 +110,8 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
   overlap.add(std::min(image.x1, demBounds.x1), std::min(image.y1, demBounds.y1));
   if (image.x0 >= demBounds.x1 || image.x1 <= demBounds.x0 || image.y0 >= demBounds.y1 ||
       image.y1 <= demBounds.y0 || overlap.area() == 0)
-    return makeError(path, "does not overlap the DEM " +
-                               std::filesystem::path(dem.path).filename().string());
+    return makeError(
+        path, "does not overlap the DEM " + std::filesystem::path(dem.path).filename().string());
   coverage = overlap.area() / demBounds.area();
 
   if (refine == 0) {
@@ -131,13 +131,23 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
     std::snprintf(b, sizeof b, "%.17g", v);
     return std::string(b);
   };
-  const double imageToFine = std::sqrt(image.area() / (double(cols) * rows)) /
-                             std::sqrt(std::abs(px * py));
-  std::vector<std::string> args = {"-of", "VRT", "-te", num(ox), num(std::min(yA, yB)),
-                                   num(ox + double(impl->width) * px), num(std::max(yA, yB)),
-                                   "-ts", std::to_string(impl->width),
-                                   std::to_string(impl->height), "-r",
-                                   imageToFine < 0.75 ? "average" : "bilinear", "-dstalpha", "-wo", "DST_ALPHA_MAX=255"};
+  const double imageToFine =
+      std::sqrt(image.area() / (double(cols) * rows)) / std::sqrt(std::abs(px * py));
+  std::vector<std::string> args = {"-of",
+                                   "VRT",
+                                   "-te",
+                                   num(ox),
+                                   num(std::min(yA, yB)),
+                                   num(ox + double(impl->width) * px),
+                                   num(std::max(yA, yB)),
+                                   "-ts",
+                                   std::to_string(impl->width),
+                                   std::to_string(impl->height),
+                                   "-r",
+                                   imageToFine < 0.75 ? "average" : "bilinear",
+                                   "-dstalpha",
+                                   "-wo",
+                                   "DST_ALPHA_MAX=255"};
   if (!dem.crsWkt.empty()) {
     args.insert(args.end(), {"-t_srs", dem.crsWkt});
   }

@@ -37,8 +37,22 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   }
   stats.selection = mLastSelection;
 
+  if (Status s = load(mSelected, stats); !s) return s.error();
+  stats.draw = mRenderer.draw(view, mTree, mSelected, mStore, style);
+  return stats;
+}
+
+Result<FrameStats> TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,
+                                            const TerrainStyle& style) {
+  FrameStats stats;
+  if (Status s = load(chunks, stats); !s) return s.error();
+  stats.draw = mRenderer.draw(view, mTree, chunks, mStore, style);
+  return stats;
+}
+
+Status TerrainScene::load(std::span<const SelectedChunk> chunks, FrameStats& stats) {
   const auto loadStart = std::chrono::steady_clock::now();
-  for (const SelectedChunk& s : mSelected) {
+  for (const SelectedChunk& s : chunks) {
     if (mStore.find(s.node)) continue;
     auto chunk = mTileset->readChunkData(s.node);
     if (!chunk) return chunk.error();
@@ -47,12 +61,13 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
          !chunk->texture->find(TextureLayerKind::kNormal)))
       return makeError(mTileset->name(),
                        "chunk " + std::to_string(s.node) + " lacks its colour or normal texture");
+    const auto uploadStart = std::chrono::steady_clock::now();
     mStore.upload(s.node, chunk->geometry, chunk->texture ? &*chunk->texture : nullptr);
+    stats.uploadMilliseconds += secondsSince(uploadStart) * 1e3;
     ++stats.loads;
   }
   stats.loadMilliseconds = secondsSince(loadStart) * 1e3;
-  stats.draw = mRenderer.draw(view, mTree, mSelected, mStore, style);
-  return stats;
+  return {};
 }
 
 }  // namespace terralod

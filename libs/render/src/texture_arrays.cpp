@@ -76,7 +76,7 @@ TextureSlot TextureArrays::upload(const TextureLayer& layer) {
                                   glFormat(a.encoding), GLsizei(layer.mips[m].size()),
                                   layer.mips[m].data());
   }
-  return {index, l, a.size};
+  return {index, l, a.size, layer.flags};
 }
 
 void TextureArrays::release(const TextureSlot& slot) {

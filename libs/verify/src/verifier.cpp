@@ -207,10 +207,14 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   };
   auto decode = [&](uint32_t i) -> Result<Decoded> {
     const NodeRecord& n = nodes[i];
-    auto g = tileset.readChunk(i);
+    auto g = tileset.readChunkData(i);  // geometry and, when textured, the texture
     if (!g) return g.error();
+    if (h.textured() && (!g->texture || !g->texture->find(TextureLayerKind::kColor) ||
+                         !g->texture->find(TextureLayerKind::kNormal)))
+      return makeError(tileset.name(),
+                       "chunk " + std::to_string(i) + " lacks its colour or normal texture");
     const auto [x0, y0] = chunkCellOrigin(h, n);
-    return Decoded{x0, y0, h.chunkCells(n.level), std::move(g).value()};
+    return Decoded{x0, y0, h.chunkCells(n.level), std::move(g->geometry)};
   };
   auto name = [&](uint32_t i) {
     const NodeRecord& n = nodes[i];

@@ -31,6 +31,8 @@ struct TexelTile {
 /// `source` resampled to `size` texels per side: a tent filter as wide as the step (so
 /// downsampling averages, upsampling interpolates), borders from borders only.
 TexelTile resampleTile(const TexelTile& source, uint32_t size);
+/// The same, reusing `source`'s storage when the size does not change.
+TexelTile resampleTile(TexelTile&& source, uint32_t size);
 
 /// The four children's tiles (SW, SE, NW, NE; nullptr where a child does not exist) side by
 /// side as one tile of 2n - 1 texels (neighbours share their border texels). A missing

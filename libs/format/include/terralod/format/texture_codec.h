@@ -36,7 +36,7 @@ struct TextureLayer {
   TextureLayerKind kind = TextureLayerKind::kColor;
   TextureEncoding encoding = TextureEncoding::kBc1;
   uint8_t flags = 0;
-  uint32_t size = 0;                      ///< texels per side, 2 .. kMaxTextureSize
+  uint32_t size = 0;                       ///< texels per side, 2 .. kMaxTextureSize
   std::vector<std::vector<uint8_t>> mips;  ///< level 0 first; level m is max(1, size >> m)
   bool sourceLimited() const { return (flags & kTextureSourceLimited) != 0; }
 };
@@ -50,7 +50,9 @@ struct ChunkTexture {
 /// Mip levels of a full chain for a square of `size` texels (1 + floor(log2(size))).
 uint32_t mipCount(uint32_t size);
 /// Side of mip level `m`.
-inline uint32_t mipSize(uint32_t size, uint32_t m) { return std::max(1u, size >> m); }
+inline uint32_t mipSize(uint32_t size, uint32_t m) {
+  return std::max(1u, size >> m);
+}
 /// Bytes of one mip level of `size`-texel tile (whole 4x4 blocks).
 uint64_t mipBytes(TextureEncoding encoding, uint32_t size, uint32_t m);
 

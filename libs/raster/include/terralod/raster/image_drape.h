@@ -20,8 +20,8 @@ class ImageDrape {
   /// power of two); the refinement is the largest power of two not above the ratio of the
   /// DEM's spacing to the image's. Fails (naming the image) when it cannot be read, has no
   /// georeferencing, cannot be transformed into the DEM's CRS, or does not overlap the DEM.
-  static Result<std::unique_ptr<ImageDrape>> open(const std::string& imagePath,
-                                                  const DemInfo& dem, uint32_t maxRefine = 8);
+  static Result<std::unique_ptr<ImageDrape>> open(const std::string& imagePath, const DemInfo& dem,
+                                                  uint32_t maxRefine = 8);
   ~ImageDrape();
   ImageDrape(const ImageDrape&) = delete;
   ImageDrape& operator=(const ImageDrape&) = delete;

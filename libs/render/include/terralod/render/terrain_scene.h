@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,9 @@ struct FrameStats {
   SelectionStats selection;
   DrawStats draw;
   double selectMicroseconds = 0;
-  double loadMilliseconds = 0;  ///< reading, decoding and uploading chunks this frame
-  uint32_t loads = 0;           ///< chunks brought to the GPU this frame
+  double loadMilliseconds = 0;    ///< reading, decoding and uploading chunks this frame
+  double uploadMilliseconds = 0;  ///< of which copying to the GPU
+  uint32_t loads = 0;             ///< chunks brought to the GPU this frame
 };
 
 class TerrainScene {
@@ -39,7 +41,13 @@ class TerrainScene {
   Result<FrameStats> renderFrame(const View& view, const SelectionOptions& selection,
                                  const TerrainStyle& style, bool reselect = true);
 
+  /// Draws the given chunks (with their morph parameters) from `view`, loading what is
+  /// missing: for comparing two selections from one camera.
+  Result<FrameStats> drawChunks(const View& view, std::span<const SelectedChunk> chunks,
+                                const TerrainStyle& style);
+
   const ChunkTree& tree() const { return mTree; }
+  const GpuChunkStore& store() const { return mStore; }
   const TilesetReader& tileset() const { return *mTileset; }
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mSelected; }
@@ -47,6 +55,7 @@ class TerrainScene {
 
  private:
   TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer);
+  Status load(std::span<const SelectedChunk> chunks, FrameStats& stats);
 
   std::unique_ptr<TilesetReader> mTileset;
   ChunkTree mTree;

@@ -17,6 +17,7 @@ struct TextureSlot {
   uint32_t array = 0;  ///< class index (arrayTexture(array) is its GL name)
   uint32_t layer = 0;
   uint32_t size = 0;  ///< texels per side
+  uint8_t flags = 0;  ///< the layer's (kTextureSourceLimited)
 };
 
 class TextureArrays {
