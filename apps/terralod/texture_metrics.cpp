@@ -20,8 +20,8 @@ void addTexelDensity(const View& view, const ChunkTree& tree, const GpuChunkStor
     const double side = tree.chunkCells(n.level) * cellMetres;
     for (const TextureSlot* slot : {&chunk->color, &chunk->normal}) {
       const double texel = side / double(slot->size - 1);
-      const double pixels =
-          distance > 0 ? texel * view.pixelsPerRadian / distance : std::numeric_limits<double>::infinity();
+      const double pixels = distance > 0 ? texel * view.pixelsPerRadian / distance
+                                         : std::numeric_limits<double>::infinity();
       if (slot->flags & kTextureSourceLimited) {
         density.sourceLimitedMax = std::max(density.sourceLimitedMax, pixels);
         density.anySourceLimited = true;
@@ -37,7 +37,8 @@ double meanAbsoluteDifference(const Image& a, const Image& b) {
   uint64_t sum = 0;
   const size_t n = std::min(a.rgba.size(), b.rgba.size());
   for (size_t i = 0; i < n; i += 4)
-    for (size_t c = 0; c < 3; ++c) sum += uint64_t(std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
+    for (size_t c = 0; c < 3; ++c)
+      sum += uint64_t(std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])));
   return n ? double(sum) / double(n / 4 * 3) : 0.0;
 }
 

@@ -1,6 +1,6 @@
-// The format is frozen: a tileset written by format version 1 must always read, and building its
-// source again must give the same bytes (or scripts/update-golden-tileset.sh was run on
-// purpose and the change reviewed).
+// The format is frozen: tilesets written by format versions 1 and 2 must always read, and
+// building their source again must give the same bytes (or scripts/update-golden-tileset.sh
+// was run on purpose and the change reviewed).
 
 #include <gtest/gtest.h>
 
@@ -13,13 +13,16 @@ namespace terralod::test {
 namespace {
 
 const std::string kGolden = testData("golden/v1/gully.tlod");
+const std::string kGoldenV2 = testData("golden/v2/gully.tlod");
 
-TEST(GoldenTileset, VersionOneStillReads) {
-  const auto expected = nlohmann::json::parse(readWholeFile(testData("golden/v1/gully.json")));
-  auto opened = TilesetReader::openFile(kGolden);
+void expectGoldenReads(const std::string& version) {
+  const auto expected =
+      nlohmann::json::parse(readWholeFile(testData("golden/" + version + "/gully.json")));
+  auto opened = TilesetReader::openFile(testData("golden/" + version + "/gully.tlod"));
   ASSERT_TRUE(opened.ok()) << opened.error().message;
   const TilesetReader& t = **opened;
-  EXPECT_EQ(t.header().version, 1u);
+  EXPECT_EQ(t.header().version, version == "v1" ? 1u : 2u);
+  EXPECT_EQ(t.header().textured(), version != "v1");
   EXPECT_EQ(t.header().levelCount, expected["levels"].get<uint32_t>());
   EXPECT_EQ(t.nodes().size(), expected["chunks"].get<size_t>());
   EXPECT_EQ(t.header().filledVoids, expected["filled_voids"].get<uint64_t>());
@@ -29,15 +32,26 @@ TEST(GoldenTileset, VersionOneStillReads) {
     EXPECT_EQ(t.header().extentMin[k], expected["extent"]["min"][k].get<double>());
     EXPECT_EQ(t.header().extentMax[k], expected["extent"]["max"][k].get<double>());
   }
-  uint64_t triangles = 0, vertices = 0;
+  uint64_t triangles = 0, vertices = 0, textured = 0;
   for (uint32_t i = 0; i < t.nodes().size(); ++i) {
-    auto chunk = t.readChunk(i);
+    auto chunk = t.readChunkData(i);
     ASSERT_TRUE(chunk.ok()) << chunk.error().message;
-    for (const ChunkPart& p : chunk->parts) triangles += p.surfaceIndexCount / 3;
+    for (const ChunkPart& p : chunk->geometry.parts) triangles += p.surfaceIndexCount / 3;
     vertices += t.nodes()[i].vertexCount;
+    if (chunk->texture && chunk->texture->find(TextureLayerKind::kColor) &&
+        chunk->texture->find(TextureLayerKind::kNormal))
+      ++textured;
   }
   EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
   EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
+  EXPECT_EQ(textured, version == "v1" ? 0u : t.nodes().size());
+}
+
+TEST(GoldenTileset, VersionOneStillReads) {
+  expectGoldenReads("v1");
+}
+TEST(GoldenTileset, VersionTwoStillReads) {
+  expectGoldenReads("v2");
 }
 
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
@@ -47,6 +61,16 @@ TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
                                    "--no-texture"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGolden))
+      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+}
+
+TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
+  TempDir dir;
+  const RunResult r =
+      runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
+                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenV2))
       << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
 }
 

@@ -42,6 +42,19 @@ std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
       sum = 1;
     }
     for (float& w : t.weights) w = float(w / sum);
+    // A tent sampled at whole texels around a fractional centre is lopsided: tilt it so its
+    // centre of mass is the output texel's position (linear functions then resample exactly).
+    double m1 = 0, m2 = 0;
+    for (size_t i = 0; i < t.weights.size(); ++i) {
+      const double d = double(t.first + i) - centre;
+      m1 += t.weights[i] * d;
+      m2 += t.weights[i] * d * d;
+    }
+    if (m2 > 0 && std::abs(m1) > 1e-12) {
+      const double a = -m1 / m2, norm = 1.0 + a * m1;
+      for (size_t i = 0; i < t.weights.size(); ++i)
+        t.weights[i] = float(t.weights[i] * (1.0 + a * (double(t.first + i) - centre)) / norm);
+    }
   }
   return taps;
 }

@@ -150,7 +150,8 @@ TEST(Builder, OutputDoesNotDependOnThreadCount) {
   }
 }
 
-// Rewrites a tileset with one chunk's geometry changed, to show verify catches it.
+// Rewrites a tileset with one chunk's geometry changed (textures kept), to show verify
+// catches it.
 void tamper(const std::string& in, const std::string& out, uint32_t node,
             const std::function<void(ChunkGeometry&)>& change) {
   auto reader = TilesetReader::openFile(in).value();
@@ -163,9 +164,14 @@ void tamper(const std::string& in, const std::string& out, uint32_t node,
       change(g);
       blob = encodeChunk(g);
     }
+    const NodeRecord& old = reader->nodes()[i];
     nodes[i].blobOffset = writer->appendBlob(blob).value();
     nodes[i].blobBytes = uint32_t(blob.size());
     nodes[i].blobCrc = crc32Of(blob);
+    if (old.hasTexture()) {
+      const auto texture = reader->source().read(old.blobOffset + old.blobBytes, old.textureBytes);
+      ASSERT_TRUE(writer->appendBlob(texture.value()).ok());
+    }
   }
   ASSERT_TRUE(writer->finish(reader->header(), nodes, reader->metadataJson()).ok());
 }

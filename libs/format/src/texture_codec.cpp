@@ -90,6 +90,7 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
   const uint32_t layerCount = r.get<uint16_t>();
   const uint32_t crc = r.get<uint32_t>();
   if (crc != crc32Of(blob.subspan(12))) return bad("checksum mismatch");
+  if (r.get<uint32_t>() != 0) return bad("reserved bytes are not zero");
   if (layerCount < 1 || layerCount > kMaxLayers) return bad("layer count");
   if (blob.size() < kBlobHeaderBytes + layerCount * kLayerHeaderBytes) return bad("too short");
   r.seek(kBlobHeaderBytes);
@@ -100,8 +101,12 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
     const uint32_t mips = r.get<uint8_t>();
     const uint8_t flags = r.get<uint8_t>();
     const uint32_t size = r.get<uint32_t>(), bytes = r.get<uint32_t>();
-    r.get<uint32_t>();
+    const uint32_t reserved = r.get<uint32_t>();
     if (!knownKind(kind) || !knownEncoding(encoding)) return bad("unknown layer kind or encoding");
+    // Version 1 pairs each kind with one encoding: colour BC1, normals BC5.
+    if ((kind == uint8_t(TextureLayerKind::kColor)) != (encoding == uint8_t(TextureEncoding::kBc1)))
+      return bad("layer kind and encoding do not match");
+    if (reserved != 0) return bad("reserved bytes are not zero");
     if ((flags & ~kTextureSourceLimited) != 0) return bad("unknown layer flags");
     if (size < 2 || size > kMaxTextureSize) return bad("layer size");
     if (mips != mipCount(size)) return bad("mip count does not match the layer size");

@@ -16,6 +16,7 @@ namespace terralod {
 
 struct ImageDrape::Impl {
   GDALDatasetH source = nullptr;
+  GDALDatasetH expanded = nullptr;  // a paletted image as RGBA (virtual), warped instead
   GDALDatasetH warped = nullptr;
   int colorBands = 3;  // 3: RGB from bands 1-3; 1: grey from band 1
   int alphaBand = 0;   // band of the warped dataset holding its alpha
@@ -24,6 +25,7 @@ struct ImageDrape::Impl {
   int64_t width = 0, height = 0;  // of the fine grid
   ~Impl() {
     if (warped) GDALClose(warped);
+    if (expanded) GDALClose(expanded);
     if (source) GDALClose(source);
   }
 };
@@ -56,11 +58,27 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
       GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
   if (!impl->source) {
     const std::string why = gdal::lastErrorMessage();
-    return makeError(path, "cannot be read as an image" + (why.empty() ? "" : ": " + why));
+    return makeError(
+        path, "cannot be read as an image" +
+                  (why.empty() ? std::string(" (not a raster format GDAL knows)") : ": " + why));
   }
   GDALDataset* src = GDALDataset::FromHandle(impl->source);
-  const int bands = src->GetRasterCount();
+  int bands = src->GetRasterCount();
   if (bands < 1) return makeError(path, "has no raster bands");
+  GDALDatasetH warpInput = impl->source;
+  if (src->GetRasterBand(1)->GetColorTable()) {
+    // Palette indices are not colours: expand them to RGBA first (a virtual dataset).
+    char expandArgs[3][16] = {"-of", "VRT", "-expand"};
+    char rgba[] = "rgba";
+    char* argv[] = {expandArgs[0], expandArgs[1], expandArgs[2], rgba, nullptr};
+    GDALTranslateOptions* options = GDALTranslateOptionsNew(argv, nullptr);
+    int usageError = 0;
+    impl->expanded = GDALTranslate("", impl->source, options, &usageError);
+    GDALTranslateOptionsFree(options);
+    if (!impl->expanded) return makeError(path, "has a colour palette GDAL cannot expand");
+    warpInput = impl->expanded;
+    bands = 3;
+  }
   impl->colorBands = bands >= 3 ? 3 : 1;
   double gt[6];
   if (src->GetGeoTransform(gt) != CE_None)
@@ -157,7 +175,7 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
   GDALWarpAppOptions* options = GDALWarpAppOptionsNew(argv.data(), nullptr);
   if (!options) return makeError(path, "internal error: bad warp options");
   int usageError = 0;
-  GDALDatasetH sources[1] = {impl->source};
+  GDALDatasetH sources[1] = {warpInput};
   impl->warped = GDALWarp("", nullptr, 1, sources, options, &usageError);
   GDALWarpAppOptionsFree(options);
   if (!impl->warped) {
@@ -165,14 +183,14 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
     return makeError(path, "cannot be reprojected onto the DEM" + (why.empty() ? "" : ": " + why));
   }
   impl->alphaBand = GDALGetRasterCount(impl->warped);
-  GDALRasterBandH first = GDALGetRasterBand(impl->source, 1);
+  GDALRasterBandH first = GDALGetRasterBand(warpInput, 1);
   if (GDALGetRasterDataType(first) != GDT_Byte) {
     impl->wide = true;
     impl->lo = std::numeric_limits<double>::infinity();
     impl->hi = -impl->lo;
     for (int b = 1; b <= impl->colorBands; ++b) {
       double mm[2];
-      if (GDALComputeRasterMinMax(GDALGetRasterBand(impl->source, b), TRUE, mm) != CE_None)
+      if (GDALComputeRasterMinMax(GDALGetRasterBand(warpInput, b), TRUE, mm) != CE_None)
         return makeError(path, "cannot compute the value range of band " + std::to_string(b));
       impl->lo = std::min(impl->lo, mm[0]);
       impl->hi = std::max(impl->hi, mm[1]);

@@ -1,0 +1,235 @@
+#include "terralod/format/texture_codec.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "terralod/format/tileset_format.h"
+
+namespace terralod {
+namespace {
+
+// Blob layout (texture_codec.cpp): a 16-byte header (magic, version, layer count, CRC-32 of
+// bytes [12, end), reserved), one 16-byte header per layer (kind, encoding, mips, flags,
+// size, bytes, reserved), then every layer's mips in order.
+constexpr size_t kHeader = 16, kLayerHeader = 16;
+
+TextureLayer makeLayer(TextureLayerKind kind, TextureEncoding encoding, uint32_t size,
+                       uint8_t flags, uint32_t seed) {
+  std::mt19937 rng(seed);
+  TextureLayer l;
+  l.kind = kind;
+  l.encoding = encoding;
+  l.flags = flags;
+  l.size = size;
+  for (uint32_t m = 0; m < mipCount(size); ++m) {
+    std::vector<uint8_t> bytes(mipBytes(encoding, size, m));
+    for (uint8_t& b : bytes) b = uint8_t(rng());
+    l.mips.push_back(std::move(bytes));
+  }
+  return l;
+}
+
+ChunkTexture makeTexture() {
+  ChunkTexture t;
+  t.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 65, 0, 1));
+  t.layers.push_back(
+      makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 33, kTextureSourceLimited, 2));
+  return t;
+}
+
+// Recomputes the header's checksum after an edit, so that the check under test fires rather
+// than the checksum's.
+void fixCrc(std::vector<uint8_t>& blob) {
+  const uint32_t crc = crc32Of(std::span<const uint8_t>(blob).subspan(12));
+  for (int i = 0; i < 4; ++i) blob[8 + size_t(i)] = uint8_t(crc >> (8 * i));
+}
+
+std::string decodeError(const std::vector<uint8_t>& blob) {
+  auto r = decodeTexture(blob, "chunk 3/1/2");
+  if (r.ok()) return "(decoded without error)";
+  return r.error().message;
+}
+
+TEST(TextureCodec, MipCountAndBytes) {
+  EXPECT_EQ(mipCount(0), 0u);
+  EXPECT_EQ(mipCount(1), 1u);
+  EXPECT_EQ(mipCount(2), 2u);
+  EXPECT_EQ(mipCount(5), 3u);   // 5, 2, 1
+  EXPECT_EQ(mipCount(33), 6u);  // 33, 16, 8, 4, 2, 1
+  EXPECT_EQ(mipCount(65), 7u);  // 65, 32, 16, 8, 4, 2, 1
+  EXPECT_EQ(mipCount(kMaxTextureSize), 13u);
+  EXPECT_EQ(mipSize(65, 0), 65u);
+  EXPECT_EQ(mipSize(65, 1), 32u);
+  EXPECT_EQ(mipSize(65, 6), 1u);
+  EXPECT_EQ(mipSize(65, 9), 1u);
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc1, 65, 0), 17u * 17u * 8u);
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc1, 65, 1), 8u * 8u * 8u);
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc1, 65, 4), 8u);  // 4x4: one block
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc1, 65, 5), 8u);  // 2x2: still one whole block
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc1, 65, 6), 8u);  // 1x1
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc5, 33, 0), 9u * 9u * 16u);
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc5, 33, 1), 4u * 4u * 16u);
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc5, 33, 5), 16u);
+}
+
+TEST(TextureCodec, TwoLayerRoundTrip) {
+  const ChunkTexture t = makeTexture();
+  const std::vector<uint8_t> blob = encodeTexture(t);
+  uint64_t data = 0;
+  for (const TextureLayer& l : t.layers)
+    for (uint32_t m = 0; m < mipCount(l.size); ++m) data += mipBytes(l.encoding, l.size, m);
+  EXPECT_EQ(t.bytes(), data);
+  EXPECT_EQ(blob.size(), kHeader + 2 * kLayerHeader + data);
+  EXPECT_EQ(std::string(blob.begin(), blob.begin() + 4), "TLTX");
+
+  auto r = decodeTexture(blob, "test");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->layers.size(), 2u);
+  EXPECT_EQ(r->bytes(), data);
+  for (size_t i = 0; i < 2; ++i) {
+    const TextureLayer &a = r->layers[i], &b = t.layers[i];
+    EXPECT_EQ(a.kind, b.kind);
+    EXPECT_EQ(a.encoding, b.encoding);
+    EXPECT_EQ(a.flags, b.flags);
+    EXPECT_EQ(a.size, b.size);
+    ASSERT_EQ(a.mips.size(), mipCount(b.size));
+    for (uint32_t m = 0; m < a.mips.size(); ++m) {
+      EXPECT_EQ(a.mips[m].size(), mipBytes(b.encoding, b.size, m)) << "layer " << i << " mip " << m;
+      EXPECT_EQ(a.mips[m], b.mips[m]) << "layer " << i << " mip " << m;
+    }
+  }
+  EXPECT_FALSE(r->layers[0].sourceLimited());
+  EXPECT_TRUE(r->layers[1].sourceLimited());
+  ASSERT_NE(r->find(TextureLayerKind::kNormal), nullptr);
+  EXPECT_EQ(r->find(TextureLayerKind::kNormal)->size, 33u);
+  EXPECT_EQ(r->find(TextureLayerKind::kColor)->size, 65u);
+
+  // The edit helper itself: rewriting the checksum of an unedited blob changes nothing.
+  std::vector<uint8_t> same = blob;
+  fixCrc(same);
+  EXPECT_EQ(same, blob);
+}
+
+TEST(TextureCodec, SingleLayerRoundTrip) {
+  ChunkTexture t;
+  t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 2, 0, 7));
+  auto r = decodeTexture(encodeTexture(t), "test");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->layers.size(), 1u);
+  EXPECT_EQ(r->layers[0].mips, t.layers[0].mips);
+  EXPECT_EQ(r->find(TextureLayerKind::kColor), nullptr);
+}
+
+TEST(TextureCodec, RejectsWrongMagic) {
+  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  blob[0] ^= 0x01;
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: wrong magic");
+}
+
+TEST(TextureCodec, RejectsFlippedDataByte) {
+  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  for (size_t at :
+       {size_t(12), kHeader + 4, kHeader + 2 * kLayerHeader, good.size() / 2, good.size() - 1}) {
+    std::vector<uint8_t> blob = good;
+    blob[at] ^= 0x10;
+    EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: checksum mismatch") << at;
+  }
+}
+
+TEST(TextureCodec, RejectsTruncatedBlob) {
+  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  // Shorter than the header.
+  EXPECT_EQ(decodeError(std::vector<uint8_t>(good.begin(), good.begin() + 10)),
+            "chunk 3/1/2: invalid texture: too short");
+  EXPECT_EQ(decodeError({}), "chunk 3/1/2: invalid texture: too short");
+  // One byte short: the checksum, which covers the data, no longer matches.
+  std::vector<uint8_t> blob(good.begin(), good.end() - 1);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: checksum mismatch");
+  // One byte short with a checksum that matches what is left: the layer sizes catch it.
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: layer data runs past the end");
+  // Cut inside the layer headers.
+  blob.assign(good.begin(), good.begin() + kHeader + kLayerHeader + 3);
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: too short");
+  // And a byte too many.
+  blob = good;
+  blob.push_back(0);
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: trailing bytes");
+}
+
+TEST(TextureCodec, RejectsUnknownEncoding) {
+  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  blob[kHeader + kLayerHeader + 1] = 3;  // second layer's encoding
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
+  blob[kHeader + kLayerHeader + 1] = 0;
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
+  blob = encodeTexture(makeTexture());
+  blob[kHeader] = 3;  // first layer's kind
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
+}
+
+TEST(TextureCodec, RejectsInconsistentMipCount) {
+  for (uint8_t mips : {uint8_t(6), uint8_t(8), uint8_t(0)}) {
+    std::vector<uint8_t> blob = encodeTexture(makeTexture());
+    blob[kHeader + 2] = mips;  // the 65-texel layer has 7
+    fixCrc(blob);
+    EXPECT_EQ(decodeError(blob),
+              "chunk 3/1/2: invalid texture: mip count does not match the layer size")
+        << int(mips);
+  }
+  // A layer that left out its last mip is caught when encoded as it is.
+  ChunkTexture t = makeTexture();
+  t.layers[1].mips.pop_back();
+  EXPECT_EQ(decodeError(encodeTexture(t)),
+            "chunk 3/1/2: invalid texture: mip count does not match the layer size");
+}
+
+TEST(TextureCodec, RejectsDuplicateLayerKind) {
+  ChunkTexture t = makeTexture();
+  t.layers[1] = makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 33, 0, 3);
+  EXPECT_EQ(decodeError(encodeTexture(t)), "chunk 3/1/2: invalid texture: duplicate layer");
+  // Editing a valid blob's second kind (BC5) to colour pairs colour with the wrong encoding.
+  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  blob[kHeader + kLayerHeader] = uint8_t(TextureLayerKind::kColor);
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: layer kind and encoding do not match");
+}
+
+TEST(TextureCodec, RejectsNonZeroReservedBytes) {
+  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  blob[12] = 1;  // the blob header's reserved word
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: reserved bytes are not zero");
+  blob = encodeTexture(makeTexture());
+  blob[kHeader + 12] = 1;  // the first layer header's
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: reserved bytes are not zero");
+}
+
+TEST(TextureCodec, RejectsOtherHeaderDamage) {
+  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  auto edited = [&](size_t at, uint8_t value) {
+    std::vector<uint8_t> b = good;
+    b[at] = value;
+    fixCrc(b);
+    return decodeError(b);
+  };
+  // The version (bytes 4-5) is outside the checksum.
+  EXPECT_EQ(edited(4, 2), "chunk 3/1/2: invalid texture: unknown texture blob version");
+  EXPECT_EQ(edited(6, 0), "chunk 3/1/2: invalid texture: layer count");
+  EXPECT_EQ(edited(6, 5), "chunk 3/1/2: invalid texture: layer count");
+  EXPECT_EQ(edited(kHeader + 3, 2), "chunk 3/1/2: invalid texture: unknown layer flags");
+  EXPECT_EQ(edited(kHeader + 4, 1), "chunk 3/1/2: invalid texture: layer size");  // size 1
+  EXPECT_EQ(edited(kHeader + 8, 0),
+            "chunk 3/1/2: invalid texture: layer byte count does not match its size");
+}
+
+}  // namespace
+}  // namespace terralod
