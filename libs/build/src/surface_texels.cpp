@@ -23,10 +23,11 @@ float smoothstep(float e0, float e1, float x) {
   return t * t * (3 - 2 * t);
 }
 
-// Linear-light colour of ground at relative height t, slope 1 - nz.
+// Display-value (gamma 2.2) colour of ground at relative height t, slope 1 - nz.
 Rgb ramp(float t, float slope) {
-  const Rgb lowland{0.30f, 0.45f, 0.22f}, hills{0.55f, 0.55f, 0.33f};
-  const Rgb rock{0.52f, 0.44f, 0.38f}, snow{0.93f, 0.94f, 0.96f}, bare{0.45f, 0.41f, 0.38f};
+  const Rgb lowland{0.579f, 0.695f, 0.504f}, hills{0.762f, 0.762f, 0.606f};
+  const Rgb rock{0.743f, 0.689f, 0.644f}, snow{0.968f, 0.972f, 0.982f},
+      bare{0.695f, 0.667f, 0.644f};
   Rgb c = t < 0.35f   ? mix(lowland, hills, t / 0.35f)
           : t < 0.75f ? mix(hills, rock, (t - 0.35f) / 0.40f)
                       : mix(rock, snow, smoothstep(0.82f, 0.95f, t));
@@ -109,11 +110,13 @@ void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
                      mSums[size_t(ly1) * w + lx0] + mSums[size_t(ly0) * w + lx0];
   const double mean = sum / double((2 * r + 1) * (2 * r + 1));
   const double scale = r * std::max(mOptions.spacingX, mOptions.spacingY);
-  const float occlusion = float(std::clamp(1.0 + 0.8 * (h - mean) / scale, 0.6, 1.06));
-  // Stored as display values (sRGB-like gamma 2.2).
-  rgb[0] = toDisplay(c.r * occlusion);
-  rgb[1] = toDisplay(c.g * occlusion);
-  rgb[2] = toDisplay(c.b * occlusion);
+  const float occlusion = float(std::clamp(1.0 + 0.8 * (h - mean) / scale, 0.6, 1.0));
+  // Stored as display values: darkening linear light by `occlusion` scales display values by
+  // occlusion^(1/2.2).
+  const float shade = toDisplay(occlusion);
+  rgb[0] = c.r * shade;
+  rgb[1] = c.g * shade;
+  rgb[2] = c.b * shade;
 }
 
 TexelTile BlockTexels::colors(int32_t x0, int32_t y0, int32_t cells) const {

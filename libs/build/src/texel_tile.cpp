@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <map>
+#include <utility>
 
 namespace terralod {
 namespace {
@@ -61,32 +63,43 @@ std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
 
 }  // namespace
 
+// Taps depend only on the two sizes, and the same few pairs recur millions of times.
+const std::vector<Taps>& tapsFor(uint32_t from, uint32_t to) {
+  thread_local std::map<std::pair<uint32_t, uint32_t>, std::vector<Taps>> cache;
+  auto it = cache.find({from, to});
+  if (it == cache.end()) it = cache.emplace(std::pair{from, to}, makeTaps(from, to)).first;
+  return it->second;
+}
+
 TexelTile resampleTile(const TexelTile& source, uint32_t size) {
   assert(source.size >= 2 && size >= 2);
   if (size == source.size) return source;
   const uint32_t c = source.channels;
-  const std::vector<Taps> taps = makeTaps(source.size, size);
-  // Rows first (source rows, output columns), then columns.
-  TexelTile rows(0, c);
-  rows.size = size;
-  rows.values.assign(size_t(source.size) * size * c, 0.0f);
-  for (uint32_t y = 0; y < source.size; ++y)
-    for (uint32_t x = 0; x < size; ++x) {
-      float* out = rows.values.data() + (size_t(y) * size + x) * c;
-      const Taps& t = taps[x];
-      for (size_t i = 0; i < t.weights.size(); ++i) {
-        const float* in = source.at(t.first + uint32_t(i), y);
-        for (uint32_t ch = 0; ch < c; ++ch) out[ch] += t.weights[i] * in[ch];
-      }
-    }
-  TexelTile result(size, c);
+  const std::vector<Taps>& taps = tapsFor(source.size, size);
+  // Columns first (whole source rows at a time, which vectorises), then rows.
+  const size_t sourceRow = size_t(source.size) * c;
+  thread_local std::vector<float> columns;
+  columns.assign(size_t(size) * sourceRow, 0.0f);
   for (uint32_t y = 0; y < size; ++y) {
     const Taps& t = taps[y];
-    float* out = result.at(0, y);
+    float* out = columns.data() + size_t(y) * sourceRow;
     for (size_t i = 0; i < t.weights.size(); ++i) {
-      const float* in = rows.values.data() + size_t(t.first + i) * size * c;
+      const float* in = source.values.data() + size_t(t.first + i) * sourceRow;
       const float w = t.weights[i];
-      for (size_t k = 0; k < size_t(size) * c; ++k) out[k] += w * in[k];
+      for (size_t k = 0; k < sourceRow; ++k) out[k] += w * in[k];
+    }
+  }
+  TexelTile result(size, c);
+  for (uint32_t y = 0; y < size; ++y) {
+    const float* row = columns.data() + size_t(y) * sourceRow;
+    float* out = result.at(0, y);
+    for (uint32_t x = 0; x < size; ++x, out += c) {
+      const Taps& t = taps[x];
+      const float* in = row + size_t(t.first) * c;
+      for (size_t i = 0; i < t.weights.size(); ++i, in += c) {
+        const float w = t.weights[i];
+        for (uint32_t ch = 0; ch < c; ++ch) out[ch] += w * in[ch];
+      }
     }
   }
   return result;

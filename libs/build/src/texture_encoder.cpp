@@ -16,33 +16,37 @@ uint8_t toByte(float v) {
   return uint8_t(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
 }
 
-// Encodes one mip level block by block; texels past the edge repeat the last row/column.
+// Encodes one mip level of 8-bit texels (`bytes` per texel, row-major) block by block;
+// texels past the edge repeat the last row/column.
 template <typename Block>
-std::vector<uint8_t> encodeBlocks(const TexelTile& tile, size_t blockBytes, Block&& block) {
-  const uint32_t blocks = (tile.size + 3) / 4;
+std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t size, uint32_t bytes,
+                                  size_t blockBytes, Block&& block) {
+  const uint32_t blocks = (size + 3) / 4;
   std::vector<uint8_t> out(size_t(blocks) * blocks * blockBytes);
+  uint8_t gathered[16 * 4];
   for (uint32_t by = 0; by < blocks; ++by)
     for (uint32_t bx = 0; bx < blocks; ++bx) {
-      const float* texels[16];
-      for (uint32_t j = 0; j < 4; ++j)
+      for (uint32_t j = 0; j < 4; ++j) {
+        const uint8_t* row = texels.data() + size_t(std::min(by * 4 + j, size - 1)) * size * bytes;
         for (uint32_t i = 0; i < 4; ++i)
-          texels[j * 4 + i] =
-              tile.at(std::min(bx * 4 + i, tile.size - 1), std::min(by * 4 + j, tile.size - 1));
-      block(out.data() + (size_t(by) * blocks + bx) * blockBytes, texels);
+          std::memcpy(gathered + (j * 4 + i) * bytes,
+                      row + size_t(std::min(bx * 4 + i, size - 1)) * bytes, bytes);
+      }
+      block(out.data() + (size_t(by) * blocks + bx) * blockBytes, gathered);
     }
   return out;
 }
 
 template <typename EncodeLevel>
 TextureLayer encodeLayer(const TexelTile& tile, TextureLayerKind kind, TextureEncoding encoding,
-                         uint8_t flags, EncodeLevel&& encodeLevel) {
+                         uint8_t flags, std::vector<uint8_t> level0, EncodeLevel&& encodeLevel) {
   TextureLayer layer;
   layer.kind = kind;
   layer.encoding = encoding;
   layer.flags = flags;
   layer.size = tile.size;
   const uint32_t mips = mipCount(tile.size);
-  layer.mips.push_back(encodeLevel(tile));
+  layer.mips.push_back(level0.empty() ? encodeLevel(tile) : std::move(level0));
   TexelTile level;
   for (uint32_t m = 1; m < mips; ++m) {
     const TexelTile& above = m == 1 ? tile : level;
@@ -64,37 +68,54 @@ TextureLayer encodeLayer(const TexelTile& tile, TextureLayerKind kind, TextureEn
 
 }  // namespace
 
-TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags) {
+TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {
   return encodeLayer(tile, TextureLayerKind::kColor, TextureEncoding::kBc1, flags,
-                     [](const TexelTile& level) {
-                       return encodeBlocks(level, 8, [](uint8_t* out, const float* const* t) {
-                         uint8_t rgba[64];
-                         for (int i = 0; i < 16; ++i) {
-                           rgba[i * 4 + 0] = toByte(t[i][0]);
-                           rgba[i * 4 + 1] = toByte(t[i][1]);
-                           rgba[i * 4 + 2] = toByte(t[i][2]);
-                           rgba[i * 4 + 3] = 255;
-                         }
-                         stb_compress_dxt_block(out, rgba, 0, STB_DXT_NORMAL);
+                     std::move(level0), [](const TexelTile& level) {
+                       std::vector<uint8_t> rgba(size_t(level.size) * level.size * 4, 255);
+                       for (size_t i = 0, n = size_t(level.size) * level.size; i < n; ++i)
+                         for (size_t c = 0; c < 3; ++c)
+                           rgba[i * 4 + c] = toByte(level.values[i * 3 + c]);
+                       return encodeBlocks(rgba, level.size, 4, 8, [](uint8_t* out, uint8_t* t) {
+                         stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
                        });
                      });
 }
 
-TextureLayer encodeNormalLayer(const TexelTile& tile, uint8_t flags) {
+TextureLayer encodeNormalLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {
   return encodeLayer(tile, TextureLayerKind::kNormal, TextureEncoding::kBc5, flags,
-                     [](const TexelTile& level) {
-                       return encodeBlocks(level, 16, [](uint8_t* out, const float* const* t) {
-                         uint8_t rg[32];
-                         for (int i = 0; i < 16; ++i) {
-                           const float* n = t[i];
-                           const float len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-                           const float inv = len > 0 ? 1.0f / len : 0.0f;
-                           rg[i * 2 + 0] = toByte(0.5f * (n[0] * inv + 1.0f));
-                           rg[i * 2 + 1] = toByte(0.5f * (n[1] * inv + 1.0f));
-                         }
-                         stb_compress_bc5_block(out, rg);
+                     std::move(level0), [](const TexelTile& level) {
+                       std::vector<uint8_t> rg(size_t(level.size) * level.size * 2);
+                       for (size_t i = 0, n = size_t(level.size) * level.size; i < n; ++i) {
+                         const float* v = level.values.data() + i * 3;
+                         const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+                         const float inv = len > 0 ? 1.0f / len : 0.0f;
+                         rg[i * 2 + 0] = toByte(0.5f * (v[0] * inv + 1.0f));
+                         rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
+                       }
+                       return encodeBlocks(rg, level.size, 2, 16, [](uint8_t* out, uint8_t* t) {
+                         stb_compress_bc5_block(out, t);
                        });
                      });
+}
+
+std::vector<uint8_t> mosaicBlocks(const std::array<const std::vector<uint8_t>*, 4>& children,
+                                  uint32_t childSize, TextureEncoding encoding) {
+  if ((childSize - 1) % 4 != 0) return {};
+  for (const auto* c : children)
+    if (!c) return {};
+  const size_t blockBytes = encoding == TextureEncoding::kBc1 ? 8 : 16;
+  const uint32_t childBlocks = (childSize + 3) / 4, step = (childSize - 1) / 4;
+  const uint32_t parentBlocks = (2 * childSize - 1 + 3) / 4;
+  std::vector<uint8_t> out(size_t(parentBlocks) * parentBlocks * blockBytes);
+  for (uint32_t by = 0; by < parentBlocks; ++by)
+    for (uint32_t bx = 0; bx < parentBlocks; ++bx) {
+      const uint32_t qx = bx >= step ? 1 : 0, qy = by >= step ? 1 : 0;
+      const std::vector<uint8_t>& child = *children[qy * 2 + qx];
+      const size_t from = (size_t(by - qy * step) * childBlocks + (bx - qx * step)) * blockBytes;
+      std::memcpy(out.data() + (size_t(by) * parentBlocks + bx) * blockBytes, child.data() + from,
+                  blockBytes);
+    }
+  return out;
 }
 
 }  // namespace terralod

@@ -35,15 +35,36 @@ ChunkTiles TexturePass::fromChildren(uint32_t node,
       normal[q] = &children[q]->normal;
     }
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
-  return {resampleTile(mosaicTiles(color), plan.colorSize),
-          resampleTile(mosaicTiles(normal), plan.normalSize)};
+  ChunkTiles t;
+  t.color = resampleTile(mosaicTiles(color), plan.colorSize);
+  t.normal = resampleTile(mosaicTiles(normal), plan.normalSize);
+  const uint32_t childColor = color[0] ? color[0]->size : 0,
+                 childNormal = normal[0] ? normal[0]->size : 0;
+  for (size_t q = 0; q < 4; ++q)
+    if (children[q]) {
+      t.childColor[q] = &children[q]->colorLevel0;
+      t.childNormal[q] = &children[q]->normalLevel0;
+    }
+  if (childColor && 2 * childColor - 1 == plan.colorSize) t.childSize[0] = childColor;
+  if (childNormal && 2 * childNormal - 1 == plan.normalSize) t.childSize[1] = childNormal;
+  return t;
 }
 
-std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles) const {
+std::vector<uint8_t> TexturePass::encode(uint32_t node, ChunkTiles& tiles) const {
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
+  // A parent that is its children side by side reuses their encoded blocks for mip 0.
+  std::vector<uint8_t> color0, normal0;
+  if (tiles.childSize[0])
+    color0 = mosaicBlocks(tiles.childColor, tiles.childSize[0], TextureEncoding::kBc1);
+  if (tiles.childSize[1])
+    normal0 = mosaicBlocks(tiles.childNormal, tiles.childSize[1], TextureEncoding::kBc5);
   ChunkTexture texture;
-  texture.layers.push_back(encodeColorLayer(tiles.color, plan.colorFlags));
-  texture.layers.push_back(encodeNormalLayer(tiles.normal, plan.normalFlags));
+  texture.layers.push_back(encodeColorLayer(tiles.color, plan.colorFlags, std::move(color0)));
+  texture.layers.push_back(encodeNormalLayer(tiles.normal, plan.normalFlags, std::move(normal0)));
+  tiles.colorLevel0 = texture.layers[0].mips[0];
+  tiles.normalLevel0 = texture.layers[1].mips[0];
+  tiles.childColor = {};
+  tiles.childNormal = {};
   return encodeTexture(texture);
 }
 
@@ -81,10 +102,10 @@ Result<ChunkTiles> TexturePass::buildBlock(
       for (int q = 0; q < 4; ++q)
         if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);
       t = fromChildren(i, children);
-      for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(n.childMask))); ++j)
-        tiles.erase(n.firstChild + j);
     }
     blobs.emplace_back(i, encode(i, t));
+    for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(n.childMask))); ++j)
+      tiles.erase(n.firstChild + j);
     tiles.emplace(i, std::move(t));
   }
   return std::move(tiles.at(root));

@@ -199,7 +199,8 @@ TEST(TextureCodec, RejectsDuplicateLayerKind) {
   std::vector<uint8_t> blob = encodeTexture(makeTexture());
   blob[kHeader + kLayerHeader] = uint8_t(TextureLayerKind::kColor);
   fixCrc(blob);
-  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: layer kind and encoding do not match");
+  EXPECT_EQ(decodeError(blob),
+            "chunk 3/1/2: invalid texture: layer kind and encoding do not match");
 }
 
 TEST(TextureCodec, RejectsNonZeroReservedBytes) {

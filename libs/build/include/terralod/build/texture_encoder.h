@@ -3,14 +3,27 @@
 // resampling, see texel_tile.h) and GPU block compression of every level (stb_dxt: BC1 for
 // colour, BC5 for normals' x and y).
 
+#include <array>
+#include <vector>
+
 #include "terralod/build/texel_tile.h"
 #include "terralod/format/texture_codec.h"
 
 namespace terralod {
 
-/// `tile` holds RGB in [0, 1] (3 channels).
-TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags);
+/// `tile` holds RGB in [0, 1] (3 channels). A non-empty `level0` is taken as the encoded mip 0
+/// (see mosaicBlocks) instead of encoding it again.
+TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags,
+                              std::vector<uint8_t> level0 = {});
 /// `tile` holds normal vectors (3 channels, any length; normalised here).
-TextureLayer encodeNormalLayer(const TexelTile& tile, uint8_t flags);
+TextureLayer encodeNormalLayer(const TexelTile& tile, uint8_t flags,
+                               std::vector<uint8_t> level0 = {});
+
+/// The encoded mip 0 of a parent whose tile is exactly its four children's side by side
+/// (a mosaic of 2n - 1 texels, not resampled), from the children's encoded mip 0: when
+/// (n - 1) is a multiple of 4 every parent block is one of the children's blocks, so the
+/// result equals encoding the mosaic. Empty when that does not hold or a child is missing.
+std::vector<uint8_t> mosaicBlocks(const std::array<const std::vector<uint8_t>*, 4>& children,
+                                  uint32_t childSize, TextureEncoding encoding);
 
 }  // namespace terralod

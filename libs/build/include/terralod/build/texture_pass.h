@@ -30,6 +30,9 @@ struct TextureBuild {
 
 struct ChunkTiles {
   TexelTile color, normal;
+  std::vector<uint8_t> colorLevel0, normalLevel0;  ///< encoded mip 0 (for parents to reuse)
+  uint32_t childSize[2] = {0, 0};  ///< set when the tiles are the children's mosaic unresampled
+  std::array<const std::vector<uint8_t>*, 4> childColor{}, childNormal{};  ///< while building
 };
 
 class TexturePass {
@@ -48,8 +51,8 @@ class TexturePass {
 
   /// Tiles of a node from its children's (entries null where a child does not exist).
   ChunkTiles fromChildren(uint32_t node, const std::array<const ChunkTiles*, 4>& children) const;
-  /// The stored texture blob of a node's tiles.
-  std::vector<uint8_t> encode(uint32_t node, const ChunkTiles& tiles) const;
+  /// The stored texture blob of a node's tiles; keeps the encoded mip 0 in `tiles`.
+  std::vector<uint8_t> encode(uint32_t node, ChunkTiles& tiles) const;
 
  private:
   const TreeLayout& mLayout;
