@@ -10,7 +10,7 @@ namespace terralod::cli {
 namespace {
 
 struct LevelStats {
-  uint64_t chunks = 0, vertices = 0, triangles = 0, skirtTriangles = 0, bytes = 0;
+  uint64_t chunks = 0, vertices = 0, triangles = 0, skirtTriangles = 0, bytes = 0, textureBytes = 0;
 };
 
 int printInfo(const std::string& path, bool json) {
@@ -28,8 +28,11 @@ int printInfo(const std::string& path, bool json) {
       s->triangles += n.triangleCount;
       s->skirtTriangles += n.skirtTriangleCount;
       s->bytes += n.blobBytes;
+      s->textureBytes += n.textureBytes;
     }
   }
+  // Geometry: everything but the textures (tables and metadata included, as in version 1).
+  const uint64_t geometryBytes = h.fileBytes - total.textureBytes;
   nlohmann::json metadata = nlohmann::json::parse(t.metadataJson(), nullptr, false);
   const uint64_t samples = uint64_t(h.sourceColumns) * h.sourceRows;
   if (json) {
@@ -43,7 +46,12 @@ int printInfo(const std::string& path, bool json) {
     j["skirt_triangles"] = total.skirtTriangles;
     j["file_bytes"] = h.fileBytes;
     j["chunk_bytes"] = total.bytes;
-    j["bytes_per_vertex"] = total.vertices ? double(h.fileBytes) / double(total.vertices) : 0.0;
+    j["bytes_per_vertex"] = total.vertices ? double(geometryBytes) / double(total.vertices) : 0.0;
+    j["textured"] = h.textured();
+    if (h.textured()) {
+      j["texture_bytes"] = total.textureBytes;
+      j["texture_min_tau"] = h.textureMinTau;
+    }
     j["bytes_per_sample"] = double(h.fileBytes) / double(samples);
     j["leaf_error"] = h.leafError;
     j["level_error"] =
@@ -63,7 +71,8 @@ int printInfo(const std::string& path, bool json) {
                           {"chunks", levels[l].chunks},
                           {"vertices", levels[l].vertices},
                           {"triangles", levels[l].triangles},
-                          {"bytes", levels[l].bytes}});
+                          {"bytes", levels[l].bytes},
+                          {"texture_bytes", levels[l].textureBytes}});
     }
     j["per_level"] = perLevel;
     if (!metadata.is_discarded()) j["metadata"] = metadata;
@@ -85,18 +94,42 @@ int printInfo(const std::string& path, bool json) {
               100.0 * double(h.filledVoids) / double(samples));
   std::printf("  tree            %u levels, %u x %u roots of %u cells, leaves of %u cells\n",
               h.levelCount, h.rootsX, h.rootsY, h.rootCells, h.leafCells);
-  std::printf("  level  error(m)    chunks    vertices   triangles       bytes  bytes/vertex\n");
+  if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
+    const auto& t = metadata["texture"];
+    std::printf("  textures        colour %s, normals from the DEM, sized for tau <= %.2f px\n",
+                t.value("color", "?").c_str(), h.textureMinTau);
+  }
+  std::printf("  level  error(m)    chunks    vertices   triangles       bytes  bytes/vertex%s\n",
+              h.textured() ? "  texture bytes  texels/side" : "");
+  const nlohmann::json* texturePlan = !metadata.is_discarded() && metadata.contains("texture")
+                                          ? &metadata["texture"]["levels"]
+                                          : nullptr;
   for (uint32_t l = 0; l < h.levelCount; ++l) {
     const LevelStats& s = levels[l];
-    std::printf("  %5u  %8.3f  %8llu  %10llu  %10llu  %10llu  %12.2f\n", l, h.levelError[l],
+    std::printf("  %5u  %8.3f  %8llu  %10llu  %10llu  %10llu  %12.2f", l, h.levelError[l],
                 (unsigned long long)s.chunks, (unsigned long long)s.vertices,
                 (unsigned long long)s.triangles, (unsigned long long)s.bytes,
                 s.vertices ? double(s.bytes) / double(s.vertices) : 0.0);
+    if (h.textured()) {
+      std::printf("  %13llu", (unsigned long long)s.textureBytes);
+      if (texturePlan && texturePlan->is_array() && l < texturePlan->size()) {
+        const auto& t = (*texturePlan)[l];
+        std::printf("  %5u%s/%u%s", t.value("color_size", 0u),
+                    t.value("color_source_limited", false) ? "*" : "", t.value("normal_size", 0u),
+                    t.value("normal_source_limited", false) ? "*" : "");
+      }
+    }
+    std::printf("\n");
   }
-  std::printf("  total             %8llu  %10llu  %10llu  %10llu  %12.2f\n",
+  std::printf("  total             %8llu  %10llu  %10llu  %10llu  %12.2f",
               (unsigned long long)total.chunks, (unsigned long long)total.vertices,
-              (unsigned long long)total.triangles, (unsigned long long)h.fileBytes,
-              total.vertices ? double(h.fileBytes) / double(total.vertices) : 0.0);
+              (unsigned long long)total.triangles, (unsigned long long)geometryBytes,
+              total.vertices ? double(geometryBytes) / double(total.vertices) : 0.0);
+  if (h.textured()) std::printf("  %13llu", (unsigned long long)total.textureBytes);
+  std::printf("\n");
+  if (h.textured())
+    std::printf(
+        "  (texels/side: colour/normal; * = source-limited: the source's own resolution)\n");
   std::printf("  file            %llu bytes, %.3f bytes per source sample\n",
               (unsigned long long)h.fileBytes, double(h.fileBytes) / double(samples));
   return 0;
