@@ -93,7 +93,7 @@ void main() {
   if (uTextured == 1) {
     vec2 uvColor = (0.5 + vChunkUv * (uTileSizes.x - 1.0)) / uTileSizes.x;
     vec2 uvNormal = (0.5 + vChunkUv * (uTileSizes.y - 1.0)) / uTileSizes.y;
-    base = pow(texture(uColor, vec3(uvColor, float(vLayers.x))).rgb, vec3(2.2));
+    base = texture(uColor, vec3(uvColor, float(vLayers.x))).rgb;  // sRGB format: linear
     vec2 xy = texture(uNormal, vec3(uvNormal, float(vLayers.y))).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
   } else {

@@ -7,8 +7,10 @@
 namespace terralod {
 namespace {
 
+// Colour is stored as display (gamma-encoded) values: the sRGB format makes the GPU linearise
+// texels before filtering, so filtering and mip blending happen in linear light.
 GLenum glFormat(TextureEncoding e) {
-  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_RGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
+  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
 }
 
 uint32_t makeArray(TextureEncoding encoding, uint32_t size, uint32_t levels, uint32_t layers) {
