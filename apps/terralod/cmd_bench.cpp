@@ -106,7 +106,8 @@ int runBench(const BenchCommand& b) {
     loads += frame->loads;
     uploadMsMax = std::max(uploadMsMax, frame->uploadMilliseconds);
     loadMsMax = std::max(loadMsMax, frame->loadMilliseconds);
-    addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), texels);
+    if (style->textures)
+      addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), texels);
     if (!metrics) continue;
 
     current = scene.selected();

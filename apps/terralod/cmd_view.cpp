@@ -62,7 +62,7 @@ struct KeyEdges {
 // A UI-owned copy of what the command line asked for, changed by the panel.
 struct Knobs {
   float tau = 2.0f;
-  bool morph = true, skirts = true, wireframe = false, freeze = false;
+  bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
   int colorBy = 0;  // relief, level, morph
 };
 
@@ -129,6 +129,7 @@ int runView(const ViewCommand& v) {
   knobs.morph = !v.options.noMorph;
   knobs.skirts = !v.options.noSkirts;
   knobs.wireframe = v.options.wireframe;
+  knobs.textures = !v.options.noTextures;
   knobs.colorBy = int(baseStyle->colorBy);
   FlyCamera fly(start->front());
   double fov = v.options.fovDegrees;
@@ -194,6 +195,7 @@ int runView(const ViewCommand& v) {
     TerrainStyle style = *baseStyle;
     style.skirts = knobs.skirts;
     style.wireframe = knobs.wireframe;
+    style.textures = knobs.textures;
     style.colorBy = ColorBy(knobs.colorBy);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     const auto drawStart = std::chrono::steady_clock::now();
@@ -224,6 +226,7 @@ int runView(const ViewCommand& v) {
     ImGui::Checkbox("skirts", &knobs.skirts);
     ImGui::SameLine();
     ImGui::Checkbox("wireframe", &knobs.wireframe);
+    ImGui::Checkbox("textures", &knobs.textures);
     ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();

@@ -26,6 +26,9 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--wireframe", o.wireframe, "Draw triangle edges over the surface");
   c.add_flag("--no-morph", o.noMorph, "Draw every chunk unmorphed (shows the pops morphing hides)");
   c.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows the cracks they hide)");
+  c.add_flag("--no-textures", o.noTextures,
+             "Ignore the chunks' textures: height tint lit from the drawn geometry (cheaper "
+             "where texture filtering is slow, e.g. software OpenGL)");
   c.add_option("--color-by", o.colorBy, "Surface colour: relief, level (chunk level) or morph")
       ->capture_default_str()
       ->check(CLI::IsMember({"relief", "level", "morph"}));
@@ -58,6 +61,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.background = *background;
   style.wireframe = o.wireframe;
   style.skirts = !o.noSkirts;
+  style.textures = !o.noTextures;
   if (!o.sun.empty()) {
     if (o.sun.size() != 2 || !std::isfinite(o.sun[0]) || !std::isfinite(o.sun[1]) ||
         o.sun[1] < -90 || o.sun[1] > 90)

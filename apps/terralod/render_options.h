@@ -21,7 +21,7 @@ struct RenderOptions {
   std::string size = "1024x768";
   double tau = 2.0;
   std::string background = "9CC3E6";
-  bool wireframe = false, noMorph = false, noSkirts = false;
+  bool wireframe = false, noMorph = false, noSkirts = false, noTextures = false;
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   std::string flightFile;

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <cstring>
 #include <map>
+#include <tuple>
 #include <utility>
 
 namespace terralod {
@@ -17,9 +18,18 @@ struct Taps {
   std::vector<float> weights;
 };
 
-std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
+// Output texel k's centre in source texel coordinates (borders excepted): edge-aligned
+// (k / (to - 1) of the side), or where the GPU samples a mip level of `to` texels below one of
+// `from` texels ((k + 0.5) * from / to - 0.5).
+double centreOf(uint32_t k, uint32_t from, uint32_t to, Placement placement) {
+  return placement == Placement::kEdgeAligned ? k * double(from - 1) / double(to - 1)
+                                              : (k + 0.5) * double(from) / double(to) - 0.5;
+}
+
+std::vector<Taps> makeTaps(uint32_t from, uint32_t to, Placement placement) {
   std::vector<Taps> taps(to);
-  const double step = double(from - 1) / double(to - 1);
+  const double step = placement == Placement::kEdgeAligned ? double(from - 1) / double(to - 1)
+                                                           : double(from) / double(to);
   const double radius = std::max(1.0, step);
   for (uint32_t k = 0; k < to; ++k) {
     Taps& t = taps[k];
@@ -28,7 +38,7 @@ std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
       t.weights = {1.0f};
       continue;
     }
-    const double centre = k * step;
+    const double centre = centreOf(k, from, to, placement);
     const int64_t lo = std::max<int64_t>(0, int64_t(std::floor(centre - radius)) + 1);
     const int64_t hi = std::min<int64_t>(from - 1, int64_t(std::ceil(centre + radius)) - 1);
     double sum = 0;
@@ -64,18 +74,19 @@ std::vector<Taps> makeTaps(uint32_t from, uint32_t to) {
 }  // namespace
 
 // Taps depend only on the two sizes, and the same few pairs recur millions of times.
-const std::vector<Taps>& tapsFor(uint32_t from, uint32_t to) {
-  thread_local std::map<std::pair<uint32_t, uint32_t>, std::vector<Taps>> cache;
-  auto it = cache.find({from, to});
-  if (it == cache.end()) it = cache.emplace(std::pair{from, to}, makeTaps(from, to)).first;
+const std::vector<Taps>& tapsFor(uint32_t from, uint32_t to, Placement placement) {
+  thread_local std::map<std::tuple<uint32_t, uint32_t, Placement>, std::vector<Taps>> cache;
+  const auto key = std::tuple{from, to, placement};
+  auto it = cache.find(key);
+  if (it == cache.end()) it = cache.emplace(key, makeTaps(from, to, placement)).first;
   return it->second;
 }
 
-TexelTile resampleTile(const TexelTile& source, uint32_t size) {
+TexelTile resampleTile(const TexelTile& source, uint32_t size, Placement placement) {
   assert(source.size >= 2 && size >= 2);
   if (size == source.size) return source;
   const uint32_t c = source.channels;
-  const std::vector<Taps>& taps = tapsFor(source.size, size);
+  const std::vector<Taps>& taps = tapsFor(source.size, size, placement);
   // Columns first (whole source rows at a time, which vectorises), then rows.
   const size_t sourceRow = size_t(source.size) * c;
   thread_local std::vector<float> columns;
@@ -110,26 +121,34 @@ TexelTile resampleTile(TexelTile&& source, uint32_t size) {
   return resampleTile(static_cast<const TexelTile&>(source), size);
 }
 
-TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
+TexelTile mipTile(const TexelTile& above, uint32_t size) {
+  return resampleTile(above, size, Placement::kMipLevel);
+}
+
+namespace {
+
+// Children placed with `stride` texels between their origins (n - 1 sharing borders, n not),
+// missing ones filled from the nearest existing texels (chunks exist from the south-west).
+TexelTile placeChildren(const std::array<const TexelTile*, 4>& children, uint32_t stride) {
   const TexelTile* any = nullptr;
   for (const TexelTile* t : children)
     if (t) any = t;
   assert(any);
-  const uint32_t n = any->size, c = any->channels, m = 2 * n - 1;
+  const uint32_t n = any->size, c = any->channels, m = stride + n;
   TexelTile result(m, c);
   std::vector<uint8_t> filled(size_t(m) * m, 0);
   for (int q = 0; q < 4; ++q) {
     const TexelTile* t = children[size_t(q)];
     if (!t) continue;
     assert(t->size == n && t->channels == c);
-    const uint32_t ox = (q & 1) * (n - 1), oy = (q >> 1) * (n - 1);
+    const uint32_t ox = (q & 1) * stride, oy = (q >> 1) * stride;
     for (uint32_t y = 0; y < n; ++y) {
       std::memcpy(result.at(ox, oy + y), t->at(0, y), sizeof(float) * n * c);
       std::fill_n(filled.begin() + std::ptrdiff_t(size_t(oy + y) * m + ox), n, uint8_t(1));
     }
   }
-  // Missing quadrants lie east or north of existing ones (chunks exist from the south-west):
-  // extend rows eastwards, then whole rows northwards.
+  // Missing quadrants lie east or north of existing ones: extend rows eastwards, then whole
+  // rows northwards.
   for (uint32_t y = 0; y < m; ++y) {
     const uint8_t* f = filled.data() + size_t(y) * m;
     if (!f[0]) continue;
@@ -141,6 +160,22 @@ TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
     if (!filled[size_t(y) * m])
       std::memcpy(result.at(0, y), result.at(0, y - 1), sizeof(float) * m * c);
   return result;
+}
+
+const TexelTile* anyOf(const std::array<const TexelTile*, 4>& children) {
+  for (const TexelTile* t : children)
+    if (t) return t;
+  return nullptr;
+}
+
+}  // namespace
+
+TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
+  return placeChildren(children, anyOf(children)->size - 1);
+}
+
+TexelTile concatTiles(const std::array<const TexelTile*, 4>& children) {
+  return placeChildren(children, anyOf(children)->size);
 }
 
 }  // namespace terralod

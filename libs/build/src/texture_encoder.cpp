@@ -37,65 +37,83 @@ std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t s
   return out;
 }
 
-template <typename EncodeLevel>
 TextureLayer encodeLayer(const TexelTile& tile, TextureLayerKind kind, TextureEncoding encoding,
-                         uint8_t flags, std::vector<uint8_t> level0, EncodeLevel&& encodeLevel) {
+                         uint8_t flags, std::vector<uint8_t> level0) {
   TextureLayer layer;
   layer.kind = kind;
   layer.encoding = encoding;
   layer.flags = flags;
   layer.size = tile.size;
   const uint32_t mips = mipCount(tile.size);
-  layer.mips.push_back(level0.empty() ? encodeLevel(tile) : std::move(level0));
+  layer.mips.push_back(level0.empty() ? encodeLevel(tile, encoding) : std::move(level0));
   TexelTile level;
   for (uint32_t m = 1; m < mips; ++m) {
-    const TexelTile& above = m == 1 ? tile : level;
-    const uint32_t size = mipSize(tile.size, m);
-    if (size >= 2) {
-      level = resampleTile(above, size);
-    } else {  // the 1x1 level: the mean
-      TexelTile one(1, above.channels);
-      for (uint32_t y = 0; y < above.size; ++y)
-        for (uint32_t x = 0; x < above.size; ++x)
-          for (uint32_t c = 0; c < above.channels; ++c)
-            one.values[c] += above.at(x, y)[c] / float(above.size * above.size);
-      level = std::move(one);
-    }
-    layer.mips.push_back(encodeLevel(level));
+    level = nextMip(m == 1 ? tile : level, mipSize(tile.size, m));
+    layer.mips.push_back(encodeLevel(level, encoding));
   }
   return layer;
 }
 
 }  // namespace
 
+TexelTile nextMip(const TexelTile& above, uint32_t size) {
+  if (size >= 2) return mipTile(above, size);
+  TexelTile one(1, above.channels);  // the 1x1 level: the mean
+  for (uint32_t y = 0; y < above.size; ++y)
+    for (uint32_t x = 0; x < above.size; ++x)
+      for (uint32_t c = 0; c < above.channels; ++c)
+        one.values[c] += above.at(x, y)[c] / float(above.size * above.size);
+  return one;
+}
+
+std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encoding) {
+  const size_t n = size_t(level.size) * level.size;
+  if (encoding == TextureEncoding::kBc1) {
+    std::vector<uint8_t> rgba(n * 4, 255);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = toByte(level.values[i * 3 + c]);
+    return encodeBlocks(rgba, level.size, 4, 8, [](uint8_t* out, uint8_t* t) {
+      stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
+    });
+  }
+  std::vector<uint8_t> rg(n * 2);
+  for (size_t i = 0; i < n; ++i) {
+    const float* v = level.values.data() + i * 3;
+    const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+    const float inv = len > 0 ? 1.0f / len : 0.0f;
+    rg[i * 2 + 0] = toByte(0.5f * (v[0] * inv + 1.0f));
+    rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
+  }
+  return encodeBlocks(rg, level.size, 2, 16,
+                      [](uint8_t* out, uint8_t* t) { stb_compress_bc5_block(out, t); });
+}
+
 TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {
   return encodeLayer(tile, TextureLayerKind::kColor, TextureEncoding::kBc1, flags,
-                     std::move(level0), [](const TexelTile& level) {
-                       std::vector<uint8_t> rgba(size_t(level.size) * level.size * 4, 255);
-                       for (size_t i = 0, n = size_t(level.size) * level.size; i < n; ++i)
-                         for (size_t c = 0; c < 3; ++c)
-                           rgba[i * 4 + c] = toByte(level.values[i * 3 + c]);
-                       return encodeBlocks(rgba, level.size, 4, 8, [](uint8_t* out, uint8_t* t) {
-                         stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
-                       });
-                     });
+                     std::move(level0));
 }
 
 TextureLayer encodeNormalLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {
   return encodeLayer(tile, TextureLayerKind::kNormal, TextureEncoding::kBc5, flags,
-                     std::move(level0), [](const TexelTile& level) {
-                       std::vector<uint8_t> rg(size_t(level.size) * level.size * 2);
-                       for (size_t i = 0, n = size_t(level.size) * level.size; i < n; ++i) {
-                         const float* v = level.values.data() + i * 3;
-                         const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-                         const float inv = len > 0 ? 1.0f / len : 0.0f;
-                         rg[i * 2 + 0] = toByte(0.5f * (v[0] * inv + 1.0f));
-                         rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
-                       }
-                       return encodeBlocks(rg, level.size, 2, 16, [](uint8_t* out, uint8_t* t) {
-                         stb_compress_bc5_block(out, t);
-                       });
-                     });
+                     std::move(level0));
+}
+
+std::vector<uint8_t> concatBlocks(const std::array<const std::vector<uint8_t>*, 4>& children,
+                                  uint32_t childSize, TextureEncoding encoding) {
+  if (childSize % 4 != 0) return {};
+  for (const auto* c : children)
+    if (!c) return {};
+  const size_t blockBytes = encoding == TextureEncoding::kBc1 ? 8 : 16;
+  const uint32_t childBlocks = childSize / 4, parentBlocks = 2 * childBlocks;
+  std::vector<uint8_t> out(size_t(parentBlocks) * parentBlocks * blockBytes);
+  for (uint32_t q = 0; q < 4; ++q) {
+    const std::vector<uint8_t>& child = *children[q];
+    const uint32_t ox = (q & 1) * childBlocks, oy = (q >> 1) * childBlocks;
+    for (uint32_t by = 0; by < childBlocks; ++by)
+      std::memcpy(out.data() + ((size_t(oy + by) * parentBlocks) + ox) * blockBytes,
+                  child.data() + size_t(by) * childBlocks * blockBytes, childBlocks * blockBytes);
+  }
+  return out;
 }
 
 std::vector<uint8_t> mosaicBlocks(const std::array<const std::vector<uint8_t>*, 4>& children,

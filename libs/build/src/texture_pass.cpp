@@ -26,45 +26,99 @@ Status TexturePass::open() {
   return {};
 }
 
+namespace {
+
+// Every level of a tile computed from level 0 down, and encoded.
+LayerLevels levelsOf(TexelTile level0, TextureEncoding encoding) {
+  LayerLevels l;
+  const uint32_t size = level0.size, mips = mipCount(size);
+  l.levels.push_back(std::move(level0));
+  for (uint32_t m = 1; m < mips; ++m)
+    l.levels.push_back(nextMip(l.levels.back(), mipSize(size, m)));
+  for (const TexelTile& t : l.levels) l.blocks.push_back(encodeLevel(t, encoding));
+  return l;
+}
+
+// A parent's layer of `size` texels from its children's layers (null: no such child).
+LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint32_t size,
+                         TextureEncoding encoding) {
+  const LayerLevels* any = nullptr;
+  bool all = true;
+  for (const LayerLevels* c : children) {
+    if (c) any = c;
+    all = all && c;
+  }
+  auto childLevel = [&](uint32_t m) {
+    std::array<const TexelTile*, 4> tiles{};
+    for (size_t q = 0; q < 4; ++q)
+      if (children[q]) tiles[q] = &children[q]->levels[m];
+    return tiles;
+  };
+  auto childBlocks = [&](uint32_t m) {
+    std::array<const std::vector<uint8_t>*, 4> blocks{};
+    for (size_t q = 0; q < 4; ++q)
+      if (children[q]) blocks[q] = &children[q]->blocks[m];
+    return blocks;
+  };
+  const uint32_t childSize = any->levels[0].size;
+  LayerLevels l;
+  l.levels.push_back(resampleTile(mosaicTiles(childLevel(0)), size));
+  std::vector<uint8_t> blocks0;
+  const bool unresampled = 2 * childSize - 1 == size, halved = childSize == size;
+  if (unresampled && all) blocks0 = mosaicBlocks(childBlocks(0), childSize, encoding);
+  l.blocks.push_back(blocks0.empty() ? encodeLevel(l.levels[0], encoding) : std::move(blocks0));
+  const uint32_t mips = mipCount(size);
+  for (uint32_t m = 1; m < mips; ++m) {
+    const uint32_t levelSize = mipSize(size, m);
+    const uint32_t from = unresampled ? m : halved ? m + 1 : 0;
+    const bool side =
+        from > 0 && from < any->levels.size() && 2 * any->levels[from].size == levelSize;
+    if (!side) {
+      l.levels.push_back(nextMip(l.levels.back(), levelSize));
+      l.blocks.push_back(encodeLevel(l.levels.back(), encoding));
+      continue;
+    }
+    l.levels.push_back(concatTiles(childLevel(from)));
+    std::vector<uint8_t> blocks =
+        all ? concatBlocks(childBlocks(from), any->levels[from].size, encoding)
+            : std::vector<uint8_t>{};
+    l.blocks.push_back(blocks.empty() ? encodeLevel(l.levels.back(), encoding) : std::move(blocks));
+  }
+  return l;
+}
+
+}  // namespace
+
 ChunkTiles TexturePass::fromChildren(uint32_t node,
                                      const std::array<const ChunkTiles*, 4>& children) const {
-  std::array<const TexelTile*, 4> color{}, normal{};
+  std::array<const LayerLevels*, 4> color{}, normal{};
   for (size_t q = 0; q < 4; ++q)
     if (children[q]) {
       color[q] = &children[q]->color;
       normal[q] = &children[q]->normal;
     }
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
-  ChunkTiles t;
-  t.color = resampleTile(mosaicTiles(color), plan.colorSize);
-  t.normal = resampleTile(mosaicTiles(normal), plan.normalSize);
-  const uint32_t childColor = color[0] ? color[0]->size : 0,
-                 childNormal = normal[0] ? normal[0]->size : 0;
-  for (size_t q = 0; q < 4; ++q)
-    if (children[q]) {
-      t.childColor[q] = &children[q]->colorLevel0;
-      t.childNormal[q] = &children[q]->normalLevel0;
-    }
-  if (childColor && 2 * childColor - 1 == plan.colorSize) t.childSize[0] = childColor;
-  if (childNormal && 2 * childNormal - 1 == plan.normalSize) t.childSize[1] = childNormal;
-  return t;
+  return {parentLevels(color, plan.colorSize, TextureEncoding::kBc1),
+          parentLevels(normal, plan.normalSize, TextureEncoding::kBc5)};
 }
 
-std::vector<uint8_t> TexturePass::encode(uint32_t node, ChunkTiles& tiles) const {
+std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles) const {
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
-  // A parent that is its children side by side reuses their encoded blocks for mip 0.
-  std::vector<uint8_t> color0, normal0;
-  if (tiles.childSize[0])
-    color0 = mosaicBlocks(tiles.childColor, tiles.childSize[0], TextureEncoding::kBc1);
-  if (tiles.childSize[1])
-    normal0 = mosaicBlocks(tiles.childNormal, tiles.childSize[1], TextureEncoding::kBc5);
+  auto layer = [](const LayerLevels& l, TextureLayerKind kind, TextureEncoding encoding,
+                  uint8_t flags) {
+    TextureLayer out;
+    out.kind = kind;
+    out.encoding = encoding;
+    out.flags = flags;
+    out.size = l.levels[0].size;
+    out.mips = l.blocks;
+    return out;
+  };
   ChunkTexture texture;
-  texture.layers.push_back(encodeColorLayer(tiles.color, plan.colorFlags, std::move(color0)));
-  texture.layers.push_back(encodeNormalLayer(tiles.normal, plan.normalFlags, std::move(normal0)));
-  tiles.colorLevel0 = texture.layers[0].mips[0];
-  tiles.normalLevel0 = texture.layers[1].mips[0];
-  tiles.childColor = {};
-  tiles.childNormal = {};
+  texture.layers.push_back(
+      layer(tiles.color, TextureLayerKind::kColor, TextureEncoding::kBc1, plan.colorFlags));
+  texture.layers.push_back(
+      layer(tiles.normal, TextureLayerKind::kNormal, TextureEncoding::kBc5, plan.normalFlags));
   return encodeTexture(texture);
 }
 
@@ -94,8 +148,10 @@ Result<ChunkTiles> TexturePass::buildBlock(
       const int32_t c = mLayout.chunkCells(n.level);
       const int32_t x0 = int32_t(n.x) * c, y0 = int32_t(n.y) * c;
       const TextureLevel& plan = mBuild.plan[n.level];
-      t.color = resampleTile(texels.colors(x0, y0, c), plan.colorSize);
-      t.normal = resampleTile(texels.normals(x0, y0, c), plan.normalSize);
+      t.color =
+          levelsOf(resampleTile(texels.colors(x0, y0, c), plan.colorSize), TextureEncoding::kBc1);
+      t.normal =
+          levelsOf(resampleTile(texels.normals(x0, y0, c), plan.normalSize), TextureEncoding::kBc5);
     } else {
       std::array<const ChunkTiles*, 4> children{};
       uint32_t c = n.firstChild;

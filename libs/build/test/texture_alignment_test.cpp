@@ -17,6 +17,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -449,6 +450,43 @@ TEST_F(TextureAlignment, NormalsOfLeavesAreTheDemsNormalsAtEachTexelsGridPoint) 
     EXPECT_GT(c.smallestWrong(), std::max(kNormalShifted * c.aligned, kNormalShiftedMinDegrees))
         << c;
   }
+}
+
+// A parent holding its children unresampled (source-limited levels) is, at every mip level
+// whose blocks line up, its children's blocks side by side: the same pixels on both sides of
+// a split or merge (what keeps bench's image pops small).
+TEST_F(TextureAlignment, ParentMipLevelsAreTheirChildrensBlocksSideBySide) {
+  const auto& nodes = sReader->nodes();
+  int checked = 0;
+  for (uint32_t i = 0; i < nodes.size() && checked < 3; ++i) {
+    const NodeRecord& n = nodes[i];
+    if (n.childMask != 15) continue;
+    auto parent = sReader->readChunkData(i).value();
+    std::array<ChunkData, 4> children;
+    for (uint32_t q = 0; q < 4; ++q) children[q] = sReader->readChunkData(n.firstChild + q).value();
+    for (size_t layer = 0; layer < 2; ++layer) {
+      const TextureLayer& p = parent.texture->layers[layer];
+      const TextureLayer& c0 = children[0].texture->layers[layer];
+      if (p.size != 2 * c0.size - 1) continue;  // resampled, not unresampled
+      const size_t block = p.encoding == TextureEncoding::kBc1 ? 8 : 16;
+      for (uint32_t m = 1; m < c0.mips.size(); ++m) {
+        const uint32_t childSide = mipSize(c0.size, m);
+        if (childSide % 4 != 0) continue;
+        const uint32_t cb = childSide / 4, pb = 2 * cb;
+        ASSERT_EQ(mipSize(p.size, m), 2 * childSide);
+        for (uint32_t q = 0; q < 4; ++q) {
+          const auto& child = children[q].texture->layers[layer].mips[m];
+          for (uint32_t by = 0; by < cb; ++by)
+            EXPECT_EQ(0, std::memcmp(p.mips[m].data() +
+                                         (size_t((q >> 1) * cb + by) * pb + (q & 1) * cb) * block,
+                                     child.data() + size_t(by) * cb * block, cb * block))
+                << "node " << i << " layer " << layer << " mip " << m << " quadrant " << q;
+        }
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 2) << "no unresampled parent with four children was found";
 }
 
 }  // namespace

@@ -100,8 +100,9 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     ++stats.chunks;
     const ChunkNode& n = tree.node(s.node);
     const uint32_t cells = uint32_t(tree.chunkCells(n.level));
-    const uint64_t group =
-        chunk->textured ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array : ~uint64_t{0};
+    const uint64_t group = chunk->textured && style.textures
+                               ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array
+                               : ~uint64_t{0};
     for (const GpuChunkPart& p : chunk->parts) {
       const uint32_t count = style.skirts ? p.indexCount : p.surfaceIndexCount;
       if (count == 0) continue;

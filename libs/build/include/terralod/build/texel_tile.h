@@ -28,16 +28,36 @@ struct TexelTile {
   }
 };
 
+/// Where resampled texels go: edge-aligned (texel k at k / (size - 1) of the side: tiles,
+/// parents), or where the GPU samples mip level texels (texel k at (k + 0.5) * from / size -
+/// 0.5 source texels, the borders excepted, which stay on the border).
+enum class Placement : uint8_t { kEdgeAligned, kMipLevel };
+
 /// `source` resampled to `size` texels per side: a tent filter as wide as the step (so
-/// downsampling averages, upsampling interpolates), borders from borders only.
-TexelTile resampleTile(const TexelTile& source, uint32_t size);
+/// downsampling averages, upsampling interpolates), tilted so that linear functions come out
+/// exact; borders from borders only.
+TexelTile resampleTile(const TexelTile& source, uint32_t size,
+                       Placement placement = Placement::kEdgeAligned);
 /// The same, reusing `source`'s storage when the size does not change.
 TexelTile resampleTile(TexelTile&& source, uint32_t size);
+
+/// The next mip level (`size` = the level above's size / 2, at least 2) of a tile whose level 0
+/// is edge-aligned. The GPU samples mip level m of a tile of n texels at texel coordinate
+/// (0.5 + f (n - 1)) n_m / n - 0.5 for the fraction f across the chunk: the interior texels
+/// are put exactly there, so every level shows the same surface in the same place (a parent
+/// and its children agree at every mip). Border texels stay on the border (border-only
+/// filtering), so neighbours still agree at their shared border.
+TexelTile mipTile(const TexelTile& above, uint32_t size);
 
 /// The four children's tiles (SW, SE, NW, NE; nullptr where a child does not exist) side by
 /// side as one tile of 2n - 1 texels (neighbours share their border texels). A missing
 /// child's quadrant repeats the nearest existing texels. At least one child must exist, and
 /// the existing ones must have the same size and channels.
 TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children);
+
+/// The four children's tiles side by side without sharing (2n texels per side): how the mip
+/// levels of a parent (2^k texels, no border column of their own) are their children's.
+/// Missing children repeat the nearest existing texels, as in mosaicTiles.
+TexelTile concatTiles(const std::array<const TexelTile*, 4>& children);
 
 }  // namespace terralod

@@ -28,11 +28,15 @@ struct TextureBuild {
   const ImageDrape* image = nullptr;  ///< null: the generated colour
 };
 
+/// One layer of a chunk while the pyramid is built: every mip level, as floats (for the parent
+/// to build on) and encoded (what is stored, and what a parent can reuse).
+struct LayerLevels {
+  std::vector<TexelTile> levels;
+  std::vector<std::vector<uint8_t>> blocks;
+};
+
 struct ChunkTiles {
-  TexelTile color, normal;
-  std::vector<uint8_t> colorLevel0, normalLevel0;  ///< encoded mip 0 (for parents to reuse)
-  uint32_t childSize[2] = {0, 0};  ///< set when the tiles are the children's mosaic unresampled
-  std::array<const std::vector<uint8_t>*, 4> childColor{}, childNormal{};  ///< while building
+  LayerLevels color, normal;
 };
 
 class TexturePass {
@@ -49,10 +53,13 @@ class TexturePass {
   Result<ChunkTiles> buildBlock(uint32_t root, HeightWindows& heights, unsigned worker,
                                 std::vector<std::pair<uint32_t, std::vector<uint8_t>>>& blobs);
 
-  /// Tiles of a node from its children's (entries null where a child does not exist).
+  /// Tiles of a node from its children's (entries null where a child does not exist). A
+  /// parent's mip levels are its children's levels side by side wherever the sizes allow (its
+  /// mip m is their mip m when it holds them unresampled, their mip m + 1 when it halves
+  /// them), reusing their encoded blocks: the same pixels on both sides of a split.
   ChunkTiles fromChildren(uint32_t node, const std::array<const ChunkTiles*, 4>& children) const;
-  /// The stored texture blob of a node's tiles; keeps the encoded mip 0 in `tiles`.
-  std::vector<uint8_t> encode(uint32_t node, ChunkTiles& tiles) const;
+  /// The stored texture blob of a node's tiles.
+  std::vector<uint8_t> encode(uint32_t node, const ChunkTiles& tiles) const;
 
  private:
   const TreeLayout& mLayout;

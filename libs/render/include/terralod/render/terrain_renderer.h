@@ -24,7 +24,8 @@ struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface
   bool skirts = true;
-  bool sky = true;  ///< false: empty pixels keep exactly the background colour
+  bool textures = true;  ///< false: ignore chunk textures, light from the drawn geometry
+  bool sky = true;       ///< false: empty pixels keep exactly the background colour
   std::array<uint8_t, 3> background{0x9C, 0xC3, 0xE6};  ///< sRGB; the sky overhead
   double sunAzimuthDegrees = 315.0;                     ///< clockwise from north
   double sunElevationDegrees = 40.0;
