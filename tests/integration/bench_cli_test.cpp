@@ -86,6 +86,14 @@ TEST(BenchTexels, NoTexelCoversMoreThanOnePixelAtTheTexturesTau) {
   EXPECT_GT(texelsAt("4"), 1.5);
 }
 
+TEST_F(BenchCli, WithoutTexturesOneMultiDrawAndNoTexelFigures) {
+  const auto j = bench("1", {"--no-textures"});
+  EXPECT_EQ(j["draws_p50"], 2.0) << "sky plus one multi-draw";
+  EXPECT_FALSE(j.contains("max_texel_per_px"));
+  EXPECT_FALSE(j.contains("max_texel_per_px_source_limited"));
+  EXPECT_LT(j["image_pop_mean"].get<double>(), 0.5);
+}
+
 TEST_F(BenchCli, WithoutMorphingThePopsShow) {
   const auto j = bench("1", {"--no-morph"});
   EXPECT_GE(j["max_pop_px"].get<double>(), 0.25);
