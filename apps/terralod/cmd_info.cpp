@@ -95,9 +95,9 @@ int printInfo(const std::string& path, bool json) {
   std::printf("  tree            %u levels, %u x %u roots of %u cells, leaves of %u cells\n",
               h.levelCount, h.rootsX, h.rootsY, h.rootCells, h.leafCells);
   if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
-    const auto& t = metadata["texture"];
+    const auto& texture = metadata["texture"];
     std::printf("  textures        colour %s, normals from the DEM, sized for tau <= %.2f px\n",
-                t.value("color", "?").c_str(), h.textureMinTau);
+                texture.value("color", "?").c_str(), h.textureMinTau);
   }
   std::printf("  level  error(m)    chunks    vertices   triangles       bytes  bytes/vertex%s\n",
               h.textured() ? "  texture bytes  texels/side" : "");
@@ -113,10 +113,11 @@ int printInfo(const std::string& path, bool json) {
     if (h.textured()) {
       std::printf("  %13llu", (unsigned long long)s.textureBytes);
       if (texturePlan && texturePlan->is_array() && l < texturePlan->size()) {
-        const auto& t = (*texturePlan)[l];
-        std::printf("  %5u%s/%u%s", t.value("color_size", 0u),
-                    t.value("color_source_limited", false) ? "*" : "", t.value("normal_size", 0u),
-                    t.value("normal_source_limited", false) ? "*" : "");
+        const auto& level = (*texturePlan)[l];
+        std::printf("  %5u%s/%u%s", level.value("color_size", 0u),
+                    level.value("color_source_limited", false) ? "*" : "",
+                    level.value("normal_size", 0u),
+                    level.value("normal_source_limited", false) ? "*" : "");
       }
     }
     std::printf("\n");

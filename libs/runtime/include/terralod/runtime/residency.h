@@ -1,0 +1,148 @@
+#pragma once
+// Which chunks are in memory, under a byte budget (Ulrich §15; the VIPM paper's streaming).
+// The render thread drives it once per frame; loads (IO and decoding) run on a TaskRunner.
+//
+// Every node has an explicit state:
+//
+//   absent ──request──► queued ──dispatch──► loading ──done──► ready ──markResident──► resident
+//     ▲  ◄──not requested again (cancelled)──┘          │                                  │
+//     │                                                 └──error──► failed ──retry frame──►│ absent
+//     └──────────────────────────── evict (least recently used first) ◄────────────────────┘
+//
+// The resident set is closed under parents: a chunk is requested only when its parent is
+// resident, and only chunks without resident (or loading) children are evicted. Selection can
+// therefore always walk from the roots to what it draws, and a chunk whose children are
+// missing is drawn itself: never a hole, never a wait. Roots are loaded before the first frame
+// and never evicted.
+//
+// Kind-independent: what a load produces is an opaque ChunkPayload (the renderer's decoded
+// chunk of whatever mesh kind) with its byte size.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/task_runner.h"
+
+namespace terralod {
+
+struct ChunkPayload {
+  virtual ~ChunkPayload() = default;
+};
+
+struct LoadedChunk {
+  std::unique_ptr<ChunkPayload> payload;
+  uint64_t bytes = 0;      ///< memory it holds until uploaded
+  uint64_t bytesRead = 0;  ///< from the source
+};
+
+/// Reads and decodes one chunk. Called on loader threads: must be thread-safe.
+using ChunkLoadFunction = std::function<Result<LoadedChunk>(uint32_t node)>;
+
+enum class ChunkState : uint8_t { kAbsent, kQueued, kLoading, kReady, kResident, kFailed };
+
+struct ResidencyOptions {
+  uint64_t budgetBytes = uint64_t{512} << 20;  ///< resident (GPU) plus decoded-not-uploaded
+  unsigned maxInFlight = 4;                     ///< loads running at once
+  uint32_t retryFrames = 30;                    ///< first retry of a failed chunk; doubles
+};
+
+struct ResidencyCounters {
+  uint64_t loads = 0;          ///< chunks loaded
+  uint64_t evictions = 0;      ///< resident chunks evicted
+  uint64_t bytesRead = 0;      ///< from the source
+  uint64_t failures = 0;       ///< loads that failed (each retried later)
+  uint64_t cancelled = 0;      ///< queued requests dropped because nobody wanted them any more
+  uint64_t discarded = 0;      ///< loaded chunks dropped unused (budget)
+  uint64_t residentBytes = 0;  ///< now: resident plus ready
+  uint64_t residentBytesMax = 0;
+};
+
+/// A chunk decoded and waiting for its upload.
+struct ReadyChunk {
+  uint32_t node = 0;
+  LoadedChunk chunk;
+};
+
+class Residency {
+ public:
+  /// `log` receives one line per chunk that fails (the first time it fails).
+  Residency(const ChunkTree& tree, ChunkLoadFunction load, TaskRunner& runner,
+            ResidencyOptions options, std::function<void(const std::string&)> log = {});
+  ~Residency();  ///< waits for loads still running
+  Residency(const Residency&) = delete;
+  Residency& operator=(const Residency&) = delete;
+
+  /// Loads a chunk on the calling thread (the roots, before the first frame).
+  Result<LoadedChunk> loadNow(uint32_t node);
+
+  /// Per node, 1 when resident (SelectionOptions::drawable).
+  std::span<const uint8_t> drawable() const { return mDrawable; }
+  ChunkState state(uint32_t node) const { return mNodes[node].state; }
+
+  // --- once per frame, on the render thread, in this order ---
+  /// Collects finished loads; returns those now ready, most wanted first.
+  std::vector<ReadyChunk> collect();
+  /// The caller put a ready chunk on the GPU, taking `gpuBytes`, and dropped its payload.
+  void markResident(const ReadyChunk& chunk, uint64_t gpuBytes);
+  /// The same for a chunk from loadNow().
+  void markLoadedNow(uint32_t node, uint64_t gpuBytes);
+  /// Gives a ready chunk back unused (e.g. the frame's upload budget ran out): kept for later.
+  void returnReady(ReadyChunk chunk);
+  /// `node` is in use this frame (drawn, or an ancestor of a drawn chunk).
+  void touch(uint32_t node);
+  /// `node` is wanted: lower priority values load first. Needs a resident parent.
+  void request(uint32_t node, float priority);
+  /// Least recently used chunks to free to get under budget (not used this frame); the caller
+  /// frees them and they become absent.
+  std::vector<uint32_t> evict();
+  /// Drops requests not renewed this frame and starts the most wanted loads; ends the frame.
+  void dispatch();
+
+  const ResidencyCounters& counters() const { return mCounters; }
+  uint64_t frame() const { return mFrame; }
+  size_t inFlight() const { return mInFlight; }
+  size_t queued() const { return mQueue.size(); }
+
+ private:
+  struct Node {
+    ChunkState state = ChunkState::kAbsent;
+    float priority = 0;
+    uint64_t lastUsed = 0, requested = 0, retryAt = 0;
+    uint32_t failures = 0;
+    uint64_t gpuBytes = 0;
+    uint32_t busyChildren = 0;  // children loading, ready or resident
+  };
+  struct Finished {
+    uint32_t node;
+    Result<LoadedChunk> result;
+  };
+  void adjustParent(uint32_t node, int delta);
+  void addBytes(int64_t delta);
+
+  const ChunkTree& mTree;
+  ChunkLoadFunction mLoad;
+  TaskRunner& mRunner;
+  ResidencyOptions mOptions;
+  std::function<void(const std::string&)> mLog;
+  std::vector<Node> mNodes;
+  std::vector<uint8_t> mDrawable;
+  std::vector<uint32_t> mQueue;     // queued nodes
+  std::vector<uint32_t> mResident;  // resident nodes (for eviction)
+  std::vector<ReadyChunk> mReady;   // loaded, not yet uploaded
+  uint64_t mFrame = 1;
+  size_t mInFlight = 0;
+  ResidencyCounters mCounters;
+
+  std::shared_ptr<std::mutex> mDoneMutex;
+  std::shared_ptr<std::vector<Finished>> mDone;
+  std::shared_ptr<size_t> mRunning;  // tasks not finished (guarded by mDoneMutex)
+};
+
+}  // namespace terralod
