@@ -15,8 +15,8 @@ packages=(
   libepoxy-dev libegl-dev libgl-dev libglfw3-dev libimgui-dev libgl1-mesa-dri libegl-mesa0
   # a virtual X server for the windowed tests
   xvfb xauth
-  # network
-  libcurl4-openssl-dev
+  # network: libcurl for HTTP tilesets; nginx (/usr/sbin/nginx) serves them in the HTTP tests
+  libcurl4-openssl-dev nginx
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
 )
@@ -34,6 +34,16 @@ if [ ${#missing[@]} -gt 0 ]; then
   echo "install-deps: installing ${missing[*]}"
   $sudo apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  # Debian starts the nginx service (port 80) on installation; the tests run their own nginx
+  # on a free port. If we just installed it, stop that service again (and keep it from starting
+  # at boot); an nginx the machine already had is left alone.
+  if [[ " ${missing[*]} " == *" nginx "* ]]; then
+    if command -v systemctl >/dev/null 2>&1 && [ -d /run/systemd/system ]; then
+      $sudo systemctl disable --now nginx >/dev/null 2>&1 || true
+    elif command -v service >/dev/null 2>&1; then
+      $sudo service nginx stop >/dev/null 2>&1 || true
+    fi
+  fi
 fi
 
 # The Khronos glTF validator (npm package) used by the export test, pinned by tests/tools/package-lock.json.

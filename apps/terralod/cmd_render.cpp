@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "render_options.h"
+#include "terralod/format/http_source.h"
 #include "terralod/render/contact_sheet.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
@@ -40,11 +41,13 @@ int runRender(const RenderCommand& r) {
   auto style = terrainStyle(r.options);
   if (!style) return fail(style.error().message);
 
-  auto tileset = TilesetReader::openFile(r.options.tileset);
+  auto byteSource = openByteSource(r.options.tileset);  // a path or an http(s):// URL
+  if (!byteSource) return fail(byteSource.error().message);
+  auto tileset = TilesetReader::open(std::move(byteSource).value());
   if (!tileset) return fail(tileset.error().message);
   auto context = GlContext::createHeadless();
   if (!context) return fail(context.error().message);
-  auto scene = TerrainScene::create(std::move(tileset).value());
+  auto scene = TerrainScene::create(std::move(tileset).value(), sceneOptions(r.options, true));
   if (!scene) return fail(scene.error().message);
   auto cameras = camerasFor(r.options, (*scene)->tree());
   if (!cameras) return fail(cameras.error().message);

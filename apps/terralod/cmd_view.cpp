@@ -16,6 +16,7 @@
 #include "fly_camera.h"
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/format/http_source.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/render/window.h"
@@ -95,7 +96,9 @@ FlyInput readInput(GLFWwindow* w, double& lastX, double& lastY, bool& dragging) 
 }
 
 int runView(const ViewCommand& v) {
-  auto tileset = TilesetReader::openFile(v.options.tileset);
+  auto byteSource = openByteSource(v.options.tileset);  // a path or an http(s):// URL
+  if (!byteSource) return fail(byteSource.error().message);
+  auto tileset = TilesetReader::open(std::move(byteSource).value());
   if (!tileset) return fail(tileset.error().message);
   std::optional<Flight> playback;
   if (!v.play.empty()) {
@@ -107,7 +110,7 @@ int runView(const ViewCommand& v) {
                                            : std::array<int, 2>{1280, 800};
   auto window = Window::open("terralod view: " + v.options.tileset, size[0], size[1]);
   if (!window) return fail(window.error().message);
-  auto created = TerrainScene::create(std::move(tileset).value());
+  auto created = TerrainScene::create(std::move(tileset).value(), sceneOptions(v.options, false));
   if (!created) return fail(created.error().message);
   TerrainScene& scene = **created;
   auto start = camerasFor(v.options, scene.tree());

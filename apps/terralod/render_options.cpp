@@ -1,6 +1,7 @@
 #include "render_options.h"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -37,6 +38,10 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "the horizon (default 315,40)")
       ->delimiter(',')
       ->expected(2);
+  c.add_option("--cache-mb", o.cacheMB,
+               "Memory budget for chunks in MB (GPU copies and decoded chunks waiting for upload)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");
@@ -51,6 +56,16 @@ Result<SelectionOptions> selectionOptions(const RenderOptions& o) {
   SelectionOptions s;
   s.tau = o.tau;
   s.morph = !o.noMorph;
+  return s;
+}
+
+SceneOptions sceneOptions(const RenderOptions& o, bool complete) {
+  SceneOptions s;
+  s.cacheBytes = uint64_t(o.cacheMB * 1024.0 * 1024.0);
+  s.complete = complete;
+  s.log = [](const std::string& line) {
+    std::fprintf(stderr, "terralod: warning: %s\n", line.c_str());
+  };
   return s;
 }
 

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "terralod/render/terrain_renderer.h"
+#include "terralod/render/terrain_scene.h"
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/flight.h"
 #include "terralod/runtime/selection.h"
@@ -28,7 +29,11 @@ struct RenderOptions {
   bool autoFlight = false;
   bool climbOnly = false;  ///< with autoFlight: only its climb
   int frames = 0;          ///< 0: the whole flight
+  double cacheMB = 512;    ///< --cache-mb: chunk memory budget
 };
+
+/// The scene's options for these command-line options (`complete`: wait for data each frame).
+SceneOptions sceneOptions(const RenderOptions& options, bool complete);
 
 /// Registers the shared options on `command`.
 void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera);

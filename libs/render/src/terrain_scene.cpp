@@ -1,15 +1,32 @@
 #include "terralod/render/terrain_scene.h"
 
+#include <thread>
+
 namespace terralod {
 namespace {
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+using Clock = std::chrono::steady_clock;
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// A static RTIN chunk as the loaders decode it.
+struct StaticChunkPayload final : ChunkPayload {
+  ChunkData data;
+};
+
+uint64_t decodedBytes(const ChunkData& d) {
+  uint64_t bytes = 0;
+  for (const ChunkPart& p : d.geometry.parts)
+    bytes += p.vertices.size() * sizeof(ChunkVertex) + p.indices.size() * sizeof(uint32_t);
+  if (d.texture) bytes += d.texture->bytes();
+  return bytes;
 }
 
 }  // namespace
 
-Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<TilesetReader> tileset) {
+Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<TilesetReader> tileset,
+                                                           SceneOptions options) {
   for (const NodeRecord& n : tileset->nodes())
     if (n.meshKind != MeshKind::kStaticRtin)
       return makeError(tileset->name(), "chunk mesh kind " + std::to_string(int(n.meshKind)) +
@@ -17,57 +34,148 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
   auto renderer = TerrainRenderer::create();
   if (!renderer) return renderer.error();
   ChunkTree tree(tileset->header(), tileset->nodes());
-  return std::unique_ptr<TerrainScene>(
-      new TerrainScene(std::move(tileset), std::move(tree), std::move(renderer).value()));
+  std::unique_ptr<TerrainScene> scene(new TerrainScene(
+      std::move(tileset), std::move(tree), std::move(renderer).value(), std::move(options)));
+  if (Status s = scene->loadRoots(); !s) return s.error();
+  return scene;
 }
 
 TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree,
-                           TerrainRenderer renderer)
-    : mTileset(std::move(tileset)), mTree(std::move(tree)), mRenderer(std::move(renderer)) {
+                           TerrainRenderer renderer, SceneOptions options)
+    : mTileset(std::move(tileset)),
+      mTree(std::move(tree)),
+      mOptions(std::move(options)),
+      mRenderer(std::move(renderer)),
+      mPool(std::make_unique<ThreadPool>(std::max(1u, mOptions.loaderThreads))) {
   mSelected.reserve(mTree.nodes().size());
+  const TilesetReader* reader = mTileset.get();
+  const bool textured = reader->header().textured();
+  auto load = [reader, textured](uint32_t node) -> Result<LoadedChunk> {
+    auto data = reader->readChunkData(node);
+    if (!data) return data.error();
+    if (textured && (!data->texture || !data->texture->find(TextureLayerKind::kColor) ||
+                     !data->texture->find(TextureLayerKind::kNormal)))
+      return makeError(reader->name(),
+                       "chunk " + std::to_string(node) + " lacks its colour or normal texture");
+    auto payload = std::make_unique<StaticChunkPayload>();
+    payload->data = std::move(data).value();
+    LoadedChunk loaded;
+    loaded.bytes = decodedBytes(payload->data);
+    loaded.bytesRead = payload->data.bytesRead;
+    loaded.payload = std::move(payload);
+    return loaded;
+  };
+  ResidencyOptions r;
+  r.budgetBytes = mOptions.cacheBytes;
+  r.maxInFlight = std::max(2u, 2 * mOptions.loaderThreads);
+  mResidency = std::make_unique<Residency>(mTree, load, *mPool, r, mOptions.log);
+}
+
+TerrainScene::~TerrainScene() {
+  mResidency.reset();  // waits for running loads
+  mPool.reset();
+}
+
+Status TerrainScene::loadRoots() {
+  for (uint32_t root = 0; root < mTree.rootCount(); ++root) {
+    auto loaded = mResidency->loadNow(root);
+    if (!loaded) return loaded.error();
+    const auto& data = static_cast<const StaticChunkPayload&>(*loaded->payload).data;
+    mStore.upload(root, data.geometry, data.texture ? &*data.texture : nullptr);
+    mResidency->markLoadedNow(root, mStore.find(root)->bytes);
+  }
+  return {};
+}
+
+void TerrainScene::upload(const ReadyChunk& chunk) {
+  const auto& data = static_cast<const StaticChunkPayload&>(*chunk.chunk.payload).data;
+  mStore.upload(chunk.node, data.geometry, data.texture ? &*data.texture : nullptr);
+  mResidency->markResident(chunk, mStore.find(chunk.node)->bytes);
+}
+
+void TerrainScene::step(const View& view, const SelectionOptions& selection, FrameStats& stats,
+                        bool unlimitedUploads) {
+  Residency& residency = *mResidency;
+  // Uploads, most wanted first, within the frame's budget (always at least one).
+  const auto uploadStart = Clock::now();
+  std::vector<ReadyChunk> ready = residency.collect();
+  for (ReadyChunk& chunk : ready) {
+    if (!unlimitedUploads && stats.uploads > 0 &&
+        millisecondsSince(uploadStart) > mOptions.uploadMillisecondsPerFrame) {
+      residency.returnReady(std::move(chunk));
+      continue;
+    }
+    upload(chunk);
+    ++stats.uploads;
+  }
+  stats.uploadMilliseconds = millisecondsSince(uploadStart);
+
+  const auto selectStart = Clock::now();
+  SelectionOptions options = selection;
+  options.drawable = residency.drawable();
+  mLastSelection = selectChunks(mTree, view, options, mSelected);
+  stats.selectMicroseconds =
+      std::chrono::duration<double, std::micro>(Clock::now() - selectStart).count();
+  // In use: the drawn chunks and their ancestors. Wanted: the children of chunks drawn
+  // coarser than wanted (nearest first), then those of chunks close to splitting (prefetch).
+  for (const SelectedChunk& s : mSelected) {
+    for (uint32_t i = s.node; i != kNoNode; i = mTree.node(i).parent) residency.touch(i);
+    const ChunkNode& n = mTree.node(s.node);
+    if (n.childCount == 0) continue;
+    const double rho =
+        screenSpaceError(view, mTree.levelError(n.level), distanceToBox(view.camera.eye, n.box));
+    if (rho <= 0.5 * selection.tau) continue;
+    const float priority = float(selection.tau / rho) + (rho > selection.tau ? 0.0f : 1.0f);
+    for (uint32_t c = n.firstChild; c < n.firstChild + n.childCount; ++c)
+      residency.request(c, priority);
+  }
+  for (uint32_t node : residency.evict()) {
+    mStore.release(node);
+    ++stats.evictions;
+  }
+  residency.dispatch();
 }
 
 Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOptions& options,
                                              const TerrainStyle& style, bool reselect) {
   FrameStats stats;
   if (reselect) {
-    const auto selectStart = std::chrono::steady_clock::now();
-    mLastSelection = selectChunks(mTree, view, options, mSelected);
-    stats.selectMicroseconds = secondsSince(selectStart) * 1e6;
+    step(view, options, stats, mOptions.complete);
+    // Complete frames wait until nothing they want is still on its way.
+    for (int round = 0; mOptions.complete && mLastSelection.coarserThanWanted > 0 && round < 100000;
+         ++round) {
+      const Residency& r = *mResidency;
+      if (r.inFlight() == 0 && r.queued() == 0) break;  // the rest failed or does not fit
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      stats.waitedOnIo = true;
+      FrameStats more;
+      step(view, options, more, true);
+      stats.uploads += more.uploads;
+      stats.evictions += more.evictions;
+      stats.uploadMilliseconds += more.uploadMilliseconds;
+    }
   }
   stats.selection = mLastSelection;
-
-  if (Status s = load(mSelected, stats); !s) return s.error();
+  if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
+    return makeError(mTileset->name(), "no chunk can be drawn");
   stats.draw = mRenderer.draw(view, mTree, mSelected, mStore, style);
   return stats;
 }
 
-Result<FrameStats> TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,
-                                            const TerrainStyle& style) {
+FrameStats TerrainScene::renderResident(const View& view, const SelectionOptions& selection,
+                                        const TerrainStyle& style) {
   FrameStats stats;
-  if (Status s = load(chunks, stats); !s) return s.error();
-  stats.draw = mRenderer.draw(view, mTree, chunks, mStore, style);
+  SelectionOptions options = selection;
+  options.drawable = mResidency->drawable();
+  mOtherView.reserve(mTree.nodes().size());
+  stats.selection = selectChunks(mTree, view, options, mOtherView);
+  stats.draw = mRenderer.draw(view, mTree, mOtherView, mStore, style);
   return stats;
 }
 
-Status TerrainScene::load(std::span<const SelectedChunk> chunks, FrameStats& stats) {
-  const auto loadStart = std::chrono::steady_clock::now();
-  for (const SelectedChunk& s : chunks) {
-    if (mStore.find(s.node)) continue;
-    auto chunk = mTileset->readChunkData(s.node);
-    if (!chunk) return chunk.error();
-    if (mTileset->header().textured() &&
-        (!chunk->texture || !chunk->texture->find(TextureLayerKind::kColor) ||
-         !chunk->texture->find(TextureLayerKind::kNormal)))
-      return makeError(mTileset->name(),
-                       "chunk " + std::to_string(s.node) + " lacks its colour or normal texture");
-    const auto uploadStart = std::chrono::steady_clock::now();
-    mStore.upload(s.node, chunk->geometry, chunk->texture ? &*chunk->texture : nullptr);
-    stats.uploadMilliseconds += secondsSince(uploadStart) * 1e3;
-    ++stats.loads;
-  }
-  stats.loadMilliseconds = secondsSince(loadStart) * 1e3;
-  return {};
+DrawStats TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,
+                                   const TerrainStyle& style) {
+  return mRenderer.draw(view, mTree, chunks, mStore, style);
 }
 
 }  // namespace terralod

@@ -38,7 +38,9 @@ class TerrainRender : public ::testing::Test {
     mContext = std::move(context).value();
     auto tileset = TilesetReader::openFile(sDir->file("crater.tlod"));
     ASSERT_TRUE(tileset.ok()) << tileset.error().message;
-    auto scene = TerrainScene::create(std::move(tileset).value());
+    SceneOptions options;
+    options.complete = true;  // every view fully loaded: fixed pictures
+    auto scene = TerrainScene::create(std::move(tileset).value(), options);
     ASSERT_TRUE(scene.ok()) << scene.error().message;
     mScene = std::move(scene).value();
   }

@@ -31,11 +31,14 @@ Residency::~Residency() {
   }
 }
 
-Result<LoadedChunk> Residency::loadNow(uint32_t node) { return mLoad(node); }
+Result<LoadedChunk> Residency::loadNow(uint32_t node) {
+  return mLoad(node);
+}
 
 void Residency::adjustParent(uint32_t node, int delta) {
   const uint32_t parent = mTree.node(node).parent;
-  if (parent != kNoNode) mNodes[parent].busyChildren = uint32_t(int(mNodes[parent].busyChildren) + delta);
+  if (parent != kNoNode)
+    mNodes[parent].busyChildren = uint32_t(int(mNodes[parent].busyChildren) + delta);
 }
 
 void Residency::addBytes(int64_t delta) {
@@ -64,7 +67,8 @@ std::vector<ReadyChunk> Residency::collect() {
       ++n.failures;
       ++mCounters.failures;
       n.state = ChunkState::kFailed;
-      n.retryAt = mFrame + (uint64_t(mOptions.retryFrames) << std::min<uint32_t>(n.failures - 1, 6));
+      n.retryAt =
+          mFrame + (uint64_t(mOptions.retryFrames) << std::min<uint32_t>(n.failures - 1, 6));
       adjustParent(f.node, -1);
     }
   }
@@ -76,7 +80,9 @@ std::vector<ReadyChunk> Residency::collect() {
   return ready;
 }
 
-void Residency::returnReady(ReadyChunk chunk) { mReady.push_back(std::move(chunk)); }
+void Residency::returnReady(ReadyChunk chunk) {
+  mReady.push_back(std::move(chunk));
+}
 
 void Residency::markResident(const ReadyChunk& chunk, uint64_t gpuBytes) {
   assert(mNodes[chunk.node].state == ChunkState::kReady);
@@ -103,7 +109,9 @@ void Residency::markLoadedNow(uint32_t node, uint64_t gpuBytes) {
   mResident.push_back(node);
 }
 
-void Residency::touch(uint32_t node) { mNodes[node].lastUsed = mFrame; }
+void Residency::touch(uint32_t node) {
+  mNodes[node].lastUsed = mFrame;
+}
 
 void Residency::request(uint32_t node, float priority) {
   const uint32_t parent = mTree.node(node).parent;
@@ -112,8 +120,7 @@ void Residency::request(uint32_t node, float priority) {
   if (n.requested != mFrame) n.priority = priority;
   n.priority = std::min(n.priority, priority);
   n.requested = mFrame;
-  if (n.state == ChunkState::kAbsent ||
-      (n.state == ChunkState::kFailed && mFrame >= n.retryAt)) {
+  if (n.state == ChunkState::kAbsent || (n.state == ChunkState::kFailed && mFrame >= n.retryAt)) {
     n.state = ChunkState::kQueued;
     mQueue.push_back(node);
   }

@@ -12,6 +12,15 @@
 
 namespace terralod {
 
+/// What a source has done so far, for benchmarks and diagnostics. Sources that do not count
+/// (file, memory) report zeros.
+struct SourceStats {
+  uint64_t bytesRead = 0;  ///< payload bytes received, also by attempts that were retried
+  uint64_t requests = 0;   ///< requests sent (HTTP: every attempt, the size probe included)
+  uint64_t retries = 0;    ///< attempts repeated after a transient failure
+  uint64_t failures = 0;   ///< read calls that returned an error
+};
+
 class ByteSource {
  public:
   virtual ~ByteSource() = default;
@@ -22,6 +31,8 @@ class ByteSource {
   virtual Result<std::vector<uint8_t>> read(uint64_t offset, uint64_t length) const = 0;
   /// A name for error messages (path or URL).
   virtual const std::string& name() const = 0;
+  /// Counters since the source was opened. Thread-safe.
+  virtual SourceStats stats() const { return {}; }
 };
 
 /// A local file read with pread.

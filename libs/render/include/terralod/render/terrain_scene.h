@@ -1,12 +1,17 @@
 #pragma once
-// A tileset ready to draw: the reader, its chunk tree, the chunks on the GPU and the renderer,
-// with one call per frame (select, bring missing chunks to the GPU, draw). What `render`,
-// `bench` and the viewer share. Render thread only.
+// A tileset ready to draw: the reader, its chunk tree, the residency of its chunks (a loader
+// pool reads and decodes them under a memory budget), the chunks on the GPU and the renderer,
+// with one call per frame. What `render`, `bench` and the viewer share. Render thread only.
 //
-// Chunks are read and decoded on the render thread when a selection first needs them; the
-// out-of-core loader (issue 5) replaces that with worker threads and a memory budget.
+// A frame never waits for IO: it uploads what the loaders have finished (within a per-frame
+// upload budget), selects among the resident chunks (a chunk whose children are missing is
+// drawn itself, coarser than wanted and counted), asks for what it wanted, evicts the least
+// recently used chunks over the budget, and draws. Only the roots are read before the first
+// frame. With `complete` set (single images, golden tests) a frame first waits until what it
+// wants is resident or has failed.
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -16,52 +21,78 @@
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/residency.h"
 #include "terralod/runtime/selection.h"
+#include "terralod/runtime/task_runner.h"
 
 namespace terralod {
+
+struct SceneOptions {
+  uint64_t cacheBytes = uint64_t{512} << 20;  ///< --cache-mb: GPU copies plus decoded chunks
+  unsigned loaderThreads = 2;
+  double uploadMillisecondsPerFrame = 4.0;  ///< GPU uploads per frame (at least one chunk)
+  bool complete = false;  ///< every frame waits until its wanted chunks are resident
+  std::function<void(const std::string&)> log;  ///< one line per chunk that fails to load
+};
 
 struct FrameStats {
   SelectionStats selection;
   DrawStats draw;
   double selectMicroseconds = 0;
-  double loadMilliseconds = 0;    ///< reading, decoding and uploading chunks this frame
-  double uploadMilliseconds = 0;  ///< of which copying to the GPU
-  uint32_t loads = 0;             ///< chunks brought to the GPU this frame
+  double uploadMilliseconds = 0;  ///< copying to the GPU this frame
+  uint32_t uploads = 0;           ///< chunks brought to the GPU this frame
+  uint32_t evictions = 0;         ///< chunks freed this frame
+  bool waitedOnIo = false;        ///< this frame blocked on a read (only with `complete`)
 };
 
 class TerrainScene {
  public:
-  /// Takes the opened tileset. A GlContext must be current.
-  static Result<std::unique_ptr<TerrainScene>> create(std::unique_ptr<TilesetReader> tileset);
+  /// Takes the opened tileset and reads its roots. A GlContext must be current.
+  static Result<std::unique_ptr<TerrainScene>> create(std::unique_ptr<TilesetReader> tileset,
+                                                      SceneOptions options = {});
+  ~TerrainScene();
 
-  /// Selects for `view`, loads what is missing and draws into the bound framebuffer. Fails
-  /// when a chunk cannot be read (naming it); nothing is drawn then. With `reselect` false the
-  /// last frame's selection and morph parameters are drawn again from the new view (the
-  /// viewer's "freeze selection", to look at what was chosen from elsewhere).
+  /// One frame for `view` into the bound framebuffer. With `reselect` false the last frame's
+  /// selection and morph parameters are drawn again from the new view (the viewer's "freeze
+  /// selection"). Fails only when a root cannot be drawn.
   Result<FrameStats> renderFrame(const View& view, const SelectionOptions& selection,
                                  const TerrainStyle& style, bool reselect = true);
 
-  /// Draws the given chunks (with their morph parameters) from `view`, loading what is
-  /// missing: for comparing two selections from one camera.
-  Result<FrameStats> drawChunks(const View& view, std::span<const SelectedChunk> chunks,
-                                const TerrainStyle& style);
+  /// Selects among the resident chunks for `view` and draws them, without loading or asking
+  /// for anything (a second view of the same moment, e.g. bench's look-down hole check).
+  FrameStats renderResident(const View& view, const SelectionOptions& selection,
+                            const TerrainStyle& style);
+
+  /// Draws the given chunks (with their morph parameters) from `view`; chunks not on the GPU
+  /// are skipped (counted in DrawStats::missing): for comparing two selections from a camera.
+  DrawStats drawChunks(const View& view, std::span<const SelectedChunk> chunks,
+                       const TerrainStyle& style);
 
   const ChunkTree& tree() const { return mTree; }
   const GpuChunkStore& store() const { return mStore; }
   const TilesetReader& tileset() const { return *mTileset; }
+  const Residency& residency() const { return *mResidency; }
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mSelected; }
   uint64_t gpuBytes() const { return mStore.residentBytes(); }
 
  private:
-  TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer);
-  Status load(std::span<const SelectedChunk> chunks, FrameStats& stats);
+  TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer,
+               SceneOptions options);
+  Status loadRoots();
+  // Everything of a frame but drawing: uploads, selection, requests, eviction, dispatch.
+  void step(const View& view, const SelectionOptions& selection, FrameStats& stats,
+            bool unlimitedUploads);
+  void upload(const ReadyChunk& chunk);
 
   std::unique_ptr<TilesetReader> mTileset;
   ChunkTree mTree;
+  SceneOptions mOptions;
   GpuChunkStore mStore;
   TerrainRenderer mRenderer;
-  std::vector<SelectedChunk> mSelected;
+  std::unique_ptr<ThreadPool> mPool;
+  std::unique_ptr<Residency> mResidency;
+  std::vector<SelectedChunk> mSelected, mOtherView;
   SelectionStats mLastSelection;
 };
 

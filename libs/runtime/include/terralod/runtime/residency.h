@@ -49,8 +49,8 @@ enum class ChunkState : uint8_t { kAbsent, kQueued, kLoading, kReady, kResident,
 
 struct ResidencyOptions {
   uint64_t budgetBytes = uint64_t{512} << 20;  ///< resident (GPU) plus decoded-not-uploaded
-  unsigned maxInFlight = 4;                     ///< loads running at once
-  uint32_t retryFrames = 30;                    ///< first retry of a failed chunk; doubles
+  unsigned maxInFlight = 4;                    ///< loads running at once
+  uint32_t retryFrames = 30;                   ///< first retry of a failed chunk; doubles
 };
 
 struct ResidencyCounters {
