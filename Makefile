@@ -3,7 +3,7 @@
 #               draped over it) into a tileset, describe,
 #               verify and render it (an overview and the first frames of the automatic flight),
 #               then benchmark part of the flight against the source
-#   make test   install dependencies, build, run every test
+#   make test   install dependencies, build, run every test (and the loader's under ThreadSanitizer)
 PRESET ?= release
 BUILD_DIR := build/$(PRESET)
 TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
@@ -11,7 +11,7 @@ DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
-.PHONY: all deps configure build demo test format check-format clean
+.PHONY: all deps configure build demo test test-tsan format check-format clean
 
 all: build
 
@@ -37,6 +37,13 @@ demo: build
 test: build
 	./scripts/check-format.sh
 	ctest --preset $(PRESET)
+	$(MAKE) test-tsan
+
+# The chunk loader and cache tests under ThreadSanitizer (a build of the runtime tests only).
+test-tsan: deps
+	cmake --preset tsan >/dev/null
+	cmake --build --preset tsan
+	ctest --preset tsan
 
 format:
 	./scripts/check-format.sh --fix

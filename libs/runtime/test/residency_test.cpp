@@ -7,7 +7,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
+#include <cmath>
 #include <set>
+#include <thread>
 
 #include "terralod/runtime/selection.h"
 #include "test_tree.h"
@@ -231,6 +234,58 @@ TEST(ThreadPool, RunsEveryTaskOnWorkerThreads) {
     for (int i = 0; i < 1000; ++i) pool.post([&] { ++ran; });
   }  // the destructor finishes the queue
   EXPECT_EQ(ran, 1000);
+}
+
+// The real thing: loads on a pool of threads while the "render thread" requests, uploads and
+// evicts, frame after frame, under a budget that forces eviction. Checks the invariants
+// selection relies on (ThreadSanitizer runs this in CI).
+TEST(ResidencyThreaded, ManyFramesOnAThreadPoolKeepTheInvariants) {
+  FullTree full(5);
+  ChunkTree tree = full.tree();
+  std::atomic<int> loads{0};
+  ThreadPool pool(3);
+  ResidencyOptions o;
+  o.budgetBytes = 40 * 1000;
+  o.maxInFlight = 6;
+  Residency r(
+      tree,
+      [&](uint32_t node) -> Result<LoadedChunk> {
+        ++loads;
+        if (node % 17 == 5) return Error{"flaky chunk " + std::to_string(node)};
+        std::this_thread::sleep_for(std::chrono::microseconds(50 + node % 7 * 20));
+        return LoadedChunk{std::make_unique<FakePayload>(), 1000, 1000};
+      },
+      pool, o);
+  ASSERT_TRUE(r.loadNow(0).ok());
+  r.markLoadedNow(0, 1000);
+  SelectionOptions s;
+  s.tau = 1.0;
+  std::vector<SelectedChunk> out;
+  out.reserve(tree.nodes().size());
+  for (int frame = 0; frame < 400; ++frame) {
+    for (ReadyChunk& c : r.collect()) r.markResident(c, 1000);
+    const double t = frame * 0.05;
+    const View view =
+        viewFrom({512 + 400 * std::cos(t), 512 + 400 * std::sin(t), 30}, {512, 512, 0});
+    s.drawable = r.drawable();
+    const SelectionStats stats = selectChunks(tree, view, s, out);
+    ASSERT_GT(stats.selected, 0u);
+    for (const SelectedChunk& c : out) {
+      ASSERT_EQ(r.drawable()[c.node], 1) << "selected a chunk that is not resident";
+      for (uint32_t i = c.node; i != kNoNode; i = tree.node(i).parent) {
+        ASSERT_EQ(r.state(i), ChunkState::kResident) << "an ancestor is not resident";
+        r.touch(i);
+      }
+      const ChunkNode& n = tree.node(c.node);
+      for (uint32_t k = 0; k < n.childCount; ++k) r.request(n.firstChild + k, float(c.node));
+    }
+    r.evict();
+    r.dispatch();
+    std::this_thread::sleep_for(std::chrono::microseconds(300));  // the frame's drawing
+  }
+  EXPECT_GT(r.counters().evictions, 0u) << "the budget never forced an eviction";
+  EXPECT_GT(r.counters().failures, 0u);
+  EXPECT_LE(r.counters().residentBytesMax, o.budgetBytes + o.maxInFlight * 1000);
 }
 
 }  // namespace
