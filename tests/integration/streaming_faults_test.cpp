@@ -198,8 +198,8 @@ TEST_F(StreamingFaults, ASlowServerNeverStallsAFrame) {
   auto fast = openHttpSource(server.url("crater.tlod"), http);
   auto slow = openHttpSource(server.url("slow/crater.tlod"), http);
   ASSERT_TRUE(fast.ok() && slow.ok());
-  auto s = scene(std::make_unique<SplitSource>(std::move(fast).value(), std::move(slow).value(),
-                                               fastOffsets));
+  auto s = scene(
+      std::make_unique<SplitSource>(std::move(fast).value(), std::move(slow).value(), fastOffsets));
   ASSERT_TRUE(s);
   double worst = 0;
   size_t holes = 0;

@@ -48,6 +48,8 @@ TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tre
       mRenderer(std::move(renderer)),
       mPool(std::make_unique<ThreadPool>(std::max(1u, mOptions.loaderThreads))) {
   mSelected.reserve(mTree.nodes().size());
+  mDrawnFrame.assign(mTree.nodes().size(), 0);
+  mEntryMorph.assign(mTree.nodes().size(), 0.0f);
   const TilesetReader* reader = mTileset.get();
   const bool textured = reader->header().textured();
   auto load = [reader, textured](uint32_t node) -> Result<LoadedChunk> {
@@ -116,6 +118,23 @@ void TerrainScene::step(const View& view, const SelectionOptions& selection, Fra
   mLastSelection = selectChunks(mTree, view, options, mSelected);
   stats.selectMicroseconds =
       std::chrono::duration<double, std::micro>(Clock::now() - selectStart).count();
+  // A split the selection makes now that last frame drew the parent: the children start at
+  // the parent's surface. On time (the children's ρ <= τ/2) that is their schedule anyway and
+  // any t keeps the error within τ; late, it hides the pop while they ease in. (Not for
+  // complete frames: they show the settled selection.)
+  constexpr float kEntryStep = 1.0f / 16.0f;
+  for (SelectedChunk& c : mSelected) {
+    const uint32_t parent = mTree.node(c.node).parent;
+    if (!mOptions.complete && selection.morph && parent != kNoNode &&
+        mDrawnFrame[c.node] + 1 != mFrame && mDrawnFrame[parent] + 1 == mFrame)
+      mEntryMorph[c.node] = 1.0f;
+    if (mEntryMorph[c.node] > 0.0f) {
+      c.morph = std::max(c.morph, mEntryMorph[c.node]);
+      mEntryMorph[c.node] = std::max(0.0f, mEntryMorph[c.node] - kEntryStep);
+    }
+    mDrawnFrame[c.node] = mFrame;
+  }
+  ++mFrame;
   // In use: the drawn chunks and their ancestors. Wanted: the children of chunks drawn
   // coarser than wanted (nearest first), then those of chunks close to splitting (prefetch).
   for (const SelectedChunk& s : mSelected) {

@@ -94,6 +94,11 @@ class TerrainScene {
   std::unique_ptr<Residency> mResidency;
   std::vector<SelectedChunk> mSelected, mOtherView;
   SelectionStats mLastSelection;
+  // Late splits: a chunk whose children arrived after its split distance hands over to them
+  // at the parent's surface (t = 1), easing to their scheduled morph over a few frames.
+  std::vector<uint64_t> mDrawnFrame;
+  std::vector<float> mEntryMorph;
+  uint64_t mFrame = 2;
 };
 
 }  // namespace terralod
