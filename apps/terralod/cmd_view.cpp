@@ -241,6 +241,14 @@ int runView(const ViewCommand& v) {
     ImGui::Text("%llu triangles, %u draw calls, %.1f MB on the GPU",
                 (unsigned long long)stats->draw.triangles, stats->draw.drawCalls,
                 double(scene.gpuBytes()) / 1e6);
+    {
+      const Residency& residency = scene.residency();
+      const ResidencyCounters& c = residency.counters();
+      ImGui::Text("resident %.1f of %.0f MB; %zu loading, %zu queued; %llu loads, %llu evicted",
+                  double(c.residentBytes) / double(1 << 20), v.options.cacheMB,
+                  residency.inFlight(), residency.queued(), (unsigned long long)c.loads,
+                  (unsigned long long)c.evictions);
+    }
     ImGui::Text("eye %.0f, %.0f, %.0f m", camera.eye.x, camera.eye.y, camera.eye.z);
     ImGui::PlotLines("ms", frameTimes.data(), kFrameHistory, int((frame + 1) % kFrameHistory),
                      nullptr, 0.0f, 50.0f, ImVec2(0, 50));
