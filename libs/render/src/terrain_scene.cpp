@@ -163,8 +163,8 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
     // Complete frames wait until nothing they want is still on its way.
     for (int round = 0; mOptions.complete && mLastSelection.coarserThanWanted > 0 && round < 100000;
          ++round) {
-      const Residency& r = *mResidency;
-      if (r.inFlight() == 0 && r.queued() == 0) break;  // the rest failed or does not fit
+      // Nothing on its way: the rest failed (retried later) or does not fit the budget.
+      if (mResidency->inFlight() == 0 && (mResidency->queued() == 0 || round > 0)) break;
       std::this_thread::sleep_for(std::chrono::microseconds(200));
       stats.waitedOnIo = true;
       FrameStats more;
