@@ -8,6 +8,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
 #include "nginx_server.h"
@@ -210,6 +211,24 @@ TEST_F(StreamingFaults, ASlowServerNeverStallsAFrame) {
   EXPECT_LT(worst, 1000.0) << "a frame waited for the slow server";
   EXPECT_LT(seconds, 20.0);
   EXPECT_LT(s->residency().counters().loads, 30u) << "the server was not slow: proves nothing";
+}
+
+TEST_F(StreamingFaults, BenchFliesATilesetServedOverHttp) {
+  TempDir www;
+  fs::copy_file(sDir->file("crater.tlod"), www.file("crater.tlod"));
+  NginxServer server(www.path());
+  ASSERT_TRUE(server.running()) << server.error();
+  const RunResult r = runTerralod({"bench", server.url("crater.tlod"), "--auto-flight", "--frames",
+                                   "80", "--size", "160x120", "--cache-mb", "64", "--source",
+                                   testData("crater_lake_0513.bt"), "--json", www.file("b.json")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(readWholeFile(www.file("b.json")));
+  EXPECT_GT(j["bytes_read"].get<uint64_t>(), 0u);
+  EXPECT_GT(j["loads"].get<uint64_t>(), 1u);
+  EXPECT_EQ(j["frames_waiting_on_io"], 0);
+  EXPECT_EQ(j["holes_total"], 0);
+  EXPECT_LE(j["resident_mb_max"].get<double>(), 64.0);
+  EXPECT_GT(server.requestsFor("crater.tlod", 2), 1u);
 }
 
 }  // namespace
