@@ -12,7 +12,6 @@
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/core/parallel.h"
-#include "terralod/format/http_source.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
 #include "terralod/render/terrain_scene.h"
@@ -54,9 +53,7 @@ int runBench(const BenchCommand& b) {
   auto output = AtomicFile::create(b.jsonPath);
   if (!output) return fail(output.error().message);
 
-  auto byteSource = openByteSource(b.options.tileset);  // a path or an http(s):// URL
-  if (!byteSource) return fail(byteSource.error().message);
-  auto tileset = TilesetReader::open(std::move(byteSource).value());
+  auto tileset = TilesetReader::openPathOrUrl(b.options.tileset);  // a path or an http(s):// URL
   if (!tileset) return fail(tileset.error().message);
   std::optional<Heightfield> source;
   if (!b.source.empty()) {

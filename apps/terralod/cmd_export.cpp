@@ -8,7 +8,6 @@
 #include "export_mesh.h"
 #include "mesh_writers.h"
 #include "terralod/core/atomic_file.h"
-#include "terralod/format/http_source.h"
 
 namespace terralod::cli {
 namespace {
@@ -26,9 +25,7 @@ int exportLevel(const ExportOptions& options) {
                 (extension.empty() ? "(no extension)" : "'" + extension + "'") +
                 "; use .obj, .ply or .glb");
   }
-  auto byteSource = openByteSource(options.tileset);  // a path or an http(s):// URL
-  if (!byteSource) return fail(byteSource.error().message);
-  auto opened = TilesetReader::open(std::move(byteSource).value());
+  auto opened = TilesetReader::openPathOrUrl(options.tileset);  // a path or an http(s):// URL
   if (!opened) return fail(opened.error().message);
   const TilesetReader& tileset = **opened;
   const int64_t levels = tileset.header().levelCount;

@@ -4,7 +4,6 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
-#include "terralod/format/http_source.h"
 #include "terralod/format/tileset_reader.h"
 
 namespace terralod::cli {
@@ -15,9 +14,7 @@ struct LevelStats {
 };
 
 int printInfo(const std::string& path, bool json) {
-  auto byteSource = openByteSource(path);  // a path or an http(s):// URL
-  if (!byteSource) return fail(byteSource.error().message);
-  auto opened = TilesetReader::open(std::move(byteSource).value());
+  auto opened = TilesetReader::openPathOrUrl(path);  // a path or an http(s):// URL
   if (!opened) return fail(opened.error().message);
   const TilesetReader& t = **opened;
   const TilesetHeader& h = t.header();

@@ -6,7 +6,6 @@
 
 #include "commands.h"
 #include "render_options.h"
-#include "terralod/format/http_source.h"
 #include "terralod/render/contact_sheet.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
@@ -41,9 +40,7 @@ int runRender(const RenderCommand& r) {
   auto style = terrainStyle(r.options);
   if (!style) return fail(style.error().message);
 
-  auto byteSource = openByteSource(r.options.tileset);  // a path or an http(s):// URL
-  if (!byteSource) return fail(byteSource.error().message);
-  auto tileset = TilesetReader::open(std::move(byteSource).value());
+  auto tileset = TilesetReader::openPathOrUrl(r.options.tileset);  // a path or an http(s):// URL
   if (!tileset) return fail(tileset.error().message);
   auto context = GlContext::createHeadless();
   if (!context) return fail(context.error().message);

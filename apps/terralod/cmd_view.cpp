@@ -16,7 +16,6 @@
 #include "fly_camera.h"
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
-#include "terralod/format/http_source.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/render/window.h"
@@ -96,9 +95,7 @@ FlyInput readInput(GLFWwindow* w, double& lastX, double& lastY, bool& dragging) 
 }
 
 int runView(const ViewCommand& v) {
-  auto byteSource = openByteSource(v.options.tileset);  // a path or an http(s):// URL
-  if (!byteSource) return fail(byteSource.error().message);
-  auto tileset = TilesetReader::open(std::move(byteSource).value());
+  auto tileset = TilesetReader::openPathOrUrl(v.options.tileset);  // a path or an http(s):// URL
   if (!tileset) return fail(tileset.error().message);
   std::optional<Flight> playback;
   if (!v.play.empty()) {

@@ -1,9 +1,17 @@
 #include "terralod/format/tileset_reader.h"
 
+#include "terralod/format/http_source.h"
+
 namespace terralod {
 
 Result<std::unique_ptr<TilesetReader>> TilesetReader::openFile(const std::string& path) {
   auto source = openFileSource(path);
+  if (!source) return source.error();
+  return open(std::move(source).value());
+}
+
+Result<std::unique_ptr<TilesetReader>> TilesetReader::openPathOrUrl(const std::string& pathOrUrl) {
+  auto source = openByteSource(pathOrUrl);
   if (!source) return source.error();
   return open(std::move(source).value());
 }

@@ -10,7 +10,6 @@
 #include "terralod/core/parallel.h"
 #include "terralod/core/sample_raster.h"
 #include "terralod/format/chunk_position.h"
-#include "terralod/format/http_source.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/void_fill.h"
@@ -183,9 +182,7 @@ Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::s
 
 Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::string& sourcePath,
                                    const VerifyOptions& options, Progress& progress) {
-  auto byteSource = openByteSource(tilesetPath);  // a path or an http(s):// URL
-  if (!byteSource) return byteSource.error();
-  auto opened = TilesetReader::open(std::move(byteSource).value());
+  auto opened = TilesetReader::openPathOrUrl(tilesetPath);  // a path or an http(s):// URL
   if (!opened) return opened.error();
   const TilesetReader& tileset = **opened;
   const TilesetHeader& h = tileset.header();

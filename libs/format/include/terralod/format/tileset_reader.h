@@ -27,6 +27,8 @@ class TilesetReader {
   static Result<std::unique_ptr<TilesetReader>> open(std::unique_ptr<ByteSource> source);
   /// Convenience: a local file.
   static Result<std::unique_ptr<TilesetReader>> openFile(const std::string& path);
+  /// A local path or an http(s):// URL (openByteSource), as every command takes them.
+  static Result<std::unique_ptr<TilesetReader>> openPathOrUrl(const std::string& pathOrUrl);
 
   const TilesetHeader& header() const { return mHeader; }
   const std::vector<NodeRecord>& nodes() const { return mNodes; }
