@@ -17,8 +17,8 @@ packages=(
   xvfb xauth
   # network: libcurl for HTTP tilesets; nginx (/usr/sbin/nginx) serves them in the HTTP tests
   libcurl4-openssl-dev nginx
-  # tests and benchmarks
-  libgtest-dev libgmock-dev libbenchmark-dev
+  # tests and benchmarks; gnuplot draws the plots of `terralod bench --report`
+  libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
 # The glTF validator test runs on node; the machine image may already ship node and npm
 # outside Debian's packages, in which case Debian's npm would conflict with it.

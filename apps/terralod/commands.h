@@ -19,6 +19,11 @@ void addRenderCommand(CLI::App& root, Runner& run);
 void addBenchCommand(CLI::App& root, Runner& run);
 void addViewCommand(CLI::App& root, Runner& run);
 
+/// The command line terralod was started with, arguments quoted where the shell needs it (for
+/// reports that say how they were made).
+const std::string& commandLine();
+void setCommandLine(int argc, char** argv);
+
 /// Prints "terralod: error: <message>" on stderr and returns the exit code 1.
 int fail(const std::string& message);
 /// Prints "terralod: warning: <message>" on stderr.

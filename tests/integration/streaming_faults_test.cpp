@@ -75,7 +75,9 @@ class StreamingFaults : public ::testing::Test {
     const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     if (worstMs) *worstMs = std::max(*worstMs, ms);
     EXPECT_TRUE(stats.ok()) << stats.error().message;
-    if (stats) EXPECT_FALSE(stats->waitedOnIo);
+    if (stats) {
+      EXPECT_FALSE(stats->waitedOnIo);
+    }
     Camera down = view.camera;
     down.target = down.eye + glm::dvec3(0.0, 0.3, -1.0) * 500.0;
     const View downView = makeView(down).value();

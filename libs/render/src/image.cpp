@@ -35,20 +35,39 @@ std::array<uint8_t, 4> Image::pixel(int x, int y) const {
   return {p[0], p[1], p[2], p[3]};
 }
 
-Status writePng(const Image& image, const std::string& path) {
+namespace {
+
+// Encodes in memory first (so a failed encode never touches the file system), then writes the
+// file atomically.
+template <typename Encode>
+Status writeEncoded(const Image& image, const std::string& path, const char* format,
+                    Encode&& encode) {
   if (image.width < 1 || image.height < 1)
     return makeError(path, "cannot write an empty image (" + std::to_string(image.width) + "x" +
                                std::to_string(image.height) + ")");
   assert(image.rgba.size() == size_t(image.width) * size_t(image.height) * 4);
-  // Encode in memory first so a failed encode never touches the file system.
-  std::vector<uint8_t> png;
-  if (!stbi_write_png_to_func(appendBytes, &png, image.width, image.height, 4, image.rgba.data(),
-                              image.width * 4))
-    return makeError(path, "PNG encoding failed");
+  std::vector<uint8_t> bytes;
+  if (!encode(bytes)) return makeError(path, std::string(format) + " encoding failed");
   auto file = AtomicFile::create(path);
   if (!file) return file.error();
-  if (Status s = file->write(std::span<const uint8_t>(png)); !s) return s;
+  if (Status s = file->write(std::span<const uint8_t>(bytes)); !s) return s;
   return file->commit();
+}
+
+}  // namespace
+
+Status writePng(const Image& image, const std::string& path) {
+  return writeEncoded(image, path, "PNG", [&](std::vector<uint8_t>& png) {
+    return stbi_write_png_to_func(appendBytes, &png, image.width, image.height, 4,
+                                  image.rgba.data(), image.width * 4) != 0;
+  });
+}
+
+Status writeJpeg(const Image& image, const std::string& path, int quality) {
+  return writeEncoded(image, path, "JPEG", [&](std::vector<uint8_t>& jpeg) {
+    return stbi_write_jpg_to_func(appendBytes, &jpeg, image.width, image.height, 4,
+                                  image.rgba.data(), quality) != 0;
+  });
 }
 
 Result<Image> readPng(const std::string& path) {

@@ -26,6 +26,10 @@ struct Image {
 /// the target, then renamed over it). Fails with a message naming `path`. Any thread.
 Status writePng(const Image& image, const std::string& path);
 
+/// Writes `image` as a baseline JPEG of `quality` (1..100), alpha dropped, atomically like
+/// writePng: for pictures of frames, where PNG would be several times larger. Any thread.
+Status writeJpeg(const Image& image, const std::string& path, int quality = 85);
+
 /// Reads a PNG into RGBA8 (grey, grey-alpha and RGB are expanded; 16-bit is reduced).
 /// Fails with a message naming `path` when it is missing or not a readable PNG. Any thread.
 Result<Image> readPng(const std::string& path);
