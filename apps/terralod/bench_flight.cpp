@@ -26,8 +26,7 @@ std::vector<size_t> evenlySpaced(size_t frames, size_t count) {
   std::vector<size_t> out;
   if (count == 0 || frames == 0) return out;
   if (count >= frames) count = frames;
-  for (size_t k = 0; k < count; ++k)
-    out.push_back(count == 1 ? 0 : k * (frames - 1) / (count - 1));
+  for (size_t k = 0; k < count; ++k) out.push_back(count == 1 ? 0 : k * (frames - 1) / (count - 1));
   return out;
 }
 

@@ -27,9 +27,9 @@ struct FrameRecord {
   double uploadMs = 0;  ///< copying chunks to the GPU
   uint64_t triangles = 0;
   uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
-  double residentMB = 0;   ///< chunk memory after the frame (GPU copies and decoded chunks)
-  bool coarser = false;    ///< drew a chunk whose wanted children were not resident
-  bool waitedOnIo = false; ///< blocked on a read
+  double residentMB = 0;    ///< chunk memory after the frame (GPU copies and decoded chunks)
+  bool coarser = false;     ///< drew a chunk whose wanted children were not resident
+  bool waitedOnIo = false;  ///< blocked on a read
   glm::dvec3 eye{0.0};
   double errorPx = NAN;   ///< largest screen-space error over the source samples in view
   double popPx = NAN;     ///< largest change from selection alone since the last frame
@@ -46,8 +46,8 @@ struct BenchFlightOptions {
 
 struct BenchFlightResult {
   std::vector<FrameRecord> frames;
-  TexelDensity texels;  ///< over frames that had every wanted chunk resident
-  int metricStride = 0; ///< every how many source samples the quality figures used
+  TexelDensity texels;   ///< over frames that had every wanted chunk resident
+  int metricStride = 0;  ///< every how many source samples the quality figures used
   std::vector<Image> keptImages;
   std::vector<size_t> keptFrameIndices;
 };

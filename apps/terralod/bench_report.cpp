@@ -77,8 +77,8 @@ std::string framesCsv(const BenchFlightResult& flight) {
     const FrameRecord& r = flight.frames[i];
     char line[512];
     std::snprintf(line, sizeof line,
-                  "%zu,%.4f,%.2f,%.4f,%" PRIu64 ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64
-                  "\n",
+                  "%zu,%.4f,%.2f,%.4f,%" PRIu64
+                  ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64 "\n",
                   i, r.frameMs, r.selectUs, r.uploadMs, r.triangles, r.draws, r.chunks, r.uploads,
                   r.evictions, r.residentMB, r.coarser ? 1 : 0, r.waitedOnIo ? 1 : 0, r.eye.x,
                   r.eye.y, r.eye.z, number(r.errorPx).c_str(), number(r.popPx).c_str(),
@@ -106,9 +106,9 @@ std::string plotScript(const nlohmann::json& s, bool quality) {
   const double p50 = s["frame_ms_p50"], p99 = s["frame_ms_p99"];
   gp << "set output 'frame_time.png'\nset ylabel 'ms'\n"
      << "plot 'frames.csv' skip 1 using 1:2 with lines lc rgb '#1f77b4' title 'frame time', \\\n"
-     << "  " << number(p50) << " with lines dt 2 lc rgb '#2ca02c' title 'p50 " << number(p50, "%.1f")
-     << " ms', \\\n  " << number(p99) << " with lines dt 2 lc rgb '#d62728' title 'p99 "
-     << number(p99, "%.1f") << " ms', \\\n"
+     << "  " << number(p50) << " with lines dt 2 lc rgb '#2ca02c' title 'p50 "
+     << number(p50, "%.1f") << " ms', \\\n  " << number(p99)
+     << " with lines dt 2 lc rgb '#d62728' title 'p99 " << number(p99, "%.1f") << " ms', \\\n"
      << "  '' skip 1 using 1:4 with lines lc rgb '#ff7f0e' title 'uploads'\n";
   gp << "set output 'selection_time.png'\nset ylabel 'µs'\n"
      << "plot 'frames.csv' skip 1 using 1:3 with lines lc rgb '#9467bd' title 'selection'\n";
@@ -131,13 +131,12 @@ std::string plotScript(const nlohmann::json& s, bool quality) {
     // plot is scaled for the bound and clips them.
     const double tau = s["tau"];
     const double top = std::max(1.5 * tau, 1.1 * s["max_error_px"].get<double>());
-    gp << "set output 'error_px.png'\nset ylabel 'pixels'\nset yrange [0:" << number(top)
-       << "]\n"
+    gp << "set output 'error_px.png'\nset ylabel 'pixels'\nset yrange [0:" << number(top) << "]\n"
        << "plot 'frames.csv' skip 1 using 1:($11 > 0 ? NaN : $16) with lines lc rgb '#1f77b4' "
           "title 'screen-space error', \\\n"
        << "  '' skip 1 using 1:17 with lines lc rgb '#2ca02c' title 'pop', \\\n"
-       << "  " << number(tau) << " with lines dt 2 lc rgb '#d62728' title 'τ = "
-       << number(tau, "%.3g") << "'";
+       << "  " << number(tau)
+       << " with lines dt 2 lc rgb '#d62728' title 'τ = " << number(tau, "%.3g") << "'";
     if (coarser)
       gp << ", \\\n  '' skip 1 using 1:($11 > 0 ? $16 : NaN) with points pt 7 ps 0.3 "
             "lc rgb '#aaaaaa' title 'error while streaming (coarser than wanted)'";
@@ -190,9 +189,8 @@ std::string reportMarkdown(const BenchFlightResult& flight, const nlohmann::json
      << "| resident MB max (budget) | " << figure(s, "resident_mb_max") << " ("
      << figure(s, "cache_mb") << ") |\n"
      << "| upload ms max | " << figure(s, "upload_ms_max") << " |\n"
-     << "| loads / evictions / MB read | " << figure(s, "loads") << " / "
-     << figure(s, "evictions") << " / "
-     << number(s["bytes_read"].get<double>() / double(1 << 20), "%.1f") << " |\n"
+     << "| loads / evictions / MB read | " << figure(s, "loads") << " / " << figure(s, "evictions")
+     << " / " << number(s["bytes_read"].get<double>() / double(1 << 20), "%.1f") << " |\n"
      << "| frames waiting on IO | " << figure(s, "frames_waiting_on_io") << " |\n"
      << "| frames coarser than wanted | " << figure(s, "coarser_than_wanted_frames") << " |\n";
   if (s.contains("max_texel_per_px"))
@@ -201,8 +199,8 @@ std::string reportMarkdown(const BenchFlightResult& flight, const nlohmann::json
     md << "| max pixels per texel, source-limited layers | "
        << figure(s, "max_texel_per_px_source_limited") << " |\n";
   if (quality)
-    md << "| max error px (complete frames / all) | " << figure(s, "max_error_px", "%.4g")
-       << " / " << figure(s, "max_error_px_all", "%.4g") << " |\n"
+    md << "| max error px (complete frames / all) | " << figure(s, "max_error_px", "%.4g") << " / "
+       << figure(s, "max_error_px_all", "%.4g") << " |\n"
        << "| max pop px | " << figure(s, "max_pop_px", "%.4g") << " |\n"
        << "| holes total | " << figure(s, "holes_total") << " |\n"
        << "| image pop mean /255 (average) | " << figure(s, "image_pop_mean", "%.4g") << " ("
@@ -260,8 +258,9 @@ Status checkReportTarget(const std::string& dir) {
   if (!fs::is_directory(parent, ec)) return Error{dir + ": its directory does not exist"};
   if (::access(parent.c_str(), W_OK) != 0) return Error{dir + ": not writable"};
   if (findOnPath("gnuplot").empty())
-    return Error{dir + ": gnuplot is needed to draw the report's plots and was not found "
-                       "(scripts/install-deps.sh installs it)"};
+    return Error{dir +
+                 ": gnuplot is needed to draw the report's plots and was not found "
+                 "(scripts/install-deps.sh installs it)"};
   return {};
 }
 
@@ -289,12 +288,12 @@ Status writeBenchReport(const std::string& dir, const BenchFlightResult& flight,
 
   if (Status s = writeText(temp / "frames.csv", framesCsv(flight)); !s) return s;
   if (Status s = writeText(temp / "plots.gp", plotScript(summary, quality)); !s) return s;
-  if (Status s = writeText(temp / "report.md",
-                           reportMarkdown(flight, summary, commandLine, quality));
+  if (Status s =
+          writeText(temp / "report.md", reportMarkdown(flight, summary, commandLine, quality));
       !s)
     return s;
   if (Status s = writeJpeg(makeContactSheet(flight.keptImages, 6, 256),
-                          (temp / "contact_sheet.jpg").string());
+                           (temp / "contact_sheet.jpg").string());
       !s)
     return s;
   // gnuplot resolves the script's file names against its working directory: a wrapper script

@@ -132,7 +132,8 @@ int runBench(const BenchCommand& b) {
   auto context = GlContext::createHeadless();
   if (!context) return fail(context.error().message);
   // Streaming, as an application would run: frames never wait for data.
-  auto created = TerrainScene::create(std::move(tileset).value(), sceneOptions(b.options, false));
+  auto created =
+      TerrainScene::create(std::move(tileset).value(), sceneOptions(b.options, false, **context));
   if (!created) return fail(created.error().message);
   TerrainScene& scene = **created;
   auto cameras = camerasFor(b.options, scene.tree());

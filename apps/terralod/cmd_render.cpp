@@ -44,7 +44,8 @@ int runRender(const RenderCommand& r) {
   if (!tileset) return fail(tileset.error().message);
   auto context = GlContext::createHeadless();
   if (!context) return fail(context.error().message);
-  auto scene = TerrainScene::create(std::move(tileset).value(), sceneOptions(r.options, true));
+  auto scene =
+      TerrainScene::create(std::move(tileset).value(), sceneOptions(r.options, true, **context));
   if (!scene) return fail(scene.error().message);
   auto cameras = camerasFor(r.options, (*scene)->tree());
   if (!cameras) return fail(cameras.error().message);

@@ -107,7 +107,8 @@ int runView(const ViewCommand& v) {
                                            : std::array<int, 2>{1280, 800};
   auto window = Window::open("terralod view: " + v.options.tileset, size[0], size[1]);
   if (!window) return fail(window.error().message);
-  auto created = TerrainScene::create(std::move(tileset).value(), sceneOptions(v.options, false));
+  auto created =
+      TerrainScene::create(std::move(tileset).value(), sceneOptions(v.options, false, **window));
   if (!created) return fail(created.error().message);
   TerrainScene& scene = **created;
   auto start = camerasFor(v.options, scene.tree());

@@ -59,8 +59,9 @@ Result<SelectionOptions> selectionOptions(const RenderOptions& o) {
   return s;
 }
 
-SceneOptions sceneOptions(const RenderOptions& o, bool complete) {
+SceneOptions sceneOptions(const RenderOptions& o, bool complete, GlContext& context) {
   SceneOptions s;
+  s.context = &context;
   s.cacheBytes = uint64_t(o.cacheMB * 1024.0 * 1024.0);
   s.complete = complete;
   s.log = [](const std::string& line) {

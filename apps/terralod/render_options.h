@@ -32,8 +32,9 @@ struct RenderOptions {
   double cacheMB = 512;    ///< --cache-mb: chunk memory budget
 };
 
-/// The scene's options for these command-line options (`complete`: wait for data each frame).
-SceneOptions sceneOptions(const RenderOptions& options, bool complete);
+/// The scene's options for these command-line options (`complete`: wait for data each frame),
+/// drawing with `context`.
+SceneOptions sceneOptions(const RenderOptions& options, bool complete, GlContext& context);
 
 /// Registers the shared options on `command`.
 void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera);

@@ -43,9 +43,9 @@ size_t distinctColours(const Image& image) {
 class BenchReport : public ::testing::Test {
  protected:
   void SetUp() override {
-    ASSERT_EQ(runTerralod({"build", testData("crater_lake_0513.bt"), "-o", mDir.file("c.tlod")})
-                  .exitCode,
-              0);
+    ASSERT_EQ(
+        runTerralod({"build", testData("crater_lake_0513.bt"), "-o", mDir.file("c.tlod")}).exitCode,
+        0);
     // Down towards the rim, low enough for every level; without skirts the cracks show, so
     // every column of the report has something in it.
     std::ofstream(mDir.file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
@@ -55,10 +55,9 @@ class BenchReport : public ::testing::Test {
   }
 
   RunResult bench(const std::string& report, const std::vector<std::string>& extra = {}) {
-    std::vector<std::string> args = {"bench",    mDir.file("c.tlod"),
-                                     "--flight", mDir.file("descend.json"),
-                                     "--json",   mDir.file("b.json"),
-                                     "--report", report};
+    std::vector<std::string> args = {
+        "bench",  mDir.file("c.tlod"), "--flight", mDir.file("descend.json"),
+        "--json", mDir.file("b.json"), "--report", report};
     args.insert(args.end(), extra.begin(), extra.end());
     return runTerralod(args);
   }
@@ -68,8 +67,8 @@ class BenchReport : public ::testing::Test {
 
 TEST_F(BenchReport, WritesFiguresPlotsAndFramesThatAgreeWithTheJson) {
   const std::string dir = mDir.file("report");
-  const RunResult r = bench(dir, {"--source", testData("crater_lake_0513.bt"), "--tau", "0.5",
-                                  "--no-skirts"});
+  const RunResult r =
+      bench(dir, {"--source", testData("crater_lake_0513.bt"), "--tau", "0.5", "--no-skirts"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto j = nlohmann::json::parse(readWholeFile(mDir.file("b.json")));
   ASSERT_GT(j["holes_total"].get<uint64_t>(), 0u);
@@ -109,9 +108,9 @@ TEST_F(BenchReport, WritesFiguresPlotsAndFramesThatAgreeWithTheJson) {
 
   // The report shows the figures and embeds every picture.
   const std::string md = readWholeFile(dir + "/report.md");
-  for (const char* text : {"frame_time.png", "selection_time.png", "triangles.png",
-                           "resident_mb.png", "error_px.png", "contact_sheet.jpg", "most holes",
-                           "--report"})
+  for (const char* text :
+       {"frame_time.png", "selection_time.png", "triangles.png", "resident_mb.png", "error_px.png",
+        "contact_sheet.jpg", "most holes", "--report"})
     EXPECT_NE(md.find(text), std::string::npos) << text;
   char holesCell[64];
   std::snprintf(holesCell, sizeof holesCell, "| holes total | %llu |",

@@ -115,6 +115,19 @@ std::string join(const std::vector<std::string>& parts) {
   return out;
 }
 
+// OpenGL 4.5 core (with the debug flag in debug builds).
+std::vector<EGLint> contextAttributes() {
+  std::vector<EGLint> attributes = {
+      EGL_CONTEXT_MAJOR_VERSION_KHR,       4,
+      EGL_CONTEXT_MINOR_VERSION_KHR,       5,
+      EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR};
+#ifndef NDEBUG
+  attributes.insert(attributes.end(), {EGL_CONTEXT_FLAGS_KHR, EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR});
+#endif
+  attributes.push_back(EGL_NONE);
+  return attributes;
+}
+
 }  // namespace
 
 Result<std::unique_ptr<GlContext>> GlContext::createHeadless(HeadlessPlatform platform) {
@@ -210,19 +223,12 @@ Result<std::unique_ptr<GlContext>> EglHeadlessContext::open(EGLDisplay display,
       return makeError(platform, "no config renders desktop OpenGL");
   }
 
-  std::vector<EGLint> attributes = {
-      EGL_CONTEXT_MAJOR_VERSION_KHR,       4,
-      EGL_CONTEXT_MINOR_VERSION_KHR,       5,
-      EGL_CONTEXT_OPENGL_PROFILE_MASK_KHR, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT_KHR};
-#ifndef NDEBUG
-  attributes.insert(attributes.end(), {EGL_CONTEXT_FLAGS_KHR, EGL_CONTEXT_OPENGL_DEBUG_BIT_KHR});
-#endif
-  attributes.push_back(EGL_NONE);
-  EGLContext context = eglCreateContext(display, config, EGL_NO_CONTEXT, attributes.data());
+  EGLContext context =
+      eglCreateContext(display, config, EGL_NO_CONTEXT, contextAttributes().data());
   if (context == EGL_NO_CONTEXT)
     return makeError(platform, "cannot create an OpenGL 4.5 core context (" + lastEglError() + ")");
 
-  std::unique_ptr<EglHeadlessContext> owner(new EglHeadlessContext(display, context));
+  std::unique_ptr<EglHeadlessContext> owner(new EglHeadlessContext(display, config, context));
   reference.handOver();
   owner->mInfo.platform = platform;
   if (Status current = owner->makeCurrent(); !current) return current.error();
@@ -230,6 +236,18 @@ Result<std::unique_ptr<GlContext>> EglHeadlessContext::open(EGLDisplay display,
   if (Status usable = requireGl45Core(owner->mInfo); !usable) return usable.error();
   installDebugOutput();
   return std::unique_ptr<GlContext>(std::move(owner));
+}
+
+Result<std::unique_ptr<GlContext>> EglHeadlessContext::createShared() {
+  eglBindAPI(EGL_OPENGL_API);
+  EGLContext context = eglCreateContext(mDisplay, mConfig, mContext, contextAttributes().data());
+  if (context == EGL_NO_CONTEXT)
+    return makeError(mInfo.platform,
+                     "cannot create a shared OpenGL context (" + lastEglError() + ")");
+  DisplayReferences::instance().acquire(mDisplay);
+  std::unique_ptr<EglHeadlessContext> shared(new EglHeadlessContext(mDisplay, mConfig, context));
+  shared->mInfo = mInfo;
+  return std::unique_ptr<GlContext>(std::move(shared));
 }
 
 EglHeadlessContext::~EglHeadlessContext() {

@@ -22,15 +22,17 @@ class EglHeadlessContext final : public GlContext {
   Status makeCurrent() override;
   void releaseCurrent() override;
   const GlInfo& info() const override { return mInfo; }
+  Result<std::unique_ptr<GlContext>> createShared() override;
 
  private:
-  EglHeadlessContext(EGLDisplay display, EGLContext context) noexcept
-      : mDisplay(display), mContext(context) {}
+  EglHeadlessContext(EGLDisplay display, EGLConfig config, EGLContext context) noexcept
+      : mDisplay(display), mConfig(config), mContext(context) {}
   // Initialises `display`, creates a context on it and makes it current; `platform` names
   // the display in GlInfo and in errors.
   static Result<std::unique_ptr<GlContext>> open(EGLDisplay display, const std::string& platform);
 
   EGLDisplay mDisplay;
+  EGLConfig mConfig;
   EGLContext mContext;
   GlInfo mInfo;
 };

@@ -86,6 +86,15 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
   mChunks.emplace(node, std::move(chunk));
 }
 
+bool GpuChunkStore::reserve(const ChunkTexture* texture) {
+  if (!texture) return true;
+  bool ok = true;
+  for (TextureLayerKind kind : {TextureLayerKind::kColor, TextureLayerKind::kNormal})
+    if (const TextureLayer* layer = texture->find(kind))
+      ok = mTextures.reserve(layer->encoding, layer->size) && ok;  // ask for every missing page
+  return ok;
+}
+
 void GpuChunkStore::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;

@@ -36,6 +36,18 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
   ChunkTree tree(tileset->header(), tileset->nodes());
   std::unique_ptr<TerrainScene> scene(new TerrainScene(
       std::move(tileset), std::move(tree), std::move(renderer).value(), std::move(options)));
+  if (scene->mOptions.context) {
+    // GPU memory made ahead on a worker; where a driver cannot share contexts, made when needed.
+    auto shared = scene->mOptions.context->createShared();
+    auto worker = shared ? GlWorker::start(std::move(shared).value())
+                         : Result<std::unique_ptr<GlWorker>>(shared.error());
+    if (worker) {
+      scene->mGlWorker = std::move(worker).value();
+      scene->mStore.setWorker(scene->mGlWorker.get());
+    } else if (scene->mOptions.log) {
+      scene->mOptions.log("GPU memory is made when needed (" + worker.error().message + ")");
+    }
+  }
   if (Status s = scene->loadRoots(); !s) return s.error();
   return scene;
 }
@@ -76,6 +88,7 @@ TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tre
 TerrainScene::~TerrainScene() {
   mResidency.reset();  // waits for running loads
   mPool.reset();
+  mGlWorker.reset();  // before the store, which deletes what the worker made and left
 }
 
 Status TerrainScene::loadRoots() {
@@ -100,11 +113,18 @@ void TerrainScene::step(const View& view, const SelectionOptions& selection, Fra
   Residency& residency = *mResidency;
   // Uploads, most wanted first, within the frame's budget (always at least one).
   const auto uploadStart = Clock::now();
+  mStore.poll();
   std::vector<ReadyChunk> ready = residency.collect();
   for (ReadyChunk& chunk : ready) {
     if (!unlimitedUploads && stats.uploads > 0 &&
         millisecondsSince(uploadStart) > mOptions.uploadMillisecondsPerFrame) {
       residency.returnReady(std::move(chunk));
+      continue;
+    }
+    const auto& data = static_cast<const StaticChunkPayload&>(*chunk.chunk.payload).data;
+    if (!mStore.reserve(data.texture ? &*data.texture : nullptr)) {
+      residency.returnReady(std::move(chunk));  // its GPU memory is being made
+      ++stats.deferredUploads;
       continue;
     }
     upload(chunk);
@@ -164,7 +184,10 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
     for (int round = 0; mOptions.complete && mLastSelection.coarserThanWanted > 0 && round < 100000;
          ++round) {
       // Nothing on its way: the rest failed (retried later) or does not fit the budget.
-      if (mResidency->inFlight() == 0 && (mResidency->queued() == 0 || round > 0)) break;
+      // (Chunks whose GPU memory is being made are on their way too.)
+      if (mResidency->inFlight() == 0 && mResidency->readyWaiting() == 0 &&
+          (mResidency->queued() == 0 || round > 0))
+        break;
       std::this_thread::sleep_for(std::chrono::microseconds(200));
       stats.waitedOnIo = true;
       FrameStats more;

@@ -21,6 +21,24 @@ void recordGlfwError(int, const char* description) {
 }  // namespace
 
 Result<std::unique_ptr<Window>> Window::open(const std::string& title, int width, int height) {
+  auto window = openWindow(title, width, height, nullptr, true);
+  if (!window) return window.error();
+  glfwMakeContextCurrent((*window)->mWindow);
+  (*window)->mInfo = readCurrentGlInfo("GLFW window");
+  if (Status ok = requireGl45Core((*window)->mInfo); !ok) return ok.error();
+  installDebugOutput();
+  return window;
+}
+
+Result<std::unique_ptr<GlContext>> Window::createShared() {
+  auto shared = openWindow("terralod worker", 1, 1, mWindow, false);
+  if (!shared) return shared.error();
+  (*shared)->mInfo = mInfo;
+  return std::unique_ptr<GlContext>(std::move(shared).value());
+}
+
+Result<std::unique_ptr<Window>> Window::openWindow(const std::string& title, int width, int height,
+                                                   GLFWwindow* share, bool visible) {
   std::lock_guard lock(gGlfwMutex);
   glfwSetErrorCallback(recordGlfwError);
   if (gWindows == 0 && !glfwInit()) return Error{"no window system available: " + gLastGlfwError};
@@ -30,18 +48,14 @@ Result<std::unique_ptr<Window>> Window::open(const std::string& title, int width
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  GLFWwindow* handle = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
+  glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
+  GLFWwindow* handle = glfwCreateWindow(width, height, title.c_str(), nullptr, share);
   if (!handle) {
     if (gWindows == 0) glfwTerminate();
     return Error{"cannot open an OpenGL 4.5 core window: " + gLastGlfwError};
   }
   ++gWindows;
-  auto window = std::unique_ptr<Window>(new Window(handle));
-  glfwMakeContextCurrent(handle);
-  window->mInfo = readCurrentGlInfo("GLFW window");
-  if (Status ok = requireGl45Core(window->mInfo); !ok) return ok.error();
-  installDebugOutput();
-  return window;
+  return std::unique_ptr<Window>(new Window(handle));
 }
 
 Window::~Window() {

@@ -6,7 +6,11 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cstdlib>
+#include <thread>
+
+#include "terralod/render/gl_worker.h"
 
 namespace terralod {
 namespace {
@@ -49,6 +53,28 @@ TEST(Window, TwoWindowsAndBackAgain) {
   b->reset();
   ASSERT_TRUE((*a)->makeCurrent().ok());
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+TEST(Window, SharedContextOnAnotherThreadMakesWhatTheWindowUses) {
+  if (!haveDisplay()) GTEST_SKIP() << "no display";
+  auto window = Window::open("shared", 64, 48);
+  ASSERT_TRUE(window.ok()) << window.error().message;
+  auto shared = (*window)->createShared();
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  auto worker = GlWorker::start(std::move(shared).value());
+  ASSERT_TRUE(worker.ok()) << worker.error().message;
+  GLuint buffer = 0;
+  auto job = (*worker)->post([&] {
+    const uint32_t value = 0xBEEFu;
+    glCreateBuffers(1, &buffer);
+    glNamedBufferStorage(buffer, sizeof value, &value, 0);
+  });
+  while (!job->done()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  uint32_t read = 0;
+  glGetNamedBufferSubData(buffer, 0, sizeof read, &read);
+  EXPECT_EQ(read, 0xBEEFu);
+  glDeleteBuffers(1, &buffer);
+  worker->reset();
 }
 
 }  // namespace

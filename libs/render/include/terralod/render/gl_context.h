@@ -48,6 +48,9 @@ class GlContext {
   virtual void releaseCurrent() = 0;
   /// What this context is; fixed at creation, callable from any thread.
   virtual const GlInfo& info() const = 0;
+  /// A second context sharing this one's objects (buffers, textures), current nowhere, for a
+  /// worker thread (GlWorker). Call it where this context was created (GLFW: the main thread).
+  virtual Result<std::unique_ptr<GlContext>> createShared() = 0;
 
   /// One line for logs and bug reports: "<platform>, <renderer>, OpenGL <version>".
   std::string description() const;

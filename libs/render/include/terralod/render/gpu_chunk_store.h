@@ -42,6 +42,14 @@ class GpuChunkStore {
   GpuChunkStore(const GpuChunkStore&) = delete;
   GpuChunkStore& operator=(const GpuChunkStore&) = delete;
 
+  /// Makes texture pages ahead of need on `worker` from now on (see TextureArrays).
+  void setWorker(GlWorker* worker) { mTextures.setWorker(worker); }
+  /// Adopts GPU memory the worker has made. Call once a frame.
+  void poll() { mTextures.poll(); }
+  /// Whether `texture` can be uploaded now without making GPU memory on this thread; when not,
+  /// the memory is on its way (always true without a worker).
+  bool reserve(const ChunkTexture* texture);
+
   /// Copies a decoded chunk to the GPU under `node` (replacing what was there). A texture
   /// must have a colour and a normal layer.
   void upload(uint32_t node, const ChunkGeometry& geometry, const ChunkTexture* texture = nullptr);

@@ -18,6 +18,8 @@
 #include <vector>
 
 #include "terralod/format/tileset_reader.h"
+#include "terralod/render/gl_context.h"
+#include "terralod/render/gl_worker.h"
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
@@ -33,6 +35,10 @@ struct SceneOptions {
   double uploadMillisecondsPerFrame = 4.0;  ///< GPU uploads per frame (at least one chunk)
   bool complete = false;  ///< every frame waits until its wanted chunks are resident
   std::function<void(const std::string&)> log;  ///< one line per chunk that fails to load
+  /// The context the scene draws with. When set, GPU memory for chunks is made ahead of need
+  /// on a second context sharing it, on a worker thread, so that no frame waits for a driver
+  /// to allocate and clear it (GlWorker); without it, memory is made when needed.
+  GlContext* context = nullptr;
 };
 
 struct FrameStats {
@@ -41,6 +47,7 @@ struct FrameStats {
   double selectMicroseconds = 0;
   double uploadMilliseconds = 0;  ///< copying to the GPU this frame
   uint32_t uploads = 0;           ///< chunks brought to the GPU this frame
+  uint32_t deferredUploads = 0;   ///< chunks left for a later frame: their GPU memory is on its way
   uint32_t evictions = 0;         ///< chunks freed this frame
   bool waitedOnIo = false;        ///< this frame blocked on a read (only with `complete`)
 };
@@ -90,6 +97,8 @@ class TerrainScene {
   SceneOptions mOptions;
   GpuChunkStore mStore;
   TerrainRenderer mRenderer;
+  // Stops (after finishing its job) before the store, which deletes what it left unadopted.
+  std::unique_ptr<GlWorker> mGlWorker;
   std::unique_ptr<ThreadPool> mPool;
   std::unique_ptr<Residency> mResidency;
   std::vector<SelectedChunk> mSelected, mOtherView;

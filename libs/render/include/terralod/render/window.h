@@ -25,6 +25,8 @@ class Window final : public GlContext {
   Status makeCurrent() override;
   void releaseCurrent() override;
   const GlInfo& info() const override { return mInfo; }
+  /// A hidden 1x1 window whose context shares this one's objects.
+  Result<std::unique_ptr<GlContext>> createShared() override;
 
   /// Shows what was drawn into the default framebuffer.
   void swapBuffers();
@@ -37,6 +39,9 @@ class Window final : public GlContext {
 
  private:
   explicit Window(GLFWwindow* window) : mWindow(window) {}
+  // Opens a window (hidden unless `visible`) whose context shares `share`'s (or none).
+  static Result<std::unique_ptr<Window>> openWindow(const std::string& title, int width, int height,
+                                                    GLFWwindow* share, bool visible);
 
   GLFWwindow* mWindow;
   GlInfo mInfo;

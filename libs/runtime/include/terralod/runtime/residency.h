@@ -109,6 +109,8 @@ class Residency {
   uint64_t frame() const { return mFrame; }
   size_t inFlight() const { return mInFlight; }
   size_t queued() const { return mQueue.size(); }
+  /// Loaded chunks waiting to be uploaded (collected and returned, or not collected yet).
+  size_t readyWaiting() const { return mReady.size(); }
 
  private:
   struct Node {

@@ -1,0 +1,146 @@
+// Chunk textures on the GPU: pages of array textures that never move (what is resident keeps
+// its texels while pages come and go), empty pages given back, and pages made ahead of need on
+// a worker context that shares the render context's objects.
+
+#include "terralod/render/texture_arrays.h"
+
+#include <epoxy/gl.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "terralod/render/gl_context.h"
+#include "terralod/render/gl_worker.h"
+
+namespace terralod {
+namespace {
+
+constexpr uint32_t kSize = 9;  // 9, 4, 2, 1: 3 x 3, 1 x 1, 1, 1 blocks
+
+// A BC5 layer whose bytes say which layer it is (any bytes are valid BC5).
+TextureLayer layerWithSeed(uint32_t seed) {
+  TextureLayer layer;
+  layer.kind = TextureLayerKind::kNormal;
+  layer.encoding = TextureEncoding::kBc5;
+  layer.size = kSize;
+  for (uint32_t m = 0; m < mipCount(kSize); ++m) {
+    std::vector<uint8_t> bytes(mipBytes(layer.encoding, kSize, m));
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = uint8_t(seed * 31 + i * 7 + m);
+    layer.mips.push_back(std::move(bytes));
+  }
+  return layer;
+}
+
+// Mip 0 of one layer, read back from the GPU.
+std::vector<uint8_t> readBack(const TextureArrays& arrays, const TextureSlot& slot) {
+  std::vector<uint8_t> bytes(mipBytes(TextureEncoding::kBc5, kSize, 0));
+  glGetCompressedTextureSubImage(arrays.arrayTexture(slot.array), 0, 0, 0, GLint(slot.layer),
+                                 kSize, kSize, 1, GLsizei(bytes.size()), bytes.data());
+  return bytes;
+}
+
+class TextureArraysTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto context = GlContext::createHeadless();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    mContext = std::move(context).value();
+  }
+  std::unique_ptr<GlContext> mContext;
+};
+
+TEST_F(TextureArraysTest, PagesDoubleAndNeverMoveWhatIsResident) {
+  TextureArrays arrays;
+  std::vector<TextureSlot> slots;
+  for (uint32_t i = 0; i < 40; ++i) slots.push_back(arrays.upload(layerWithSeed(i)));
+  // 8 + 16 + 32 layers: three pages, each layer still where it was put.
+  EXPECT_EQ(arrays.pageCount(), 3u);
+  EXPECT_EQ(arrays.allocatedBytes(), 56 * arrays.layerBytes(slots[0].array));
+  EXPECT_NE(slots[0].array, slots[39].array);
+  for (uint32_t i = 0; i < 40; ++i)
+    EXPECT_EQ(readBack(arrays, slots[i]), layerWithSeed(i).mips[0]) << "layer " << i;
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
+TEST_F(TextureArraysTest, EmptyPagesAreGivenBackAndOldPagesFillFirst) {
+  TextureArrays arrays;
+  std::vector<TextureSlot> slots;
+  for (uint32_t i = 0; i < 40; ++i) slots.push_back(arrays.upload(layerWithSeed(i)));
+  ASSERT_EQ(arrays.pageCount(), 3u);
+  // Empty the newest page (layers 24..39, 32 places) while the others are full: it stays, or
+  // the next upload would need a page again at once.
+  for (uint32_t i = 24; i < 40; ++i) arrays.release(slots[i]);
+  EXPECT_EQ(arrays.pageCount(), 3u);
+  // With room elsewhere (half of it), an empty page goes.
+  arrays.upload(layerWithSeed(50));  // lands in the newest page, layer 24
+  for (uint32_t i = 4; i < 20; ++i) arrays.release(slots[i]);
+  EXPECT_EQ(arrays.pageCount(), 3u);
+  arrays.release(TextureSlot{slots[24].array, slots[24].layer, kSize, 0});
+  EXPECT_EQ(arrays.pageCount(), 2u);
+  EXPECT_EQ(arrays.allocatedBytes(), 24 * arrays.layerBytes(slots[0].array));
+  // Freed layers of the oldest page are used before anything newer.
+  const TextureSlot again = arrays.upload(layerWithSeed(99));
+  EXPECT_EQ(again.array, slots[4].array);
+  EXPECT_EQ(again.layer, slots[4].layer);
+  EXPECT_EQ(readBack(arrays, again), layerWithSeed(99).mips[0]);
+  EXPECT_EQ(readBack(arrays, slots[2]), layerWithSeed(2).mips[0]);
+  EXPECT_EQ(readBack(arrays, slots[21]), layerWithSeed(21).mips[0]);
+}
+
+TEST_F(TextureArraysTest, AWorkerMakesPagesAheadOfNeed) {
+  auto shared = mContext->createShared();
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  auto worker = GlWorker::start(std::move(shared).value());
+  ASSERT_TRUE(worker.ok()) << worker.error().message;
+  TextureArrays arrays;
+  arrays.setWorker(worker->get());
+  std::vector<TextureSlot> slots;
+  // The first page (8 layers) is made here; at half full the next is asked of the worker.
+  for (uint32_t i = 0; i < 8; ++i) {
+    ASSERT_TRUE(arrays.reserve(TextureEncoding::kBc5, kSize));
+    slots.push_back(arrays.upload(layerWithSeed(i)));
+  }
+  EXPECT_EQ(arrays.pageCount(), 1u);
+  // Full: no layer until the worker's page is adopted.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!arrays.reserve(TextureEncoding::kBc5, kSize)) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the worker made no page";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    arrays.poll();
+  }
+  EXPECT_EQ(arrays.pageCount(), 2u);
+  // The worker's texture works in this context.
+  slots.push_back(arrays.upload(layerWithSeed(8)));
+  EXPECT_NE(slots[8].array, slots[0].array);
+  EXPECT_EQ(readBack(arrays, slots[8]), layerWithSeed(8).mips[0]);
+  EXPECT_EQ(readBack(arrays, slots[0]), layerWithSeed(0).mips[0]);
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  worker->reset();  // stops before the arrays go
+}
+
+TEST_F(TextureArraysTest, WorkerJobsRunInOrderWithTheirGlWorkDone) {
+  auto shared = mContext->createShared();
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  auto worker = GlWorker::start(std::move(shared).value());
+  ASSERT_TRUE(worker.ok()) << worker.error().message;
+  GLuint buffer = 0;
+  std::vector<int> order;
+  auto first = (*worker)->post([&] {
+    glCreateBuffers(1, &buffer);
+    const uint32_t value = 0xC0FFEEu;
+    glNamedBufferStorage(buffer, sizeof value, &value, 0);
+    order.push_back(1);
+  });
+  auto second = (*worker)->post([&] { order.push_back(2); });
+  while (!second->done()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  EXPECT_TRUE(first->done());
+  EXPECT_EQ(order, (std::vector<int>{1, 2}));
+  uint32_t read = 0;
+  glGetNamedBufferSubData(buffer, 0, sizeof read, &read);
+  EXPECT_EQ(read, 0xC0FFEEu);
+  glDeleteBuffers(1, &buffer);
+}
+
+}  // namespace
+}  // namespace terralod
