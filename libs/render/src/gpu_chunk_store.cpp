@@ -21,32 +21,92 @@ uint32_t makeBuffer(uint64_t bytes) {
 }  // namespace
 
 GpuChunkStore::GpuChunkStore(uint64_t initialBytes)
-    : mVertices(std::max<uint64_t>(initialBytes / 2 / kVertexBytes, 1024)),
-      mIndices(std::max<uint64_t>(initialBytes / 2 / kIndexBytes, 4096)) {
-  mVertexBuffer = makeBuffer(mVertices.capacity() * kVertexBytes);
-  mIndexBuffer = makeBuffer(mIndices.capacity() * kIndexBytes);
+    : mVertices(std::max<uint64_t>(initialBytes / 2 / kVertexBytes, 1024), kVertexBytes),
+      mIndices(std::max<uint64_t>(initialBytes / 2 / kIndexBytes, 4096), kIndexBytes) {
+  mVertices.name = makeBuffer(mVertices.ranges.capacity() * kVertexBytes);
+  mIndices.name = makeBuffer(mIndices.ranges.capacity() * kIndexBytes);
 }
 
 GpuChunkStore::~GpuChunkStore() {
-  const GLuint buffers[2] = {mVertexBuffer, mIndexBuffer};
-  glDeleteBuffers(2, buffers);
+  for (Buffer* b : {&mVertices, &mIndices}) {
+    glDeleteBuffers(1, &b->name);
+    // A successor the worker finished but nobody adopted (the worker stops before this).
+    if (b->pending && b->pending->done() && *b->pendingName)
+      glDeleteBuffers(1, b->pendingName.get());
+  }
 }
 
-uint64_t GpuChunkStore::allocate(RangeAllocator& allocator, uint32_t& buffer, uint64_t count,
-                                 size_t unit) {
+void GpuChunkStore::setWorker(GlWorker* worker) {
+  mWorker = worker;
+  mTextures.setWorker(worker);
+}
+
+void GpuChunkStore::requestGrowth(Buffer& b) {
+  if (!mWorker || b.pending) return;
+  b.pendingCapacity = b.ranges.capacity() * 2;
+  b.pendingName = std::make_shared<uint32_t>(0);
+  b.pending = mWorker->post([name = b.pendingName, bytes = b.pendingCapacity * b.unit] {
+    *name = makeBuffer(bytes);
+    // Drivers may commit memory only when it is first written: write it here, not on the
+    // render thread.
+    glClearNamedBufferData(*name, GL_R8UI, GL_RED_INTEGER, GL_UNSIGNED_BYTE, nullptr);
+  });
+}
+
+void GpuChunkStore::adopt(Buffer& b, uint32_t bigger, uint64_t capacity) {
+  const uint64_t old = b.ranges.capacity();
+  glCopyNamedBufferSubData(b.name, bigger, 0, 0, GLsizeiptr(old * b.unit));
+  glDeleteBuffers(1, &b.name);
+  b.name = bigger;
+  b.ranges.grow(capacity - old);
+}
+
+void GpuChunkStore::poll() {
+  mTextures.poll();
+  for (Buffer* b : {&mVertices, &mIndices}) {
+    if (!b->pending || !b->pending->done()) continue;
+    adopt(*b, *b->pendingName, b->pendingCapacity);
+    b->pending.reset();
+    b->pendingName.reset();
+  }
+}
+
+uint64_t GpuChunkStore::allocate(Buffer& b, uint64_t count) {
   if (count == 0) return 0;
-  if (auto offset = allocator.allocate(count)) return *offset;
-  // Full: a buffer twice as large (at least large enough), the old contents copied over.
-  const uint64_t capacity = allocator.capacity();
-  const uint64_t grown = std::max(capacity * 2, capacity + count);
-  const uint32_t bigger = makeBuffer(grown * unit);
-  glCopyNamedBufferSubData(buffer, bigger, 0, 0, GLsizeiptr(capacity * unit));
-  glDeleteBuffers(1, &buffer);
-  buffer = bigger;
-  allocator.grow(grown - capacity);
-  const auto offset = allocator.allocate(count);
-  assert(offset);
+  auto offset = b.ranges.allocate(count);
+  if (!offset) {
+    // Full: a buffer twice as large (at least large enough), made here, the old contents
+    // copied over.
+    const uint64_t capacity = b.ranges.capacity();
+    const uint64_t grown = std::max(capacity * 2, capacity + count);
+    adopt(b, makeBuffer(grown * b.unit), grown);
+    offset = b.ranges.allocate(count);
+    assert(offset);
+  }
+  // Half full: the next buffer is made ahead, off this thread.
+  if (b.ranges.used() * 2 > b.ranges.capacity()) requestGrowth(b);
   return *offset;
+}
+
+bool GpuChunkStore::reserve(const ChunkGeometry& geometry, const ChunkTexture* texture) {
+  bool ok = true;
+  if (mWorker) {
+    uint64_t vertices = 0, indices = 0;
+    for (const ChunkPart& part : geometry.parts) {
+      vertices += part.vertices.size();
+      indices += part.indices.size();
+    }
+    for (auto [b, count] : {std::pair{&mVertices, vertices}, std::pair{&mIndices, indices}})
+      if (b->ranges.capacity() - b->ranges.used() < count + count / 4) {  // (fragmentation)
+        requestGrowth(*b);
+        ok = false;
+      }
+  }
+  if (texture)
+    for (TextureLayerKind kind : {TextureLayerKind::kColor, TextureLayerKind::kNormal})
+      if (const TextureLayer* layer = texture->find(kind))
+        ok = mTextures.reserve(layer->encoding, layer->size) && ok;  // ask for every missing page
+  return ok;
 }
 
 void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
@@ -62,12 +122,12 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
     p.vertexCount = uint32_t(part.vertices.size());
     p.indexCount = uint32_t(part.indices.size());
     p.surfaceIndexCount = part.surfaceIndexCount;
-    p.baseVertex = uint32_t(allocate(mVertices, mVertexBuffer, p.vertexCount, kVertexBytes));
-    p.firstIndex = uint32_t(allocate(mIndices, mIndexBuffer, p.indexCount, kIndexBytes));
-    glNamedBufferSubData(mVertexBuffer, GLintptr(uint64_t(p.baseVertex) * kVertexBytes),
+    p.baseVertex = uint32_t(allocate(mVertices, p.vertexCount));
+    p.firstIndex = uint32_t(allocate(mIndices, p.indexCount));
+    glNamedBufferSubData(mVertices.name, GLintptr(uint64_t(p.baseVertex) * kVertexBytes),
                          GLsizeiptr(p.vertexCount * kVertexBytes), part.vertices.data());
     indices.assign(part.indices.begin(), part.indices.end());  // 32 to 16 bits
-    glNamedBufferSubData(mIndexBuffer, GLintptr(uint64_t(p.firstIndex) * kIndexBytes),
+    glNamedBufferSubData(mIndices.name, GLintptr(uint64_t(p.firstIndex) * kIndexBytes),
                          GLsizeiptr(p.indexCount * kIndexBytes), indices.data());
     chunk.bytes += uint64_t(p.vertexCount) * kVertexBytes + uint64_t(p.indexCount) * kIndexBytes;
     chunk.parts.push_back(p);
@@ -86,21 +146,12 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
   mChunks.emplace(node, std::move(chunk));
 }
 
-bool GpuChunkStore::reserve(const ChunkTexture* texture) {
-  if (!texture) return true;
-  bool ok = true;
-  for (TextureLayerKind kind : {TextureLayerKind::kColor, TextureLayerKind::kNormal})
-    if (const TextureLayer* layer = texture->find(kind))
-      ok = mTextures.reserve(layer->encoding, layer->size) && ok;  // ask for every missing page
-  return ok;
-}
-
 void GpuChunkStore::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;
   for (const GpuChunkPart& p : it->second.parts) {
-    if (p.vertexCount) mVertices.release(p.baseVertex, p.vertexCount);
-    if (p.indexCount) mIndices.release(p.firstIndex, p.indexCount);
+    if (p.vertexCount) mVertices.ranges.release(p.baseVertex, p.vertexCount);
+    if (p.indexCount) mIndices.ranges.release(p.firstIndex, p.indexCount);
   }
   if (it->second.textured) {
     mTextures.release(it->second.color);

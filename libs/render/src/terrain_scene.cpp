@@ -122,7 +122,7 @@ void TerrainScene::step(const View& view, const SelectionOptions& selection, Fra
       continue;
     }
     const auto& data = static_cast<const StaticChunkPayload&>(*chunk.chunk.payload).data;
-    if (!mStore.reserve(data.texture ? &*data.texture : nullptr)) {
+    if (!mStore.reserve(data.geometry, data.texture ? &*data.texture : nullptr)) {
       residency.returnReady(std::move(chunk));  // its GPU memory is being made
       ++stats.deferredUploads;
       continue;

@@ -12,6 +12,7 @@
 #include "terralod/core/result.h"
 #include "terralod/format/chunk_codec.h"
 #include "terralod/format/texture_codec.h"
+#include "terralod/render/gl_worker.h"
 #include "terralod/render/range_allocator.h"
 #include "terralod/render/texture_arrays.h"
 
@@ -42,13 +43,15 @@ class GpuChunkStore {
   GpuChunkStore(const GpuChunkStore&) = delete;
   GpuChunkStore& operator=(const GpuChunkStore&) = delete;
 
-  /// Makes texture pages ahead of need on `worker` from now on (see TextureArrays).
-  void setWorker(GlWorker* worker) { mTextures.setWorker(worker); }
-  /// Adopts GPU memory the worker has made. Call once a frame.
-  void poll() { mTextures.poll(); }
-  /// Whether `texture` can be uploaded now without making GPU memory on this thread; when not,
-  /// the memory is on its way (always true without a worker).
-  bool reserve(const ChunkTexture* texture);
+  /// Makes GPU memory ahead of need on `worker` from now on: texture pages (see
+  /// TextureArrays) and, when a buffer is half full, its twice-as-large successor.
+  void setWorker(GlWorker* worker);
+  /// Adopts GPU memory the worker has made (a new buffer: what the old one holds is copied
+  /// over). Call once a frame.
+  void poll();
+  /// Whether the chunk can be uploaded now without making GPU memory on this thread; when
+  /// not, the memory is on its way (always true without a worker).
+  bool reserve(const ChunkGeometry& geometry, const ChunkTexture* texture);
 
   /// Copies a decoded chunk to the GPU under `node` (replacing what was there). A texture
   /// must have a colour and a normal layer.
@@ -58,18 +61,30 @@ class GpuChunkStore {
   /// The chunk uploaded under `node`, or nullptr.
   const GpuChunk* find(uint32_t node) const;
 
-  uint32_t vertexBuffer() const { return mVertexBuffer; }
-  uint32_t indexBuffer() const { return mIndexBuffer; }
+  uint32_t vertexBuffer() const { return mVertices.name; }
+  uint32_t indexBuffer() const { return mIndices.name; }
   const TextureArrays& textures() const { return mTextures; }
   /// GPU bytes held by chunks (not the buffers' spare room).
   uint64_t residentBytes() const { return mResidentBytes; }
   size_t chunkCount() const { return mChunks.size(); }
 
  private:
-  uint64_t allocate(RangeAllocator& allocator, uint32_t& buffer, uint64_t count, size_t unit);
+  // One growing buffer: its allocator, GL name and element size, and a successor being made.
+  struct Buffer {
+    Buffer(uint64_t capacity, size_t elementBytes) : ranges(capacity), unit(elementBytes) {}
+    RangeAllocator ranges;
+    size_t unit = 0;
+    uint32_t name = 0;
+    std::shared_ptr<GlJob> pending;
+    std::shared_ptr<uint32_t> pendingName;
+    uint64_t pendingCapacity = 0;
+  };
+  uint64_t allocate(Buffer& buffer, uint64_t count);
+  void requestGrowth(Buffer& buffer);
+  void adopt(Buffer& buffer, uint32_t bigger, uint64_t capacity);
 
-  uint32_t mVertexBuffer = 0, mIndexBuffer = 0;
-  RangeAllocator mVertices, mIndices;
+  Buffer mVertices, mIndices;
+  GlWorker* mWorker = nullptr;
   TextureArrays mTextures;
   std::unordered_map<uint32_t, GpuChunk> mChunks;
   uint64_t mResidentBytes = 0;

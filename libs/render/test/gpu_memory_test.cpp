@@ -1,6 +1,6 @@
-// Chunk textures on the GPU: pages of array textures that never move (what is resident keeps
-// its texels while pages come and go), empty pages given back, and pages made ahead of need on
-// a worker context that shares the render context's objects.
+// Chunk memory on the GPU: pages of array textures that never move (what is resident keeps
+// its texels while pages come and go), empty pages given back, pages and larger geometry
+// buffers made ahead of need on a worker context that shares the render context's objects.
 
 #include "terralod/render/texture_arrays.h"
 
@@ -12,6 +12,7 @@
 
 #include "terralod/render/gl_context.h"
 #include "terralod/render/gl_worker.h"
+#include "terralod/render/gpu_chunk_store.h"
 
 namespace terralod {
 namespace {
@@ -35,12 +36,12 @@ TextureLayer layerWithSeed(uint32_t seed) {
 // Mip 0 of one layer, read back from the GPU.
 std::vector<uint8_t> readBack(const TextureArrays& arrays, const TextureSlot& slot) {
   std::vector<uint8_t> bytes(mipBytes(TextureEncoding::kBc5, kSize, 0));
-  glGetCompressedTextureSubImage(arrays.arrayTexture(slot.array), 0, 0, 0, GLint(slot.layer),
-                                 kSize, kSize, 1, GLsizei(bytes.size()), bytes.data());
+  glGetCompressedTextureSubImage(arrays.arrayTexture(slot.array), 0, 0, 0, GLint(slot.layer), kSize,
+                                 kSize, 1, GLsizei(bytes.size()), bytes.data());
   return bytes;
 }
 
-class TextureArraysTest : public ::testing::Test {
+class GpuMemory : public ::testing::Test {
  protected:
   void SetUp() override {
     auto context = GlContext::createHeadless();
@@ -50,7 +51,7 @@ class TextureArraysTest : public ::testing::Test {
   std::unique_ptr<GlContext> mContext;
 };
 
-TEST_F(TextureArraysTest, PagesDoubleAndNeverMoveWhatIsResident) {
+TEST_F(GpuMemory, PagesDoubleAndNeverMoveWhatIsResident) {
   TextureArrays arrays;
   std::vector<TextureSlot> slots;
   for (uint32_t i = 0; i < 40; ++i) slots.push_back(arrays.upload(layerWithSeed(i)));
@@ -63,7 +64,7 @@ TEST_F(TextureArraysTest, PagesDoubleAndNeverMoveWhatIsResident) {
   EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
-TEST_F(TextureArraysTest, EmptyPagesAreGivenBackAndOldPagesFillFirst) {
+TEST_F(GpuMemory, EmptyPagesAreGivenBackAndOldPagesFillFirst) {
   TextureArrays arrays;
   std::vector<TextureSlot> slots;
   for (uint32_t i = 0; i < 40; ++i) slots.push_back(arrays.upload(layerWithSeed(i)));
@@ -88,7 +89,7 @@ TEST_F(TextureArraysTest, EmptyPagesAreGivenBackAndOldPagesFillFirst) {
   EXPECT_EQ(readBack(arrays, slots[21]), layerWithSeed(21).mips[0]);
 }
 
-TEST_F(TextureArraysTest, AWorkerMakesPagesAheadOfNeed) {
+TEST_F(GpuMemory, AWorkerMakesPagesAheadOfNeed) {
   auto shared = mContext->createShared();
   ASSERT_TRUE(shared.ok()) << shared.error().message;
   auto worker = GlWorker::start(std::move(shared).value());
@@ -119,7 +120,7 @@ TEST_F(TextureArraysTest, AWorkerMakesPagesAheadOfNeed) {
   worker->reset();  // stops before the arrays go
 }
 
-TEST_F(TextureArraysTest, WorkerJobsRunInOrderWithTheirGlWorkDone) {
+TEST_F(GpuMemory, WorkerJobsRunInOrderWithTheirGlWorkDone) {
   auto shared = mContext->createShared();
   ASSERT_TRUE(shared.ok()) << shared.error().message;
   auto worker = GlWorker::start(std::move(shared).value());
@@ -140,6 +141,53 @@ TEST_F(TextureArraysTest, WorkerJobsRunInOrderWithTheirGlWorkDone) {
   glGetNamedBufferSubData(buffer, 0, sizeof read, &read);
   EXPECT_EQ(read, 0xC0FFEEu);
   glDeleteBuffers(1, &buffer);
+}
+
+// A chunk of `vertices` vertices whose values say which chunk it is.
+ChunkGeometry geometryWithSeed(uint16_t seed, uint32_t vertices) {
+  ChunkGeometry g;
+  ChunkPart part;
+  for (uint32_t i = 0; i < vertices; ++i)
+    part.vertices.push_back({uint16_t(seed), uint16_t(i), uint16_t(i * 3), int16_t(seed)});
+  for (uint32_t i = 0; i + 2 < vertices; i += 3)
+    part.indices.insert(part.indices.end(), {i, i + 1, i + 2});
+  part.surfaceIndexCount = uint32_t(part.indices.size());
+  g.parts.push_back(std::move(part));
+  return g;
+}
+
+TEST_F(GpuMemory, GeometryBuffersGrowAheadOnTheWorkerAndKeepWhatTheyHold) {
+  auto shared = mContext->createShared();
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  auto worker = GlWorker::start(std::move(shared).value());
+  ASSERT_TRUE(worker.ok()) << worker.error().message;
+  GpuChunkStore store(64 << 10);  // 4096 vertices and 16384 indices to begin with
+  store.setWorker(worker->get());
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  uint32_t uploaded = 0, deferred = 0;
+  while (uploaded < 20) {  // 20 x 1000 vertices: the vertex buffer must grow twice
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the worker made no buffer";
+    store.poll();
+    const ChunkGeometry g = geometryWithSeed(uint16_t(uploaded), 1000);
+    if (!store.reserve(g, nullptr)) {
+      ++deferred;
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    store.upload(uploaded, g);
+    ++uploaded;
+  }
+  EXPECT_GT(deferred, 0u) << "the first buffer was big enough: nothing tested";
+  // Every chunk's vertices are where the store says, after the buffers were replaced.
+  for (uint32_t node = 0; node < 20; ++node) {
+    const GpuChunkPart& p = store.find(node)->parts[0];
+    std::vector<ChunkVertex> read(p.vertexCount);
+    glGetNamedBufferSubData(store.vertexBuffer(), GLintptr(p.baseVertex * sizeof(ChunkVertex)),
+                            GLsizeiptr(read.size() * sizeof(ChunkVertex)), read.data());
+    EXPECT_EQ(read, geometryWithSeed(uint16_t(node), 1000).parts[0].vertices) << node;
+  }
+  EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+  worker->reset();
 }
 
 }  // namespace
