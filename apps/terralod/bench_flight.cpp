@@ -66,9 +66,10 @@ class QualityPass {
     auto error = mMetrics->maxErrorPixels(view, mCurrent);
     if (!error) return error.error();
     r.errorPx = *error;
-    // Pops are selection changes between two frames that both had what they wanted; frames
-    // drawn coarser while chunks stream in hand over differently (counted apart).
-    if (i > 0 && !r.coarser && mPreviousComplete) {
+    // Pops count between two frames that both had what they wanted; frames drawn coarser
+    // while chunks stream in hand over differently (reported apart).
+    r.popComplete = i > 0 && !r.coarser && mPreviousComplete;
+    if (r.popComplete) {
       auto pop = mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
       if (!pop) return pop.error();
       r.popPx = *pop;

@@ -20,7 +20,7 @@
 namespace terralod::cli {
 
 /// One frame's figures. Quality figures are NaN where they were not measured: without a
-/// source, or (pops) when the frame or the one before drew chunks coarser than wanted.
+/// source, or when nothing changed (image pops) or there is no last frame (pops).
 struct FrameRecord {
   double frameMs = 0;   ///< selection, uploads and drawing, to glFinish
   double selectUs = 0;  ///< selection alone
@@ -31,10 +31,11 @@ struct FrameRecord {
   bool coarser = false;     ///< drew a chunk whose wanted children were not resident
   bool waitedOnIo = false;  ///< blocked on a read
   glm::dvec3 eye{0.0};
-  double errorPx = NAN;   ///< largest screen-space error over the source samples in view
-  double popPx = NAN;     ///< largest change from selection alone since the last frame
-  double imagePop = NAN;  ///< mean absolute pixel change from LOD alone (8-bit units)
-  uint64_t holes = 0;     ///< background pixels in the look-down render
+  double errorPx = NAN;      ///< largest screen-space error over the source samples in view
+  double popPx = NAN;        ///< largest change from selection alone since the last frame
+  double imagePop = NAN;     ///< mean absolute pixel change from LOD alone (8-bit units)
+  bool popComplete = false;  ///< this frame and the last had every wanted chunk (pops count)
+  uint64_t holes = 0;        ///< background pixels in the look-down render
 };
 
 struct BenchFlightOptions {

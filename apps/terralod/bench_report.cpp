@@ -203,8 +203,9 @@ std::string reportMarkdown(const BenchFlightResult& flight, const nlohmann::json
        << figure(s, "max_error_px_all", "%.4g") << " |\n"
        << "| max pop px | " << figure(s, "max_pop_px", "%.4g") << " |\n"
        << "| holes total | " << figure(s, "holes_total") << " |\n"
-       << "| image pop mean /255 (average) | " << figure(s, "image_pop_mean", "%.4g") << " ("
-       << figure(s, "image_pop_mean_avg", "%.4g") << ") |\n";
+       << "| image pop mean /255 (average; with frames while streaming) | "
+       << figure(s, "image_pop_mean", "%.4g") << " (" << figure(s, "image_pop_mean_avg", "%.4g")
+       << "; " << figure(s, "image_pop_mean_all", "%.4g") << ") |\n";
   md << "\n";
 
   auto describe = [&](const char* what, size_t i, double value, const char* unit) {

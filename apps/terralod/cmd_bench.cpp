@@ -66,7 +66,8 @@ nlohmann::json summarize(const BenchCommand& b, const TerrainScene& scene,
       percentile(column(f, [](const FrameRecord& r) { return r.residentMB; }), 1.0);
   j["cache_mb"] = b.options.cacheMB;
   uint64_t waiting = 0, coarser = 0, holes = 0, imagePopFrames = 0;
-  double maxError = 0, maxErrorAll = 0, maxPop = 0, uploadMax = 0, imagePopMax = 0, imagePopSum = 0;
+  double maxError = 0, maxErrorAll = 0, maxPop = 0, uploadMax = 0, imagePopMax = 0,
+         imagePopMaxAll = 0, imagePopSum = 0;
   for (const FrameRecord& r : f) {
     waiting += r.waitedOnIo ? 1 : 0;
     coarser += r.coarser ? 1 : 0;
@@ -80,9 +81,12 @@ nlohmann::json summarize(const BenchCommand& b, const TerrainScene& scene,
     }
     if (!std::isnan(r.popPx)) maxPop = std::max(maxPop, r.popPx);
     if (!std::isnan(r.imagePop)) {
-      imagePopMax = std::max(imagePopMax, r.imagePop);
-      imagePopSum += r.imagePop;
-      ++imagePopFrames;
+      imagePopMaxAll = std::max(imagePopMaxAll, r.imagePop);
+      if (r.popComplete) {
+        imagePopMax = std::max(imagePopMax, r.imagePop);
+        imagePopSum += r.imagePop;
+        ++imagePopFrames;
+      }
     }
   }
   j["frames_waiting_on_io"] = waiting;
@@ -101,8 +105,10 @@ nlohmann::json summarize(const BenchCommand& b, const TerrainScene& scene,
     j["max_pop_px"] = maxPop;
     j["holes_total"] = holes;
     // 8-bit units: the largest per-frame mean absolute pixel change from LOD alone, and its
-    // average over the frames whose selection changed.
+    // average over the frames whose selection changed (both between frames that had what they
+    // wanted, like max_pop_px; _all also over frames while chunks streamed in).
     j["image_pop_mean"] = imagePopMax;
+    j["image_pop_mean_all"] = imagePopMaxAll;
     j["image_pop_mean_avg"] = imagePopFrames ? imagePopSum / double(imagePopFrames) : 0.0;
     j["image_pop_frames"] = imagePopFrames;
   }

@@ -145,9 +145,12 @@ void TerrainScene::step(const View& view, const SelectionOptions& selection, Fra
   constexpr float kEntryStep = 1.0f / 16.0f;
   for (SelectedChunk& c : mSelected) {
     const uint32_t parent = mTree.node(c.node).parent;
-    if (!mOptions.complete && selection.morph && parent != kNoNode &&
-        mDrawnFrame[c.node] + 1 != mFrame && mDrawnFrame[parent] + 1 == mFrame)
+    const bool drawnLastFrame = mDrawnFrame[c.node] + 1 == mFrame;
+    if (!mOptions.complete && selection.morph && parent != kNoNode && !drawnLastFrame &&
+        mDrawnFrame[parent] + 1 == mFrame)
       mEntryMorph[c.node] = 1.0f;
+    else if (!drawnLastFrame)
+      mEntryMorph[c.node] = 0.0f;  // an easing cut short (it split again) does not come back
     if (mEntryMorph[c.node] > 0.0f) {
       c.morph = std::max(c.morph, mEntryMorph[c.node]);
       mEntryMorph[c.node] = std::max(0.0f, mEntryMorph[c.node] - kEntryStep);
