@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "terrain_shaders.h"
+#include "terralod/render/texture_placement.h"
 
 namespace terralod {
 namespace {
@@ -65,6 +66,21 @@ TerrainRenderer::TerrainRenderer(ShaderProgram terrain, ShaderProgram sky)
   glVertexArrayAttribBinding(mVertexArray, 1, 0);
   glEnableVertexArrayAttrib(mVertexArray, 0);
   glEnableVertexArrayAttrib(mVertexArray, 1);
+  // No placements until the tileset gives its sizes: GL's own sampling everywhere.
+  const uint32_t none[4] = {};
+  glCreateBuffers(1, &mPlacementBuffer);
+  glNamedBufferStorage(mPlacementBuffer, sizeof none, none, 0);
+}
+
+void TerrainRenderer::setTextureSizes(std::span<const uint32_t> colorSizes,
+                                      std::span<const uint32_t> normalSizes) {
+  const std::vector<uint32_t> table = packPlacements(colorSizes, normalSizes);
+  if (table.empty()) return;
+  glDeleteBuffers(1, &mPlacementBuffer);
+  glCreateBuffers(1, &mPlacementBuffer);
+  glNamedBufferStorage(mPlacementBuffer, GLsizeiptr(table.size() * sizeof(uint32_t)), table.data(),
+                       0);
+  mPlacementLevels = int32_t(table.size() / (2 * kPlacementEntries));
 }
 
 TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
@@ -73,6 +89,8 @@ TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
       mVertexArray(std::exchange(o.mVertexArray, 0)),
       mDrawBuffer(std::exchange(o.mDrawBuffer, 0)),
       mIndirectBuffer(std::exchange(o.mIndirectBuffer, 0)),
+      mPlacementBuffer(std::exchange(o.mPlacementBuffer, 0)),
+      mPlacementLevels(o.mPlacementLevels),
       mDrawBufferBytes(o.mDrawBufferBytes),
       mIndirectBufferBytes(o.mIndirectBufferBytes),
       mBoundVertexBuffer(o.mBoundVertexBuffer) {}
@@ -81,6 +99,7 @@ TerrainRenderer::~TerrainRenderer() {
   if (mVertexArray) glDeleteVertexArrays(1, &mVertexArray);
   if (mDrawBuffer) glDeleteBuffers(1, &mDrawBuffer);
   if (mIndirectBuffer) glDeleteBuffers(1, &mIndirectBuffer);
+  if (mPlacementBuffer) glDeleteBuffers(1, &mPlacementBuffer);
 }
 
 DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
@@ -171,6 +190,7 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
   glVertexArrayVertexBuffer(mVertexArray, 0, store.vertexBuffer(), 0, sizeof(ChunkVertex));
   glVertexArrayElementBuffer(mVertexArray, store.indexBuffer());
   glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, mDrawBuffer);
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 1, mPlacementBuffer);
   glBindBuffer(GL_DRAW_INDIRECT_BUFFER, mIndirectBuffer);
 
   glEnable(GL_DEPTH_TEST);
@@ -203,6 +223,7 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
   const GLint tileSizes = mTerrain.uniformLocation("uTileSizes");
   glProgramUniform1i(program, mTerrain.uniformLocation("uColor"), 0);
   glProgramUniform1i(program, mTerrain.uniformLocation("uNormal"), 1);
+  glProgramUniform1i(program, mTerrain.uniformLocation("uPlacementLevels"), mPlacementLevels);
   auto drawGroups = [&](int wireframe) {
     glProgramUniform1i(program, wire, wireframe);
     for (size_t first = 0; first < mPending.size();) {

@@ -60,6 +60,11 @@ uniform int uTextured;
 uniform sampler2DArray uColor;   // unit 0
 uniform sampler2DArray uNormal;  // unit 1
 uniform vec2 uTileSizes;         // colour, normal texels per side
+// Where each level's mips keep their texels (texture_placement.h): 16 entries per level and
+// layer kind; entry m = log2(pieces) | pieceMip << 4 | pieceSize << 8, bit 31 of entry 0: the
+// level's mips are sampled piece by piece.
+layout(std430, binding = 1) readonly buffer Placements { uint placements[]; };
+uniform int uPlacementLevels;
 uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
 uniform int uWire;         // 1: the wireframe overlay pass
 uniform vec3 uSun;         // unit vector towards the sun
@@ -83,6 +88,36 @@ vec3 levelColor(float level) {
   return palette[int(level) % 8];
 }
 
+// The texture coordinate of fraction f of the chunk in a mip made of pieces x pieces tiles of
+// pieceSize texels at their mip pieceMip, each placed for its own size.
+vec2 placedUv(vec2 f, uint entry) {
+  float pieces = float(1u << (entry & 15u));
+  uint pieceSize = (entry >> 8) & 0x1FFFu;
+  float s = float(max(1u, pieceSize >> ((entry >> 4) & 15u)));
+  vec2 scaled = f * pieces;
+  vec2 piece = min(floor(scaled), vec2(pieces - 1.0));
+  vec2 texel = piece * s + (0.5 + (scaled - piece) * (float(pieceSize) - 1.0)) * s /
+               float(pieceSize);
+  return texel / (pieces * s);
+}
+
+// A tile's texel at fraction f: GL's trilinear filtering, or for tiles whose mips are mosaics of
+// unresampled descendants, the same filtering done level by level at each piece's placement.
+vec4 sampleTile(sampler2DArray tile, vec2 f, float size, float layer, int kind) {
+  vec2 uv = (0.5 + f * (size - 1.0)) / size;
+  int level = int(vLevel + 0.5);
+  uint base = uint((level * 2 + kind) * 16);
+  if (level >= uPlacementLevels || (placements[base] & 0x80000000u) == 0u)
+    return texture(tile, vec3(uv, layer));
+  int levels = textureQueryLevels(tile);
+  float lod = clamp(textureQueryLod(tile, uv).y, 0.0, float(levels - 1));
+  int m0 = int(floor(lod));
+  int m1 = min(m0 + 1, levels - 1);
+  vec4 a = textureLod(tile, vec3(placedUv(f, placements[base + uint(m0)]), layer), float(m0));
+  vec4 b = textureLod(tile, vec3(placedUv(f, placements[base + uint(m1)]), layer), float(m1));
+  return mix(a, b, lod - float(m0));
+}
+
 void main() {
   if (uWire == 1) {
     fragColor = vec4(0.05, 0.05, 0.05, 1.0);
@@ -91,10 +126,8 @@ void main() {
   vec3 n;
   vec3 base;
   if (uTextured == 1) {
-    vec2 uvColor = (0.5 + vChunkUv * (uTileSizes.x - 1.0)) / uTileSizes.x;
-    vec2 uvNormal = (0.5 + vChunkUv * (uTileSizes.y - 1.0)) / uTileSizes.y;
-    base = texture(uColor, vec3(uvColor, float(vLayers.x))).rgb;  // sRGB format: linear
-    vec2 xy = texture(uNormal, vec3(uvNormal, float(vLayers.y))).rg * 2.0 - 1.0;
+    base = sampleTile(uColor, vChunkUv, uTileSizes.x, float(vLayers.x), 0).rgb;  // sRGB: linear
+    vec2 xy = sampleTile(uNormal, vChunkUv, uTileSizes.y, float(vLayers.y), 1).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
   } else {
     n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));

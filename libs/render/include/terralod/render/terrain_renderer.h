@@ -49,6 +49,10 @@ class TerrainRenderer {
   TerrainRenderer(const TerrainRenderer&) = delete;
   TerrainRenderer& operator=(const TerrainRenderer&) = delete;
 
+  /// The tileset's texture sizes per level (root first), for sampling mips where the builder
+  /// put their texels (texture_placement.h). Without them GL's own sampling is used.
+  void setTextureSizes(std::span<const uint32_t> colorSizes, std::span<const uint32_t> normalSizes);
+
   /// Clears the bound framebuffer (viewport: the view's size) and draws the selected chunks
   /// of `tree` that `store` holds.
   DrawStats draw(const View& view, const ChunkTree& tree, std::span<const SelectedChunk> selection,
@@ -58,7 +62,8 @@ class TerrainRenderer {
   TerrainRenderer(ShaderProgram terrain, ShaderProgram sky);
 
   ShaderProgram mTerrain, mSky;
-  uint32_t mVertexArray = 0, mDrawBuffer = 0, mIndirectBuffer = 0;
+  uint32_t mVertexArray = 0, mDrawBuffer = 0, mIndirectBuffer = 0, mPlacementBuffer = 0;
+  int32_t mPlacementLevels = 0;
   uint64_t mDrawBufferBytes = 0, mIndirectBufferBytes = 0;
   uint32_t mBoundVertexBuffer = 0;
   // Per-frame staging, kept to avoid allocating once they are big enough.
