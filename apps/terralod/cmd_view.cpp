@@ -63,6 +63,7 @@ struct KeyEdges {
 struct Knobs {
   float tau = 2.0f;
   bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
+  bool boxes = false;
   int colorBy = 0;  // relief, level, morph
 };
 
@@ -130,6 +131,7 @@ int runView(const ViewCommand& v) {
   knobs.morph = !v.options.noMorph;
   knobs.skirts = !v.options.noSkirts;
   knobs.wireframe = v.options.wireframe;
+  knobs.boxes = v.options.chunkBoxes;
   knobs.textures = !v.options.noTextures;
   knobs.colorBy = int(baseStyle->colorBy);
   FlyCamera fly(start->front());
@@ -196,6 +198,7 @@ int runView(const ViewCommand& v) {
     TerrainStyle style = *baseStyle;
     style.skirts = knobs.skirts;
     style.wireframe = knobs.wireframe;
+    style.chunkBoxes = knobs.boxes;
     style.textures = knobs.textures;
     style.colorBy = ColorBy(knobs.colorBy);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -228,6 +231,8 @@ int runView(const ViewCommand& v) {
     ImGui::SameLine();
     ImGui::Checkbox("wireframe", &knobs.wireframe);
     ImGui::Checkbox("textures", &knobs.textures);
+    ImGui::SameLine();
+    ImGui::Checkbox("chunk boxes", &knobs.boxes);
     ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();
@@ -274,7 +279,7 @@ void addViewCommand(CLI::App& root, Runner& run) {
       "view",
       "Fly over a tileset in a window: drag the mouse to look, WASD to move (E/Q up/down, shift "
       "faster), R to record a flight, F12 for a screenshot; a panel sets tau, morph, skirts, "
-      "wireframe, colours and freezes the selection");
+      "wireframe, textures, chunk boxes, colours and freezes the selection");
   auto v = std::make_shared<ViewCommand>();
   addRenderOptions(*cmd, v->options, true);
   cmd->add_option("--play", v->play, "Play a flight file instead of flying by hand");

@@ -25,6 +25,8 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_option("--background", o.background, "Colour RRGGBB of the empty sky overhead")
       ->capture_default_str();
   c.add_flag("--wireframe", o.wireframe, "Draw triangle edges over the surface");
+  c.add_flag("--chunk-boxes", o.chunkBoxes,
+             "Outline every drawn chunk's bounding box, coloured by its level");
   c.add_flag("--no-morph", o.noMorph, "Draw every chunk unmorphed (shows the pops morphing hides)");
   c.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows the cracks they hide)");
   c.add_flag("--no-textures", o.noTextures,
@@ -76,6 +78,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   if (!background) return background.error();
   style.background = *background;
   style.wireframe = o.wireframe;
+  style.chunkBoxes = o.chunkBoxes;
   style.skirts = !o.noSkirts;
   style.textures = !o.noTextures;
   if (!o.sun.empty()) {

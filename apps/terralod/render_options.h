@@ -23,6 +23,7 @@ struct RenderOptions {
   double tau = 2.0;
   std::string background = "9CC3E6";
   bool wireframe = false, noMorph = false, noSkirts = false, noTextures = false;
+  bool chunkBoxes = false;
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   std::string flightFile;

@@ -44,6 +44,35 @@ TEST_F(RenderCli, OneViewBecomesAPngOfTerrain) {
   EXPECT_GT(distinctColours(*image), 50u) << "a blank or single-colour image";
 }
 
+TEST_F(RenderCli, ChunkBoxesOutlineTheDrawnChunksInTheirLevelsColours) {
+  auto render = [&](const std::string& out, std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render",   mDir.file("c.tlod"), "-o",    out,
+                                     "--size",   "240x180",           "--eye", "5500,2500,3000",
+                                     "--target", "8800,7500,1900"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return readPng(out).value();
+  };
+  const Image plain = render(mDir.file("plain.png"), {});
+  const Image boxes = render(mDir.file("boxes.png"), {"--chunk-boxes"});
+  // Lines: a few percent of the pixels change, and most of those take a level's colour.
+  size_t changed = 0, palette = 0;
+  const std::set<uint32_t> levelColours = {0xE6403D, 0xF29926, 0xE6D933, 0x59BF40,
+                                           0x33B3BF, 0x4066E6, 0x9959D9, 0xD966A6};
+  for (int y = 0; y < plain.height; ++y)
+    for (int x = 0; x < plain.width; ++x) {
+      const auto a = plain.pixel(x, y), b = boxes.pixel(x, y);
+      if (a == b) continue;
+      ++changed;
+      palette += levelColours.count(uint32_t(b[0]) << 16 | uint32_t(b[1]) << 8 | b[2]);
+    }
+  const size_t pixels = size_t(plain.width) * size_t(plain.height);
+  EXPECT_GT(changed, pixels / 500);
+  EXPECT_LT(changed, pixels / 5);
+  EXPECT_GT(palette, changed / 2);
+}
+
 TEST_F(RenderCli, FlightWritesEveryFrameAndAContactSheet) {
   std::ofstream(mDir.file("f.json")) << R"({"fov_deg": 50, "size": [96, 72], "frames": 7,
     "keyframes": [{"eye": [2000, 1000, 3500], "target": [6000, 7000, 1800]},

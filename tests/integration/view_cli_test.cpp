@@ -1,5 +1,6 @@
 // `terralod view` in a real window under a virtual X server: it plays a flight, saves the last
-// frame, and that frame is the headless renderer's image of the same view.
+// frame, and that frame is the headless renderer's image of the same view — from a file, and
+// streamed from a web server.
 
 #include <gtest/gtest.h>
 
@@ -8,27 +9,27 @@
 
 #include "cli_runner.h"
 #include "image_compare.h"
+#include "nginx_server.h"
 
 namespace terralod::test {
 namespace {
 
-TEST(ViewCli, PlaysAFlightUnderXvfbAndMatchesTheHeadlessRender) {
-  TempDir dir;
-  ASSERT_EQ(
-      runTerralod({"build", testData("crater_lake_0513.bt"), "-o", dir.file("c.tlod")}).exitCode,
-      0);
+// Plays a short flight over `tileset` (a path or URL) in the viewer, saves its last frame, and
+// checks it shows the terrain as the headless renderer draws the same view from `file`.
+void expectViewerMatchesHeadless(const TempDir& dir, const std::string& tileset,
+                                 const std::string& file) {
   std::ofstream(dir.file("f.json")) << R"({"fov_deg": 60, "size": [320, 240], "frames": 20,
     "keyframes": [{"eye": [5000, 1000, 3500], "target": [8800, 7500, 1900]},
                   {"eye": [5500, 2500, 3000], "target": [8800, 7500, 1900]}]})";
   // xvfb-run gets its own range of display numbers, so it never races the window test.
-  const RunResult viewed = runProgram(
-      TERRALOD_XVFB_RUN, {"-a", "-n", "250", "-s", "-screen 0 1280x1024x24 -noreset", TERRALOD_CLI,
-                          "view", dir.file("c.tlod"), "--play", dir.file("f.json"), "--screenshot",
-                          dir.file("shot.png"), "--exit-after-play"});
+  const RunResult viewed =
+      runProgram(TERRALOD_XVFB_RUN, {"-a", "-n", "250", "-s", "-screen 0 1280x1024x24 -noreset",
+                                     TERRALOD_CLI, "view", tileset, "--play", dir.file("f.json"),
+                                     "--screenshot", dir.file("shot.png"), "--exit-after-play"});
   ASSERT_EQ(viewed.exitCode, 0) << viewed.out << viewed.err;
   const RunResult rendered =
-      runTerralod({"render", dir.file("c.tlod"), "-o", dir.file("headless.png"), "--eye",
-                   "5500,2500,3000", "--target", "8800,7500,1900", "--size", "320x240"});
+      runTerralod({"render", file, "-o", dir.file("headless.png"), "--eye", "5500,2500,3000",
+                   "--target", "8800,7500,1900", "--size", "320x240"});
   ASSERT_EQ(rendered.exitCode, 0) << rendered.err;
 
   auto shot = readPng(dir.file("shot.png"));
@@ -43,6 +44,24 @@ TEST(ViewCli, PlaysAFlightUnderXvfbAndMatchesTheHeadlessRender) {
   const auto c = compareImages(*shot, headless, ImageTolerance{4, 0.01});
   EXPECT_TRUE(c.matches) << "mean abs error " << c.meanAbsoluteError << ", differing "
                          << c.differingFraction << " " << c.message;
+}
+
+TEST(ViewCli, PlaysAFlightUnderXvfbAndMatchesTheHeadlessRender) {
+  TempDir dir;
+  ASSERT_EQ(
+      runTerralod({"build", testData("crater_lake_0513.bt"), "-o", dir.file("c.tlod")}).exitCode,
+      0);
+  expectViewerMatchesHeadless(dir, dir.file("c.tlod"), dir.file("c.tlod"));
+}
+
+TEST(ViewCli, StreamsATilesetFromAWebServer) {
+  TempDir dir, www;
+  ASSERT_EQ(
+      runTerralod({"build", testData("crater_lake_0513.bt"), "-o", www.file("c.tlod")}).exitCode,
+      0);
+  NginxServer server(www.path());
+  ASSERT_TRUE(server.running()) << server.error();
+  expectViewerMatchesHeadless(dir, server.url("c.tlod"), www.file("c.tlod"));
 }
 
 }  // namespace

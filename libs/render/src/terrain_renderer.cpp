@@ -48,16 +48,29 @@ void uploadGrowing(uint32_t& buffer, uint64_t& capacity, const std::vector<T>& d
 }  // namespace
 
 Result<TerrainRenderer> TerrainRenderer::create() {
-  auto terrain =
-      ShaderProgram::create("terrain", {shaders::kTerrainVertex, shaders::kTerrainFragment, {}});
+  auto terrain = ShaderProgram::create(
+      "terrain",
+      {shaders::kTerrainVertex, shaders::withLevelPalette(shaders::kTerrainFragment), {}});
   if (!terrain) return terrain.error();
   auto sky = ShaderProgram::create("sky", {shaders::kSkyVertex, shaders::kSkyFragment, {}});
   if (!sky) return sky.error();
-  return TerrainRenderer(std::move(terrain).value(), std::move(sky).value());
+  auto boxes = ShaderProgram::create(
+      "boxes", {shaders::kBoxVertex, shaders::withLevelPalette(shaders::kBoxFragment), {}});
+  if (!boxes) return boxes.error();
+  return TerrainRenderer(std::move(terrain).value(), std::move(sky).value(),
+                         std::move(boxes).value());
 }
 
-TerrainRenderer::TerrainRenderer(ShaderProgram terrain, ShaderProgram sky)
-    : mTerrain(std::move(terrain)), mSky(std::move(sky)) {
+TerrainRenderer::TerrainRenderer(ShaderProgram terrain, ShaderProgram sky, ShaderProgram boxes)
+    : mTerrain(std::move(terrain)), mSky(std::move(sky)), mBoxes(std::move(boxes)) {
+  // Box lines: float x, y, z relative to the eye, then the level.
+  glCreateVertexArrays(1, &mBoxArray);
+  glVertexArrayAttribFormat(mBoxArray, 0, 3, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribFormat(mBoxArray, 1, 1, GL_FLOAT, GL_FALSE, 3 * sizeof(float));
+  glVertexArrayAttribBinding(mBoxArray, 0, 0);
+  glVertexArrayAttribBinding(mBoxArray, 1, 0);
+  glEnableVertexArrayAttrib(mBoxArray, 0);
+  glEnableVertexArrayAttrib(mBoxArray, 1);
   glCreateVertexArrays(1, &mVertexArray);
   // 8-byte vertices: three 16-bit unsigned (x, y, z) and a signed 16-bit morph delta.
   glVertexArrayAttribIFormat(mVertexArray, 0, 3, GL_UNSIGNED_SHORT, 0);
@@ -86,6 +99,10 @@ void TerrainRenderer::setTextureSizes(std::span<const uint32_t> colorSizes,
 TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
     : mTerrain(std::move(o.mTerrain)),
       mSky(std::move(o.mSky)),
+      mBoxes(std::move(o.mBoxes)),
+      mBoxArray(std::exchange(o.mBoxArray, 0)),
+      mBoxBuffer(std::exchange(o.mBoxBuffer, 0)),
+      mBoxBufferBytes(o.mBoxBufferBytes),
       mVertexArray(std::exchange(o.mVertexArray, 0)),
       mDrawBuffer(std::exchange(o.mDrawBuffer, 0)),
       mIndirectBuffer(std::exchange(o.mIndirectBuffer, 0)),
@@ -100,6 +117,42 @@ TerrainRenderer::~TerrainRenderer() {
   if (mDrawBuffer) glDeleteBuffers(1, &mDrawBuffer);
   if (mIndirectBuffer) glDeleteBuffers(1, &mIndirectBuffer);
   if (mPlacementBuffer) glDeleteBuffers(1, &mPlacementBuffer);
+  if (mBoxArray) glDeleteVertexArrays(1, &mBoxArray);
+  if (mBoxBuffer) glDeleteBuffers(1, &mBoxBuffer);
+}
+
+void TerrainRenderer::drawBoxes(const View& view, const ChunkTree& tree,
+                                std::span<const SelectedChunk> selection,
+                                const GpuChunkStore& store, const glm::mat4& viewProjection) {
+  mBoxLines.clear();
+  const glm::dvec3 eye = view.camera.eye;
+  for (const SelectedChunk& s : selection) {
+    if (!store.find(s.node)) continue;
+    const ChunkNode& n = tree.node(s.node);
+    const glm::dvec3 lo(n.box.min[0], n.box.min[1], n.box.min[2]);
+    const glm::dvec3 hi(n.box.max[0], n.box.max[1], n.box.max[2]);
+    auto corner = [&](int i) {
+      return glm::vec3(glm::dvec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z) -
+                       eye);
+    };
+    // The 12 edges: corners differing in one coordinate bit.
+    for (int a = 0; a < 8; ++a)
+      for (int bit = 1; bit < 8; bit <<= 1) {
+        if (a & bit) continue;
+        for (const glm::vec3 p : {corner(a), corner(a | bit)})
+          mBoxLines.insert(mBoxLines.end(), {p.x, p.y, p.z, float(n.level)});
+      }
+  }
+  if (mBoxLines.empty()) return;
+  uploadGrowing(mBoxBuffer, mBoxBufferBytes, mBoxLines);
+  glVertexArrayVertexBuffer(mBoxArray, 0, mBoxBuffer, 0, 4 * sizeof(float));
+  glBindVertexArray(mBoxArray);
+  mBoxes.use();
+  glProgramUniformMatrix4fv(mBoxes.id(), mBoxes.uniformLocation("uViewProjection"), 1, GL_FALSE,
+                            glm::value_ptr(viewProjection));
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GEQUAL);
+  glDrawArrays(GL_LINES, 0, GLsizei(mBoxLines.size() / 4));
 }
 
 DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
@@ -257,6 +310,10 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     glDisable(GL_POLYGON_OFFSET_LINE);
   }
   glDisable(GL_CULL_FACE);
+  if (style.chunkBoxes) {
+    drawBoxes(view, tree, selection, store, viewProjection);
+    ++stats.drawCalls;
+  }
   glDisable(GL_DEPTH_TEST);
   glBindVertexArray(0);
   return stats;

@@ -1,7 +1,24 @@
 #pragma once
 // GLSL of the terrain and sky passes (one place, so the renderer reads as C++).
 
+#include <string>
+
 namespace terralod::shaders {
+
+// The colour of a chunk level (--color-by level, chunk boxes): the version line and this
+// function start the fragment shaders that use it (withLevelPalette).
+inline constexpr const char* kLevelPalette = R"(#version 450 core
+vec3 levelColor(float level) {
+  const vec3 palette[8] = vec3[8](vec3(0.90, 0.25, 0.20), vec3(0.95, 0.60, 0.15),
+      vec3(0.90, 0.85, 0.20), vec3(0.35, 0.75, 0.25), vec3(0.20, 0.70, 0.75),
+      vec3(0.25, 0.40, 0.90), vec3(0.60, 0.35, 0.85), vec3(0.85, 0.40, 0.65));
+  return palette[int(level) % 8];
+}
+)";
+
+inline std::string withLevelPalette(const char* body) {
+  return std::string(kLevelPalette) + body;
+}
 
 // Chunk vertices are 16-bit grid offsets and heights; each draw's placement comes from the
 // draws[] buffer indexed by gl_DrawIDARB. Positions are relative to the eye (computed in double
@@ -48,7 +65,7 @@ void main() {
 // level). Tilesets without textures: normals from the drawn (morphed) surface itself, one per
 // triangle, continuous through every split and merge because the surface is.
 // Tile texel i of n lies at i / (n - 1) of the chunk's side (edge-aligned).
-inline constexpr const char* kTerrainFragment = R"(#version 450 core
+inline constexpr const char* kTerrainFragment = R"(
 in vec3 vRelative;
 in float vHeight;
 in vec2 vChunkUv;
@@ -79,13 +96,6 @@ vec3 hypsometric(float h) {
   if (h < 0.35) return mix(lowland, hills, h / 0.35);
   if (h < 0.75) return mix(hills, rock, (h - 0.35) / 0.40);
   return mix(rock, snow, smoothstep(0.82, 0.95, h));
-}
-
-vec3 levelColor(float level) {
-  const vec3 palette[8] = vec3[8](vec3(0.90, 0.25, 0.20), vec3(0.95, 0.60, 0.15),
-      vec3(0.90, 0.85, 0.20), vec3(0.35, 0.75, 0.25), vec3(0.20, 0.70, 0.75),
-      vec3(0.25, 0.40, 0.90), vec3(0.60, 0.35, 0.85), vec3(0.85, 0.40, 0.65));
-  return palette[int(level) % 8];
 }
 
 // The texture coordinate of fraction f of the chunk in a mip made of pieces x pieces tiles of
@@ -149,6 +159,25 @@ void main() {
   color = mix(color, uHaze, clamp(haze, 0.0, 0.7));
   fragColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
 }
+)";
+
+// Chunk bounding boxes: lines between eye-relative corners, coloured by the chunk's level like
+// --color-by level.
+inline constexpr const char* kBoxVertex = R"(#version 450 core
+layout(location = 0) in vec3 aPosition;  // relative to the eye
+layout(location = 1) in float aLevel;
+uniform mat4 uViewProjection;
+flat out float vLevel;
+void main() {
+  vLevel = aLevel;
+  gl_Position = uViewProjection * vec4(aPosition, 1.0);
+}
+)";
+
+inline constexpr const char* kBoxFragment = R"(
+flat in float vLevel;
+out vec4 fragColor;
+void main() { fragColor = vec4(levelColor(vLevel), 1.0); }
 )";
 
 // A full-screen triangle at the far plane: a gradient from the haze colour at the horizon to

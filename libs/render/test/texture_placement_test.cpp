@@ -68,10 +68,10 @@ TEST(TexturePlacement, PackedTableMarksTheLevelsToSamplePieceByPiece) {
     return table[(level * 2 + kind) * kPlacementEntries + m];
   };
   EXPECT_EQ(entry(0, 0, 0), 0x80000000u | 257u << 8);  // colour, root: piecewise
-  EXPECT_EQ(entry(0, 0, 3), 2u | 3u << 4 | 65u << 8);   // four pieces of 65 at their mip 3
-  EXPECT_EQ(entry(0, 1, 0), 33u << 8);                  // normal, root: GL's own
-  EXPECT_EQ(entry(1, 1, 2), 1u | 3u << 4 | 65u << 8);   // halving: two pieces at mip 3
-  EXPECT_EQ(entry(2, 0, 15), 0u);                       // past the last mip
+  EXPECT_EQ(entry(0, 0, 3), 2u | 3u << 4 | 65u << 8);  // four pieces of 65 at their mip 3
+  EXPECT_EQ(entry(0, 1, 0), 33u << 8);                 // normal, root: GL's own
+  EXPECT_EQ(entry(1, 1, 2), 1u | 3u << 4 | 65u << 8);  // halving: two pieces at mip 3
+  EXPECT_EQ(entry(2, 0, 15), 0u);                      // past the last mip
 }
 
 }  // namespace

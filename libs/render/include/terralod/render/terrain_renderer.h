@@ -9,6 +9,8 @@
 #include <span>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "terralod/core/result.h"
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/shader_program.h"
@@ -24,8 +26,9 @@ struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface
   bool skirts = true;
-  bool textures = true;  ///< false: ignore chunk textures, light from the drawn geometry
-  bool sky = true;       ///< false: empty pixels keep exactly the background colour
+  bool textures = true;     ///< false: ignore chunk textures, light from the drawn geometry
+  bool sky = true;          ///< false: empty pixels keep exactly the background colour
+  bool chunkBoxes = false;  ///< outline each drawn chunk's bounding box, coloured by level
   std::array<uint8_t, 3> background{0x9C, 0xC3, 0xE6};  ///< sRGB; the sky overhead
   double sunAzimuthDegrees = 315.0;                     ///< clockwise from north
   double sunElevationDegrees = 40.0;
@@ -59,9 +62,14 @@ class TerrainRenderer {
                  const GpuChunkStore& store, const TerrainStyle& style);
 
  private:
-  TerrainRenderer(ShaderProgram terrain, ShaderProgram sky);
+  TerrainRenderer(ShaderProgram terrain, ShaderProgram sky, ShaderProgram boxes);
+  void drawBoxes(const View& view, const ChunkTree& tree, std::span<const SelectedChunk> selection,
+                 const GpuChunkStore& store, const glm::mat4& viewProjection);
 
-  ShaderProgram mTerrain, mSky;
+  ShaderProgram mTerrain, mSky, mBoxes;
+  uint32_t mBoxArray = 0, mBoxBuffer = 0;
+  uint64_t mBoxBufferBytes = 0;
+  std::vector<float> mBoxLines;
   uint32_t mVertexArray = 0, mDrawBuffer = 0, mIndirectBuffer = 0, mPlacementBuffer = 0;
   int32_t mPlacementLevels = 0;
   uint64_t mDrawBufferBytes = 0, mIndirectBufferBytes = 0;
