@@ -37,8 +37,9 @@ class QualityPass {
   QualityPass(TerrainScene& scene, const Heightfield& source, const BenchFlightOptions& options)
       : mScene(scene), mOptions(options) {
     const int side = std::max(source.columns(), source.rows());
-    mMetrics.emplace(scene.tileset(), scene.tree(), source,
-                     (side + kExactMetricSide - 1) / kExactMetricSide, hardwareThreads());
+    const int stride = options.metricStride > 0 ? options.metricStride
+                                                : (side + kExactMetricSide - 1) / kExactMetricSide;
+    mMetrics.emplace(scene.tileset(), scene.tree(), source, stride, hardwareThreads());
     mHoleStyle = options.style;
     mHoleStyle.sky = false;
   }

@@ -42,6 +42,7 @@ struct BenchFlightOptions {
   SelectionOptions selection;
   TerrainStyle style;
   const Heightfield* source = nullptr;  ///< measure quality against it (optional)
+  int metricStride = 0;   ///< measure every k-th source sample in x and y; 0: automatic
   size_t keepFrames = 0;  ///< keep this many evenly spaced frames' images (contact sheet)
 };
 

@@ -22,6 +22,7 @@ struct BenchCommand {
   std::string source;
   std::string jsonPath;
   std::string reportDir;
+  int metricStride = 0;
 };
 
 template <typename Field>
@@ -150,6 +151,7 @@ int runBench(const BenchCommand& b) {
   flightOptions.selection = *selection;
   flightOptions.style = *style;
   flightOptions.source = source ? &*source : nullptr;
+  flightOptions.metricStride = b.metricStride;
   flightOptions.keepFrames = b.reportDir.empty() ? 0 : kReportSheetFrames;
   TerminalProgress progress;
   auto flight = flyBench(scene, *cameras, flightOptions, progress);
@@ -192,11 +194,23 @@ void addBenchCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--source", b->source,
                   "The raster the tileset was built from: measure max_error_px, max_pop_px and "
                   "holes_total against it");
+  cmd->add_option("--metric-stride", b->metricStride,
+                  "With --source: measure every k-th sample in x and y (default: every sample up "
+                  "to 4097 a side, ceil(side / 4097) above)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--json", b->jsonPath, "Where to write the figures (JSON)")->required();
   cmd->add_option("--report", b->reportDir,
                   "Also write a report to this directory: report.md with the figures, plots of "
                   "frame time, selection time, triangles, resident memory and error over the "
                   "flight (PNG, drawn by gnuplot), frames.csv and a contact sheet");
+  cmd->footer(
+      "Examples:\n"
+      "  terralod bench dem.tlod --auto-flight --source dem.tif --json bench.json --report "
+      "report/\n"
+      "  terralod bench http://host/dem.tlod --flight flight.json --cache-mb 256 --json "
+      "bench.json\n"
+      "Flight files: {\"fov_deg\": 60, \"size\": [1024, 768], \"frames\": 300,\n"
+      "               \"keyframes\": [{\"eye\": [x, y, z], \"target\": [x, y, z]}, ...]}\n");
   cmd->callback([&run, b] { run = [b] { return runBench(*b); }; });
 }
 

@@ -59,6 +59,13 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
+  cmd->footer(
+      "Examples:\n"
+      "  terralod build dem.tif -o dem.tlod\n"
+      "  terralod build dem.tif --texture ortho.tif --max-error 0.5 -o dem.tlod\n"
+      "  terralod build tile.png --encoding terrarium -o tile.tlod\n"
+      "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
+      "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture] {
     run = [options, encoding, spacing, verbose, noTexture] {
       if (*noTexture && !options->textureImage.empty())

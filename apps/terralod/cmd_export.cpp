@@ -79,13 +79,18 @@ void addExportCommand(CLI::App& root, Runner& run) {
       "metres from the tileset's south-west sample. OBJ and PLY keep terralod's axes (x east, "
       "y north, z up); glTF is y up, so .glb gets (x, z, -y): x east, y up, -z north");
   auto options = std::make_shared<ExportOptions>();
-  cmd->add_option("TILESET", options->tileset, "Tileset file (.tlod)")->required();
+  cmd->add_option("TILESET", options->tileset,
+                  "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
+      ->required();
   cmd->add_option("-o,--output", options->output,
                   "Mesh to write; the extension picks the format: .obj (text), .ply (binary) or "
                   ".glb (glTF 2.0 binary)")
       ->required();
   cmd->add_option("--level", options->level,
                   "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)");
+  cmd->footer(
+      "Example:\n"
+      "  terralod export dem.tlod --level 3 -o level3.glb\n");
   cmd->callback([&run, options] { run = [options] { return exportLevel(*options); }; });
 }
 

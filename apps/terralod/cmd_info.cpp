@@ -142,8 +142,14 @@ void addInfoCommand(CLI::App& root, Runner& run) {
   auto* cmd = root.add_subcommand("info", "Describe a tileset: levels, errors, sizes, source");
   auto path = std::make_shared<std::string>();
   auto json = std::make_shared<bool>(false);
-  cmd->add_option("TILESET", *path, "Tileset file (.tlod)")->required();
+  cmd->add_option("TILESET", *path,
+                  "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
+      ->required();
   cmd->add_flag("--json", *json, "Machine-readable output");
+  cmd->footer(
+      "Examples:\n"
+      "  terralod info dem.tlod\n"
+      "  terralod info http://example.com/tiles/dem.tlod --json\n");
   cmd->callback([&run, path, json] { run = [path, json] { return printInfo(*path, *json); }; });
 }
 

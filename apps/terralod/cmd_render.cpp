@@ -100,6 +100,14 @@ void addRenderCommand(CLI::App& root, Runner& run) {
          "--every", r->every,
          "Render only every k-th frame of a flight (frame files keep their flight numbers)")
       ->check(CLI::PositiveNumber);
+  cmd->footer(
+      "Examples:\n"
+      "  terralod render dem.tlod -o overview.png\n"
+      "  terralod render dem.tlod --eye 16000,2000,4200 --target 19000,16000,1700 --tau 1 -o "
+      "view.png\n"
+      "  terralod render dem.tlod --color-by level --wireframe --chunk-boxes -o levels.png\n"
+      "  terralod render dem.tlod --auto-flight --every 30 --frames-dir frames/\n"
+      "World coordinates: x east, y north, z up, metres from the south-west sample.\n");
   cmd->callback([&run, r] { run = [r] { return runRender(*r); }; });
 }
 

@@ -29,6 +29,9 @@ void addSynthCommand(CLI::App& root, Runner& run) {
       ->check(CLI::IsMember({"zstd", "deflate", "lzw", "none"}));
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
   cmd->add_option("-o,--output", options->output, "GeoTIFF to write")->required();
+  cmd->footer(
+      "Example:\n"
+      "  terralod synth --size 8193 --seed 1 -o synth.tif\n");
   cmd->callback([&run, options, size] {
     run = [options, size] {
       options->columns = options->rows = *size;

@@ -16,9 +16,15 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
   auto tileset = std::make_shared<std::string>();
   auto source = std::make_shared<std::string>();
   auto options = std::make_shared<VerifyOptions>();
-  cmd->add_option("TILESET", *tileset, "Tileset file (.tlod)")->required();
+  cmd->add_option("TILESET", *tileset,
+                  "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
+      ->required();
   cmd->add_option("--source", *source, "The raster the tileset was built from")->required();
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+  cmd->footer(
+      "Example:\n"
+      "  terralod verify dem.tlod --source dem.tif\n"
+      "Exit status 1 with a list of failures if any promise is broken.\n");
   cmd->callback([&run, tileset, source, options] {
     run = [tileset, source, options] {
       TerminalProgress progress;

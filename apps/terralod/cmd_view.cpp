@@ -286,6 +286,19 @@ void addViewCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--screenshot", v->screenshot, "With --play: save the last frame here (PNG)");
   cmd->add_flag("--exit-after-play", v->exitAfterPlay, "With --play: close after the last frame");
   cmd->add_option("--record", v->record, "Where R saves the recorded flight (JSON)");
+  cmd->footer(
+      "Controls:\n"
+      "  drag (left or right button)  look around\n"
+      "  W/S, A/D, E/Q                forward/back, left/right, up/down (shift: five times "
+      "faster)\n"
+      "  R                            start/stop recording a flight (--record, default "
+      "terralod-flight.json)\n"
+      "  F12                          save a screenshot (terralod-screenshot.png)\n"
+      "Examples:\n"
+      "  terralod view dem.tlod\n"
+      "  terralod view http://host/dem.tlod --tau 1 --chunk-boxes\n"
+      "  xvfb-run -a terralod view dem.tlod --play flight.json --screenshot last.png "
+      "--exit-after-play\n");
   cmd->callback([&run, v] { run = [v] { return runView(*v); }; });
 }
 

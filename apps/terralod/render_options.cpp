@@ -10,7 +10,9 @@
 namespace terralod::cli {
 
 void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
-  c.add_option("TILESET", o.tileset, "Tileset file (.tlod)")->required();
+  c.add_option("TILESET", o.tileset,
+               "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
+      ->required();
   if (withCamera) {
     c.add_option("--eye", o.eye, "Eye position X,Y,Z in world metres (z up)");
     c.add_option("--target", o.target, "Point looked at, X,Y,Z in world metres");
