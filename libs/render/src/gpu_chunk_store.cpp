@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <unordered_map>
 
 namespace terralod {
 namespace {
@@ -16,6 +17,39 @@ uint32_t makeBuffer(uint64_t bytes) {
   glCreateBuffers(1, &buffer);
   glNamedBufferStorage(buffer, GLsizeiptr(bytes), nullptr, GL_DYNAMIC_STORAGE_BIT);
   return buffer;
+}
+
+// Skirt bottoms of a part: the vertices only skirt triangles use that lie below another
+// vertex at the same grid point (their top). The builder appends them after the surface's, so
+// they are the part's last vertices. Sets firstSkirtVertex (vertexCount if that does not hold)
+// and the shallowest skirt depth.
+void findSkirtBottoms(const ChunkPart& part, GpuChunkPart& p) {
+  p.firstSkirtVertex = p.vertexCount;
+  p.skirtDepthSteps = 0;
+  const size_t n = part.vertices.size();
+  std::vector<uint8_t> surface(n, 0);
+  for (uint32_t k = 0; k < part.surfaceIndexCount; ++k) surface[part.indices[k]] = 1;
+  std::unordered_map<uint32_t, uint16_t> top;  // grid point -> highest z there
+  for (const ChunkVertex& v : part.vertices) {
+    auto [it, added] = top.try_emplace(uint32_t(v.x) << 16 | v.y, v.z);
+    if (!added) it->second = std::max(it->second, v.z);
+  }
+  auto isBottom = [&](uint32_t i) {
+    const ChunkVertex& v = part.vertices[i];
+    return !surface[i] && top.at(uint32_t(v.x) << 16 | v.y) > v.z;
+  };
+  uint32_t first = uint32_t(n);
+  while (first > 0 && isBottom(first - 1)) --first;
+  if (first == n) return;
+  for (uint32_t i = 0; i < first; ++i)
+    if (isBottom(i)) return;  // not at the end: no slant for this part
+  uint32_t shallowest = UINT32_MAX;
+  for (uint32_t i = first; i < n; ++i) {
+    const ChunkVertex& v = part.vertices[i];
+    shallowest = std::min<uint32_t>(shallowest, top.at(uint32_t(v.x) << 16 | v.y) - v.z);
+  }
+  p.firstSkirtVertex = first;
+  p.skirtDepthSteps = shallowest;
 }
 
 }  // namespace
@@ -122,6 +156,7 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
     p.vertexCount = uint32_t(part.vertices.size());
     p.indexCount = uint32_t(part.indices.size());
     p.surfaceIndexCount = part.surfaceIndexCount;
+    findSkirtBottoms(part, p);
     p.baseVertex = uint32_t(allocate(mVertices, p.vertexCount));
     p.firstIndex = uint32_t(allocate(mIndices, p.indexCount));
     glNamedBufferSubData(mVertices.name, GLintptr(uint64_t(p.baseVertex) * kVertexBytes),

@@ -45,6 +45,15 @@ void uploadGrowing(uint32_t& buffer, uint64_t& capacity, const std::vector<T>& d
   if (bytes) glNamedBufferSubData(buffer, 0, GLsizeiptr(bytes), data.data());
 }
 
+// How far skirt bottoms move outwards (metres): an eighth of the part's shallowest skirt
+// depth, so that the slant stays under any neighbour whose surface falls less steeply than
+// 8:1 near the border, and at most an eighth of a grid cell.
+float skirtSlant(const GpuChunkPart& p, const GpuChunk& chunk,
+                 const std::array<double, 2>& spacing) {
+  const double depth = double(p.skirtDepthSteps) * chunk.zStep;
+  return float(std::min(depth / 8.0, std::min(spacing[0], spacing[1]) / 8.0));
+}
+
 }  // namespace
 
 Result<TerrainRenderer> TerrainRenderer::create() {
@@ -193,7 +202,11 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
                 std::bit_cast<float>(p.surfaceIndexCount / 3),
                 std::bit_cast<float>(chunk->color.layer),
                 std::bit_cast<float>(chunk->normal.layer),
-                std::bit_cast<float>(cells)};
+                std::bit_cast<float>(cells),
+                std::bit_cast<float>(p.firstSkirtVertex),
+                std::bit_cast<float>(skirtSlant(p, *chunk, spacing)),
+                0.0f,
+                0.0f};
       // DrawElementsIndirectCommand: count, instanceCount, firstIndex, baseVertex, baseInstance.
       d.command = {count, 1u, p.firstIndex, p.baseVertex, 0u};
       mPending.push_back(d);

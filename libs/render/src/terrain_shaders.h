@@ -32,6 +32,7 @@ struct Draw {
   vec4 scale;   // spacing x, spacing y, zStep, level
   uvec4 counts; // x: surface triangles (skirt triangles follow them), y: colour layer,
                 // z: normal layer, w: chunk side in cells
+  uvec4 skirt;  // x: first skirt-bottom vertex of the part, y: outward slant (float bits)
 };
 layout(std430, binding = 0) readonly buffer Draws { Draw draws[]; };
 uniform mat4 uViewProjection;  // eye at the origin
@@ -49,6 +50,13 @@ void main() {
   float steps = float(aGrid.z) + d.origin.w * float(aMorphDelta);
   vec3 p = d.origin.xyz + vec3(float(aGrid.x) * d.scale.x, float(aGrid.y) * d.scale.y,
                                steps * d.scale.z);
+  // Skirt bottoms move a little outwards, under the neighbour: a vertical skirt seen exactly
+  // edge-on (the eye above the border, looking along it) covers nothing, a slanted one does.
+  if (uint(gl_VertexID - gl_BaseVertexARB) >= d.skirt.x) {
+    vec2 outwards = vec2(aGrid.x == 0u ? -1.0 : aGrid.x == d.counts.w ? 1.0 : 0.0,
+                         aGrid.y == 0u ? -1.0 : aGrid.y == d.counts.w ? 1.0 : 0.0);
+    p.xy += outwards * uintBitsToFloat(d.skirt.y);
+  }
   vRelative = p;
   vHeight = p.z + uEyeHeight;
   vChunkUv = vec2(aGrid.xy) / float(d.counts.w);

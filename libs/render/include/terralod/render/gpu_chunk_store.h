@@ -25,6 +25,11 @@ struct GpuChunkPart {
   uint32_t firstIndex = 0;
   uint32_t surfaceIndexCount = 0;  ///< surface indices first...
   uint32_t indexCount = 0;         ///< ...then skirt indices up to here
+  /// Vertices from here on are skirt bottoms (vertexCount: none found), and the shallowest of
+  /// them lies this many height steps below its top: the renderer slants skirts outwards by a
+  /// fraction of that, so a skirt seen exactly edge-on still covers the crack it closes.
+  uint32_t firstSkirtVertex = 0;
+  uint32_t skirtDepthSteps = 0;
 };
 
 struct GpuChunk {

@@ -78,7 +78,7 @@ class TerrainRenderer {
   struct PendingDraw {
     uint64_t group = 0;  // colour array << 32 | normal array; all ones: untextured
     uint32_t colorSize = 0, normalSize = 0;
-    std::array<float, 12> draw{};
+    std::array<float, 16> draw{};
     std::array<uint32_t, 5> command{};
   };
   std::vector<PendingDraw> mPending;
