@@ -3,7 +3,9 @@
 #               draped over it) into a tileset, describe,
 #               verify and render it (an overview and the first frames of the automatic flight),
 #               then benchmark part of the flight against the source
-#   make test   install dependencies, build, run every test (and the loader's under ThreadSanitizer)
+#   make test   install dependencies, build, run every test (the loader's under ThreadSanitizer,
+#               the readers' under AddressSanitizer + UndefinedBehaviorSanitizer, and every
+#               fuzz target briefly)
 PRESET ?= release
 BUILD_DIR := build/$(PRESET)
 TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
@@ -11,7 +13,7 @@ DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
-.PHONY: all deps configure build demo test test-tsan format check-format clean
+.PHONY: all deps configure build demo test test-tsan test-sanitize test-asan test-fuzz format check-format clean
 
 all: build
 
@@ -38,6 +40,7 @@ test: build
 	./scripts/check-format.sh
 	ctest --preset $(PRESET)
 	$(MAKE) test-tsan
+	$(MAKE) test-sanitize
 
 # The chunk loader and cache tests under ThreadSanitizer (a build of the runtime tests only).
 test-tsan: deps
@@ -45,10 +48,42 @@ test-tsan: deps
 	cmake --build --preset tsan
 	ctest --preset tsan
 
+# Everything that reads untrusted bytes, under sanitizers (docs/reliability.md).
+test-sanitize: test-asan test-fuzz
+
+# The unit tests of core, format, runtime and raster under AddressSanitizer + UBSan (clang).
+test-asan: deps
+	cmake --preset asan >/dev/null
+	cmake --build --preset asan
+	ctest --preset asan
+
+# Every libFuzzer target for a few seconds over its seed corpus (clang; bench/fuzz.sh runs them
+# for longer).
+test-fuzz: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz
+	ctest --preset fuzz
+
 format:
 	./scripts/check-format.sh --fix
 
-check-format:
+check-# Everything that reads untrusted bytes, under sanitizers (docs/reliability.md).
+test-sanitize: test-asan test-fuzz
+
+# The unit tests of core, format, runtime and raster under AddressSanitizer + UBSan (clang).
+test-asan: deps
+	cmake --preset asan >/dev/null
+	cmake --build --preset asan
+	ctest --preset asan
+
+# Every libFuzzer target for a few seconds over its seed corpus (clang; bench/fuzz.sh runs them
+# for longer).
+test-fuzz: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz
+	ctest --preset fuzz
+
+format:
 	./scripts/check-format.sh
 
 clean:
