@@ -333,6 +333,39 @@ TEST(DemReader, HeightsBeyondFloatRangeAreVoids) {
   EXPECT_EQ(scaled(1, 0), 0.0f);
 }
 
+// Found by the raster fuzzer: a 241-byte TIFF declaring one LZW strip of 63148x3596 pixels of
+// 12 bands made GDAL allocate 5.4 GB for its one block. Blocks over 1 GiB are refused up front.
+TEST(DemReader, BlocksOfGigabytesAreRefusedBeforeReading) {
+  GDALAllRegister();
+  TempDir dir;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  auto create = [&](const char* name, int columns, int rows, int bands,
+                    std::vector<const char*> options) {
+    options.push_back("SPARSE_OK=TRUE");
+    options.push_back(nullptr);
+    GDALDatasetUniquePtr(gtiff->Create(dir.file(name).c_str(), columns, rows, bands, GDT_Int16,
+                                       const_cast<char**>(options.data())));
+    return dir.file(name);
+  };
+  const std::string strip =
+      create("strip.tif", 30000, 20000, 1, {"COMPRESS=LZW", "BLOCKYSIZE=20000"});
+  const std::string bands =
+      create("bands.tif", 8000, 8000, 12, {"COMPRESS=LZW", "BLOCKYSIZE=8000", "INTERLEAVE=PIXEL"});
+  const std::string fine = create("fine.tif", 30000, 20000, 1, {"COMPRESS=LZW", "TILED=YES"});
+  auto message = [](const std::string& path) {
+    auto r = DemReader::open(path, {});
+    return r ? std::string("ok") : r.error().message;
+  };
+  EXPECT_EQ(message(strip), strip +
+                                ": its blocks of 30000x20000 samples need 1144 MB each, more "
+                                "than 1024 MB; rewrite it tiled (gdal_translate -co TILED=YES)");
+  EXPECT_EQ(message(bands), bands +
+                                ": its blocks of 8000x8000 samples x 12 bands need 1464 MB each, "
+                                "more than 1024 MB; rewrite it tiled (gdal_translate -co "
+                                "TILED=YES)");
+  EXPECT_EQ(message(fine), "ok");
+}
+
 TEST(DemReader, BadInputsGetOneClearLine) {
   TempDir dir;
   auto message = [](const std::string& path) {
