@@ -22,8 +22,8 @@ namespace {
 namespace fs = std::filesystem;
 
 struct BrokenFile {
-  std::string file;     ///< in the scratch directory
-  std::string problem;  ///< the line is "terralod: error: <dir>/<file>: <problem>"
+  std::string file;         ///< in the scratch directory
+  std::string problem;      ///< the line is "terralod: error: <dir>/<file>: <problem>"
   bool prefixOnly = false;  ///< the problem ends with GDAL's own words, which vary by version
 };
 
@@ -76,9 +76,8 @@ TEST_F(BadInputMatrix, Tilesets) {
   edit("huge_table_offset.tlod",
        [](TilesetHeader& h, Nodes&) { h.nodeTableOffset = ~uint64_t{0} - 100; });
   edit("nan_spacing.tlod", [](TilesetHeader& h, Nodes&) { h.spacingX = std::nan(""); });
-  edit("inf_error.tlod", [](TilesetHeader& h, Nodes&) {
-    h.levelError[1] = std::numeric_limits<double>::infinity();
-  });
+  edit("inf_error.tlod",
+       [](TilesetHeader& h, Nodes&) { h.levelError[1] = std::numeric_limits<double>::infinity(); });
   edit("nan_height.tlod", [](TilesetHeader&, Nodes& n) { n[2].minZ = std::nanf(""); });
   edit("past_end.tlod", [&](TilesetHeader&, Nodes& n) { n[3].blobOffset = size + 100; });
   edit("wrapping_offset.tlod",
@@ -128,10 +127,9 @@ TEST_F(BadInputMatrix, Tilesets) {
                   false);
   }
   // verify reads every chunk; its source is the golden's.
-  expectRefused({"verify", at("overlap.tlod"), "--source",
-                 testData("landlab_west_bijou_gully_3m.asc")},
-                mDir.path(), line({"overlap.tlod", "corrupt node table: node 5 overlaps node 4"}),
-                false);
+  expectRefused(
+      {"verify", at("overlap.tlod"), "--source", testData("landlab_west_bijou_gully_3m.asc")},
+      mDir.path(), line({"overlap.tlod", "corrupt node table: node 5 overlaps node 4"}), false);
 }
 
 // A chunk whose checksum matches bytes that are not a chunk: found when it is decoded (by
@@ -174,6 +172,8 @@ TEST_F(BadInputMatrix, Rasters) {
   writeConstantTiff(at("minus_inf.tif"), 20, 10, GDT_Float32,
                     -std::numeric_limits<double>::infinity());
   writeConstantTiff(at("beyond_float.tif"), 20, 10, GDT_Float64, 1e300);
+  // Made by the raster fuzzer: PROJ used to print a line of its own about the unit.
+  fs::copy_file(testData("damaged/unknown_unit_code.tif"), at("unknown_unit.tif"));
 
   struct RasterCase {
     BrokenFile broken;
@@ -200,6 +200,7 @@ TEST_F(BadInputMatrix, Rasters) {
       {{"inf.tif", noTerrain}, {}},
       {{"minus_inf.tif", noTerrain}, {}},
       {{"beyond_float.tif", noTerrain}, {}},
+      {{"unknown_unit.tif", "raster columns run east to west; warp it first (gdalwarp)"}, {}},
   };
   for (const RasterCase& c : cases) {
     SCOPED_TRACE(c.broken.file);
@@ -261,9 +262,9 @@ TEST_F(BadInputMatrix, NonFiniteHeightsAmongValidOnesAreVoids) {
     v[45] = std::nanf("");
     v[46] = std::numeric_limits<float>::infinity();
     v[47] = -std::numeric_limits<float>::infinity();
-    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 30, 20, v.data(), 30, 20,
-                                             GDT_Float32, 0, 0),
-              CE_None);
+    ASSERT_EQ(
+        ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 30, 20, v.data(), 30, 20, GDT_Float32, 0, 0),
+        CE_None);
   }
   const RunResult built = runTerralod({"build", at("holes.tif"), "-o", at("holes.tlod")});
   ASSERT_EQ(built.exitCode, 0) << built.err;
