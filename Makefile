@@ -67,23 +67,7 @@ test-fuzz: deps
 format:
 	./scripts/check-format.sh --fix
 
-check-# Everything that reads untrusted bytes, under sanitizers (docs/reliability.md).
-test-sanitize: test-asan test-fuzz
-
-# The unit tests of core, format, runtime and raster under AddressSanitizer + UBSan (clang).
-test-asan: deps
-	cmake --preset asan >/dev/null
-	cmake --build --preset asan
-	ctest --preset asan
-
-# Every libFuzzer target for a few seconds over its seed corpus (clang; bench/fuzz.sh runs them
-# for longer).
-test-fuzz: deps
-	cmake --preset fuzz >/dev/null
-	cmake --build --preset fuzz
-	ctest --preset fuzz
-
-format:
+check-format:
 	./scripts/check-format.sh
 
 clean:
