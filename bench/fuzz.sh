@@ -2,8 +2,9 @@
 # The fuzzing campaign: runs fuzz targets (the `fuzz` preset's build) one after another for
 # SECONDS each, each on its own persistent corpus ($FUZZ_DIR/<target>, seeded from
 # fuzz/corpus/<target>), and appends one line per run to $FUZZ_DIR/runs.tsv: date, target,
-# seconds, executions, and "clean" or the crash file. Totals per target: `bench/fuzz.sh --totals`.
-# Runs under nice; any crash stops that target's run and is kept in $FUZZ_DIR/<target>-crashes.
+# seconds, executions, and "clean", "interrupted" (SIGINT) or the crash file. Totals per target:
+# `bench/fuzz.sh --totals`. Runs under nice; any crash stops that target's run and is kept in
+# $FUZZ_DIR/<target>-crashes.
 #
 #   bench/fuzz.sh [SECONDS] [TARGET...]     defaults: 3600, every target
 #   bench/fuzz.sh --totals
@@ -13,7 +14,7 @@ build=${FUZZ_BUILD:-$here/build/fuzz}
 dir=${FUZZ_DIR:-$here/build/fuzz-campaign}
 mkdir -p "$dir"
 if [ "${1:-}" = "--totals" ]; then
-  awk -F'\t' '{ runs[$2]++; secs[$2] += $3; execs[$2] += $4; if ($5 != "clean") crashes[$2]++ }
+  awk -F'\t' '{ runs[$2]++; secs[$2] += $3; execs[$2] += $4; if ($5 != "clean" && $5 != "interrupted") crashes[$2]++ }
     END { printf "%-24s %5s %9s %14s %8s\n", "target", "runs", "seconds", "executions", "crashes";
           for (t in runs) printf "%-24s %5d %9d %14d %8d\n", t, runs[t], secs[t], execs[t], crashes[t] }' \
     "$dir/runs.tsv"
@@ -42,7 +43,8 @@ for target in "${targets[@]}"; do
   fi
   result=clean
   if [ "$status" -ne 0 ]; then
-    result=$(grep -o 'Test unit written to .*' "$log" | tail -1 | sed 's/Test unit written to //')
+    result=$(grep -o 'Test unit written to .*' "$log" | tail -1 | sed 's/Test unit written to //' || true)
+    grep -q 'run interrupted' "$log" && result=interrupted
     result=${result:-"exit $status"}
   fi
   printf '%s\t%s\t%s\t%s\t%s\n' "$(date -u +%FT%TZ)" "$target" "$(($(date +%s) - start))" \
