@@ -39,9 +39,7 @@ class CrashSafety : public ::testing::Test {
     delete sShared;
     sShared = nullptr;
   }
-  void SetUp() override {
-    ASSERT_TRUE(fs::exists(sShared->reference));
-  }
+  void SetUp() override { ASSERT_TRUE(fs::exists(sShared->reference)); }
   static std::vector<std::string> buildArgs(const std::string& out) {
     return {"build", sShared->dem, "-o", out, "--threads", "2"};
   }

@@ -40,8 +40,7 @@ inline void writeEditedTileset(
 
 /// A PNG whose header says `width` x `height` (RGB or 16-bit grey) and whose data holds one
 /// row of them.
-inline void writePngPromising(const std::string& path, uint32_t width, uint32_t height,
-                              bool rgb) {
+inline void writePngPromising(const std::string& path, uint32_t width, uint32_t height, bool rgb) {
   auto big = [](std::string& s, uint32_t v) {
     for (int i = 3; i >= 0; --i) s.push_back(char(v >> (8 * i)));
   };

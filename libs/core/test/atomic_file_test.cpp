@@ -100,8 +100,8 @@ TEST_P(AtomicFileTest, RefusesUnusableTargetsNamingThem) {
 INSTANTIATE_TEST_SUITE_P(BothTemporaryKinds, AtomicFileTest,
                          ::testing::Values(AtomicFile::Temporary::kUnnamedIfPossible,
                                            AtomicFile::Temporary::kNamed),
-                         [](const auto& info) {
-                           return info.param == AtomicFile::Temporary::kNamed ? "Named" : "Unnamed";
+                         [](const auto& test) {
+                           return test.param == AtomicFile::Temporary::kNamed ? "Named" : "Unnamed";
                          });
 
 }  // namespace

@@ -141,8 +141,8 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
       h.nodeTableBytes != h.nodeCount * kNodeRecordBytes)
     return bad("node count");
   // Offsets come from the file: compared so that no sum can wrap around.
-  auto insideFile = [&](uint64_t offset, uint64_t bytes) {
-    return offset >= kHeaderBytes && offset <= h.fileBytes && bytes <= h.fileBytes - offset;
+  auto insideFile = [&](uint64_t offset, uint64_t length) {
+    return offset >= kHeaderBytes && offset <= h.fileBytes && length <= h.fileBytes - offset;
   };
   if (!insideFile(h.nodeTableOffset, h.nodeTableBytes) ||
       !insideFile(h.metadataOffset, h.metadataBytes) || h.metadataBytes > (uint64_t{1} << 26))
