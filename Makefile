@@ -13,7 +13,7 @@ DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
-.PHONY: all deps configure build demo test test-tsan test-sanitize test-asan test-fuzz format check-format clean
+.PHONY: all deps configure build demo test test-tsan test-sanitize test-asan format check-format clean
 
 all: build
 
@@ -48,21 +48,21 @@ test-tsan: deps
 	cmake --build --preset tsan
 	ctest --preset tsan
 
-# Everything that reads untrusted bytes, under sanitizers (docs/reliability.md).
-test-sanitize: test-asan test-fuzz
+# Everything that reads untrusted bytes, under sanitizers, from one clang build (preset fuzz,
+# docs/reliability.md): the unit tests of core, format, runtime and raster under
+# AddressSanitizer + UBSan, and every libFuzzer target for a few seconds over its seeds
+# (bench/fuzz.sh runs them for longer).
+test-sanitize: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz
+	ctest --preset fuzz
 
-# The unit tests of core, format, runtime and raster under AddressSanitizer + UBSan (clang).
+# The same unit tests in a plain ASan + UBSan build without fuzzing instrumentation (preset asan,
+# which also builds the CLI for bench/leak_check.sh); not part of make test.
 test-asan: deps
 	cmake --preset asan >/dev/null
 	cmake --build --preset asan
 	ctest --preset asan
-
-# Every libFuzzer target for a few seconds over its seed corpus (clang; bench/fuzz.sh runs them
-# for longer).
-test-fuzz: deps
-	cmake --preset fuzz >/dev/null
-	cmake --build --preset fuzz
-	ctest --preset fuzz
 
 format:
 	./scripts/check-format.sh --fix
