@@ -221,6 +221,8 @@ TEST_F(BadInputMatrix, Flights) {
   write("truncated.json", "{\"keyframes\": " + keys.substr(0, 30));
   write("huge_number.json", R"({"keyframes": [{"eye": [0, 0, 1e400], "target": [1, 1, 0]}]})");
   write("nan.json", R"({"keyframes": [{"eye": [0, 0, NaN], "target": [1, 1, 0]}]})");
+  write("far_eye.json", R"({"keyframes": [{"eye": [0, 0, 100], "target": [1, 1, 0]},
+                                          {"eye": [1.5e61, 0, 100], "target": [1, 1, 0]}]})");
   write("huge_frames.json", "{\"frames\": 99999999999, \"keyframes\": " + keys + "}");
   write("huge_size.json", "{\"size\": [100000, 1], \"keyframes\": " + keys + "}");
   write("zero_fov.json", "{\"fov_deg\": 0, \"keyframes\": " + keys + "}");
@@ -232,6 +234,7 @@ TEST_F(BadInputMatrix, Flights) {
       {"truncated.json", "flight is not valid JSON"},
       {"huge_number.json", "flight is not valid JSON"},
       {"nan.json", "flight is not valid JSON"},
+      {"far_eye.json", "keyframe 1 eye must be within 1e12 m of the origin"},
       {"huge_frames.json", "frames must be a whole number from 1 to 1000000"},
       {"huge_size.json", "size must be between 1x1 and 16384x16384 pixels"},
       {"zero_fov.json", "fov_deg must be between 0 and 180"},
@@ -244,7 +247,7 @@ TEST_F(BadInputMatrix, Flights) {
                   mDir.path() / "frames", line(b), false);
   }
   // bench reads flights the same way.
-  for (size_t i : {0, 4}) {
+  for (size_t i : {0, 5}) {
     SCOPED_TRACE(cases[i].file);
     expectRefused({"bench", good, "--flight", at(cases[i].file), "--json", at("bench.json")},
                   mDir.path(), line(cases[i]), false);
