@@ -3,7 +3,9 @@
 #               draped over it) into a tileset, describe,
 #               verify and render it (an overview and the first frames of the automatic flight),
 #               then benchmark part of the flight against the source
-#   make test   install dependencies, build, run every test (and the loader's under ThreadSanitizer)
+#   make test   install dependencies, build, run every test (the loader's under ThreadSanitizer,
+#               the readers' under AddressSanitizer + UndefinedBehaviorSanitizer, and every
+#               fuzz target briefly)
 PRESET ?= release
 BUILD_DIR := build/$(PRESET)
 TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
@@ -11,7 +13,7 @@ DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
-.PHONY: all deps configure build demo test test-tsan format check-format clean
+.PHONY: all deps configure build demo test test-tsan test-sanitize test-asan format check-format clean
 
 all: build
 
@@ -38,12 +40,29 @@ test: build
 	./scripts/check-format.sh
 	ctest --preset $(PRESET)
 	$(MAKE) test-tsan
+	$(MAKE) test-sanitize
 
 # The chunk loader and cache tests under ThreadSanitizer (a build of the runtime tests only).
 test-tsan: deps
 	cmake --preset tsan >/dev/null
 	cmake --build --preset tsan
 	ctest --preset tsan
+
+# Everything that reads untrusted bytes, under sanitizers, from one clang build (preset fuzz,
+# docs/reliability.md): the unit tests of core, format, runtime and raster under
+# AddressSanitizer + UBSan, and every libFuzzer target for a few seconds over its seeds
+# (bench/fuzz.sh runs them for longer).
+test-sanitize: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build --preset fuzz
+	ctest --preset fuzz
+
+# The same unit tests in a plain ASan + UBSan build without fuzzing instrumentation (preset asan,
+# which also builds the CLI for bench/leak_check.sh); not part of make test.
+test-asan: deps
+	cmake --preset asan >/dev/null
+	cmake --build --preset asan
+	ctest --preset asan
 
 format:
 	./scripts/check-format.sh --fix

@@ -7,6 +7,9 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config clang-format
+  # sanitizer builds and fuzzing: clang, its runtimes (ASan, UBSan, TSan, libFuzzer) and
+  # llvm-symbolizer for readable reports
+  clang libclang-rt-14-dev llvm
   # rasters, meshes, compression
   libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev
   # math, CLI, JSON, images

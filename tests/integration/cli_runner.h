@@ -1,6 +1,7 @@
 #pragma once
 // Runs the terralod CLI (or any program) from integration tests and captures what it printed.
 
+#include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -70,6 +71,24 @@ inline RunResult runProgram(const std::string& program, const std::vector<std::s
   fs::remove(outTemplate);
   fs::remove(errTemplate);
   return result;
+}
+
+/// Starts `program args...` in the background with stdout and stderr discarded; returns its
+/// process id (the caller waits for it, or kills it).
+inline pid_t startProgram(const std::string& program, const std::vector<std::string>& args) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int null = open("/dev/null", O_WRONLY);
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(program.c_str()));
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(program.c_str(), argv.data());
+    _exit(127);
+  }
+  return pid;
 }
 
 /// Runs the terralod CLI built alongside the tests.

@@ -7,11 +7,19 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <random>
 
 namespace terralod {
 namespace {
+
 constexpr size_t kBufferBytes = 4 << 20;
+
+std::string hiddenTempPrefix(const std::filesystem::path& dir,
+                             const std::filesystem::path& target) {
+  return (dir / ("." + target.filename().string() + ".partial-")).string();
 }
+
+}  // namespace
 
 AtomicFile::AtomicFile(std::string path, std::string tempPath, int fd)
     : mPath(std::move(path)), mTempPath(std::move(tempPath)), mFd(fd) {
@@ -31,11 +39,11 @@ AtomicFile::AtomicFile(AtomicFile&& other) noexcept
 }
 
 AtomicFile::~AtomicFile() {
-  if (mFd >= 0) ::close(mFd);
-  if (!mCommitted) ::unlink(mTempPath.c_str());
+  if (mFd >= 0) ::close(mFd);  // an unnamed temporary file vanishes with its descriptor
+  if (!mCommitted && !mTempPath.empty()) ::unlink(mTempPath.c_str());
 }
 
-Result<AtomicFile> AtomicFile::create(const std::string& path) {
+Result<AtomicFile> AtomicFile::create(const std::string& path, Temporary temporary) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   std::error_code ec;
@@ -43,7 +51,17 @@ Result<AtomicFile> AtomicFile::create(const std::string& path) {
   const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
   if (!fs::is_directory(dir, ec))
     return makeError(path, "cannot write: directory " + dir.string() + " does not exist");
-  std::string temp = (dir / ("." + target.filename().string() + ".partial-XXXXXX")).string();
+  // commit() names an unnamed file through /proc/self/fd, so without /proc it cannot be used.
+  if (temporary == Temporary::kUnnamedIfPossible && ::access("/proc/self/fd", X_OK) == 0) {
+    const int fd = ::open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0644);
+    if (fd >= 0) {
+      ::fchmod(fd, 0644);  // as a named file would get, whatever the umask
+      return AtomicFile(path, "", fd);
+    }
+    // Not supported by this file system (or kernel): fall back to a named file; anything
+    // else (permissions, a full disk) fails the same way there.
+  }
+  std::string temp = hiddenTempPrefix(dir, target) + "XXXXXX";
   const int fd = ::mkstemp(temp.data());
   if (fd < 0) return makeError(path, std::string("cannot write: ") + std::strerror(errno));
   ::fchmod(fd, 0644);  // mkstemp's 0600 would hide the file from other users
@@ -93,12 +111,15 @@ Status AtomicFile::commit() {
   if (Status s = flush(); !s) return s;
   if (::fsync(mFd) != 0)
     return makeError(mPath, std::string("sync failed: ") + std::strerror(errno));
+  if (mTempPath.empty()) {
+    if (Status s = linkIntoPlace(); !s) return s;
+  } else if (::rename(mTempPath.c_str(), mPath.c_str()) != 0) {
+    return makeError(mPath, std::string("cannot replace: ") + std::strerror(errno));
+  }
   ::close(mFd);
   mFd = -1;
-  if (::rename(mTempPath.c_str(), mPath.c_str()) != 0)
-    return makeError(mPath, std::string("cannot replace: ") + std::strerror(errno));
   mCommitted = true;
-  // The rename is durable once the directory is synced; a failure here loses nothing.
+  // The new name is durable once the directory is synced; a failure here loses nothing.
   const std::filesystem::path parent = std::filesystem::path(mPath).parent_path();
   const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY);
   if (dir >= 0) {
@@ -106,6 +127,37 @@ Status AtomicFile::commit() {
     ::close(dir);
   }
   return {};
+}
+
+// An unnamed file gets its name from linkat() through /proc/self/fd. link() never replaces a
+// file, so over an existing target it gets a hidden name first and is renamed over the
+// target: the only moment a complete file has another name is between those two calls.
+Status AtomicFile::linkIntoPlace() {
+  const std::string self = "/proc/self/fd/" + std::to_string(mFd);
+  auto link = [&](const std::string& to) {
+    return ::linkat(AT_FDCWD, self.c_str(), AT_FDCWD, to.c_str(), AT_SYMLINK_FOLLOW) == 0;
+  };
+  if (link(mPath)) return {};
+  if (errno != EEXIST)
+    return makeError(mPath, std::string("cannot create: ") + std::strerror(errno));
+  const std::filesystem::path target(mPath);
+  const std::string prefix =
+      hiddenTempPrefix(target.has_parent_path() ? target.parent_path() : ".", target);
+  std::random_device random;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string temp = prefix + std::to_string(random());
+    if (!link(temp)) {
+      if (errno == EEXIST) continue;
+      return makeError(mPath, std::string("cannot replace: ") + std::strerror(errno));
+    }
+    if (::rename(temp.c_str(), mPath.c_str()) != 0) {
+      const int error = errno;
+      ::unlink(temp.c_str());
+      return makeError(mPath, std::string("cannot replace: ") + std::strerror(error));
+    }
+    return {};
+  }
+  return makeError(mPath, "cannot replace: no free temporary name");
 }
 
 }  // namespace terralod

@@ -6,7 +6,9 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <mutex>
+#include <span>
 
 #include "byte_io.h"
 
@@ -103,8 +105,11 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
     return bad("not a zstd frame");
   if (size < kChunkHeaderBytes || size > kMaxDecodedBytes) return bad("implausible size");
-  std::vector<uint8_t> raw(size);
-  const size_t got = ZSTD_decompress(raw.data(), raw.size(), blob.data(), blob.size());
+  // Not zero-filled: zstd writes every byte of a frame that decodes, and a corrupt frame that
+  // claims a huge size then costs address space, not 256 MiB of zeroed pages.
+  const auto buffer = std::make_unique_for_overwrite<uint8_t[]>(size);
+  const std::span<const uint8_t> raw(buffer.get(), size);
+  const size_t got = ZSTD_decompress(buffer.get(), size, blob.data(), blob.size());
   if (ZSTD_isError(got) || got != size) return bad("zstd data does not decompress");
 
   ByteReader r(raw.data());
@@ -126,9 +131,11 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   for (PartHeader& ph : headers) {
     ph = {r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(),
           r.get<uint32_t>()};
+    // meshoptimizer's index codec spends at least a byte per triangle: a count its stream
+    // cannot hold is refused before anything is allocated for it.
     if (ph.vertexCount == 0 || ph.vertexCount > 65536 || ph.indexCount % 3 != 0 ||
         ph.surfaceIndexCount % 3 != 0 || ph.surfaceIndexCount > ph.indexCount ||
-        ph.indexCount > (1u << 24))
+        ph.indexCount > (1u << 24) || ph.indexBytes < ph.indexCount / 3)
       return bad("bad part header");
     payload += uint64_t(ph.vertexBytes) + ph.indexBytes;
   }

@@ -140,9 +140,15 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   if (h.nodeCount == 0 || h.nodeCount > (uint64_t{1} << 32) - 1 ||
       h.nodeTableBytes != h.nodeCount * kNodeRecordBytes)
     return bad("node count");
-  if (h.nodeTableOffset < kHeaderBytes || h.nodeTableOffset + h.nodeTableBytes > h.fileBytes ||
-      h.metadataOffset < kHeaderBytes || h.metadataOffset + h.metadataBytes > h.fileBytes ||
-      h.metadataBytes > (uint64_t{1} << 26))
+  // Offsets come from the file: compared so that no sum can wrap around.
+  auto insideFile = [&](uint64_t offset, uint64_t length) {
+    return offset >= kHeaderBytes && offset <= h.fileBytes && length <= h.fileBytes - offset;
+  };
+  if (!insideFile(h.nodeTableOffset, h.nodeTableBytes) ||
+      !insideFile(h.metadataOffset, h.metadataBytes) || h.metadataBytes > (uint64_t{1} << 26))
+    return bad("table offsets");
+  if (h.metadataBytes > 0 && h.metadataOffset < h.nodeTableOffset + h.nodeTableBytes &&
+      h.nodeTableOffset < h.metadataOffset + h.metadataBytes)
     return bad("table offsets");
   return h;
 }
@@ -198,6 +204,51 @@ NodeRecord parseNode(const uint8_t* in, uint32_t version) {
   return n;
 }
 
+namespace {
+
+// Every chunk's bytes (geometry and texture) are its own: an offset that points into another
+// chunk, the node table or the metadata is damage, found here rather than as a bad decode (or
+// worse, a good decode of the wrong chunk). Sorted by start, any overlap shows between
+// neighbours. Assumes every range lies inside the file (checked before).
+Status checkDisjoint(const TilesetHeader& h, const std::vector<NodeRecord>& nodes,
+                     const std::string& subject) {
+  constexpr uint64_t kNodeTable = ~uint64_t{0}, kMetadata = kNodeTable - 1;
+  struct Range {
+    uint64_t begin, end, owner;  // owner: a node index, kNodeTable or kMetadata
+  };
+  std::vector<Range> ranges;
+  ranges.reserve(nodes.size() + 2);
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const NodeRecord& n = nodes[i];
+    ranges.push_back({n.blobOffset, n.blobOffset + n.blobBytes + n.textureBytes, i});
+  }
+  ranges.push_back({h.nodeTableOffset, h.nodeTableOffset + h.nodeTableBytes, kNodeTable});
+  if (h.metadataBytes > 0)
+    ranges.push_back({h.metadataOffset, h.metadataOffset + h.metadataBytes, kMetadata});
+  std::sort(ranges.begin(), ranges.end(), [](const Range& a, const Range& b) {
+    return a.begin != b.begin ? a.begin < b.begin : a.owner < b.owner;
+  });
+  auto name = [](uint64_t owner) {
+    return owner == kNodeTable  ? std::string("the node table")
+           : owner == kMetadata ? std::string("the metadata")
+                                : "node " + std::to_string(owner);
+  };
+  for (size_t k = 1; k < ranges.size(); ++k) {
+    const Range& a = ranges[k - 1];
+    const Range& b = ranges[k];
+    if (b.begin >= a.end) continue;
+    // The one that starts inside the other is named first, unless that is a table (the
+    // tables never overlap each other: the header's checks).
+    const Range& node = b.owner < kMetadata ? b : a;
+    const Range& other = b.owner < kMetadata ? a : b;
+    return makeError(subject, "corrupt node table: node " + std::to_string(node.owner) +
+                                  " overlaps " + name(other.owner));
+  }
+  return {};
+}
+
+}  // namespace
+
 Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& nodes,
                      const std::string& subject) {
   auto bad = [&](size_t i, const std::string& what) {
@@ -232,17 +283,19 @@ Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& node
     } else if (n.firstChild != kNoNode) {
       return bad(i, "has a child index but no children");
     }
-    if (n.blobBytes == 0 || n.blobOffset < kHeaderBytes || n.blobOffset + n.blobBytes > h.fileBytes)
+    // Compared so that no sum can wrap around (offsets near 2^64 once passed as small ones).
+    if (n.blobBytes == 0 || n.blobOffset < kHeaderBytes || n.blobOffset > h.fileBytes ||
+        n.blobBytes > h.fileBytes - n.blobOffset)
       return bad(i, "points outside the file");
     if ((n.flags & ~kNodeHasTexture) != 0) return bad(i, "has unknown flags");
     if (n.hasTexture() != h.textured()) return bad(i, "disagrees with the header about textures");
-    if (n.hasTexture()
-            ? n.textureBytes == 0 || n.blobOffset + n.blobBytes + n.textureBytes > h.fileBytes
-            : n.textureBytes != 0)
+    const uint64_t blobEnd = n.blobOffset + n.blobBytes;  // <= fileBytes: checked above
+    if (n.hasTexture() ? n.textureBytes == 0 || n.textureBytes > h.fileBytes - blobEnd
+                       : n.textureBytes != 0)
       return bad(i, "has a texture outside the file");
     if (!(n.minZ <= n.maxZ)) return bad(i, "has an invalid height range");
   }
-  return {};
+  return checkDisjoint(h, nodes, subject);
 }
 
 }  // namespace terralod

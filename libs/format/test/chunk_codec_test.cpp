@@ -1,9 +1,12 @@
 #include "terralod/format/chunk_codec.h"
 
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <array>
+#include <cstring>
 #include <random>
 
 namespace terralod {
@@ -120,6 +123,49 @@ TEST(ChunkCodec, CorruptBlobsNeverCrash) {
   std::vector<uint8_t> noise(300);
   for (auto& b : noise) b = uint8_t(rng());
   EXPECT_FALSE(decodeChunk(noise, "noise").ok());
+}
+
+std::vector<uint8_t> decompress(const std::vector<uint8_t>& blob) {
+  std::vector<uint8_t> raw(ZSTD_getFrameContentSize(blob.data(), blob.size()));
+  EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), blob.data(), blob.size()), raw.size());
+  return raw;
+}
+std::vector<uint8_t> compress(const std::vector<uint8_t>& raw) {
+  std::vector<uint8_t> blob(ZSTD_compressBound(raw.size()));
+  blob.resize(ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), 1));
+  return blob;
+}
+long peakResidentKb() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
+
+// Found by profiling the chunk fuzzer: a part header could claim up to 2^24 indices over a
+// stream of a few bytes, and 64 MiB were allocated before the stream failed to decode.
+TEST(ChunkCodec, PartsClaimingMoreIndicesThanTheirStreamHoldsAreRefused) {
+  std::vector<uint8_t> raw = decompress(encodeChunk(makeGeometry(4, 1)));
+  const size_t indexCountAt = 24 + 4;  // after the payload header, in part 0's header
+  const uint32_t claimed = 3u << 20;
+  std::memcpy(raw.data() + indexCountAt, &claimed, sizeof claimed);
+  const auto r = decodeChunk(compress(raw), "c");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "c: corrupt chunk: bad part header");
+}
+
+// A frame that claims 250 MiB and holds 24 bytes fails without touching 250 MiB of memory.
+TEST(ChunkCodec, AFrameClaimingAHugeSizeCostsNoMemory) {
+  const uint64_t claimed = 250ull << 20;
+  std::vector<uint8_t> frame = {0x28, 0xB5, 0x2F, 0xFD, 0xE0};  // magic; 8-byte size, 1 segment
+  for (int i = 0; i < 8; ++i) frame.push_back(uint8_t(claimed >> (8 * i)));
+  frame.insert(frame.end(), {(24 << 3) | 1, 0, 0});  // the last block: raw, 24 bytes
+  frame.insert(frame.end(), 24, 0x42);
+  ASSERT_EQ(ZSTD_getFrameContentSize(frame.data(), frame.size()), claimed);
+  const long before = peakResidentKb();
+  const auto r = decodeChunk(frame, "c");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "c: corrupt chunk: zstd data does not decompress");
+  EXPECT_LT(peakResidentKb() - before, 100 * 1024) << "kilobytes";
 }
 
 }  // namespace

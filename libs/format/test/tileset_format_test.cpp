@@ -109,6 +109,91 @@ TEST(NodeRecord, RoundTrips) {
   EXPECT_EQ(m.maxSkirtDepth, 3.25f);
 }
 
+// Two roots side by side, one level, blobs at 512 and 612, then the node table and metadata.
+struct TwoRoots {
+  TilesetHeader header;
+  std::vector<NodeRecord> nodes;
+  TwoRoots() {
+    TilesetHeader& h = header;
+    h.levelCount = 1;
+    h.leafCells = h.rootCells = 16;
+    h.rootsX = 2;
+    h.rootsY = 1;
+    h.sourceColumns = 33;
+    h.sourceRows = 17;
+    h.levelError[0] = 1;
+    h.nodeCount = 2;
+    h.nodeTableOffset = 712;
+    h.nodeTableBytes = 2 * kNodeRecordBytes;
+    h.metadataOffset = 840;
+    h.metadataBytes = 10;
+    h.fileBytes = 850;
+    nodes.resize(2);
+    for (uint32_t i = 0; i < 2; ++i) {
+      nodes[i].x = i;
+      nodes[i].blobOffset = kHeaderBytes + 100 * i;
+      nodes[i].blobBytes = 100;
+    }
+  }
+  std::string check() const {
+    const Status s = validateNodes(header, nodes, "t.tlod");
+    return s ? "ok" : s.error().message;
+  }
+};
+
+TEST(NodeTable, ChunksMustNotOverlapEachOtherOrTheTables) {
+  EXPECT_EQ(TwoRoots().check(), "ok");
+  TwoRoots inside;
+  inside.nodes[1].blobOffset = kHeaderBytes + 50;
+  EXPECT_EQ(inside.check(), "t.tlod: corrupt node table: node 1 overlaps node 0");
+  TwoRoots same;
+  same.nodes[1].blobOffset = same.nodes[0].blobOffset;
+  EXPECT_EQ(same.check(), "t.tlod: corrupt node table: node 1 overlaps node 0");
+  TwoRoots textured;  // node 0's texture runs into node 1's geometry
+  textured.header.version = 2;
+  textured.header.flags = kTilesetTextured;
+  for (NodeRecord& n : textured.nodes) {
+    n.flags = kNodeHasTexture;
+    n.blobBytes = 99;
+    n.textureBytes = 1;
+  }
+  EXPECT_EQ(textured.check(), "ok");
+  textured.nodes[0].textureBytes = 2;
+  EXPECT_EQ(textured.check(), "t.tlod: corrupt node table: node 1 overlaps node 0");
+  TwoRoots table;
+  table.nodes[1].blobOffset = table.header.nodeTableOffset - 1;
+  EXPECT_EQ(table.check(), "t.tlod: corrupt node table: node 1 overlaps the node table");
+  TwoRoots metadata;
+  metadata.nodes[0].blobOffset = metadata.header.metadataOffset;
+  metadata.nodes[0].blobBytes = 5;
+  EXPECT_EQ(metadata.check(), "t.tlod: corrupt node table: node 0 overlaps the metadata");
+}
+
+// Regression: offsets near 2^64 wrapped around in `offset + length > fileBytes` and passed.
+TEST(NodeTable, OffsetsThatWouldWrapAroundAreOutsideTheFile) {
+  TwoRoots wrap;
+  wrap.nodes[1].blobOffset = ~uint64_t{0} - 50;
+  EXPECT_EQ(wrap.check(), "t.tlod: corrupt node table: node 1 points outside the file");
+}
+
+TEST(TilesetHeader, TableOffsetsThatWouldWrapAroundOrOverlapAreRefused) {
+  auto problem = [](const TilesetHeader& h) {
+    auto parsed = parseHeader(serializeHeader(h), "x");
+    return parsed ? std::string("ok") : parsed.error().message;
+  };
+  const TwoRoots t;
+  EXPECT_EQ(problem(t.header), "ok");
+  TilesetHeader h = t.header;
+  h.nodeTableOffset = ~uint64_t{0} - 64;
+  EXPECT_EQ(problem(h), "x: invalid tileset header: table offsets");
+  h = t.header;
+  h.metadataOffset = ~uint64_t{0} - 4;
+  EXPECT_EQ(problem(h), "x: invalid tileset header: table offsets");
+  h = t.header;
+  h.metadataOffset = h.nodeTableOffset + 10;
+  EXPECT_EQ(problem(h), "x: invalid tileset header: table offsets");
+}
+
 // A whole file through the writer and reader, then damaged in several ways.
 class TinyTileset : public ::testing::Test {
  protected:

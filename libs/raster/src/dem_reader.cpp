@@ -7,6 +7,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -21,6 +22,13 @@ constexpr int64_t kMaxSamples = int64_t{1} << 34;
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
+}
+
+// A height in metres as a stored sample: a void (NaN) unless finite within float's range, so a
+// value such as 1e300 counts as the infinity it would otherwise become after the void checks.
+float storedHeight(double metres) {
+  return std::fabs(metres) <= double(std::numeric_limits<float>::max()) ? float(metres)
+                                                                        : std::nanf("");
 }
 
 bool looksLikeGdalSpecialPath(const std::string& path) {
@@ -138,6 +146,29 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   return {};
 }
 
+// GDAL decodes a raster block by block, each into one buffer; a pixel-interleaved block holds
+// every band. A few hundred bytes of TIFF header can declare one block of gigabytes (found by
+// the raster fuzzer: a 241-byte file, one LZW strip of 63148x3596 pixels of 12 bands, made
+// GDAL allocate 5.4 GB), so blocks over kMaxBlockBytes are refused before any is read.
+constexpr uint64_t kMaxBlockBytes = uint64_t{1} << 30;
+
+Status checkBlockSize(GDALDataset& dataset, GDALRasterBand& band, const std::string& path) {
+  int blockX = 0, blockY = 0;
+  band.GetBlockSize(&blockX, &blockY);
+  const char* interleave = dataset.GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
+  const bool pixelInterleaved = interleave && std::string(interleave) == "PIXEL";
+  const uint64_t bands = pixelInterleaved ? uint64_t(dataset.GetRasterCount()) : 1;
+  const uint64_t bytes = uint64_t(std::max(blockX, 1)) * uint64_t(std::max(blockY, 1)) * bands *
+                         uint64_t(GDALGetDataTypeSizeBytes(band.GetRasterDataType()));
+  if (bytes <= kMaxBlockBytes) return {};
+  return makeError(path, "its blocks of " + std::to_string(blockX) + "x" + std::to_string(blockY) +
+                             " samples" +
+                             (bands > 1 ? " x " + std::to_string(bands) + " bands" : "") +
+                             " need " + std::to_string(bytes >> 20) +
+                             " MB each, more than 1024 MB; rewrite it tiled (gdal_translate "
+                             "-co TILED=YES)");
+}
+
 }  // namespace
 
 struct DemReader::Impl {
@@ -212,6 +243,7 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   GDALRasterBand* band = ds.GetRasterBand(1);
   impl->bandType = band->GetRasterDataType();
   info.dataType = GDALGetDataTypeName(impl->bandType);
+  if (Status s = checkBlockSize(ds, *band, path); !s) return s.error();
   if (options.encoding != HeightEncoding::kPlain) {
     if (impl->bandCount < 3 || impl->bandType != GDT_Byte)
       return makeError(path, "RGB-encoded heights need 3 byte bands; this raster has " +
@@ -303,10 +335,15 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
   GDALRasterBand* band = mImpl->dataset->GetRasterBand(1);
   int blockX = 0, blockY = 0;
   band->GetBlockSize(&blockX, &blockY);
-  const int32_t stripRows = std::max(64, (std::max(blockY, 1) + 63) / 64 * 64);
-  std::vector<float> strip(rgb || wide ? 0 : size_t(readCols) * stripRows);
-  std::vector<double> wideStrip(wide ? size_t(readCols) * stripRows : 0);
-  std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * stripRows * 3 : 0);
+  // Block heights come from the file: clamp before rounding up to whole multiples of 64.
+  const int64_t blockRows = std::clamp<int64_t>(blockY, 1, rows);
+  const int32_t stripRows = int32_t(std::max<int64_t>(64, (blockRows + 63) / 64 * 64));
+  // A strip never holds more rows than the window has (a raster of one tall block must not
+  // cost a buffer of its whole height).
+  const size_t bufferRows = size_t(std::min(stripRows, gy1 - gy0 + 1));
+  std::vector<float> strip(rgb || wide ? 0 : size_t(readCols) * bufferRows);
+  std::vector<double> wideStrip(wide ? size_t(readCols) * bufferRows : 0);
+  std::vector<uint8_t> rgbStrip(rgb ? size_t(readCols) * bufferRows * 3 : 0);
   std::vector<float> rowValues(readCols);
 
   // Grid rows run south to north; raster rows usually north to south.
@@ -343,14 +380,14 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
           const double value = mInfo.encoding == HeightEncoding::kTerrainRgb
                                    ? (p[0] * 65536.0 + p[1] * 256.0 + p[2]) * 0.1 - 10000.0
                                    : p[0] * 256.0 + p[1] + p[2] / 256.0 - 32768.0;
-          rowValues[c] = static_cast<float>(value * mOptions.verticalScale);
+          rowValues[c] = storedHeight(value * mOptions.verticalScale);
         }
       } else if (wide) {
         for (int32_t c = 0; c < readCols; ++c) {
           const double raw = wideStrip[base + c];
           const bool isVoid = !std::isfinite(raw) || (hasNodata && raw == nodata);
-          rowValues[c] = isVoid ? std::nanf("")
-                                : static_cast<float>(raw * mInfo.heightScale + mInfo.heightOffset);
+          rowValues[c] =
+              isVoid ? std::nanf("") : storedHeight(raw * mInfo.heightScale + mInfo.heightOffset);
         }
       } else {
         const float* src = strip.data() + base;
@@ -359,10 +396,9 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
           // Compare nodata in the band's own precision (a float nodata tag is not a double).
           const bool isVoid = !std::isfinite(raw) ||
                               (hasNodata && (nativeFloat ? raw == nodataF : double(raw) == nodata));
-          rowValues[c] = isVoid ? std::nanf("")
-                         : identity
-                             ? raw
-                             : static_cast<float>(raw * mInfo.heightScale + mInfo.heightOffset);
+          rowValues[c] = isVoid     ? std::nanf("")
+                         : identity ? raw
+                                    : storedHeight(raw * mInfo.heightScale + mInfo.heightOffset);
         }
       }
       // Emit every output row that maps (after clamping) to this grid row.

@@ -2,13 +2,23 @@
 
 #include <gdal.h>
 
+#include <cstdlib>
 #include <mutex>
 
 namespace terralod::gdal {
 
 void ensureRegistered() {
   static std::once_flag once;
-  std::call_once(once, [] { GDALAllRegister(); });
+  std::call_once(once, [] {
+    // PROJ prints its errors to stderr from contexts GDAL does not route through CPLError
+    // (libgeotiff's, e.g. "proj_uom_get_info_from_database: unit of measure not found" for a
+    // GeoTIFF with an unknown unit code: found by the raster fuzzer), which would add a line to
+    // terralod's one-line errors. Every failure that matters surfaces through GDAL anyway, so
+    // PROJ stays quiet unless PROJ_DEBUG asks otherwise. It is read when PROJ's first context
+    // is made, so this comes before anything GDAL does.
+    setenv("PROJ_DEBUG", "0", /*overwrite=*/0);
+    GDALAllRegister();
+  });
 }
 
 std::string lastErrorMessage() {

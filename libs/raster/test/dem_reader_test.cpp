@@ -253,6 +253,119 @@ TEST(DemReader, WindowsOutsideTheRasterReplicateItsEdges) {
   EXPECT_EQ(window[2 * 10 + 5], all(2, 510));  // inside
 }
 
+// Blocks as tall as the raster (one compressed strip) or taller (tiles past its bottom):
+// windows read the right values, with buffers sized to the window rather than to the block.
+TEST(DemReader, RastersOfTallBlocksReadInSmallWindows) {
+  GDALAllRegister();
+  TempDir dir;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  struct Layout {
+    const char* name;
+    int columns, rows;
+    std::vector<const char*> options;
+  };
+  const Layout layouts[] = {
+      {"strip.tif", 8, 3000, {"COMPRESS=DEFLATE", "BLOCKYSIZE=3000", nullptr}},
+      {"tile.tif", 40, 20, {"TILED=YES", "BLOCKXSIZE=16", "BLOCKYSIZE=256", nullptr}},
+  };
+  for (const Layout& l : layouts) {
+    SCOPED_TRACE(l.name);
+    std::vector<float> values(size_t(l.columns) * l.rows);  // raster order, north row first
+    for (size_t i = 0; i < values.size(); ++i) values[i] = float(i);
+    {
+      GDALDatasetUniquePtr ds(gtiff->Create(dir.file(l.name).c_str(), l.columns, l.rows, 1,
+                                            GDT_Float32, const_cast<char**>(l.options.data())));
+      ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, l.columns, l.rows, values.data(),
+                                               l.columns, l.rows, GDT_Float32, 0, 0),
+                CE_None);
+    }
+    auto r = open(dir.file(l.name));
+    ASSERT_NE(r, nullptr);
+    int blockX = 0, blockY = 0;
+    GDALDatasetUniquePtr check(GDALDataset::Open(dir.file(l.name).c_str(), GDAL_OF_RASTER));
+    check->GetRasterBand(1)->GetBlockSize(&blockX, &blockY);
+    EXPECT_GE(blockY, l.rows) << "the layout under test";
+    for (int y0 : {0, 7, l.rows / 2, l.rows - 5}) {
+      std::vector<float> window(3 * 5);
+      ASSERT_TRUE(r->readWindow(2, y0, 3, 5, window.data()).ok());
+      for (int y = 0; y < 5; ++y)
+        for (int x = 0; x < 3; ++x)
+          EXPECT_EQ(window[size_t(y) * 3 + x],
+                    values[size_t(l.rows - 1 - (y0 + y)) * l.columns + 2 + x])
+              << "grid row " << y0 + y;
+    }
+  }
+}
+
+// Found by the bad-input matrix: a Float64 height of 1e300 passed the void checks and became
+// an infinite float, failing the build with "heights are not finite". Like ±Inf, heights
+// beyond float's range are voids, whether stored so or scaled so.
+TEST(DemReader, HeightsBeyondFloatRangeAreVoids) {
+  GDALAllRegister();
+  TempDir dir;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  {
+    GDALDatasetUniquePtr ds(
+        gtiff->Create(dir.file("wide.tif").c_str(), 4, 2, 1, GDT_Float64, nullptr));
+    const double v[8] = {1e300, -1e300, 3e38, -3.5e38, 100, 200, 300, 400};
+    ASSERT_EQ(ds->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 4, 2, const_cast<double*>(v), 4, 2,
+                                             GDT_Float64, 0, 0),
+              CE_None);
+    GDALDatasetUniquePtr scaled(
+        gtiff->Create(dir.file("scaled.tif").c_str(), 2, 2, 1, GDT_Int16, nullptr));
+    const int16_t raw[4] = {1, 1000, -1000, 0};
+    ASSERT_EQ(scaled->GetRasterBand(1)->RasterIO(GF_Write, 0, 0, 2, 2, const_cast<int16_t*>(raw), 2,
+                                                 2, GDT_Int16, 0, 0),
+              CE_None);
+    scaled->GetRasterBand(1)->SetScale(1e36);
+  }
+  const Heightfield wide = readAll(*open(dir.file("wide.tif")));
+  // Raster row 0 is grid row 1.
+  EXPECT_TRUE(std::isnan(wide(0, 1)));
+  EXPECT_TRUE(std::isnan(wide(1, 1)));
+  EXPECT_EQ(wide(2, 1), 3e38f);
+  EXPECT_TRUE(std::isnan(wide(3, 1)));
+  EXPECT_EQ(wide(0, 0), 100.0f);
+  const Heightfield scaled = readAll(*open(dir.file("scaled.tif")));
+  EXPECT_EQ(scaled(0, 1), 1e36f);
+  EXPECT_TRUE(std::isnan(scaled(1, 1)));
+  EXPECT_TRUE(std::isnan(scaled(0, 0)));
+  EXPECT_EQ(scaled(1, 0), 0.0f);
+}
+
+// Found by the raster fuzzer: a 241-byte TIFF declaring one LZW strip of 63148x3596 pixels of
+// 12 bands made GDAL allocate 5.4 GB for its one block. Blocks over 1 GiB are refused up front.
+TEST(DemReader, BlocksOfGigabytesAreRefusedBeforeReading) {
+  GDALAllRegister();
+  TempDir dir;
+  GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
+  auto create = [&](const char* name, int columns, int rows, int bands,
+                    std::vector<const char*> options) {
+    options.push_back("SPARSE_OK=TRUE");
+    options.push_back(nullptr);
+    GDALDatasetUniquePtr(gtiff->Create(dir.file(name).c_str(), columns, rows, bands, GDT_Int16,
+                                       const_cast<char**>(options.data())));
+    return dir.file(name);
+  };
+  const std::string strip =
+      create("strip.tif", 30000, 20000, 1, {"COMPRESS=LZW", "BLOCKYSIZE=20000"});
+  const std::string bands =
+      create("bands.tif", 8000, 8000, 12, {"COMPRESS=LZW", "BLOCKYSIZE=8000", "INTERLEAVE=PIXEL"});
+  const std::string fine = create("fine.tif", 30000, 20000, 1, {"COMPRESS=LZW", "TILED=YES"});
+  auto message = [](const std::string& path) {
+    auto r = DemReader::open(path, {});
+    return r ? std::string("ok") : r.error().message;
+  };
+  EXPECT_EQ(message(strip), strip +
+                                ": its blocks of 30000x20000 samples need 1144 MB each, more "
+                                "than 1024 MB; rewrite it tiled (gdal_translate -co TILED=YES)");
+  EXPECT_EQ(message(bands), bands +
+                                ": its blocks of 8000x8000 samples x 12 bands need 1464 MB each, "
+                                "more than 1024 MB; rewrite it tiled (gdal_translate -co "
+                                "TILED=YES)");
+  EXPECT_EQ(message(fine), "ok");
+}
+
 TEST(DemReader, BadInputsGetOneClearLine) {
   TempDir dir;
   auto message = [](const std::string& path) {

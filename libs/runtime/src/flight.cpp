@@ -14,6 +14,10 @@ constexpr double kStepOfHeight = 0.005;  // per frame, of the height above groun
 constexpr double kLookDownDegrees = 15.0;
 // The smallest τ the automatic flight is meant for.
 constexpr double kMinimumTauPixels = 1.0;
+// Far beyond any terrain, and near enough that the spline's lengths, knots and sums stay finite
+// (found by the flight fuzzer: an eye at 1.5e61 m made the arc-length table NaN, and its
+// conversion to a segment index undefined).
+constexpr double kMaxCoordinate = 1e12;
 
 Result<glm::dvec3> point(const json& j, const std::string& subject, const std::string& what) {
   if (!j.is_array() || j.size() != 3 || !j[0].is_number() || !j[1].is_number() || !j[2].is_number())
@@ -21,6 +25,9 @@ Result<glm::dvec3> point(const json& j, const std::string& subject, const std::s
   glm::dvec3 p{j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
   if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
     return makeError(subject, what + " must be finite");
+  if (std::fabs(p.x) > kMaxCoordinate || std::fabs(p.y) > kMaxCoordinate ||
+      std::fabs(p.z) > kMaxCoordinate)
+    return makeError(subject, what + " must be within 1e12 m of the origin");
   return p;
 }
 

@@ -39,6 +39,28 @@ TEST(Flight, RejectsBrokenFlightsNamingTheFile) {
   }
 }
 
+// Found by the flight fuzzer: an eye at 1.5e61 m (finite, so accepted) made the arc-length
+// table NaN and the conversion of a NaN to a segment index undefined behaviour; every camera
+// came out NaN. Coordinates are bounded now, and flights at the bound fly finite cameras.
+TEST(Flight, CoordinatesAreBoundedSoEveryCameraIsFinite) {
+  const auto far = parseFlight(R"({"keyframes": [{"eye": [99, 300, 700], "target": [0, 0, 0]},
+      {"eye": [1.5e61, -3200, 900], "target": [500, 912, 300]},
+      {"eye": [899, 300, 700], "target": [600, 800, 250]}], "frames": 20})",
+                               "far.json");
+  ASSERT_FALSE(far.ok());
+  EXPECT_EQ(far.error().message, "far.json: keyframe 1 eye must be within 1e12 m of the origin");
+  auto edge = parseFlight(R"({"keyframes": [{"eye": [-1e12, -1e12, 1e12], "target": [0, 0, 0]},
+      {"eye": [1e12, 1e12, -1e12], "target": [-1e12, 1e12, 0]},
+      {"eye": [1, 2, 3], "target": [1e12, 0, 0]}], "frames": 50})",
+                          "edge.json");
+  ASSERT_TRUE(edge.ok()) << edge.error().message;
+  for (const Camera& c : flightCameras(*edge)) {
+    ASSERT_TRUE(std::isfinite(c.eye.x) && std::isfinite(c.eye.y) && std::isfinite(c.eye.z));
+    ASSERT_TRUE(std::isfinite(c.target.x) && std::isfinite(c.target.y) &&
+                std::isfinite(c.target.z));
+  }
+}
+
 TEST(Flight, PassesThroughItsKeyframesAtAnEvenPace) {
   auto f = parseFlight(kFlight, "f.json").value();
   const auto cameras = flightCameras(f);

@@ -1,8 +1,13 @@
 #pragma once
-// An output file that appears complete or not at all: bytes go to a hidden temporary file
-// beside the target, and commit() syncs it and renames it over the target. Until then an
-// existing file at the target is untouched; an error or a destroyed uncommitted AtomicFile
+// An output file that appears complete or not at all. Bytes go to a temporary file in the
+// target's directory; commit() syncs it and links or renames it over the target. Until then
+// an existing file at the target is untouched; an error or a destroyed uncommitted AtomicFile
 // removes the temporary file, so nothing partial is ever left behind.
+//
+// Where the file system allows (Linux O_TMPFILE: ext4, XFS, btrfs, tmpfs) the temporary file
+// has no name at all until commit(), so a process killed at any point (SIGKILL, power loss)
+// leaves nothing behind either. Elsewhere it is a hidden `.<name>.partial-XXXXXX` beside the
+// target, which a killed process leaves behind (never at the target's path).
 
 #include <cstdint>
 #include <span>
@@ -16,9 +21,15 @@ namespace terralod {
 
 class AtomicFile {
  public:
+  enum class Temporary {
+    kUnnamedIfPossible,  ///< O_TMPFILE where supported, else a named temporary file
+    kNamed,              ///< always a hidden named file (the fallback, for tests)
+  };
+
   /// Opens the temporary file. Fails with a message naming `path` when the target is a
   /// directory, its directory is missing, or it is not writable.
-  static Result<AtomicFile> create(const std::string& path);
+  static Result<AtomicFile> create(const std::string& path,
+                                   Temporary temporary = Temporary::kUnnamedIfPossible);
   ~AtomicFile();  ///< removes the temporary file unless commit() succeeded
   AtomicFile(AtomicFile&& other) noexcept;
   AtomicFile& operator=(AtomicFile&&) = delete;
@@ -33,19 +44,22 @@ class AtomicFile {
   /// Overwrites bytes already written, at `offset` (e.g. a header filled in last). Not
   /// thread-safe.
   Status writeAt(uint64_t offset, std::span<const uint8_t> bytes);
-  /// Flushes, syncs and renames the file into place, then syncs the directory so the rename
-  /// survives a crash. Call once, after the last write.
+  /// Flushes, syncs and puts the file in place, then syncs the directory so that survives a
+  /// crash. Call once, after the last write.
   Status commit();
 
   const std::string& path() const { return mPath; }
   uint64_t bytesWritten() const { return mBytes; }
+  /// Whether the temporary file has no name (O_TMPFILE).
+  bool unnamed() const { return mTempPath.empty(); }
 
  private:
   AtomicFile(std::string path, std::string tempPath, int fd);
   Status flush();
   Status writeAll(const uint8_t* data, size_t size);
+  Status linkIntoPlace();
 
-  std::string mPath, mTempPath;
+  std::string mPath, mTempPath;  ///< mTempPath is empty for an unnamed temporary file
   int mFd = -1;
   uint64_t mBytes = 0;
   std::vector<uint8_t> mBuffer;

@@ -1,8 +1,9 @@
 #pragma once
-// Writes a tileset atomically: everything goes to a hidden temporary file beside the target,
-// whose header stays zero (so it never looks like a tileset) until finish() writes the tables
-// and header, syncs, and renames it over the target. An interrupted build leaves no file that
-// opens as valid, and never touches an existing output before the new one is complete.
+// Writes a tileset atomically: everything goes to a temporary file beside the target (unnamed
+// where the file system allows; AtomicFile), whose header stays zero (so it never looks like a
+// tileset) until finish() writes the tables and header, syncs, and puts it in place of the
+// target. An interrupted build leaves no file that opens as valid, and never touches an
+// existing output before the new one is complete.
 
 #include <cstdint>
 #include <memory>

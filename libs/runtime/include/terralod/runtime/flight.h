@@ -31,7 +31,8 @@ struct Flight {
 };
 
 /// Parses and validates a flight (at least two keyframes, positive size and frame count, a
-/// field of view in (0, 180), finite numbers, eye != target); `subject` names the file.
+/// field of view in (0, 180), coordinates finite and within 1e12 m of the origin, eye !=
+/// target); `subject` names the file.
 Result<Flight> parseFlight(std::string_view json, const std::string& subject);
 /// The flight as JSON, keyframes and all (what the viewer records).
 std::string flightToJson(const Flight& flight);
