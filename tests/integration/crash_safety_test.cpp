@@ -65,7 +65,9 @@ class CrashSafety : public ::testing::Test {
     }
     auto probe = AtomicFile::create((mOut.parent_path() / "probe").string());
     ASSERT_TRUE(probe.ok());
-    if (probe->unnamed()) EXPECT_TRUE(others.empty()) << "left behind: " << others.front();
+    if (probe->unnamed()) {
+      EXPECT_TRUE(others.empty()) << "left behind: " << others.front();
+    }
   }
   std::vector<double> killTimes() {
     std::uniform_real_distribution<double> when(0.0, 1.2 * sShared->buildSeconds);
@@ -97,8 +99,9 @@ TEST_F(CrashSafety, AKilledBuildLeavesNoTileset) {
     fs::remove(mOut);
     const bool killed = buildAndKill(t);
     // Either no output or the complete one.
-    if (!killed || fs::exists(mOut))
+    if (!killed || fs::exists(mOut)) {
       EXPECT_EQ(readWholeFile(mOut), reference) << "the output is not the complete tileset";
+    }
     expectNoOtherTileset();
   }
 }
@@ -116,8 +119,9 @@ TEST_F(CrashSafety, AKilledBuildNeverTouchesTheExistingOutput) {
     killed += wasKilled;
     // Either the previous output, untouched, or the complete new one.
     const std::string now = readWholeFile(mOut);
-    if (!wasKilled || now != previous)
+    if (!wasKilled || now != previous) {
       EXPECT_EQ(now, reference) << "the output is neither the previous nor the complete tileset";
+    }
     expectNoOtherTileset();
   }
   // And once more, killed early for certain (while reading the DEM).

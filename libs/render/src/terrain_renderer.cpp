@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <numbers>
+#include <tuple>
 
 #include "terrain_shaders.h"
 #include "terralod/render/texture_placement.h"
@@ -57,20 +58,23 @@ float skirtSlant(const GpuChunkPart& p, const GpuChunk& chunk,
 }  // namespace
 
 Result<TerrainRenderer> TerrainRenderer::create() {
-  auto terrain = ShaderProgram::create(
-      "terrain",
-      {shaders::kTerrainVertex, shaders::withLevelPalette(shaders::kTerrainFragment), {}});
-  if (!terrain) return terrain.error();
+  std::vector<ShaderProgram> terrain;
+  for (int piecewise = 0; piecewise < 4; ++piecewise) {
+    auto program = ShaderProgram::create(
+        "terrain", {shaders::kTerrainVertex, shaders::terrainFragment(piecewise), {}});
+    if (!program) return program.error();
+    terrain.push_back(std::move(program).value());
+  }
   auto sky = ShaderProgram::create("sky", {shaders::kSkyVertex, shaders::kSkyFragment, {}});
   if (!sky) return sky.error();
   auto boxes = ShaderProgram::create(
       "boxes", {shaders::kBoxVertex, shaders::withLevelPalette(shaders::kBoxFragment), {}});
   if (!boxes) return boxes.error();
-  return TerrainRenderer(std::move(terrain).value(), std::move(sky).value(),
-                         std::move(boxes).value());
+  return TerrainRenderer(std::move(terrain), std::move(sky).value(), std::move(boxes).value());
 }
 
-TerrainRenderer::TerrainRenderer(ShaderProgram terrain, ShaderProgram sky, ShaderProgram boxes)
+TerrainRenderer::TerrainRenderer(std::vector<ShaderProgram> terrain, ShaderProgram sky,
+                                 ShaderProgram boxes)
     : mTerrain(std::move(terrain)), mSky(std::move(sky)), mBoxes(std::move(boxes)) {
   // Box lines: float x, y, z relative to the eye, then the level.
   glCreateVertexArrays(1, &mBoxArray);
@@ -102,7 +106,12 @@ void TerrainRenderer::setTextureSizes(std::span<const uint32_t> colorSizes,
   glCreateBuffers(1, &mPlacementBuffer);
   glNamedBufferStorage(mPlacementBuffer, GLsizeiptr(table.size() * sizeof(uint32_t)), table.data(),
                        0);
-  mPlacementLevels = int32_t(table.size() / (2 * kPlacementEntries));
+  const size_t levels = table.size() / (2 * kPlacementEntries);
+  mPiecewise.assign(levels, 0);
+  for (size_t level = 0; level < levels; ++level)
+    for (uint32_t kind = 0; kind < 2; ++kind)
+      if (table[(level * 2 + kind) * kPlacementEntries] & 0x80000000u)
+        mPiecewise[level] |= uint8_t(1u << kind);
 }
 
 TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
@@ -116,7 +125,7 @@ TerrainRenderer::TerrainRenderer(TerrainRenderer&& o) noexcept
       mDrawBuffer(std::exchange(o.mDrawBuffer, 0)),
       mIndirectBuffer(std::exchange(o.mIndirectBuffer, 0)),
       mPlacementBuffer(std::exchange(o.mPlacementBuffer, 0)),
-      mPlacementLevels(o.mPlacementLevels),
+      mPiecewise(std::move(o.mPiecewise)),
       mDrawBufferBytes(o.mDrawBufferBytes),
       mIndirectBufferBytes(o.mIndirectBufferBytes),
       mBoundVertexBuffer(o.mBoundVertexBuffer) {}
@@ -181,14 +190,17 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     ++stats.chunks;
     const ChunkNode& n = tree.node(s.node);
     const uint32_t cells = uint32_t(tree.chunkCells(n.level));
-    const uint64_t group = chunk->textured && style.textures
-                               ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array
-                               : ~uint64_t{0};
+    const bool textured = chunk->textured && style.textures;
+    const uint64_t group =
+        textured ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array : ~uint64_t{0};
+    const uint32_t piecewise =
+        textured && n.level < mPiecewise.size() ? mPiecewise[size_t(n.level)] : 0u;
     for (const GpuChunkPart& p : chunk->parts) {
       const uint32_t count = style.skirts ? p.indexCount : p.surfaceIndexCount;
       if (count == 0) continue;
       PendingDraw d;
       d.group = group;
+      d.piecewise = piecewise;
       d.colorSize = chunk->color.size;
       d.normalSize = chunk->normal.size;
       d.draw = {float(n.box.min[0] - eye.x),
@@ -214,7 +226,9 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     }
   }
   std::stable_sort(mPending.begin(), mPending.end(),
-                   [](const PendingDraw& a, const PendingDraw& b) { return a.group < b.group; });
+                   [](const PendingDraw& a, const PendingDraw& b) {
+                     return std::tie(a.group, a.piecewise) < std::tie(b.group, b.piecewise);
+                   });
   mDraws.clear();
   mCommands.clear();
   for (const PendingDraw& d : mPending) {
@@ -264,46 +278,53 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glFrontFace(GL_CCW);
-  mTerrain.use();
   const double azimuth = style.sunAzimuthDegrees * std::numbers::pi / 180.0;
   const double elevation = style.sunElevationDegrees * std::numbers::pi / 180.0;
   const glm::vec3 sun(std::sin(azimuth) * std::cos(elevation),
                       std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
   const Box& extent = tree.extent();
   const double diagonal = std::hypot(extent.max[0] - extent.min[0], extent.max[1] - extent.min[1]);
-  const GLuint program = mTerrain.id();
-  glProgramUniformMatrix4fv(program, mTerrain.uniformLocation("uViewProjection"), 1, GL_FALSE,
-                            glm::value_ptr(viewProjection));
-  glProgramUniform1f(program, mTerrain.uniformLocation("uEyeHeight"), float(eye.z));
-  glProgramUniform1i(program, mTerrain.uniformLocation("uColorBy"), int(style.colorBy));
-  glProgramUniform3fv(program, mTerrain.uniformLocation("uSun"), 1, glm::value_ptr(sun));
-  glProgramUniform2f(program, mTerrain.uniformLocation("uHeightRange"), float(extent.min[2]),
-                     float(extent.max[2]));
   const glm::vec3 hazeLinear = glm::pow(haze, glm::vec3(2.2f));
-  glProgramUniform3fv(program, mTerrain.uniformLocation("uHaze"), 1, glm::value_ptr(hazeLinear));
-  glProgramUniform1f(program, mTerrain.uniformLocation("uHazeDistance"),
-                     float(std::max(diagonal, 1.0) * 1.5));
-  const GLint wire = mTerrain.uniformLocation("uWire");
-  const GLint drawBase = mTerrain.uniformLocation("uDrawBase");
-  const GLint textured = mTerrain.uniformLocation("uTextured");
-  const GLint tileSizes = mTerrain.uniformLocation("uTileSizes");
-  glProgramUniform1i(program, mTerrain.uniformLocation("uColor"), 0);
-  glProgramUniform1i(program, mTerrain.uniformLocation("uNormal"), 1);
-  glProgramUniform1i(program, mTerrain.uniformLocation("uPlacementLevels"), mPlacementLevels);
+  // The frame's uniforms, in each program variant this frame uses.
+  uint32_t variantsUsed = 0;
+  for (const PendingDraw& d : mPending) variantsUsed |= 1u << d.piecewise;
+  for (uint32_t v = 0; v < mTerrain.size(); ++v) {
+    if (!(variantsUsed & (1u << v))) continue;
+    const ShaderProgram& terrain = mTerrain[v];
+    const GLuint program = terrain.id();
+    glProgramUniformMatrix4fv(program, terrain.uniformLocation("uViewProjection"), 1, GL_FALSE,
+                              glm::value_ptr(viewProjection));
+    glProgramUniform1f(program, terrain.uniformLocation("uEyeHeight"), float(eye.z));
+    glProgramUniform1i(program, terrain.uniformLocation("uColorBy"), int(style.colorBy));
+    glProgramUniform3fv(program, terrain.uniformLocation("uSun"), 1, glm::value_ptr(sun));
+    glProgramUniform2f(program, terrain.uniformLocation("uHeightRange"), float(extent.min[2]),
+                       float(extent.max[2]));
+    glProgramUniform3fv(program, terrain.uniformLocation("uHaze"), 1, glm::value_ptr(hazeLinear));
+    glProgramUniform1f(program, terrain.uniformLocation("uHazeDistance"),
+                       float(std::max(diagonal, 1.0) * 1.5));
+    glProgramUniform1i(program, terrain.uniformLocation("uColor"), 0);
+    glProgramUniform1i(program, terrain.uniformLocation("uNormal"), 1);
+  }
   auto drawGroups = [&](int wireframe) {
-    glProgramUniform1i(program, wire, wireframe);
     for (size_t first = 0; first < mPending.size();) {
       size_t last = first;
-      while (last < mPending.size() && mPending[last].group == mPending[first].group) ++last;
+      while (last < mPending.size() && mPending[last].group == mPending[first].group &&
+             mPending[last].piecewise == mPending[first].piecewise)
+        ++last;
       const PendingDraw& d = mPending[first];
+      const ShaderProgram& terrain = mTerrain[d.piecewise];
+      const GLuint program = terrain.id();
+      terrain.use();
+      glProgramUniform1i(program, terrain.uniformLocation("uWire"), wireframe);
       const bool hasTexture = d.group != ~uint64_t{0};
-      glProgramUniform1i(program, textured, hasTexture ? 1 : 0);
+      glProgramUniform1i(program, terrain.uniformLocation("uTextured"), hasTexture ? 1 : 0);
       if (hasTexture) {
         glBindTextureUnit(0, store.textures().arrayTexture(uint32_t(d.group >> 32)));
         glBindTextureUnit(1, store.textures().arrayTexture(uint32_t(d.group & 0xFFFFFFFFu)));
-        glProgramUniform2f(program, tileSizes, float(d.colorSize), float(d.normalSize));
+        glProgramUniform2f(program, terrain.uniformLocation("uTileSizes"), float(d.colorSize),
+                           float(d.normalSize));
       }
-      glProgramUniform1i(program, drawBase, GLint(first));
+      glProgramUniform1i(program, terrain.uniformLocation("uDrawBase"), GLint(first));
       glMultiDrawElementsIndirect(GL_TRIANGLES, GL_UNSIGNED_SHORT,
                                   reinterpret_cast<const void*>(first * 5 * sizeof(uint32_t)),
                                   GLsizei(last - first), 0);

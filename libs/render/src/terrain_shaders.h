@@ -89,7 +89,6 @@ uniform vec2 uTileSizes;         // colour, normal texels per side
 // layer kind; entry m = log2(pieces) | pieceMip << 4 | pieceSize << 8, bit 31 of entry 0: the
 // level's mips are sampled piece by piece.
 layout(std430, binding = 1) readonly buffer Placements { uint placements[]; };
-uniform int uPlacementLevels;
 uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
 uniform int uWire;         // 1: the wireframe overlay pass
 uniform vec3 uSun;         // unit vector towards the sun
@@ -123,10 +122,11 @@ vec2 placedUv(vec2 f, uint entry) {
 // unresampled descendants, the same filtering done level by level at each piece's placement.
 vec4 sampleTile(sampler2DArray tile, vec2 f, float size, float layer, int kind) {
   vec2 uv = (0.5 + f * (size - 1.0)) / size;
+  // A constant of the program variant (the renderer groups draws by it): a software
+  // rasteriser would run both sides of a branch on a uniform for every pixel.
+  if ((kPiecewise & (1 << kind)) == 0) return texture(tile, vec3(uv, layer));
   int level = int(vLevel + 0.5);
   uint base = uint((level * 2 + kind) * 16);
-  if (level >= uPlacementLevels || (placements[base] & 0x80000000u) == 0u)
-    return texture(tile, vec3(uv, layer));
   int levels = textureQueryLevels(tile);
   float lod = clamp(textureQueryLod(tile, uv).y, 0.0, float(levels - 1));
   int m0 = int(floor(lod));
@@ -168,6 +168,13 @@ void main() {
   fragColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
 }
 )";
+
+// The terrain fragment shader's variant for a piecewise mask: bit 0, colour mips sampled piece
+// by piece; bit 1, normal mips (kTerrainFragment's sampleTile).
+inline std::string terrainFragment(int piecewise) {
+  return std::string(kLevelPalette) + "const int kPiecewise = " + std::to_string(piecewise) +
+         ";\n" + kTerrainFragment;
+}
 
 // Chunk bounding boxes: lines between eye-relative corners, coloured by the chunk's level like
 // --color-by level.

@@ -62,21 +62,26 @@ class TerrainRenderer {
                  const GpuChunkStore& store, const TerrainStyle& style);
 
  private:
-  TerrainRenderer(ShaderProgram terrain, ShaderProgram sky, ShaderProgram boxes);
+  TerrainRenderer(std::vector<ShaderProgram> terrain, ShaderProgram sky, ShaderProgram boxes);
   void drawBoxes(const View& view, const ChunkTree& tree, std::span<const SelectedChunk> selection,
                  const GpuChunkStore& store, const glm::mat4& viewProjection);
 
-  ShaderProgram mTerrain, mSky, mBoxes;
+  // The terrain program for each piecewise mask (mPiecewise's bits), then sky and boxes.
+  std::vector<ShaderProgram> mTerrain;
+  ShaderProgram mSky, mBoxes;
   uint32_t mBoxArray = 0, mBoxBuffer = 0;
   uint64_t mBoxBufferBytes = 0;
   std::vector<float> mBoxLines;
   uint32_t mVertexArray = 0, mDrawBuffer = 0, mIndirectBuffer = 0, mPlacementBuffer = 0;
-  int32_t mPlacementLevels = 0;
+  // Per level (root first): bit 0 when its colour mips need piecewise sampling, bit 1 its
+  // normal mips. Draws are grouped by it and drawn with the program variant for it.
+  std::vector<uint8_t> mPiecewise;
   uint64_t mDrawBufferBytes = 0, mIndirectBufferBytes = 0;
   uint32_t mBoundVertexBuffer = 0;
   // Per-frame staging, kept to avoid allocating once they are big enough.
   struct PendingDraw {
-    uint64_t group = 0;  // colour array << 32 | normal array; all ones: untextured
+    uint64_t group = 0;      // colour array << 32 | normal array; all ones: untextured
+    uint32_t piecewise = 0;  // mPiecewise of the chunk's level when textured
     uint32_t colorSize = 0, normalSize = 0;
     std::array<float, 16> draw{};
     std::array<uint32_t, 5> command{};
