@@ -146,13 +146,18 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   return {};
 }
 
+std::string sizeText(uint64_t bytes) {
+  return bytes >= (uint64_t{1} << 20) ? std::to_string(bytes >> 20) + " MB"
+                                      : std::to_string(bytes >> 10) + " KB";
+}
+
 // GDAL decodes a raster block by block, each into one buffer; a pixel-interleaved block holds
 // every band. A few hundred bytes of TIFF header can declare one block of gigabytes (found by
 // the raster fuzzer: a 241-byte file, one LZW strip of 63148x3596 pixels of 12 bands, made
-// GDAL allocate 5.4 GB), so blocks over kMaxBlockBytes are refused before any is read.
-constexpr uint64_t kMaxBlockBytes = uint64_t{1} << 30;
-
-Status checkBlockSize(GDALDataset& dataset, GDALRasterBand& band, const std::string& path) {
+// GDAL allocate 5.4 GB), so blocks over DemOpenOptions::maxBlockBytes are refused before any
+// is read.
+Status checkBlockSize(GDALDataset& dataset, GDALRasterBand& band, const std::string& path,
+                      uint64_t maxBlockBytes) {
   int blockX = 0, blockY = 0;
   band.GetBlockSize(&blockX, &blockY);
   const char* interleave = dataset.GetMetadataItem("INTERLEAVE", "IMAGE_STRUCTURE");
@@ -160,13 +165,13 @@ Status checkBlockSize(GDALDataset& dataset, GDALRasterBand& band, const std::str
   const uint64_t bands = pixelInterleaved ? uint64_t(dataset.GetRasterCount()) : 1;
   const uint64_t bytes = uint64_t(std::max(blockX, 1)) * uint64_t(std::max(blockY, 1)) * bands *
                          uint64_t(GDALGetDataTypeSizeBytes(band.GetRasterDataType()));
-  if (bytes <= kMaxBlockBytes) return {};
-  return makeError(path, "its blocks of " + std::to_string(blockX) + "x" + std::to_string(blockY) +
-                             " samples" +
-                             (bands > 1 ? " x " + std::to_string(bands) + " bands" : "") +
-                             " need " + std::to_string(bytes >> 20) +
-                             " MB each, more than 1024 MB; rewrite it tiled (gdal_translate "
-                             "-co TILED=YES)");
+  if (bytes <= maxBlockBytes) return {};
+  return makeError(
+      path, "its blocks of " + std::to_string(blockX) + "x" + std::to_string(blockY) + " samples" +
+                (bands > 1 ? " x " + std::to_string(bands) + " bands" : "") + " need " +
+                sizeText(bytes) + " each, more than " + sizeText(maxBlockBytes) +
+                "; rewrite it tiled (gdal_translate "
+                "-co TILED=YES)");
 }
 
 }  // namespace
@@ -243,7 +248,7 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   GDALRasterBand* band = ds.GetRasterBand(1);
   impl->bandType = band->GetRasterDataType();
   info.dataType = GDALGetDataTypeName(impl->bandType);
-  if (Status s = checkBlockSize(ds, *band, path); !s) return s.error();
+  if (Status s = checkBlockSize(ds, *band, path, options.maxBlockBytes); !s) return s.error();
   if (options.encoding != HeightEncoding::kPlain) {
     if (impl->bandCount < 3 || impl->bandType != GDT_Byte)
       return makeError(path, "RGB-encoded heights need 3 byte bands; this raster has " +

@@ -364,6 +364,15 @@ TEST(DemReader, BlocksOfGigabytesAreRefusedBeforeReading) {
                                 "more than 1024 MB; rewrite it tiled (gdal_translate -co "
                                 "TILED=YES)");
   EXPECT_EQ(message(fine), "ok");
+  // A caller may set a lower limit (the raster fuzzer does, to keep each input cheap).
+  DemOpenOptions small;
+  small.maxBlockBytes = uint64_t{64} << 10;
+  auto refused = DemReader::open(fine, small);
+  ASSERT_FALSE(refused);
+  EXPECT_EQ(refused.error().message, fine +
+                                         ": its blocks of 256x256 samples need 128 KB each, "
+                                         "more than 64 KB; rewrite it tiled (gdal_translate "
+                                         "-co TILED=YES)");
 }
 
 TEST(DemReader, BadInputsGetOneClearLine) {

@@ -28,6 +28,8 @@ struct DemOpenOptions {
   std::optional<std::array<double, 2>> spacing;
   /// Multiplies every height after unit conversion.
   double verticalScale = 1.0;
+  /// Rasters whose blocks (GDAL's unit of decoding) need more bytes each are refused at open.
+  uint64_t maxBlockBytes = uint64_t{1} << 30;
 };
 
 /// What a DEM is, as terralod will use it.
