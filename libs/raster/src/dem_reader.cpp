@@ -170,8 +170,7 @@ Status checkBlockSize(GDALDataset& dataset, GDALRasterBand& band, const std::str
       path, "its blocks of " + std::to_string(blockX) + "x" + std::to_string(blockY) + " samples" +
                 (bands > 1 ? " x " + std::to_string(bands) + " bands" : "") + " need " +
                 sizeText(bytes) + " each, more than " + sizeText(maxBlockBytes) +
-                "; rewrite it tiled (gdal_translate "
-                "-co TILED=YES)");
+                "; rewrite it tiled (gdal_translate -co TILED=YES)");
 }
 
 }  // namespace
