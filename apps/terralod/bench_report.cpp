@@ -248,15 +248,23 @@ Status writeText(const fs::path& path, const std::string& text) {
   return file->commit();
 }
 
+// The report directory named by `dir`; "out/" is "out", not a directory inside "out".
+fs::path reportDirectory(const std::string& dir) {
+  fs::path target(dir);
+  while (!target.has_filename() && target.has_relative_path()) target = target.parent_path();
+  return target;
+}
+
 }  // namespace
 
 Status checkReportTarget(const std::string& dir) {
   std::error_code ec;
-  const fs::path target(dir);
+  const fs::path target = reportDirectory(dir);
   if (fs::exists(target, ec) && !fs::is_directory(target, ec))
     return Error{dir + ": exists and is not a directory"};
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
-  if (!fs::is_directory(parent, ec)) return Error{dir + ": its directory does not exist"};
+  if (!fs::is_directory(parent, ec))
+    return Error{dir + ": its parent directory " + parent.string() + " does not exist"};
   if (::access(parent.c_str(), W_OK) != 0) return Error{dir + ": not writable"};
   if (findOnPath("gnuplot").empty())
     return Error{dir +
@@ -268,7 +276,7 @@ Status checkReportTarget(const std::string& dir) {
 Status writeBenchReport(const std::string& dir, const BenchFlightResult& flight,
                         const nlohmann::json& summary, const std::string& commandLine) {
   if (Status s = checkReportTarget(dir); !s) return s;
-  const fs::path target(dir);
+  const fs::path target = reportDirectory(dir);
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
   // Everything goes to a temporary directory first, removed on any failure.
   std::string pattern = (parent / (".terralod-report-XXXXXX")).string();

@@ -1,47 +1,9 @@
 // terralod: build, inspect, verify, export, render and benchmark chunked-LOD terrain tilesets.
 
-#include <cstdio>
 #include <exception>
 
 #include "commands.h"
 #include "terralod/raster/dem_reader.h"
-
-namespace terralod::cli {
-
-int fail(const std::string& message) {
-  std::fprintf(stderr, "terralod: error: %s\n", message.c_str());
-  return 1;
-}
-
-void warn(const std::string& message) {
-  std::fprintf(stderr, "terralod: warning: %s\n", message.c_str());
-}
-
-namespace {
-std::string gCommandLine;
-}
-
-const std::string& commandLine() {
-  return gCommandLine;
-}
-
-void setCommandLine(int argc, char** argv) {
-  gCommandLine.clear();
-  for (int i = 0; i < argc; ++i) {
-    std::string arg = i == 0 ? std::string("terralod") : std::string(argv[i]);
-    const bool plain = !arg.empty() && arg.find_first_not_of(
-                                           "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                           "0123456789-_./,:=+@%") == std::string::npos;
-    if (!plain) {
-      std::string q = "'";
-      for (char c : arg) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-      arg = q + "'";
-    }
-    gCommandLine += (i ? " " : "") + arg;
-  }
-}
-
-}  // namespace terralod::cli
 
 int main(int argc, char** argv) {
   using namespace terralod::cli;

@@ -1,7 +1,9 @@
 #include "quality_metrics.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <limits>
 #include <mutex>
 
 #include "terralod/core/parallel.h"
@@ -31,7 +33,10 @@ Result<const QualityMetrics::CachedChunk*> QualityMetrics::chunk(uint32_t node) 
   if (it != mChunks.end()) return &it->second;
   auto decoded = mTileset.readChunk(node);
   if (!decoded) return decoded.error();
-  CachedChunk c{std::move(decoded).value(), 1e300, -1e300};
+  CachedChunk c;
+  c.geometry = std::move(decoded).value();
+  c.truthMin = 1e300;
+  c.truthMax = -1e300;
   const TilesetHeader& h = mTileset.header();
   const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[node]);
   const int64_t side = h.chunkCells(mTileset.nodes()[node].level);
@@ -41,7 +46,27 @@ Result<const QualityMetrics::CachedChunk*> QualityMetrics::chunk(uint32_t node) 
       c.truthMin = std::min(c.truthMin, z);
       c.truthMax = std::max(c.truthMax, z);
     }
+  measureChunkError(node, c);
   return &mChunks.emplace(node, std::move(c)).first->second;
+}
+
+void QualityMetrics::measureChunkError(uint32_t node, CachedChunk& c) const {
+  size_t triangles = 0;
+  for (const ChunkPart& part : c.geometry.parts) triangles += part.surfaceIndexCount / 3;
+  c.triangleError.assign(triangles, 0.0f);
+  size_t triangle = 0;
+  auto measure = [&](int64_t x, int64_t y, double z) {
+    const double e = std::fabs(z - mSource(int32_t(x), int32_t(y)));
+    float& slot = c.triangleError[triangle];
+    // Rounded up to the next float, so that the bound never falls below the double it bounds.
+    if (e > slot) slot = std::nextafter(float(e), std::numeric_limits<float>::infinity());
+  };
+  for (double t : {0.0, 1.0})
+    rasterizeChunk(node, c, t, nullptr, measure, [&](size_t index, const Box&) {
+      triangle = index;
+      return true;
+    });
+  c.error = triangles ? *std::max_element(c.triangleError.begin(), c.triangleError.end()) : 0.0;
 }
 
 bool QualityMetrics::inView(const View& view, int64_t x, int64_t y, double z) const {
@@ -51,10 +76,9 @@ bool QualityMetrics::inView(const View& view, int64_t x, int64_t y, double z) co
   return true;
 }
 
-template <typename Visit>
-void QualityMetrics::rasterizeChunk(uint32_t node, double morph, const View& view,
-                                    Visit&& visit) const {
-  const CachedChunk& cached = mChunks.at(node);
+template <typename Visit, typename Keep>
+void QualityMetrics::rasterizeChunk(uint32_t node, const CachedChunk& cached, double morph,
+                                    const View* view, Visit&& visit, Keep&& keep) const {
   const ChunkGeometry& geometry = cached.geometry;
   const TilesetHeader& h = mTileset.header();
   const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[node]);
@@ -62,8 +86,9 @@ void QualityMetrics::rasterizeChunk(uint32_t node, double morph, const View& vie
   const int64_t maxX = std::min<int64_t>(x0 + side, mSource.columns() - 1);
   const int64_t maxY = std::min<int64_t>(y0 + side, mSource.rows() - 1);
   const int64_t s = mStride;
+  size_t triangle = 0;
   for (const ChunkPart& part : geometry.parts)
-    for (uint32_t k = 0; k + 2 < part.surfaceIndexCount; k += 3) {
+    for (uint32_t k = 0; k + 2 < part.surfaceIndexCount; k += 3, ++triangle) {
       SampleVertex v[3];
       for (int j = 0; j < 3; ++j) {
         const ChunkVertex& cv = part.vertices[part.indices[k + j]];
@@ -78,7 +103,8 @@ void QualityMetrics::rasterizeChunk(uint32_t node, double morph, const View& vie
       box.max = {double(std::max({v[0].x, v[1].x, v[2].x})) * mTree.spacing()[0],
                  double(std::max({v[0].y, v[1].y, v[2].y})) * mTree.spacing()[1],
                  std::max({v[0].z, v[1].z, v[2].z, cached.truthMax})};
-      if (!boxInFrustum(view, box)) continue;
+      if (!keep(triangle, box)) continue;
+      if (view && !boxInFrustum(*view, box)) continue;
       if (s == 1) {
         rasterizeTriangle(v[0], v[1], v[2], x0, maxX, y0, maxY, visit);
       } else {
@@ -93,21 +119,57 @@ void QualityMetrics::rasterizeChunk(uint32_t node, double morph, const View& vie
 Result<double> QualityMetrics::maxErrorPixels(const View& view,
                                               std::span<const SelectedChunk> selection) {
   // Decode on this thread (the cache is not thread-safe), then measure in parallel.
-  for (const SelectedChunk& c : selection)
-    if (auto cached = chunk(c.node); !cached) return cached.error();
-  std::vector<double> worst(mThreads, 0.0);
-  parallelFor(selection.size(), mThreads, [&](size_t i, unsigned worker) {
-    const SelectedChunk& c = selection[i];
-    double& w = worst[worker];
-    rasterizeChunk(c.node, c.morph, view, [&](int64_t x, int64_t y, double z) {
-      const double truth = mSource(int32_t(x), int32_t(y));
-      if (!inView(view, x, y, truth)) return;
-      const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], truth};
-      const double distance = glm::length(p - view.camera.eye);
-      w = std::max(w, screenSpaceError(view, std::fabs(z - truth), distance));
-    });
+  struct Candidate {
+    const SelectedChunk* chunk;
+    const CachedChunk* cached;
+    double bound;  // no sample of the chunk can show a larger error, pixels
+  };
+  std::vector<Candidate> candidates;
+  candidates.reserve(selection.size());
+  const glm::dvec2 spacing{mTree.spacing()[0], mTree.spacing()[1]};
+  const TilesetHeader& h = mTileset.header();
+  for (const SelectedChunk& c : selection) {
+    auto cached = chunk(c.node);
+    if (!cached) return cached.error();
+    const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[c.node]);
+    const int64_t side = h.chunkCells(mTileset.nodes()[c.node].level);
+    Box box;
+    box.min = {double(x0) * spacing.x, double(y0) * spacing.y, (*cached)->truthMin};
+    box.max = {double(std::min<int64_t>(x0 + side, mSource.columns() - 1)) * spacing.x,
+               double(std::min<int64_t>(y0 + side, mSource.rows() - 1)) * spacing.y,
+               (*cached)->truthMax};
+    candidates.push_back(
+        {&c, *cached,
+         screenSpaceError(view, (*cached)->error, distanceToBox(view.camera.eye, box))});
+  }
+  // The worst error can only be where the bounds allow it: measure the chunks and triangles
+  // with the largest bounds first and skip those whose bound cannot beat the worst found so
+  // far. The result is the same as measuring every sample, much faster.
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& a, const Candidate& b) { return a.bound > b.bound; });
+  std::atomic<double> found{0.0};
+  parallelFor(candidates.size(), mThreads, [&](size_t i, unsigned) {
+    const Candidate& c = candidates[i];
+    double worst = found.load(std::memory_order_relaxed);
+    if (c.bound <= worst) return;
+    rasterizeChunk(
+        c.chunk->node, *c.cached, c.chunk->morph, &view,
+        [&](int64_t x, int64_t y, double z) {
+          const double truth = mSource(int32_t(x), int32_t(y));
+          if (!inView(view, x, y, truth)) return;
+          const glm::dvec3 p{double(x) * spacing.x, double(y) * spacing.y, truth};
+          const double distance = glm::length(p - view.camera.eye);
+          worst = std::max(worst, screenSpaceError(view, std::fabs(z - truth), distance));
+        },
+        [&](size_t triangle, const Box& box) {
+          return screenSpaceError(view, c.cached->triangleError[triangle],
+                                  distanceToBox(view.camera.eye, box)) > worst;
+        });
+    double seen = found.load(std::memory_order_relaxed);
+    while (worst > seen && !found.compare_exchange_weak(seen, worst)) {
+    }
   });
-  return *std::max_element(worst.begin(), worst.end());
+  return found.load();
 }
 
 Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOptions& options,

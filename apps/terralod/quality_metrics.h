@@ -48,14 +48,30 @@ class QualityMetrics {
   struct CachedChunk {
     ChunkGeometry geometry;
     double truthMin = 0, truthMax = 0;  // source heights over the chunk's footprint
+    // The largest |true - drawn height| at the measured samples of each surface triangle (all
+    // parts' in order) and of the whole chunk, at any morph parameter: the drawn height at a
+    // sample is linear in t, so its error at any t is at most the larger of those at 0 and 1.
+    std::vector<float> triangleError;
+    double error = 0;
   };
   // Decodes a chunk (once) and finds the source's height range under it. Not thread-safe.
   Result<const CachedChunk*> chunk(uint32_t node);
   // Calls visit(x, y, drawnHeight) for each measured sample under the chunk's surface at morph
   // t, skipping triangles whose samples cannot be in `view` (drawn and true heights both
-  // considered). The chunk must have been cached. Thread-safe.
+  // considered) and those for which keep(triangle, box) is false (triangle counts surface
+  // triangles over all parts; box bounds its samples at drawn and true heights). The chunk must
+  // have been cached. Thread-safe.
+  // A null view keeps every triangle.
+  template <typename Visit, typename Keep>
+  void rasterizeChunk(uint32_t node, const CachedChunk& cached, double morph, const View* view,
+                      Visit&& visit, Keep&& keep) const;
   template <typename Visit>
-  void rasterizeChunk(uint32_t node, double morph, const View& view, Visit&& visit) const;
+  void rasterizeChunk(uint32_t node, double morph, const View& view, Visit&& visit) const {
+    rasterizeChunk(node, mChunks.at(node), morph, &view, visit,
+                   [](size_t, const Box&) { return true; });
+  }
+  // Fills a decoded chunk's triangleError and error.
+  void measureChunkError(uint32_t node, CachedChunk& c) const;
   bool inView(const View& view, int64_t x, int64_t y, double z) const;
 
   const TilesetReader& mTileset;
