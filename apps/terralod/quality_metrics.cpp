@@ -46,6 +46,10 @@ Result<const QualityMetrics::CachedChunk*> QualityMetrics::chunk(uint32_t node) 
       c.truthMin = std::min(c.truthMin, z);
       c.truthMax = std::max(c.truthMax, z);
     }
+  c.truthBox.min = {double(x0) * mTree.spacing()[0], double(y0) * mTree.spacing()[1], c.truthMin};
+  c.truthBox.max = {
+      double(std::min<int64_t>(x0 + side, mSource.columns() - 1)) * mTree.spacing()[0],
+      double(std::min<int64_t>(y0 + side, mSource.rows() - 1)) * mTree.spacing()[1], c.truthMax};
   measureChunkError(node, c);
   return &mChunks.emplace(node, std::move(c)).first->second;
 }
@@ -127,20 +131,12 @@ Result<double> QualityMetrics::maxErrorPixels(const View& view,
   std::vector<Candidate> candidates;
   candidates.reserve(selection.size());
   const glm::dvec2 spacing{mTree.spacing()[0], mTree.spacing()[1]};
-  const TilesetHeader& h = mTileset.header();
   for (const SelectedChunk& c : selection) {
     auto cached = chunk(c.node);
     if (!cached) return cached.error();
-    const auto [x0, y0] = chunkCellOrigin(h, mTileset.nodes()[c.node]);
-    const int64_t side = h.chunkCells(mTileset.nodes()[c.node].level);
-    Box box;
-    box.min = {double(x0) * spacing.x, double(y0) * spacing.y, (*cached)->truthMin};
-    box.max = {double(std::min<int64_t>(x0 + side, mSource.columns() - 1)) * spacing.x,
-               double(std::min<int64_t>(y0 + side, mSource.rows() - 1)) * spacing.y,
-               (*cached)->truthMax};
-    candidates.push_back(
-        {&c, *cached,
-         screenSpaceError(view, (*cached)->error, distanceToBox(view.camera.eye, box))});
+    candidates.push_back({&c, *cached,
+                          screenSpaceError(view, (*cached)->error,
+                                           distanceToBox(view.camera.eye, (*cached)->truthBox))});
   }
   // The worst error can only be where the bounds allow it: measure the chunks and triangles
   // with the largest bounds first and skip those whose bound cannot beat the worst found so

@@ -48,6 +48,7 @@ class QualityMetrics {
   struct CachedChunk {
     ChunkGeometry geometry;
     double truthMin = 0, truthMax = 0;  // source heights over the chunk's footprint
+    Box truthBox;                       // the footprint's samples at their true heights, metres
     // The largest |true - drawn height| at the measured samples of each surface triangle (all
     // parts' in order) and of the whole chunk, at any morph parameter: the drawn height at a
     // sample is linear in t, so its error at any t is at most the larger of those at 0 and 1.
