@@ -1,11 +1,16 @@
-// Micro-benchmarks of the build's two passes on an in-memory rough terrain.
+// Micro-benchmarks of the build's passes (void filling, activations, meshing, encoding) on an
+// in-memory rough terrain.
 
 #include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
 
 #include "bench_terrain.h"
 #include "terralod/build/activation_pass.h"
 #include "terralod/build/chunk_encoder.h"
 #include "terralod/build/chunk_mesher.h"
+#include "terralod/raster/void_fill.h"
 
 namespace terralod {
 namespace {
@@ -20,6 +25,31 @@ struct Prepared {
   ErrorBudget budget = makeErrorBudget(layout, 1.0, 1200.0).value();
   MemoryHeights heights{terrain()};
 };
+
+// Arg: per mille of the samples that are voids, as pinholes every so many samples (SRTM's
+// speckle) or, for 500, the western half as one sea of nodata.
+void fillVoidsPass(benchmark::State& state) {
+  Heightfield holey = terrain();
+  const int64_t perMille = state.range(0);
+  for (int32_t y = 0; y < holey.rows(); ++y) {
+    for (int32_t x = 0; x < holey.columns(); ++x) {
+      const bool sea = perMille == 500 && x < holey.columns() / 2;
+      const bool pinhole =
+          perMille != 500 && (int64_t(y) * holey.columns() + x) % (1000 / perMille) == 0;
+      if (sea || pinhole) holey.row(y)[x] = std::nanf("");
+    }
+  }
+  Heightfield heights = holey;
+  for (auto _ : state) {
+    state.PauseTiming();  // a fresh copy of the holes, in memory already touched
+    std::copy(holey.values().begin(), holey.values().end(), heights.values().begin());
+    state.ResumeTiming();
+    benchmark::DoNotOptimize(fillVoids(heights, "bench"));
+  }
+  state.counters["Msamples/s"] =
+      benchmark::Counter(2049.0 * 2049.0, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(fillVoidsPass)->Arg(1)->Arg(10)->Arg(500)->Unit(benchmark::kMillisecond);
 
 void activations(benchmark::State& state) {
   Prepared p;
