@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <vector>
 
 namespace terralod {
@@ -44,15 +45,46 @@ Level pull(const Level& fine) {
   return coarse;
 }
 
+// Relaxes the voids of `fine` towards the mean of their four neighbours, `sweeps` times. Jacobi:
+// each sweep reads the values of the sweep before. Instead of a copy of the level, a row's
+// values before the sweep are kept in one of two row buffers until the row below has been
+// updated; rows without voids are skipped, as they do not change.
+void relax(Level& fine, int sweeps) {
+  const int32_t w = fine.w, h = fine.h;
+  std::vector<uint8_t> rowHasVoid(size_t(h), 0);
+  for (int32_t y = 0; y < h; ++y) {
+    const auto row = fine.valid.begin() + std::ptrdiff_t(y) * w;
+    rowHasVoid[size_t(y)] = std::find(row, row + w, 0) != row + w ? 1 : 0;
+  }
+  std::vector<float> bufferA(static_cast<size_t>(w)), bufferB(static_cast<size_t>(w));
+  for (int sweep = 0; sweep < sweeps; ++sweep) {
+    float* spare = bufferA.data();
+    float* other = bufferB.data();
+    const float* above = nullptr;  // the row above as it was before this sweep
+    for (int32_t y = 0; y < h; ++y) {
+      float* row = fine.value.data() + size_t(y) * w;
+      if (!rowHasVoid[size_t(y)]) {
+        above = row;
+        continue;
+      }
+      std::copy(row, row + w, spare);
+      const float* old = spare;
+      const float* up = y > 0 ? above : old;
+      const float* down = y + 1 < h ? row + w : old;  // not yet updated in this sweep
+      const uint8_t* valid = fine.valid.data() + size_t(y) * w;
+      for (int32_t x = int32_t(std::find(valid, valid + w, 0) - valid); x < w;
+           x = int32_t(std::find(valid + x + 1, valid + w, 0) - valid)) {
+        row[x] = 0.25f * (old[std::max(x - 1, 0)] + old[std::min(x + 1, w - 1)] + up[x] + down[x]);
+      }
+      above = old;
+      std::swap(spare, other);
+    }
+  }
+}
+
 // Gives every void of `fine` the bilinear interpolation of `coarse` (already complete), then
-// relaxes the voids towards the mean of their neighbours (Jacobi: each sweep reads the values
-// of the sweep before). Only the voids are visited, so a pinhole costs next to nothing.
+// relaxes the voids.
 void push(Level& fine, const Level& coarse) {
-  struct Sample {
-    int32_t x, y;
-  };
-  std::vector<Sample> voids;
-  voids.reserve(size_t(std::count(fine.valid.begin(), fine.valid.end(), 0)));
   for (int32_t y = 0; y < fine.h; ++y) {
     const double cy = (y - 0.5) * 0.5;
     const int32_t y0 = static_cast<int32_t>(std::floor(cy));
@@ -60,7 +92,6 @@ void push(Level& fine, const Level& coarse) {
     for (int32_t x = 0; x < fine.w; ++x) {
       const size_t i = size_t(y) * fine.w + x;
       if (fine.valid[i]) continue;
-      voids.push_back({x, y});
       const double cx = (x - 0.5) * 0.5;
       const int32_t x0 = static_cast<int32_t>(std::floor(cx));
       const double tx = cx - x0;
@@ -70,16 +101,7 @@ void push(Level& fine, const Level& coarse) {
     }
   }
   constexpr int kRelaxations = 8;
-  std::vector<float> next(voids.size());
-  for (int iteration = 0; iteration < kRelaxations; ++iteration) {
-    for (size_t k = 0; k < voids.size(); ++k) {
-      const auto [x, y] = voids[k];
-      next[k] =
-          0.25f * (fine.at(x - 1, y) + fine.at(x + 1, y) + fine.at(x, y - 1) + fine.at(x, y + 1));
-    }
-    for (size_t k = 0; k < voids.size(); ++k)
-      fine.value[size_t(voids[k].y) * fine.w + voids[k].x] = next[k];
-  }
+  relax(fine, kRelaxations);
 }
 
 }  // namespace

@@ -6,8 +6,8 @@
 // down, every void sample starts from the bilinear interpolation of the level above and is
 // relaxed towards the average of its four neighbours ("push" plus Jacobi relaxation of
 // Laplace's equation). The result is a smooth membrane that meets the valid samples around
-// each void; valid samples are never changed. The pyramid costs O(samples), the push and the
-// relaxation O(voids), so a sea of nodata costs no more per sample than a pinhole.
+// each void; valid samples are never changed. O(samples) time, and memory for the pyramid (a
+// third more than the grid) plus two rows; rows without voids are skipped when relaxing.
 
 #include <cstdint>
 #include <string>
