@@ -146,7 +146,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.evictions = frame->evictions;
     // Resident memory, every frame: GPU copies and decoded chunks waiting for upload.
     r.residentMB = double(scene.residency().counters().residentBytes) / double(1 << 20);
-    r.coarser = frame->selection.coarserThanWanted != 0;
+    // A late split easing in is drawn above its morph schedule, i.e. coarser than wanted too.
+    r.easing = frame->easing != 0;
+    r.coarser = frame->selection.coarserThanWanted != 0 || r.easing;
     r.waitedOnIo = frame->waitedOnIo;
     r.eye = view->camera.eye;
     if (nextKept < result.keptFrameIndices.size() && result.keptFrameIndices[nextKept] == i) {

@@ -28,7 +28,9 @@ struct FrameRecord {
   uint64_t triangles = 0;
   uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
   double residentMB = 0;    ///< chunk memory after the frame (GPU copies and decoded chunks)
-  bool coarser = false;     ///< drew a chunk whose wanted children were not resident
+  bool coarser = false;     ///< drew a chunk whose wanted children were not resident, or
+                            ///< a late split still easing in from its parent's surface
+  bool easing = false;      ///< drew a late split still easing in (part of `coarser`)
   bool waitedOnIo = false;  ///< blocked on a read
   glm::dvec3 eye{0.0};
   double errorPx = NAN;      ///< largest screen-space error over the source samples in view

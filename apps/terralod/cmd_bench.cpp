@@ -66,12 +66,13 @@ nlohmann::json summarize(const BenchCommand& b, const TerrainScene& scene,
   j["resident_mb_max"] =
       percentile(column(f, [](const FrameRecord& r) { return r.residentMB; }), 1.0);
   j["cache_mb"] = b.options.cacheMB;
-  uint64_t waiting = 0, coarser = 0, holes = 0, imagePopFrames = 0;
+  uint64_t waiting = 0, coarser = 0, easing = 0, holes = 0, imagePopFrames = 0;
   double maxError = 0, maxErrorAll = 0, maxPop = 0, uploadMax = 0, imagePopMax = 0,
          imagePopMaxAll = 0, imagePopSum = 0;
   for (const FrameRecord& r : f) {
     waiting += r.waitedOnIo ? 1 : 0;
     coarser += r.coarser ? 1 : 0;
+    easing += r.easing ? 1 : 0;
     holes += r.holes;
     uploadMax = std::max(uploadMax, r.uploadMs);
     if (!std::isnan(r.errorPx)) {
@@ -92,6 +93,7 @@ nlohmann::json summarize(const BenchCommand& b, const TerrainScene& scene,
   }
   j["frames_waiting_on_io"] = waiting;
   j["coarser_than_wanted_frames"] = coarser;
+  j["easing_frames"] = easing;  // (among them) frames with a late split easing in
   j["upload_ms_max"] = uploadMax;
   j["textured"] = scene.tileset().header().textured();
   if (flight.texels.any) j["max_texel_per_px"] = flight.texels.max;

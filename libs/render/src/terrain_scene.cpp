@@ -177,6 +177,7 @@ void TerrainScene::step(const View& view, const SelectionOptions& selection, Fra
     else if (!drawnLastFrame)
       mEntryMorph[c.node] = 0.0f;  // an easing cut short (it split again) does not come back
     if (mEntryMorph[c.node] > 0.0f) {
+      if (mEntryMorph[c.node] > c.morph) ++stats.easing;
       c.morph = std::max(c.morph, mEntryMorph[c.node]);
       mEntryMorph[c.node] = std::max(0.0f, mEntryMorph[c.node] - kEntryStep);
     }

@@ -50,6 +50,10 @@ struct FrameStats {
   uint32_t deferredUploads = 0;   ///< chunks left for a later frame: their GPU memory is on its way
   uint32_t evictions = 0;         ///< chunks freed this frame
   bool waitedOnIo = false;        ///< this frame blocked on a read (only with `complete`)
+  /// Chunks drawn above their morph schedule: late splits easing in from the parent's surface
+  /// (their error bound is then the parent's, over τ). A frame with any is, like one with
+  /// `selection.coarserThanWanted`, still catching up with what it wants.
+  uint32_t easing = 0;
 };
 
 class TerrainScene {
