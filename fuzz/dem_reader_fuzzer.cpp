@@ -2,7 +2,8 @@
 // plain heights or terrain-RGB / Terrarium decoding, reading heights as build does (a small
 // raster whole, in strips, then its voids filled; a large one by its approximate height range
 // and a window, here at one corner, reaching past the edges). Input: one mode byte (bits 0-1:
-// plain, terrain-rgb, terrarium, plain; bits 2-3: which corner), then the file.
+// plain, terrain-rgb, terrarium, plain from band 1 asked for explicitly, which reads rasters
+// of several 8-bit bands that plain alone refuses; bits 2-3: which corner), then the file.
 //
 // Only GDAL's GTiff and PNG drivers stay registered: the target is terralod's handling of what
 // GDAL hands back, not GDAL's other two hundred drivers. GDAL itself is not instrumented here.
@@ -78,6 +79,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   options.encoding = encoding == 1   ? terralod::HeightEncoding::kTerrainRgb
                      : encoding == 2 ? terralod::HeightEncoding::kTerrarium
                                      : terralod::HeightEncoding::kPlain;
+  if (encoding == 3) options.band = 1;
   VSILFILE* file =
       VSIFileFromMemBuffer(kPath, const_cast<GByte*>(data + 1), vsi_l_offset(size - 1), FALSE);
   VSIFCloseL(file);

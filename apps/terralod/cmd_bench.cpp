@@ -7,6 +7,7 @@
 
 #include "bench_flight.h"
 #include "bench_report.h"
+#include "cli_checks.h"
 #include "commands.h"
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
@@ -199,7 +200,7 @@ void addBenchCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--metric-stride", b->metricStride,
                   "With --source: measure every k-th sample in x and y (default: every sample up "
                   "to 4097 a side, ceil(side / 4097) above)")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber<int>(1));
   cmd->add_option("--json", b->jsonPath, "Where to write the figures (JSON)")->required();
   cmd->add_option("--report", b->reportDir,
                   "Also write a report to this directory: report.md with the figures, plots of "

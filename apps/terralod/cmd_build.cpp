@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "terralod/build/builder.h"
 
@@ -22,29 +23,35 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--max-error", options->maxError,
                   "Geometric error of the finest level in metres; each coarser level doubles it")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--encoding", *encoding,
                   "Height encoding of RGB web tiles: none, terrain-rgb, terrarium")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "terrain-rgb", "terrarium"}));
+  cmd->add_option("--band", options->dem.band,
+                  "Band holding the heights, 1-based (default 1; needed for rasters of several "
+                  "8-bit bands, such as photos, which are refused otherwise)")
+      ->check(wholeNumber<int>(1));
   cmd->add_option("--spacing", *spacing,
                   "Horizontal spacing DX[,DY] in metres (overrides georeferencing)")
       ->delimiter(',')
       ->expected(1, 2)
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--vertical-scale", options->dem.verticalScale, "Multiply every height by S")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--chunk-cells", options->chunkCells,
-                  "Leaf chunk side in cells, a power of two (default: 64, less for small rasters)");
-  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+                  "Leaf chunk side in cells, a power of two (default: 64, less for small rasters)")
+      ->check(wholeNumber<int32_t>(0));
+  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")
+      ->check(wholeNumber<unsigned>());
   cmd->add_option("--memory-mb", options->memoryMB,
                   "Memory budget for the input; larger rasters are read in windows")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber<uint64_t>(1));
   cmd->add_option("--zstd-level", options->compressionLevel, "zstd level for chunk data (1-22)")
       ->capture_default_str()
-      ->check(CLI::Range(1, 22));
+      ->check(wholeNumber(1, 22));
   cmd->add_option("--texture", options->textureImage,
                   "Image to drape (any georeferenced raster GDAL reads, in any CRS and "
                   "resolution); default: a generated colour (height tint, rock, snow, occlusion)");
@@ -52,7 +59,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "Size textures so that no texel covers more than one pixel at this τ "
                   "(pixels) or below (the source's own resolution permitting)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   auto noTexture = std::make_shared<bool>(false);
   cmd->add_flag("--no-texture", *noTexture,
                 "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
@@ -64,6 +71,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build dem.tif -o dem.tlod\n"
       "  terralod build dem.tif --texture ortho.tif --max-error 0.5 -o dem.tlod\n"
       "  terralod build tile.png --encoding terrarium -o tile.tlod\n"
+      "  terralod build scan.tif --band 2 -o scan.tlod\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture] {
@@ -72,6 +80,10 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
       options->dem.encoding = *parseHeightEncoding(*encoding);
+      if (options->dem.band != 0 && options->dem.encoding != HeightEncoding::kPlain)
+        return fail(
+            "--band and --encoding contradict each other (RGB-encoded heights use bands "
+            "1 to 3)");
       if (!spacing->empty())
         options->dem.spacing = std::array<double, 2>{(*spacing)[0], spacing->back()};
       TerminalProgress progress;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "export_mesh.h"
 #include "mesh_writers.h"
@@ -87,7 +88,8 @@ void addExportCommand(CLI::App& root, Runner& run) {
                   ".glb (glTF 2.0 binary)")
       ->required();
   cmd->add_option("--level", options->level,
-                  "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)");
+                  "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)")
+      ->check(wholeNumber<int64_t>());
   cmd->footer(
       "Example:\n"
       "  terralod export dem.tlod --level 3 -o level3.glb\n");

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "render_options.h"
 #include "terralod/render/contact_sheet.h"
@@ -99,7 +100,7 @@ void addRenderCommand(CLI::App& root, Runner& run) {
   cmd->add_option(
          "--every", r->every,
          "Render only every k-th frame of a flight (frame files keep their flight numbers)")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber<int>(1));
   cmd->footer(
       "Examples:\n"
       "  terralod render dem.tlod -o overview.png\n"

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "terralod/raster/synthetic_dem_writer.h"
 
@@ -18,16 +19,19 @@ void addSynthCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--size", *size,
                   "Samples per side (2.." + std::to_string(kMaxSyntheticSide) +
                       "); any size, e.g. 8193 for 2^13+1")
-      ->required();
+      ->required()
+      ->check(wholeNumber<int64_t>());
   cmd->add_option("--seed", options->seed, "Seed; the same seed gives the same terrain")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(wholeNumber<uint64_t>());
   cmd->add_option("--spacing", options->spacing, "Metres between samples")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   cmd->add_option("--compress", options->compression, "GeoTIFF compression")
       ->capture_default_str()
       ->check(CLI::IsMember({"zstd", "deflate", "lzw", "none"}));
-  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")
+      ->check(wholeNumber<unsigned>());
   cmd->add_option("-o,--output", options->output, "GeoTIFF to write")->required();
   cmd->footer(
       "Example:\n"

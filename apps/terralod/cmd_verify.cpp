@@ -2,6 +2,7 @@
 
 #include <cstdio>
 
+#include "cli_checks.h"
 #include "commands.h"
 #include "terralod/verify/verifier.h"
 
@@ -20,7 +21,8 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
                   "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
       ->required();
   cmd->add_option("--source", *source, "The raster the tileset was built from")->required();
-  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)");
+  cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")
+      ->check(wholeNumber<unsigned>());
   cmd->footer(
       "Example:\n"
       "  terralod verify dem.tlod --source dem.tif\n"
@@ -33,13 +35,24 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
       const VerifyReport& r = *report;
       std::printf("%s against %s: %llu chunks\n", tileset->c_str(), source->c_str(),
                   (unsigned long long)r.chunks);
-      std::printf("  level   bound(m)  max error(m)  samples      uncovered  morph mismatch(m)\n");
+      std::printf(
+          "  level   bound(m)  max error(m)  samples      uncovered  height step(m)  morph "
+          "mismatch(m) vs allowed(m)\n");
       for (size_t l = 0; l < r.levels.size(); ++l) {
         const LevelCheck& c = r.levels[l];
-        std::printf("  %5zu  %9.4f  %12.4f  %11llu  %9llu  %17.6f\n", l, c.bound, c.maxError,
-                    (unsigned long long)c.samples, (unsigned long long)c.uncovered,
-                    c.maxMorphMismatch);
+        char morph[64] = "       - (roots: no parent)";
+        if (l > 0)
+          std::snprintf(morph, sizeof morph, "%12.6f %s %.6f", c.maxMorphMismatch,
+                        c.maxMorphMismatch <= c.morphTolerance ? "≤" : ">", c.morphTolerance);
+        std::printf("  %5zu  %9.4f  %12.4f  %11llu  %9llu  %14.6f  %s\n", l, c.bound, c.maxError,
+                    (unsigned long long)c.samples, (unsigned long long)c.uncovered, c.heightStep,
+                    morph);
       }
+      std::printf(
+          "  morph mismatch allowed = (height step + parent level's step) / 2 + 1e-6 m: a fully "
+          "morphed chunk shows its parent's exact surface rounded to its own step, the parent "
+          "draws its vertices rounded to its step, and both are linear over the chunk's "
+          "triangles (which refine the parent's)\n");
       std::printf("  skirts: %llu chunk pairs, %llu border samples, smallest margin %.4f m\n",
                   (unsigned long long)r.skirtPairs, (unsigned long long)r.skirtSamples,
                   r.worstSkirtMargin);

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_checks.h"
 #include "cli_values.h"
 
 namespace terralod::cli {
@@ -19,11 +20,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   }
   c.add_option("--fov", o.fovDegrees, "Horizontal field of view in degrees")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 179.0));
+      ->check(numberBetween(1.0, 179.0));
   c.add_option("--size", o.size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
   c.add_option("--tau", o.tau, "Screen-space error bound τ in pixels")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   c.add_option("--background", o.background, "Colour RRGGBB of the empty sky overhead")
       ->capture_default_str();
   c.add_flag("--wireframe", o.wireframe, "Draw triangle edges over the surface");
@@ -41,18 +42,19 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "Sun direction AZ,EL in degrees: azimuth clockwise from north, elevation above "
                "the horizon (default 315,40)")
       ->delimiter(',')
-      ->expected(2);
+      ->expected(2)
+      ->check(finiteNumber());
   c.add_option("--cache-mb", o.cacheMB,
                "Memory budget for chunks in MB (GPU copies and decoded chunks waiting for upload)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positiveNumber());
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");
   c.add_flag("--climb-only", o.climbOnly,
              "With --auto-flight: fly only its climb (every level merges on the way up)");
   c.add_option("--frames", o.frames, "Frames to fly (default: the whole flight)")
-      ->check(CLI::PositiveNumber);
+      ->check(wholeNumber<int>(1));
 }
 
 Result<SelectionOptions> selectionOptions(const RenderOptions& o) {

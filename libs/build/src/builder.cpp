@@ -61,6 +61,9 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
   };
   if (info.hasGeoTransform) source["geotransform"] = info.geoTransform;
   if (info.nodata) source["nodata"] = *info.nodata;
+  // Only multi-band sources say which band held the heights: single-band tilesets keep their
+  // bytes (and the golden files stay valid).
+  if (info.encoding == HeightEncoding::kPlain && info.bandCount > 1) source["band"] = info.band;
   nlohmann::json j = {
       {"generator", "terralod"},
       {"source", source},
@@ -228,7 +231,13 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   summary.trianglesScanned = activationStats.trianglesScanned;
   summary.trianglesBounded = activationStats.trianglesBounded;
   // Warn only once the input has proven usable, so a broken input gets its one error line.
-  if (info.spacingAssumed) warn(info.path + ": " + info.spacingSource);
+  if (info.looksLikeImage)
+    warn(info.path +
+         ": looks like an image, not heights (one 8-bit band, no georeferencing): its values "
+         "0..255 are taken as metres on 1 m cells; for a heightmap give --spacing and "
+         "--vertical-scale");
+  else if (info.spacingAssumed)
+    warn(info.path + ": " + info.spacingSource);
 
   const auto meshStart = Clock::now();
   std::vector<NodeRecord> nodes = enumerateNodes(*layout);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include <filesystem>
 #include <fstream>
@@ -196,6 +197,40 @@ TEST(Verify, CatchesAChunkOutsideItsBound) {
   EXPECT_TRUE(reported("exceeds its level's bound")) << ::testing::PrintToString(report->failures);
   // The raised vertex also leaves the node's height bounds, which culling relies on.
   EXPECT_TRUE(reported("leave the node's bounds")) << ::testing::PrintToString(report->failures);
+}
+
+TEST(Verify, CatchesAMorphTargetOffItsParent) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(129, 129, 10), dir.file("in.tif"));
+  build(dir.file("in.tif"), dir.file("good.tlod"), 1.0);
+  NullProgress progress;
+  auto good = verifyTileset(dir.file("good.tlod"), dir.file("in.tif"), {}, progress);
+  ASSERT_TRUE(good.ok());
+  ASSERT_TRUE(good->ok()) << ::testing::PrintToString(good->failures);
+  ASSERT_GE(good->levels.size(), 2u);
+  // Every level below the roots reports its allowance, (own step + parent's step) / 2 + slack,
+  // and stays within it.
+  for (size_t l = 1; l < good->levels.size(); ++l) {
+    const LevelCheck& c = good->levels[l];
+    EXPECT_DOUBLE_EQ(c.morphTolerance,
+                     0.5 * (c.heightStep + good->levels[l - 1].heightStep) + kVerifySlack);
+    EXPECT_LE(c.maxMorphMismatch, c.morphTolerance);
+  }
+  auto reader = TilesetReader::openFile(dir.file("good.tlod")).value();
+  uint32_t victim = 0;
+  while (reader->nodes()[victim].level != 1) ++victim;
+  const double allowed = good->levels[1].morphTolerance;
+  tamper(dir.file("good.tlod"), dir.file("bad.tlod"), victim, [&](ChunkGeometry& g) {
+    ChunkVertex& v = g.parts[0].vertices[g.parts[0].indices[0]];
+    v.morphDelta = int16_t(v.morphDelta - int(std::ceil(2.0 * allowed / g.zStep)) - 1);
+  });
+  auto bad = verifyTileset(dir.file("bad.tlod"), dir.file("in.tif"), {}, progress);
+  ASSERT_TRUE(bad.ok());
+  EXPECT_FALSE(bad->ok());
+  EXPECT_GT(bad->levels[1].maxMorphMismatch, bad->levels[1].morphTolerance);
+  EXPECT_TRUE(std::any_of(bad->failures.begin(), bad->failures.end(), [](const std::string& f) {
+    return f.find("fully morphed surface is") != std::string::npos;
+  })) << ::testing::PrintToString(bad->failures);
 }
 
 TEST(Verify, CatchesMissingSkirts) {

@@ -179,6 +179,7 @@ struct DemReader::Impl {
   GDALDatasetUniquePtr dataset;
   std::string openedName;  // what was passed to GDALOpen (may be a subdataset)
   int bandCount = 1;
+  int band = 1;  // the band read as heights (plain encoding)
   GDALDataType bandType = GDT_Float64;
 };
 
@@ -244,11 +245,26 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
                      "raster is " + std::to_string(info.columns) + "x" + std::to_string(info.rows) +
                          " samples, more than terralod supports (1048576 per side, 2^34 in all)");
 
-  GDALRasterBand* band = ds.GetRasterBand(1);
+  info.bandCount = impl->bandCount;
+  const bool plain = options.encoding == HeightEncoding::kPlain;
+  if (plain && options.band != 0 && (options.band < 1 || options.band > impl->bandCount))
+    return makeError(path, "has " + std::to_string(impl->bandCount) +
+                               " band(s); --band must be 1 to " + std::to_string(impl->bandCount) +
+                               " (got " + std::to_string(options.band) + ")");
+  impl->band = plain && options.band != 0 ? options.band : 1;
+  info.band = impl->band;
+  GDALRasterBand* band = ds.GetRasterBand(impl->band);
   impl->bandType = band->GetRasterDataType();
   info.dataType = GDALGetDataTypeName(impl->bandType);
   if (Status s = checkBlockSize(ds, *band, path, options.maxBlockBytes); !s) return s.error();
-  if (options.encoding != HeightEncoding::kPlain) {
+  // Several 8-bit bands are a photo or an RGB-encoded web tile: band 1 alone would be its red
+  // channel, read as 0..255 m (or, for terrain-RGB, a flat slab of its high byte).
+  if (plain && options.band == 0 && impl->bandCount > 1 && impl->bandType == GDT_Byte)
+    return makeError(path, "has " + std::to_string(impl->bandCount) +
+                               " bands of 8-bit values, like a picture, not heights: give "
+                               "--encoding terrain-rgb|terrarium for RGB-encoded heights, or "
+                               "--band N to take one band as heights");
+  if (!plain) {
     if (impl->bandCount < 3 || impl->bandType != GDT_Byte)
       return makeError(path, "RGB-encoded heights need 3 byte bands; this raster has " +
                                  std::to_string(impl->bandCount) + " band(s) of " + info.dataType);
@@ -289,6 +305,8 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
     info.spacingX = info.spacingY = 1.0;
     info.spacingAssumed = true;
     info.spacingSource = "no georeferencing: 1 m assumed (pass --spacing)";
+    info.looksLikeImage =
+        plain && impl->bandCount == 1 && impl->bandType == GDT_Byte && info.crsWkt.empty();
   }
   if (!(info.spacingX > 0) || !(info.spacingY > 0) || !std::isfinite(info.spacingX) ||
       !std::isfinite(info.spacingY))
@@ -307,7 +325,7 @@ Result<std::array<double, 2>> DemReader::approximateHeightRange() const {
   gdal::QuietErrors quiet;
   if (mInfo.encoding != HeightEncoding::kPlain) return Error{"no approximate range for RGB tiles"};
   double minMax[2] = {0, 0};
-  if (GDALComputeRasterMinMax(mImpl->dataset->GetRasterBand(1), TRUE, minMax) != CE_None)
+  if (GDALComputeRasterMinMax(mImpl->dataset->GetRasterBand(mImpl->band), TRUE, minMax) != CE_None)
     return makeError(mInfo.path,
                      "cannot estimate the height range (" + gdal::lastErrorMessage() + ")");
   std::array<double, 2> range = {minMax[0] * mInfo.heightScale + mInfo.heightOffset,
@@ -336,7 +354,7 @@ Status DemReader::readWindow(int32_t x0, int32_t y0, int32_t w, int32_t h, float
   const bool identity = mInfo.heightScale == 1.0 && mInfo.heightOffset == 0.0;
 
   // Strips of whole raster blocks, so each block is decoded once.
-  GDALRasterBand* band = mImpl->dataset->GetRasterBand(1);
+  GDALRasterBand* band = mImpl->dataset->GetRasterBand(rgb ? 1 : mImpl->band);
   int blockX = 0, blockY = 0;
   band->GetBlockSize(&blockX, &blockY);
   // Block heights come from the file: clamp before rounding up to whole multiples of 64.

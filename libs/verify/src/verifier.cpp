@@ -17,7 +17,7 @@
 namespace terralod {
 namespace {
 
-constexpr double kTolerance = 1e-6;  // metres of floating-point slack in comparisons
+constexpr double kTolerance = kVerifySlack;
 
 // One point of a chunk side: the drawn top over the morph range and the skirt's depth there.
 struct SidePoint {
@@ -159,9 +159,14 @@ Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::s
   DemOpenOptions dem;
   const auto metadata = nlohmann::json::parse(tileset.metadataJson(), nullptr, false);
   if (!metadata.is_discarded()) {
-    if (metadata.contains("source"))
+    if (metadata.contains("source")) {
       dem.encoding = parseHeightEncoding(metadata["source"].value("encoding", "none"))
                          .value_or(HeightEncoding::kPlain);
+      // The band the heights came from (recorded for multi-band sources only; band 1 before).
+      const auto band = metadata["source"].find("band");
+      if (dem.encoding == HeightEncoding::kPlain)
+        dem.band = band != metadata["source"].end() && band->is_number_integer() ? int(*band) : 1;
+    }
     if (metadata.contains("build"))
       dem.verticalScale = metadata["build"].value("vertical_scale", 1.0);
   }
@@ -259,7 +264,7 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
                  " samples not covered by its triangles");
 
     // The fully morphed surface must be the parent's surface.
-    double mismatch = 0;
+    double mismatch = 0, tolerance = 0;
     if (n.level > 0) {
       auto parent = decode(n.parent);
       if (!parent) return addFailure(parent.error().message);
@@ -270,7 +275,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
       for (size_t k = 0; k < morphed.values.size(); ++k)
         if (!std::isnan(morphed.values[k]) && !std::isnan(target.values[k]))
           mismatch = std::max(mismatch, std::fabs(morphed.values[k] - target.values[k]));
-      const double tolerance = 0.5 * (self->geometry.zStep + parent->geometry.zStep) + kTolerance;
+      // Both surfaces are rounded to their own height steps; see LevelCheck::morphTolerance.
+      tolerance = 0.5 * (self->geometry.zStep + parent->geometry.zStep) + kTolerance;
       if (mismatch > tolerance)
         addFailure(name(i) + ": fully morphed surface is " + std::to_string(mismatch) +
                    " m off its parent's (allowed " + std::to_string(tolerance) + " m)");
@@ -281,6 +287,8 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     level.samples += uint64_t(surface.w * surface.h);
     level.uncovered += uncovered;
     level.maxMorphMismatch = std::max(level.maxMorphMismatch, mismatch);
+    level.morphTolerance = std::max(level.morphTolerance, tolerance);
+    level.heightStep = std::max(level.heightStep, self->geometry.zStep);
   });
   progress.end();
 

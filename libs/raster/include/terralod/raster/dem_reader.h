@@ -17,13 +17,16 @@
 namespace terralod {
 
 enum class HeightEncoding {
-  kPlain,       ///< the first band holds heights (scale/offset and vertical units applied)
+  kPlain,       ///< one band holds heights (scale/offset and vertical units applied)
   kTerrainRgb,  ///< Mapbox: h = (R*65536 + G*256 + B) * 0.1 - 10000
   kTerrarium,   ///< Mapzen:  h = R*256 + G + B/256 - 32768
 };
 
 struct DemOpenOptions {
   HeightEncoding encoding = HeightEncoding::kPlain;
+  /// With plain heights: the band holding them, 1-based. 0 takes band 1 but refuses a raster of
+  /// several 8-bit bands (a photo or an RGB-encoded tile, not heights) and says how to read it.
+  int band = 0;
   /// Overrides the horizontal spacing (metres per cell) taken from georeferencing.
   std::optional<std::array<double, 2>> spacing;
   /// Multiplies every height after unit conversion.
@@ -53,6 +56,10 @@ struct DemInfo {
   bool hasGeoTransform = false;
   bool southUp = false;  ///< raster row 0 is the southern edge (positive geotransform y step)
   HeightEncoding encoding = HeightEncoding::kPlain;
+  int bandCount = 1;  ///< bands in the raster
+  int band = 1;       ///< the band read as heights (plain encoding)
+  /// One 8-bit band and no georeferencing (nor --spacing): more likely a picture than heights.
+  bool looksLikeImage = false;
 };
 
 /// One open raster. Not thread-safe: each thread that reads needs its own reader (reopen()).

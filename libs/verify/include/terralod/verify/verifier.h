@@ -27,7 +27,17 @@ struct LevelCheck {
   uint64_t samples = 0;         ///< source samples compared (each once per level)
   uint64_t uncovered = 0;       ///< samples no triangle of the level covers
   double maxMorphMismatch = 0;  ///< largest |fully morphed surface - parent surface|
+  double heightStep = 0;        ///< the level's height quantisation step (zStep)
+  /// What maxMorphMismatch may reach (levels below the roots): half the level's height step
+  /// plus half its parent level's, plus kVerifySlack. A chunk's morph targets are its parent's
+  /// exact surface at its vertices, rounded to the chunk's step (off by <= step/2); the parent
+  /// draws its own vertices rounded to its step (off by <= parent step/2); the chunk refines
+  /// its parent, so between vertices both are linear over the same triangles.
+  double morphTolerance = 0;
 };
+
+/// Metres of floating-point slack in every comparison verify makes.
+inline constexpr double kVerifySlack = 1e-6;
 
 struct VerifyReport {
   std::vector<LevelCheck> levels;
@@ -35,7 +45,6 @@ struct VerifyReport {
   uint64_t skirtPairs = 0;      ///< chunk pairs checked across borders
   uint64_t skirtSamples = 0;    ///< border samples checked
   double worstSkirtMargin = 0;  ///< smallest (skirt depth - largest possible step), metres
-  double morphTolerance = 0;    ///< allowed morph mismatch (height quantisation)
   std::vector<std::string> failures;
   uint64_t failureCount = 0;
   bool ok() const { return failureCount == 0; }
