@@ -635,29 +635,6 @@ TEST_P(Export, GlbPassesTheKhronosValidator) {
       << "a .glb needs no side files";
 }
 
-// --no-texture: normals and texture coordinates all the same, but no image anywhere, no
-// material library, and a .glb that still validates.
-TEST_P(Export, NoTextureWritesNoImage) {
-  for (const char* name : {"plain.obj", "plain.ply", "plain.glb"}) {
-    SCOPED_TRACE(name);
-    const std::string path = mDir.file(name);
-    const LevelFacts facts = exportLevel(path, std::nullopt, {"--no-texture"});
-    const Mesh mesh = std::string(name).ends_with(".obj")   ? readObj(path)
-                      : std::string(name).ends_with(".ply") ? readPly(path)
-                                                            : meshFromGlb(readGlb(path));
-    expectLevelSurface(mesh, facts, mInfo);
-    expectNormalsAndTexcoords(mesh, mInfo);
-    EXPECT_EQ(mesh.materialLibrary, "");
-    EXPECT_EQ(mesh.textureFile, "");
-  }
-  const Glb glb = readGlb(mDir.file("plain.glb"));
-  for (const char* key : {"images", "textures", "samplers"}) EXPECT_FALSE(glb.json.contains(key));
-  EXPECT_FALSE(glb.json["materials"][0]["pbrMetallicRoughness"].contains("baseColorTexture"));
-  expectValidGltf(mDir.file("plain.glb"));
-  EXPECT_EQ(filesIn(mDir.path()),
-            (std::vector<std::string>{"plain.glb", "plain.obj", "plain.ply", "t.tlod"}));
-}
-
 TEST_P(Export, BadInputsGetOneErrorLineAndNoOutput) {
   const std::string d = mDir.path().string();
   // A tileset whose finest level has a damaged chunk (the node table still reads).
@@ -726,7 +703,7 @@ TEST_P(Export, FailureNeverTouchesAnExistingOutput) {
   EXPECT_EQ(readWholeFile(mDir.file("old.png")), "an earlier texture");
   EXPECT_EQ(filesIn(mDir.path()), before);
   // ...and a successful export replaces them.
-  exportLevel(mDir.file("old.obj"), std::nullopt, {"--texture-size", "16"});
+  exportLevel(mDir.file("old.obj"), 0u, {"--texture-size", "16"});
   EXPECT_NE(readWholeFile(mDir.file("old.obj")).find("\nv "), std::string::npos);
   EXPECT_NE(readWholeFile(mDir.file("old.mtl")).find("map_Kd old.png"), std::string::npos);
   EXPECT_TRUE(readPng(mDir.file("old.png")).ok());
@@ -791,7 +768,7 @@ TEST_F(ExportDrapedTexture, ObjAndPlyWriteTheImageBeside) {
   const auto [w, h] = imageSize(200);
   for (const char* name : {"zion.obj", "zion.ply"}) {
     SCOPED_TRACE(name);
-    runExport(sTileset, sLevels, mDir.file(name), sLevels - 2, {"--texture-size", "200"});
+    runExport(sTileset, sLevels, mDir.file(name), 1u, {"--texture-size", "200"});
     auto image = readPng(mDir.file("zion.png"));
     ASSERT_TRUE(image.ok()) << image.error().message;
     expectImageResemblesTileset(*image, sTileset, w, h);
@@ -811,6 +788,29 @@ TEST_F(ExportDrapedTexture, DefaultSizeIsTheFullResolution) {
   const Image image = readPngBytes(mDir, embeddedPng(readGlb(glb)));
   EXPECT_EQ(image.width, size[0] - 1) << r.out;
   EXPECT_EQ(image.height, size[1] - 1) << r.out;
+}
+
+// --no-texture: normals and texture coordinates all the same, but no image anywhere, no
+// material library, and a .glb that still validates. (Level 1, to keep it quick.)
+TEST_F(ExportDrapedTexture, NoTextureWritesNoImage) {
+  for (const char* name : {"plain.obj", "plain.ply", "plain.glb"}) {
+    SCOPED_TRACE(name);
+    const std::string path = mDir.file(name);
+    const LevelFacts facts = runExport(sTileset, sLevels, path, 1u, {"--no-texture"});
+    const Mesh mesh = std::string(name).ends_with(".obj")   ? readObj(path)
+                      : std::string(name).ends_with(".ply") ? readPly(path)
+                                                            : meshFromGlb(readGlb(path));
+    expectLevelSurface(mesh, facts, sInfo);
+    expectNormalsAndTexcoords(mesh, sInfo);
+    EXPECT_EQ(mesh.materialLibrary, "");
+    EXPECT_EQ(mesh.textureFile, "");
+  }
+  const Glb glb = readGlb(mDir.file("plain.glb"));
+  for (const char* key : {"images", "textures", "samplers"}) EXPECT_FALSE(glb.json.contains(key));
+  EXPECT_FALSE(glb.json["materials"][0]["pbrMetallicRoughness"].contains("baseColorTexture"));
+  expectValidGltf(mDir.file("plain.glb"));
+  EXPECT_EQ(filesIn(mDir.path()),
+            (std::vector<std::string>{"plain.glb", "plain.obj", "plain.ply"}));
 }
 
 // An untextured tileset exports its mesh and says there is no texture to write.
