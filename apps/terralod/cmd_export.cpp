@@ -1,12 +1,16 @@
-// terralod export TILESET [--level L] -o OUT.obj|OUT.ply|OUT.glb
+// terralod export TILESET [--level L] [--texture-size N | --no-texture] -o OUT.obj|OUT.ply|OUT.glb
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
+#include <span>
 
 #include "cli_checks.h"
 #include "commands.h"
 #include "export_mesh.h"
+#include "export_texture.h"
 #include "mesh_writers.h"
 #include "terralod/core/atomic_file.h"
 
@@ -15,8 +19,17 @@ namespace {
 
 struct ExportOptions {
   std::string tileset, output;
-  std::optional<int64_t> level;  // default: the finest
+  std::optional<int64_t> level;        // default: the finest
+  std::optional<int64_t> textureSize;  // default: the full resolution, at most kDefaultTexture
+  bool noTexture = false;
 };
+
+constexpr int64_t kDefaultTexture = 2048, kMaxTexture = 16384;
+
+// A side file (texture, material library) beside the mesh: same name, another extension.
+std::string besideOutput(const std::string& output, const char* extension) {
+  return std::filesystem::path(output).replace_extension(extension).string();
+}
 
 int exportLevel(const ExportOptions& options) {
   const auto format = meshFormatForPath(options.output);
@@ -35,10 +48,29 @@ int exportLevel(const ExportOptions& options) {
     return fail(options.tileset + ": no level " + std::to_string(level) +
                 "; this tileset has levels 0 to " + std::to_string(levels - 1));
 
+  if (options.textureSize && (*options.textureSize < 1 || *options.textureSize > kMaxTexture))
+    return fail("--texture-size " + std::to_string(*options.textureSize) + ": must be 1 to " +
+                std::to_string(kMaxTexture) + " pixels");
+  const bool textured = tileset.header().textured() && !options.noTexture;
+  if (options.textureSize && !tileset.header().textured())
+    warn(options.tileset + ": has no texture (built with --no-texture); --texture-size ignored");
+
   // Fail on an unwritable output before the work, not after; nothing appears at the output
-  // until the whole mesh is written.
+  // (nor beside it) until the whole mesh and its side files are written.
   auto file = AtomicFile::create(options.output);
   if (!file) return fail(file.error().message);
+  // OBJ and PLY keep the texture in a PNG beside the mesh, OBJ its material in a .mtl.
+  std::optional<AtomicFile> pngFile, mtlFile;
+  if (textured && *format != MeshFormat::kGlb) {
+    auto png = AtomicFile::create(besideOutput(options.output, ".png"));
+    if (!png) return fail(png.error().message);
+    pngFile.emplace(std::move(png).value());
+    if (*format == MeshFormat::kObj) {
+      auto mtl = AtomicFile::create(besideOutput(options.output, ".mtl"));
+      if (!mtl) return fail(mtl.error().message);
+      mtlFile.emplace(std::move(mtl).value());
+    }
+  }
 
   TerminalProgress progress;
   auto surface = gatherLevelSurface(tileset, uint32_t(level), progress);
@@ -56,17 +88,68 @@ int exportLevel(const ExportOptions& options) {
          " m; kept the first chunk's");
   }
 
-  const std::string description = "level " + std::to_string(level) + " of " +
-                                  std::filesystem::path(options.tileset).filename().string();
-  if (Status s = writeMesh(*surface, *format, description, *file); !s)
+  MeshExtras extras;
+  extras.description = "level " + std::to_string(level) + " of " +
+                       std::filesystem::path(options.tileset).filename().string();
+  std::optional<ExportTexture> texture;
+  if (textured) {
+    auto full = fullTextureResolution(tileset);
+    if (!full) return fail(full.error().message);
+    const int64_t longSide = options.textureSize.value_or(
+        std::clamp<int64_t>(int64_t(std::ceil(*full - 1e-6)), 1, kDefaultTexture));
+    auto assembled = assembleTexture(tileset, uint32_t(longSide), progress);
+    if (!assembled) return fail(assembled.error().message);
+    texture = std::move(assembled).value();
+    auto png = encodePng(*texture, pngFile ? pngFile->path() : options.output);
+    if (!png) return fail(png.error().message);
+    extras.png = std::move(png).value();
+    if (pngFile) {
+      extras.textureFile = std::filesystem::path(pngFile->path()).filename().string();
+      if (Status s = pngFile->write(std::span<const uint8_t>(extras.png)); !s)
+        return fail(s.error().message);
+      extras.png.clear();  // written beside the mesh, not into it
+    }
+    if (mtlFile) {
+      extras.materialLibrary = std::filesystem::path(mtlFile->path()).filename().string();
+      if (Status s = mtlFile->write(objMaterialLibrary(extras.description, extras.textureFile)); !s)
+        return fail(s.error().message);
+    }
+  }
+  if (Status s = writeMesh(*surface, *format, extras, *file); !s) return fail(s.error().message);
+  // Side files first, the mesh last: a mesh never refers to a file that is not there. Should
+  // the mesh fail to appear, the side files just put in place go too.
+  std::vector<std::string> committed;
+  for (std::optional<AtomicFile>* side : {&pngFile, &mtlFile}) {
+    if (!*side) continue;
+    if (Status s = (*side)->commit(); !s) {
+      for (const std::string& path : committed) std::filesystem::remove(path);
+      return fail(s.error().message);
+    }
+    committed.push_back((*side)->path());
+  }
+  if (Status s = file->commit(); !s) {
+    for (const std::string& path : committed) std::filesystem::remove(path);
     return fail(s.error().message);
-  if (Status s = file->commit(); !s) return fail(s.error().message);
+  }
   std::printf(
       "terralod: wrote %s: level %lld, %llu chunks, %llu vertices (%llu shared ones welded), "
       "%llu triangles, %llu bytes\n",
       options.output.c_str(), (long long)level, (unsigned long long)surface->chunks,
       (unsigned long long)surface->positions.size(), (unsigned long long)surface->weldedVertices,
       (unsigned long long)(surface->indices.size() / 3), (unsigned long long)file->bytesWritten());
+  if (texture) {
+    const std::string where =
+        pngFile ? "wrote " + pngFile->path() + " (" + std::to_string(pngFile->bytesWritten()) +
+                      " bytes" + (mtlFile ? ", material in " + mtlFile->path() : "") + ")"
+                : "embedded in " + options.output + " (" + std::to_string(extras.png.size()) +
+                      " bytes of PNG)";
+    std::printf("terralod: texture %ux%u from the colour of level %u (%.0f texels across): %s\n",
+                texture->width, texture->height, texture->level, texture->levelTexels,
+                where.c_str());
+  } else {
+    std::printf("terralod: no texture (%s)\n",
+                options.noTexture ? "--no-texture" : "the tileset has none");
+  }
   return 0;
 }
 
@@ -90,7 +173,20 @@ void addExportCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--level", options->level,
                   "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)")
       ->check(wholeNumber<int64_t>());
+  auto* size = cmd->add_option(
+      "--texture-size", options->textureSize,
+      "Pixels along the longer side of the colour texture (the other in proportion), sampled "
+      "from the coarsest level of the texture quadtree that has as many (default: the tileset's "
+      "full resolution, at most 2048)")
+      ->check(wholeNumber<int64_t>());
+  cmd->add_flag("--no-texture", options->noTexture,
+                "Write no texture (normals and texture coordinates are written all the same)")
+      ->excludes(size);
   cmd->footer(
+      "Normals are unit, per vertex, angle-weighted from the exported triangles; texture "
+      "coordinates run 0..1 over the data's extent. A textured tileset's colour goes with the "
+      "mesh: embedded as PNG with a material in .glb; beside the mesh as NAME.png (and "
+      "NAME.mtl) for .obj, as NAME.png named by a 'comment TextureFile' for .ply.\n\n"
       "Example:\n"
       "  terralod export dem.tlod --level 3 -o level3.glb\n");
   cmd->callback([&run, options] { run = [options] { return exportLevel(*options); }; });

@@ -80,7 +80,60 @@ Result<LevelSurface> gatherLevelSurface(const TilesetReader& tileset, uint32_t l
     progress.advance();
   }
   progress.end();
+  surface.normals = angleWeightedNormals(surface.positions, surface.indices);
+  surface.extent = {double(header.sourceColumns - 1) * header.spacingX,
+                    double(header.sourceRows - 1) * header.spacingY};
+  surface.texcoords.reserve(surface.positions.size());
+  for (const auto& p : surface.positions) {
+    std::array<float, 2> uv;
+    for (int c = 0; c < 2; ++c)
+      uv[size_t(c)] = float(std::clamp(double(p[size_t(c)]) / surface.extent[size_t(c)], 0.0, 1.0));
+    surface.texcoords.push_back(uv);
+  }
   return surface;
+}
+
+std::vector<std::array<float, 3>> angleWeightedNormals(
+    const std::vector<std::array<float, 3>>& positions, const std::vector<uint32_t>& indices) {
+  using Vec = std::array<double, 3>;
+  const auto sub = [](const std::array<float, 3>& a, const std::array<float, 3>& b) {
+    return Vec{double(a[0]) - b[0], double(a[1]) - b[1], double(a[2]) - b[2]};
+  };
+  const auto dot = [](const Vec& a, const Vec& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  const auto cross = [](const Vec& a, const Vec& b) {
+    return Vec{a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+  };
+  // Sums in float: at most 2π of weight per vertex, so float keeps them to ~1e-7.
+  std::vector<std::array<float, 3>> sums(positions.size(), {0.0f, 0.0f, 0.0f});
+  for (size_t k = 0; k + 2 < indices.size(); k += 3) {
+    const uint32_t corner[3] = {indices[k], indices[k + 1], indices[k + 2]};
+    const Vec e[3] = {sub(positions[corner[1]], positions[corner[0]]),
+                      sub(positions[corner[2]], positions[corner[1]]),
+                      sub(positions[corner[0]], positions[corner[2]])};
+    Vec n = cross(e[0], e[1]);
+    const double length = std::sqrt(dot(n, n));
+    if (!(length > 0)) continue;
+    for (double& c : n) c /= length;
+    for (int i = 0; i < 3; ++i) {
+      // The angle at corner i, between the edges leaving it (toward i + 1 and toward i - 1).
+      const Vec& out = e[i];
+      const Vec& in = e[(i + 2) % 3];
+      const double angle =
+          std::atan2(std::sqrt(dot(cross(out, in), cross(out, in))), -dot(out, in));
+      for (int c = 0; c < 3; ++c) sums[corner[i]][size_t(c)] += float(angle * n[size_t(c)]);
+    }
+  }
+  for (auto& s : sums) {
+    const double length =
+        std::sqrt(double(s[0]) * s[0] + double(s[1]) * s[1] + double(s[2]) * s[2]);
+    if (length > 0)
+      s = {float(s[0] / length), float(s[1] / length), float(s[2] / length)};
+    else
+      s = {0.0f, 0.0f, 1.0f};
+  }
+  return sums;
 }
 
 }  // namespace terralod::cli

@@ -1,7 +1,10 @@
 // `terralod export`: the surface of one level as OBJ, PLY or GLB. The meshes are read back and
 // checked against the tileset itself (read independently through the format library): every
-// chunk of the level, no skirts, shared vertices welded, positions in the tileset's extent;
-// GLB files must pass the Khronos glTF validator; bad inputs get one error line and no output.
+// chunk of the level, no skirts, shared vertices welded, positions in the tileset's extent,
+// unit normals that agree with the triangles, texture coordinates 0..1 over the extent, and the
+// colour texture (embedded in GLB, beside OBJ and PLY) resembling the tileset's own tiles, the
+// right way up; GLB files must pass the Khronos glTF validator; bad inputs get one error line
+// and no output.
 
 #include <gtest/gtest.h>
 
@@ -13,12 +16,16 @@
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 #include <sstream>
 
+#include "bc_decode.h"
 #include "cli_expectations.h"
 #include "cli_runner.h"
+#include "terralod/format/chunk_position.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/render/image.h"
 
 namespace terralod::test {
 namespace {
@@ -35,6 +42,10 @@ double floatSlack(double v) {
 struct Mesh {
   std::vector<std::array<float, 3>> positions;
   std::vector<uint32_t> indices;
+  std::vector<std::array<float, 3>> normals;
+  std::vector<std::array<float, 2>> texcoords;  // v north, as OBJ and PLY count it
+  std::string textureFile;      // OBJ: the .mtl's map_Kd; PLY: its TextureFile comment
+  std::string materialLibrary;  // OBJ: mtllib
 };
 
 // What the level should look like, straight from the tileset's chunks.
@@ -87,17 +98,36 @@ Mesh readObj(const std::string& path) {
     std::istringstream words(line);
     std::string kind;
     words >> kind;
-    if (kind == "v") {
+    if (kind == "v" || kind == "vn") {
       std::array<float, 3> p{};
       words >> p[0] >> p[1] >> p[2];
       EXPECT_FALSE(words.fail()) << line;
-      mesh.positions.push_back(p);
-    } else if (kind == "f") {
-      uint64_t a = 0, b = 0, c = 0;
-      words >> a >> b >> c;
+      (kind == "v" ? mesh.positions : mesh.normals).push_back(p);
+    } else if (kind == "vt") {
+      std::array<float, 2> uv{};
+      words >> uv[0] >> uv[1];
       EXPECT_FALSE(words.fail()) << line;
-      EXPECT_TRUE(a >= 1 && b >= 1 && c >= 1) << "OBJ indices are 1-based: " << line;
-      for (uint64_t i : {a, b, c}) mesh.indices.push_back(uint32_t(i - 1));
+      mesh.texcoords.push_back(uv);
+    } else if (kind == "f") {
+      // v/vt/vn: the exporter gives every vertex one index for all three.
+      for (int corner = 0; corner < 3; ++corner) {
+        std::string triple;
+        words >> triple;
+        uint64_t v = 0, t = 0, n = 0;
+        char slash1 = 0, slash2 = 0;
+        std::istringstream parts(triple);
+        parts >> v >> slash1 >> t >> slash2 >> n;
+        EXPECT_TRUE(!parts.fail() && slash1 == '/' && slash2 == '/') << line;
+        EXPECT_TRUE(v == t && t == n) << "one index per vertex: " << line;
+        EXPECT_GE(v, 1u) << "OBJ indices are 1-based: " << line;
+        mesh.indices.push_back(uint32_t(v - 1));
+      }
+    } else if (kind == "mtllib") {
+      words >> mesh.materialLibrary;
+    } else if (kind == "usemtl") {
+      std::string material;
+      words >> material;
+      EXPECT_EQ(material, "terrain");
     } else {
       EXPECT_TRUE(kind.empty() || kind[0] == '#') << "unexpected OBJ line: " << line;
     }
@@ -115,8 +145,10 @@ Mesh readPly(const std::string& path) {
   }
   const std::string header = bytes.substr(0, end);
   EXPECT_EQ(header.rfind("ply\nformat binary_little_endian 1.0\n", 0), 0u) << header;
-  for (const char* line : {"property float x\nproperty float y\nproperty float z\n",
-                           "property list uchar uint vertex_indices\n"})
+  for (const char* line :
+       {"property float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float "
+        "ny\nproperty float nz\nproperty float u\nproperty float v\nelement face",
+        "property list uchar uint vertex_indices\n"})
     EXPECT_NE(header.find(line), std::string::npos) << header;
   size_t vertices = 0, faces = 0;
   std::istringstream lines(header);
@@ -126,13 +158,21 @@ Mesh readPly(const std::string& path) {
     size_t count = 0;
     if (words >> keyword >> element >> count && keyword == "element")
       (element == "vertex" ? vertices : faces) = count;
+    if (line.rfind("comment TextureFile ", 0) == 0) mesh.textureFile = line.substr(20);
   }
+  constexpr size_t kVertexBytes = 32;  // x y z nx ny nz u v
   const char* data = bytes.data() + end + std::strlen("end_header\n");
-  EXPECT_EQ(size_t(bytes.data() + bytes.size() - data), vertices * 12 + faces * 13);
-  if (size_t(bytes.data() + bytes.size() - data) != vertices * 12 + faces * 13) return mesh;
+  EXPECT_EQ(size_t(bytes.data() + bytes.size() - data), vertices * kVertexBytes + faces * 13);
+  if (size_t(bytes.data() + bytes.size() - data) != vertices * kVertexBytes + faces * 13)
+    return mesh;
   mesh.positions.resize(vertices);
-  std::memcpy(mesh.positions.data(), data, vertices * 12);
-  data += vertices * 12;
+  mesh.normals.resize(vertices);
+  mesh.texcoords.resize(vertices);
+  for (size_t v = 0; v < vertices; ++v, data += kVertexBytes) {
+    std::memcpy(mesh.positions[v].data(), data, 12);
+    std::memcpy(mesh.normals[v].data(), data + 12, 12);
+    std::memcpy(mesh.texcoords[v].data(), data + 24, 8);
+  }
   for (size_t f = 0; f < faces; ++f, data += 13) {
     EXPECT_EQ(uint8_t(data[0]), 3u) << "face " << f;
     uint32_t abc[3];
@@ -140,6 +180,240 @@ Mesh readPly(const std::string& path) {
     mesh.indices.insert(mesh.indices.end(), abc, abc + 3);
   }
   return mesh;
+}
+
+// A .glb's JSON and binary chunk.
+struct Glb {
+  nlohmann::json json;
+  std::string bin;
+};
+
+Glb readGlb(const std::string& path) {
+  Glb glb;
+  const std::string bytes = readWholeFile(path);
+  if (bytes.size() < 28) {
+    ADD_FAILURE() << path << ": too short for a GLB";
+    return glb;
+  }
+  uint32_t jsonBytes = 0, binBytes = 0;
+  std::memcpy(&jsonBytes, bytes.data() + 12, 4);
+  glb.json = nlohmann::json::parse(bytes.substr(20, jsonBytes), nullptr, false);
+  EXPECT_FALSE(glb.json.is_discarded());
+  if (20 + size_t(jsonBytes) + 8 <= bytes.size()) {
+    std::memcpy(&binBytes, bytes.data() + 20 + jsonBytes, 4);
+    glb.bin = bytes.substr(20 + jsonBytes + 8, binBytes);
+  }
+  return glb;
+}
+
+// The bytes of a buffer view of the GLB's binary chunk.
+std::string bufferViewBytes(const Glb& glb, size_t view) {
+  const auto& v = glb.json["bufferViews"][view];
+  const size_t offset = v.value("byteOffset", size_t(0)), length = v["byteLength"].get<size_t>();
+  EXPECT_LE(offset + length, glb.bin.size());
+  return glb.bin.substr(offset, length);
+}
+
+template <size_t N>
+std::vector<std::array<float, N>> floatAccessor(const Glb& glb, size_t accessor) {
+  const auto& a = glb.json["accessors"][accessor];
+  EXPECT_EQ(a["componentType"], 5126);
+  EXPECT_EQ(a["type"], N == 2 ? "VEC2" : "VEC3");
+  const std::string bytes = bufferViewBytes(glb, a["bufferView"].get<size_t>());
+  std::vector<std::array<float, N>> out(a["count"].get<size_t>());
+  EXPECT_EQ(bytes.size(), out.size() * N * 4);
+  if (bytes.size() == out.size() * N * 4) std::memcpy(out.data(), bytes.data(), bytes.size());
+  return out;
+}
+
+// The GLB's mesh back in terralod's axes: glTF (x, y, z) is terralod (x, -z, y), and its v
+// counts from the image's northern row.
+Mesh meshFromGlb(const Glb& glb) {
+  Mesh mesh;
+  const auto& primitive = glb.json["meshes"][0]["primitives"][0];
+  const auto& attributes = primitive["attributes"];
+  for (const char* name : {"POSITION", "NORMAL", "TEXCOORD_0"})
+    EXPECT_TRUE(attributes.contains(name)) << name;
+  if (!attributes.contains("POSITION") || !attributes.contains("NORMAL") ||
+      !attributes.contains("TEXCOORD_0"))
+    return mesh;
+  for (const auto& p : floatAccessor<3>(glb, attributes["POSITION"].get<size_t>()))
+    mesh.positions.push_back({p[0], 0.0f - p[2], p[1]});
+  for (const auto& n : floatAccessor<3>(glb, attributes["NORMAL"].get<size_t>()))
+    mesh.normals.push_back({n[0], 0.0f - n[2], n[1]});
+  for (const auto& uv : floatAccessor<2>(glb, attributes["TEXCOORD_0"].get<size_t>()))
+    mesh.texcoords.push_back({uv[0], 1.0f - uv[1]});
+  const auto& indices = glb.json["accessors"][primitive["indices"].get<size_t>()];
+  EXPECT_EQ(indices["componentType"], 5125);
+  const std::string bytes = bufferViewBytes(glb, indices["bufferView"].get<size_t>());
+  mesh.indices.resize(indices["count"].get<size_t>());
+  EXPECT_EQ(bytes.size(), mesh.indices.size() * 4);
+  if (bytes.size() == mesh.indices.size() * 4)
+    std::memcpy(mesh.indices.data(), bytes.data(), bytes.size());
+  return mesh;
+}
+
+// Normals: unit, up on average and where every triangle around a vertex faces (each vertex's is
+// checked against the angle-weighted mean of its triangles' normals, worked out here again).
+// Texture coordinates: u = x / width, v = y / height of the data's extent.
+void expectNormalsAndTexcoords(const Mesh& mesh, const nlohmann::json& info) {
+  ASSERT_EQ(mesh.normals.size(), mesh.positions.size());
+  ASSERT_EQ(mesh.texcoords.size(), mesh.positions.size());
+  using V = std::array<double, 3>;
+  std::vector<V> expected(mesh.positions.size(), V{0, 0, 0});
+  for (size_t k = 0; k + 2 < mesh.indices.size(); k += 3) {
+    V p[3];
+    for (int i = 0; i < 3; ++i)
+      for (int c = 0; c < 3; ++c) p[i][c] = mesh.positions[mesh.indices[k + i]][c];
+    for (int i = 0; i < 3; ++i) {
+      const V& o = p[i];
+      V a, b;
+      for (int c = 0; c < 3; ++c) {
+        a[c] = p[(i + 1) % 3][c] - o[c];
+        b[c] = p[(i + 2) % 3][c] - o[c];
+      }
+      const V n = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+      const double nl = std::hypot(n[0], n[1], n[2]);
+      const double angle =
+          std::acos(std::clamp((a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) /
+                                   (std::hypot(a[0], a[1], a[2]) * std::hypot(b[0], b[1], b[2])),
+                               -1.0, 1.0));
+      for (int c = 0; c < 3; ++c) expected[mesh.indices[k + i]][c] += angle * n[c] / nl;
+    }
+  }
+  double upSum = 0, worst = 0;
+  for (size_t v = 0; v < mesh.normals.size(); ++v) {
+    const auto& n = mesh.normals[v];
+    const double length = std::hypot(double(n[0]), double(n[1]), double(n[2]));
+    ASSERT_NEAR(length, 1.0, 1e-5) << "vertex " << v;
+    ASSERT_GT(n[2], 0.0f) << "vertex " << v << " faces down";
+    upSum += n[2];
+    const V& e = expected[v];
+    const double el = std::hypot(e[0], e[1], e[2]);
+    for (int c = 0; c < 3; ++c) worst = std::max(worst, std::fabs(n[c] - e[c] / el));
+  }
+  EXPECT_LT(worst, 1e-4) << "a normal differs from its triangles' angle-weighted mean";
+  EXPECT_GT(upSum / double(mesh.normals.size()), 0.7) << "normals do not point up on average";
+
+  const auto size = info["source_size"].get<std::array<double, 2>>();
+  const auto spacing = info["spacing"].get<std::array<double, 2>>();
+  const double width = (size[0] - 1) * spacing[0], height = (size[1] - 1) * spacing[1];
+  std::array<float, 2> lo = {1, 1}, hi = {0, 0};
+  for (size_t v = 0; v < mesh.texcoords.size(); ++v) {
+    const auto& uv = mesh.texcoords[v];
+    ASSERT_NEAR(uv[0], mesh.positions[v][0] / width, 1e-6) << "vertex " << v;
+    ASSERT_NEAR(uv[1], mesh.positions[v][1] / height, 1e-6) << "vertex " << v;
+    for (int c = 0; c < 2; ++c) {
+      lo[c] = std::min(lo[c], uv[c]);
+      hi[c] = std::max(hi[c], uv[c]);
+    }
+  }
+  // The finest levels reach every edge of the data.
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_GE(lo[c], 0.0f);
+    EXPECT_LE(hi[c], 1.0f);
+  }
+}
+
+// The tileset's colour averaged over a grid x grid of regions of the data's extent, from every
+// texel of the finest level's tiles (decoded here by the tests' own BC1 decoder), row 0 south.
+using RegionColours = std::vector<std::array<double, 3>>;
+constexpr int kRegions = 8;
+
+RegionColours tilesetRegionColours(const std::string& path) {
+  RegionColours sums(kRegions * kRegions, {0, 0, 0});
+  std::vector<double> counts(kRegions * kRegions, 0);
+  auto opened = TilesetReader::openFile(path);
+  EXPECT_TRUE(opened.ok());
+  if (!opened) return sums;
+  const TilesetReader& t = **opened;
+  const TilesetHeader& h = t.header();
+  const double cellsX = h.sourceColumns - 1, cellsY = h.sourceRows - 1;
+  for (uint32_t i = 0; i < t.nodes().size(); ++i) {
+    const NodeRecord& n = t.nodes()[i];
+    if (n.level + 1u != h.levelCount) continue;
+    auto data = t.readChunkData(i);
+    EXPECT_TRUE(data.ok() && data->texture) << i;
+    if (!data.ok() || !data->texture) continue;
+    const TextureLayer* color = data->texture->find(TextureLayerKind::kColor);
+    EXPECT_NE(color, nullptr);
+    if (!color) continue;
+    const std::vector<uint8_t> rgb = decodeBc1Layer(color->mips[0], color->size);
+    const double side = h.chunkCells(n.level), step = side / (color->size - 1);
+    const auto [x0, y0] = chunkCellOrigin(h, n);
+    for (uint32_t y = 0; y < color->size; ++y)
+      for (uint32_t x = 0; x < color->size; ++x) {
+        const double cx = x0 + x * step, cy = y0 + y * step;
+        if (cx > cellsX || cy > cellsY) continue;
+        const int rx = std::min(kRegions - 1, int(cx / cellsX * kRegions));
+        const int ry = std::min(kRegions - 1, int(cy / cellsY * kRegions));
+        for (int c = 0; c < 3; ++c)
+          sums[ry * kRegions + rx][c] += rgb[(y * color->size + x) * 3 + c];
+        counts[ry * kRegions + rx] += 1;
+      }
+  }
+  for (size_t r = 0; r < sums.size(); ++r)
+    for (double& c : sums[r]) c /= std::max(1.0, counts[r]);
+  return sums;
+}
+
+// The same regions of an exported image (its top row north).
+RegionColours imageRegionColours(const Image& image) {
+  RegionColours sums(kRegions * kRegions, {0, 0, 0});
+  std::vector<double> counts(kRegions * kRegions, 0);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const int rx = std::min(kRegions - 1, int((x + 0.5) / image.width * kRegions));
+      const int ry = std::min(kRegions - 1, int((1 - (y + 0.5) / image.height) * kRegions));
+      const auto p = image.pixel(x, y);
+      for (int c = 0; c < 3; ++c) sums[ry * kRegions + rx][c] += p[c];
+      counts[ry * kRegions + rx] += 1;
+    }
+  for (size_t r = 0; r < sums.size(); ++r)
+    for (double& c : sums[r]) c /= std::max(1.0, counts[r]);
+  return sums;
+}
+
+// Mean absolute difference (0..255) between two region grids, the second optionally mirrored
+// north-south or east-west.
+double regionDifference(const RegionColours& a, const RegionColours& b, bool flipY, bool flipX) {
+  double total = 0;
+  for (int y = 0; y < kRegions; ++y)
+    for (int x = 0; x < kRegions; ++x) {
+      const auto& p = a[y * kRegions + x];
+      const auto& q = b[(flipY ? kRegions - 1 - y : y) * kRegions + (flipX ? kRegions - 1 - x : x)];
+      for (int c = 0; c < 3; ++c) total += std::fabs(p[c] - q[c]);
+    }
+  return total / (3 * kRegions * kRegions);
+}
+
+// The exported image is `width` x `height` and looks like the tileset's colour, the right way
+// up: region by region within a few grey levels, and much closer than mirrored either way.
+void expectImageResemblesTileset(const Image& image, const std::string& tileset, int width,
+                                 int height) {
+  EXPECT_EQ(image.width, width);
+  EXPECT_EQ(image.height, height);
+  const RegionColours expected = tilesetRegionColours(tileset);
+  const RegionColours actual = imageRegionColours(image);
+  const double same = regionDifference(actual, expected, false, false);
+  const double flippedY = regionDifference(actual, expected, true, false);
+  const double flippedX = regionDifference(actual, expected, false, true);
+  std::printf(
+      "texture %dx%d: mean |difference| to the tileset's colour %.2f per region and "
+      "channel (mirrored north-south %.2f, east-west %.2f)\n",
+      image.width, image.height, same, flippedY, flippedX);
+  EXPECT_LT(same, 3.0);
+  EXPECT_GT(flippedY, 3 * same + 1);
+  EXPECT_GT(flippedX, 3 * same + 1);
+}
+
+Image readPngBytes(const TempDir& dir, const std::string& bytes) {
+  const std::string path = dir.file("embedded-texture.png");
+  std::ofstream(path, std::ios::binary) << bytes;
+  auto image = readPng(path);
+  EXPECT_TRUE(image.ok()) << image.error().message;
+  fs::remove(path);
+  return image ? *image : Image{};
 }
 
 // The welded surface of the level, no more and no less: one vertex per grid point the level's
@@ -197,6 +471,35 @@ void PrintTo(const Dem& dem, std::ostream* out) {
   *out << dem.file;
 }
 
+// Runs `terralod export` and checks its summary lines; returns the facts the mesh must match.
+// `level` defaults to the finest; `extra` are further options.
+LevelFacts runExport(const std::string& tileset, uint32_t levels, const std::string& output,
+                     std::optional<uint32_t> level = std::nullopt,
+                     std::vector<std::string> extra = {}) {
+  std::vector<std::string> args = {"export", tileset, "-o", output};
+  if (level) args.insert(args.end(), {"--level", std::to_string(*level)});
+  args.insert(args.end(), extra.begin(), extra.end());
+  const uint32_t exported = level.value_or(levels - 1);
+  const LevelFacts facts = levelFacts(tileset, exported);
+  const RunResult r = runTerralod(args);
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  // The exporter warns exactly when neighbouring chunks disagree about a shared height.
+  if (facts.disagreeing)
+    EXPECT_NE(r.err.find(std::to_string(facts.disagreeing) + " of "), std::string::npos) << r.err;
+  else
+    EXPECT_EQ(r.err, "");
+  EXPECT_NE(r.out.find("terralod: wrote " + output + ": level " + std::to_string(exported) + ", " +
+                       std::to_string(facts.chunks) + " chunks, " +
+                       std::to_string(facts.heights.size()) + " vertices"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find(std::to_string(facts.triangles) + " triangles, " +
+                       std::to_string(fs::file_size(output)) + " bytes"),
+            std::string::npos)
+      << r.out;
+  return facts;
+}
+
 // A real tileset per case, built fresh for every test.
 class Export : public ::testing::TestWithParam<Dem> {
  protected:
@@ -209,29 +512,9 @@ class Export : public ::testing::TestWithParam<Dem> {
     ASSERT_FALSE(mInfo.is_discarded());
     mLevels = mInfo["levels"].get<uint32_t>();
   }
-  // Exports and checks the summary line; returns the facts the mesh must match.
-  LevelFacts exportLevel(const std::string& output, std::vector<std::string> extra = {}) {
-    std::vector<std::string> args = {"export", mTileset, "-o", output};
-    args.insert(args.end(), extra.begin(), extra.end());
-    const uint32_t level = extra.empty() ? mLevels - 1 : uint32_t(std::stoul(extra.back()));
-    const LevelFacts facts = levelFacts(mTileset, level);
-    const RunResult r = runTerralod(args);
-    EXPECT_EQ(r.exitCode, 0) << r.err;
-    // The exporter warns exactly when neighbouring chunks disagree about a shared height.
-    if (facts.disagreeing)
-      EXPECT_NE(r.err.find(std::to_string(facts.disagreeing) + " of "), std::string::npos) << r.err;
-    else
-      EXPECT_EQ(r.err, "");
-    EXPECT_NE(r.out.find("terralod: wrote " + output + ": level " + std::to_string(level) + ", " +
-                         std::to_string(facts.chunks) + " chunks, " +
-                         std::to_string(facts.heights.size()) + " vertices"),
-              std::string::npos)
-        << r.out;
-    EXPECT_NE(r.out.find(std::to_string(facts.triangles) + " triangles, " +
-                         std::to_string(fs::file_size(output)) + " bytes"),
-              std::string::npos)
-        << r.out;
-    return facts;
+  LevelFacts exportLevel(const std::string& output, std::optional<uint32_t> level = std::nullopt,
+                         std::vector<std::string> extra = {}) {
+    return runExport(mTileset, mLevels, output, level, std::move(extra));
   }
 
   TempDir mDir;
@@ -240,49 +523,90 @@ class Export : public ::testing::TestWithParam<Dem> {
   uint32_t mLevels = 0;
 };
 
-TEST_P(Export, ObjIsTheWeldedSurfaceOfTheFinestLevel) {
-  const std::string obj = mDir.file("surface.obj");
-  const LevelFacts facts = exportLevel(obj);
-  expectLevelSurface(readObj(obj), facts, mInfo);
-}
-
-TEST_P(Export, PlyIsTheWeldedSurfaceOfEveryLevel) {
-  for (uint32_t level = 0; level < mLevels; ++level) {
-    SCOPED_TRACE("level " + std::to_string(level));
-    const std::string ply = mDir.file("level" + std::to_string(level) + ".PLY");
-    const LevelFacts facts = exportLevel(ply, {"--level", std::to_string(level)});
-    expectLevelSurface(readPly(ply), facts, mInfo);
-  }
-}
-
-TEST_P(Export, GlbPassesTheKhronosValidator) {
+// Runs the Khronos glTF validator: no errors, no warnings.
+void expectValidGltf(const std::string& glb) {
   const std::string node = TERRALOD_NODE;
   const std::string tools = std::string(TERRALOD_SOURCE_DIR) + "/tests/tools";
   ASSERT_FALSE(node.empty()) << "node was not found when configuring; it runs the glTF validator";
   ASSERT_TRUE(fs::exists(tools + "/node_modules/gltf-validator/package.json"))
       << "the Khronos glTF validator is not installed: run scripts/install-deps.sh (make test "
          "does), which runs `npm ci` in tests/tools";
+  const RunResult validated = runProgram(node, {tools + "/validate-gltf.mjs", glb});
+  const auto report = nlohmann::json::parse(validated.out, nullptr, false);
+  ASSERT_FALSE(report.is_discarded()) << validated.out << validated.err;
+  EXPECT_EQ(report["errors"].get<int>(), 0) << report.dump(2);
+  EXPECT_EQ(report["warnings"].get<int>(), 0) << report.dump(2);
+  EXPECT_EQ(validated.exitCode, 0) << validated.err;
+  std::printf("glTF validator %s on %s: %d errors, %d warnings, %d infos, %d hints\n",
+              report["validator"].get<std::string>().c_str(), glb.c_str(),
+              report["errors"].get<int>(), report["warnings"].get<int>(),
+              report["infos"].get<int>(), report["hints"].get<int>());
+}
+
+// The embedded image of a .glb, through its material: baseColorTexture -> texture -> image ->
+// buffer view holding a PNG.
+std::string embeddedPng(const Glb& glb) {
+  const auto& j = glb.json;
+  const auto& primitive = j["meshes"][0]["primitives"][0];
+  EXPECT_TRUE(primitive.contains("material"));
+  if (!primitive.contains("material")) return {};
+  const auto& material = j["materials"][primitive["material"].get<size_t>()];
+  const auto& pbr = material["pbrMetallicRoughness"];
+  EXPECT_EQ(pbr["metallicFactor"].get<double>(), 0.0) << "terrain is not metal";
+  EXPECT_TRUE(pbr.contains("baseColorTexture")) << material.dump();
+  if (!pbr.contains("baseColorTexture")) return {};
+  EXPECT_EQ(pbr["baseColorTexture"].value("texCoord", 0), 0);
+  const auto& texture = j["textures"][pbr["baseColorTexture"]["index"].get<size_t>()];
+  const auto& image = j["images"][texture["source"].get<size_t>()];
+  EXPECT_EQ(image["mimeType"], "image/png");
+  const std::string png = bufferViewBytes(glb, image["bufferView"].get<size_t>());
+  EXPECT_EQ(png.rfind("\x89PNG\r\n\x1a\n", 0), 0u);
+  return png;
+}
+
+// The tilesets these DEMs give are textured (generated colour), so the OBJ comes with a .mtl
+// and a .png beside it.
+TEST_P(Export, ObjIsTheWeldedSurfaceOfTheFinestLevel) {
+  const std::string obj = mDir.file("surface.obj");
+  const LevelFacts facts = exportLevel(obj, std::nullopt, {"--texture-size", "64"});
+  const Mesh mesh = readObj(obj);
+  expectLevelSurface(mesh, facts, mInfo);
+  expectNormalsAndTexcoords(mesh, mInfo);
+  EXPECT_EQ(mesh.materialLibrary, "surface.mtl");
+  const std::string mtl = readWholeFile(mDir.file("surface.mtl"));
+  EXPECT_NE(mtl.find("newmtl terrain\n"), std::string::npos) << mtl;
+  EXPECT_NE(mtl.find("\nmap_Kd surface.png\n"), std::string::npos) << mtl;
+  auto image = readPng(mDir.file("surface.png"));
+  ASSERT_TRUE(image.ok()) << image.error().message;
+  EXPECT_EQ(std::max(image->width, image->height), 64);
+  EXPECT_EQ(filesIn(mDir.path()),
+            (std::vector<std::string>{"surface.mtl", "surface.obj", "surface.png", "t.tlod"}));
+}
+
+TEST_P(Export, PlyIsTheWeldedSurfaceOfEveryLevel) {
+  for (uint32_t level = 0; level < mLevels; ++level) {
+    SCOPED_TRACE("level " + std::to_string(level));
+    const std::string name = "level" + std::to_string(level);
+    const std::string ply = mDir.file(name + ".PLY");
+    const LevelFacts facts = exportLevel(ply, level, {"--texture-size", "32"});
+    const Mesh mesh = readPly(ply);
+    expectLevelSurface(mesh, facts, mInfo);
+    expectNormalsAndTexcoords(mesh, mInfo);
+    EXPECT_EQ(mesh.textureFile, name + ".png");
+    EXPECT_TRUE(readPng(mDir.file(name + ".png")).ok());
+  }
+}
+
+TEST_P(Export, GlbPassesTheKhronosValidator) {
   for (uint32_t level : {0u, mLevels - 1}) {
     SCOPED_TRACE("level " + std::to_string(level));
     const std::string glb = mDir.file("level" + std::to_string(level) + ".glb");
-    const LevelFacts facts = exportLevel(glb, {"--level", std::to_string(level)});
-    const RunResult validated = runProgram(node, {tools + "/validate-gltf.mjs", glb});
-    const auto report = nlohmann::json::parse(validated.out, nullptr, false);
-    ASSERT_FALSE(report.is_discarded()) << validated.out << validated.err;
-    EXPECT_EQ(report["errors"].get<int>(), 0) << report.dump(2);
-    EXPECT_EQ(report["warnings"].get<int>(), 0) << report.dump(2);
-    EXPECT_EQ(validated.exitCode, 0) << validated.err;
-    std::printf("glTF validator %s on %s: %d errors, %d warnings, %d infos, %d hints\n",
-                report["validator"].get<std::string>().c_str(), glb.c_str(),
-                report["errors"].get<int>(), report["warnings"].get<int>(),
-                report["infos"].get<int>(), report["hints"].get<int>());
+    const LevelFacts facts = exportLevel(glb, level, {"--texture-size", "128"});
+    expectValidGltf(glb);
 
     // The validator checks the file is well formed; the counts and axes are ours to check.
-    const std::string bytes = readWholeFile(glb);
-    ASSERT_GT(bytes.size(), 20u);
-    uint32_t jsonBytes = 0;
-    std::memcpy(&jsonBytes, bytes.data() + 12, 4);
-    const auto gltf = nlohmann::json::parse(bytes.substr(20, jsonBytes));
+    const Glb parsed = readGlb(glb);
+    const auto& gltf = parsed.json;
     EXPECT_EQ(gltf["asset"]["generator"], "terralod");
     const auto& accessors = gltf["accessors"];
     EXPECT_EQ(accessors[0]["count"].get<uint64_t>(), facts.heights.size());
@@ -298,7 +622,17 @@ TEST_P(Export, GlbPassesTheKhronosValidator) {
     EXPECT_LE(max[1], hi[2] + 0.5 * facts.zStep + floatSlack(hi[2]));
     EXPECT_NEAR(min[2], -hi[1], floatSlack(hi[1]));
     EXPECT_NEAR(max[2], -lo[1], floatSlack(lo[1]));
+
+    const Mesh mesh = meshFromGlb(parsed);
+    expectLevelSurface(mesh, facts, mInfo);
+    expectNormalsAndTexcoords(mesh, mInfo);
+    const Image image = readPngBytes(mDir, embeddedPng(parsed));
+    EXPECT_EQ(std::max(image.width, image.height), 128);
   }
+  EXPECT_EQ(filesIn(mDir.path()),
+            (std::vector<std::string>{"level0.glb", "level" + std::to_string(mLevels - 1) + ".glb",
+                                      "t.tlod"}))
+      << "a .glb needs no side files";
 }
 
 TEST_P(Export, BadInputsGetOneErrorLineAndNoOutput) {
@@ -313,6 +647,9 @@ TEST_P(Export, BadInputsGetOneErrorLineAndNoOutput) {
     std::ofstream(mDir.file("corrupt.tlod"), std::ios::binary) << bytes;
   }
   fs::create_directory(mDir.file("folder.glb"));
+  // The texture's side file cannot be written: neither it nor the mesh may appear.
+  fs::create_directory(mDir.file("blocked.png"));
+  fs::create_directory(mDir.file("blocked2.mtl"));
   const std::vector<std::string> before = filesIn(mDir.path());
   struct Case {
     std::vector<std::string> args;
@@ -329,6 +666,15 @@ TEST_P(Export, BadInputsGetOneErrorLineAndNoOutput) {
       {{"export", d + "/corrupt.tlod", "-o", d + "/mesh.ply"}, "corrupt.tlod"},
       {{"export", mTileset, "-o", d + "/no/dir/mesh.obj"}, "does not exist"},
       {{"export", mTileset, "-o", d + "/folder.glb"}, "folder.glb: is a directory"},
+      {{"export", mTileset, "-o", d + "/blocked.obj"}, "blocked.png: is a directory"},
+      {{"export", mTileset, "-o", d + "/blocked.ply"}, "blocked.png: is a directory"},
+      {{"export", mTileset, "-o", d + "/blocked2.obj"}, "blocked2.mtl: is a directory"},
+      {{"export", mTileset, "--texture-size", "0", "-o", d + "/mesh.glb"},
+       "--texture-size 0: must be 1 to 16384 pixels"},
+      {{"export", mTileset, "--texture-size", "20000", "-o", d + "/mesh.glb"},
+       "--texture-size 20000: must be 1 to 16384 pixels"},
+      {{"export", mTileset, "--texture-size", "64", "--no-texture", "-o", d + "/mesh.glb"},
+       "--texture-size excludes --no-texture"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.expected);
@@ -347,14 +693,20 @@ TEST_P(Export, FailureNeverTouchesAnExistingOutput) {
     std::ofstream(mDir.file("corrupt.tlod"), std::ios::binary) << bytes;
   }
   std::ofstream(mDir.file("old.obj")) << "# an earlier export\n";
+  std::ofstream(mDir.file("old.mtl")) << "# an earlier material\n";
+  std::ofstream(mDir.file("old.png")) << "an earlier texture";
   const std::vector<std::string> before = filesIn(mDir.path());
   expectOneErrorLine(runTerralod({"export", mDir.file("corrupt.tlod"), "-o", mDir.file("old.obj")}),
                      "corrupt.tlod");
   EXPECT_EQ(readWholeFile(mDir.file("old.obj")), "# an earlier export\n");
+  EXPECT_EQ(readWholeFile(mDir.file("old.mtl")), "# an earlier material\n");
+  EXPECT_EQ(readWholeFile(mDir.file("old.png")), "an earlier texture");
   EXPECT_EQ(filesIn(mDir.path()), before);
-  // ...and a successful export replaces it.
-  exportLevel(mDir.file("old.obj"));
+  // ...and a successful export replaces them.
+  exportLevel(mDir.file("old.obj"), 0u, {"--texture-size", "16"});
   EXPECT_NE(readWholeFile(mDir.file("old.obj")).find("\nv "), std::string::npos);
+  EXPECT_NE(readWholeFile(mDir.file("old.mtl")).find("map_Kd old.png"), std::string::npos);
+  EXPECT_TRUE(readPng(mDir.file("old.png")).ok());
 }
 
 // Square and power-of-two sized; small, odd-sized and mostly void; and one whose neighbouring
@@ -367,6 +719,116 @@ INSTANTIATE_TEST_SUITE_P(Dems, Export,
                          [](const ::testing::TestParamInfo<Dem>& param) {
                            return param.param.file.substr(0, param.param.file.find('_'));
                          });
+
+// Zion with its Landsat image draped: a real picture, not symmetric, so an image upside down
+// or mirrored would show. Built once for the suite.
+class ExportDrapedTexture : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    sTileset = sDir->file("zion.tlod");
+    const RunResult built =
+        runTerralod({"build", testData("zion_srtm3_utm12_30m.tif"), "--texture",
+                     testData("zion_landsat8_rgb_utm12_30m.tif"), "-o", sTileset});
+    ASSERT_EQ(built.exitCode, 0) << built.err;
+    sInfo = infoJson(sTileset);
+    sLevels = sInfo["levels"].get<uint32_t>();
+  }
+  static void TearDownTestSuite() {
+    delete sDir;
+    sDir = nullptr;
+  }
+  void SetUp() override { ASSERT_FALSE(sInfo.is_discarded() || sLevels == 0); }
+  // The image's size for `longSide` pixels along the data's longer side.
+  static std::array<int, 2> imageSize(int longSide) {
+    const auto size = sInfo["source_size"].get<std::array<double, 2>>();
+    const double w = size[0] - 1, h = size[1] - 1;
+    return w >= h ? std::array<int, 2>{longSide, int(std::max(1L, std::lround(longSide * h / w)))}
+                  : std::array<int, 2>{int(std::max(1L, std::lround(longSide * w / h))), longSide};
+  }
+
+  static inline TempDir* sDir = nullptr;
+  static inline std::string sTileset;
+  static inline nlohmann::json sInfo;
+  static inline uint32_t sLevels = 0;
+  TempDir mDir;
+};
+
+TEST_F(ExportDrapedTexture, GlbEmbedsTheImageAtTheRequestedSize) {
+  const std::string glb = mDir.file("zion.glb");
+  runExport(sTileset, sLevels, glb, std::nullopt, {"--texture-size", "300"});
+  expectValidGltf(glb);
+  const Glb parsed = readGlb(glb);
+  expectNormalsAndTexcoords(meshFromGlb(parsed), sInfo);
+  const auto [w, h] = imageSize(300);
+  expectImageResemblesTileset(readPngBytes(mDir, embeddedPng(parsed)), sTileset, w, h);
+}
+
+TEST_F(ExportDrapedTexture, ObjAndPlyWriteTheImageBeside) {
+  const auto [w, h] = imageSize(200);
+  for (const char* name : {"zion.obj", "zion.ply"}) {
+    SCOPED_TRACE(name);
+    runExport(sTileset, sLevels, mDir.file(name), 1u, {"--texture-size", "200"});
+    auto image = readPng(mDir.file("zion.png"));
+    ASSERT_TRUE(image.ok()) << image.error().message;
+    expectImageResemblesTileset(*image, sTileset, w, h);
+    fs::remove(mDir.file("zion.png"));
+  }
+  EXPECT_EQ(readObj(mDir.file("zion.obj")).materialLibrary, "zion.mtl");
+  EXPECT_EQ(readPly(mDir.file("zion.ply")).textureFile, "zion.png");
+}
+
+// Without --texture-size the image has the tileset's full resolution (here one texel per DEM
+// cell, less than the 2048 cap).
+TEST_F(ExportDrapedTexture, DefaultSizeIsTheFullResolution) {
+  const std::string glb = mDir.file("full.glb");
+  const RunResult r = runTerralod({"export", sTileset, "--level", "0", "-o", glb});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto size = sInfo["source_size"].get<std::array<int, 2>>();
+  const Image image = readPngBytes(mDir, embeddedPng(readGlb(glb)));
+  EXPECT_EQ(image.width, size[0] - 1) << r.out;
+  EXPECT_EQ(image.height, size[1] - 1) << r.out;
+}
+
+// --no-texture: normals and texture coordinates all the same, but no image anywhere, no
+// material library, and a .glb that still validates. (Level 1, to keep it quick.)
+TEST_F(ExportDrapedTexture, NoTextureWritesNoImage) {
+  for (const char* name : {"plain.obj", "plain.ply", "plain.glb"}) {
+    SCOPED_TRACE(name);
+    const std::string path = mDir.file(name);
+    const LevelFacts facts = runExport(sTileset, sLevels, path, 1u, {"--no-texture"});
+    const Mesh mesh = std::string(name).ends_with(".obj")   ? readObj(path)
+                      : std::string(name).ends_with(".ply") ? readPly(path)
+                                                            : meshFromGlb(readGlb(path));
+    expectLevelSurface(mesh, facts, sInfo);
+    expectNormalsAndTexcoords(mesh, sInfo);
+    EXPECT_EQ(mesh.materialLibrary, "");
+    EXPECT_EQ(mesh.textureFile, "");
+  }
+  const Glb glb = readGlb(mDir.file("plain.glb"));
+  for (const char* key : {"images", "textures", "samplers"}) EXPECT_FALSE(glb.json.contains(key));
+  EXPECT_FALSE(glb.json["materials"][0]["pbrMetallicRoughness"].contains("baseColorTexture"));
+  expectValidGltf(mDir.file("plain.glb"));
+  EXPECT_EQ(filesIn(mDir.path()),
+            (std::vector<std::string>{"plain.glb", "plain.obj", "plain.ply"}));
+}
+
+// An untextured tileset exports its mesh and says there is no texture to write.
+TEST(ExportUntextured, WritesNoImageAndSaysSo) {
+  TempDir dir;
+  const std::string tileset = dir.file("plain.tlod");
+  ASSERT_EQ(runTerralod(
+                {"build", testData("gzcommon_dem_squared_129.tif"), "--no-texture", "-o", tileset})
+                .exitCode,
+            0);
+  const RunResult r = runTerralod({"export", tileset, "-o", dir.file("plain.obj")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("no texture (the tileset has none)"), std::string::npos) << r.out;
+  const Mesh mesh = readObj(dir.file("plain.obj"));
+  EXPECT_EQ(mesh.materialLibrary, "");
+  EXPECT_EQ(mesh.normals.size(), mesh.positions.size());
+  EXPECT_EQ(filesIn(dir.path()), (std::vector<std::string>{"plain.obj", "plain.tlod"}));
+}
 
 }  // namespace
 }  // namespace terralod::test

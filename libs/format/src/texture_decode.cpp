@@ -1,0 +1,44 @@
+#include "terralod/format/texture_decode.h"
+
+#include <array>
+
+namespace terralod {
+namespace {
+
+// RGB565 to 8 bits per channel by bit replication (0 -> 0, 31 -> 255, 63 -> 255).
+std::array<int, 3> expand565(int c) {
+  const int r = (c >> 11) & 31, g = (c >> 5) & 63, b = c & 31;
+  return {(r << 3) | (r >> 2), (g << 2) | (g >> 4), (b << 3) | (b >> 2)};
+}
+
+}  // namespace
+
+std::vector<uint8_t> decodeBc1Rgb(std::span<const uint8_t> blocks, uint32_t size) {
+  if (size == 0 || blocks.size() != mipBytes(TextureEncoding::kBc1, size, 0)) return {};
+  const uint32_t across = (size + 3) / 4;
+  std::vector<uint8_t> out(size_t(size) * size * 3);
+  for (uint32_t by = 0; by < across; ++by)
+    for (uint32_t bx = 0; bx < across; ++bx) {
+      const uint8_t* b = blocks.data() + (size_t(by) * across + bx) * 8;
+      const int c0 = b[0] | b[1] << 8, c1 = b[2] | b[3] << 8;
+      std::array<std::array<int, 3>, 4> palette = {expand565(c0), expand565(c1)};
+      for (size_t ch = 0; ch < 3; ++ch) {
+        const int p0 = palette[0][ch], p1 = palette[1][ch];
+        palette[2][ch] = c0 > c1 ? (2 * p0 + p1) / 3 : (p0 + p1) / 2;
+        palette[3][ch] = c0 > c1 ? (p0 + 2 * p1) / 3 : 0;
+      }
+      const uint32_t bits =
+          uint32_t(b[4]) | uint32_t(b[5]) << 8 | uint32_t(b[6]) << 16 | uint32_t(b[7]) << 24;
+      for (uint32_t r = 0; r < 4; ++r)
+        for (uint32_t c = 0; c < 4; ++c) {
+          const uint32_t x = bx * 4 + c, y = by * 4 + r;
+          if (x >= size || y >= size) continue;
+          const auto& colour = palette[(bits >> (2 * (r * 4 + c))) & 3];
+          uint8_t* texel = out.data() + (size_t(y) * size + x) * 3;
+          for (size_t ch = 0; ch < 3; ++ch) texel[ch] = uint8_t(colour[ch]);
+        }
+    }
+  return out;
+}
+
+}  // namespace terralod

@@ -1,0 +1,61 @@
+#include "terralod/format/texture_decode.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "bc_decode.h"  // tests/support: the tests' own reference decoder
+
+namespace terralod {
+namespace {
+
+TEST(DecodeBc1Rgb, FourColourBlockInterpolatesBetweenItsEndPoints) {
+  // c0 = pure red (0xF800) > c1 = pure blue (0x001F): four colours, thirds between them.
+  // Indices 0, 1, 2, 3 along the first row (south), then all 0, 1, 2, 3 in the next rows.
+  const uint8_t block[8] = {0x00, 0xF8, 0x1F, 0x00, 0b11100100, 0x00, 0x55, 0xFF};
+  const std::vector<uint8_t> rgb = decodeBc1Rgb(block, 4);
+  ASSERT_EQ(rgb.size(), 4u * 4 * 3);
+  auto texel = [&](int x, int y) {
+    const uint8_t* p = &rgb[size_t(y * 4 + x) * 3];
+    return std::array<int, 3>{p[0], p[1], p[2]};
+  };
+  EXPECT_EQ(texel(0, 0), (std::array<int, 3>{255, 0, 0}));
+  EXPECT_EQ(texel(1, 0), (std::array<int, 3>{0, 0, 255}));
+  EXPECT_EQ(texel(2, 0), (std::array<int, 3>{170, 0, 85}));
+  EXPECT_EQ(texel(3, 0), (std::array<int, 3>{85, 0, 170}));
+  EXPECT_EQ(texel(3, 1), (std::array<int, 3>{255, 0, 0}));
+  EXPECT_EQ(texel(0, 2), (std::array<int, 3>{0, 0, 255}));
+  EXPECT_EQ(texel(0, 3), (std::array<int, 3>{85, 0, 170}));
+}
+
+TEST(DecodeBc1Rgb, ThreeColourBlockHasMidpointAndBlack) {
+  // c0 = blue <= c1 = white: index 2 is the midpoint, index 3 black.
+  const uint8_t block[8] = {0x1F, 0x00, 0xFF, 0xFF, 0b11100100, 0, 0, 0};
+  const std::vector<uint8_t> rgb = decodeBc1Rgb(block, 4);
+  ASSERT_EQ(rgb.size(), 48u);
+  EXPECT_EQ((std::vector<uint8_t>(rgb.begin(), rgb.begin() + 12)),
+            (std::vector<uint8_t>{0, 0, 255, 255, 255, 255, 127, 127, 255, 0, 0, 0}));
+}
+
+TEST(DecodeBc1Rgb, AgreesWithTheTestsReferenceDecoderOnRandomTiles) {
+  std::mt19937 rng(7);
+  for (uint32_t size : {1u, 2u, 3u, 4u, 5u, 17u, 33u}) {
+    SCOPED_TRACE(size);
+    std::vector<uint8_t> blocks(mipBytes(TextureEncoding::kBc1, size, 0));
+    for (uint8_t& b : blocks) b = uint8_t(rng());
+    const std::vector<uint8_t> rgb = decodeBc1Rgb(blocks, size);
+    EXPECT_EQ(rgb.size(), size_t(size) * size * 3);
+    EXPECT_EQ(rgb, test::decodeBc1Layer(blocks, size));
+  }
+}
+
+TEST(DecodeBc1Rgb, WrongByteCountDecodesToNothing) {
+  const std::vector<uint8_t> blocks(32, 0);  // 2x2 blocks: 5 to 8 texels a side
+  EXPECT_TRUE(decodeBc1Rgb(blocks, 4).empty());
+  EXPECT_TRUE(decodeBc1Rgb(blocks, 9).empty());
+  EXPECT_TRUE(decodeBc1Rgb(blocks, 0).empty());
+  EXPECT_EQ(decodeBc1Rgb(blocks, 5).size(), 75u);
+}
+
+}  // namespace
+}  // namespace terralod
