@@ -1,4 +1,4 @@
-// terralod render TILESET -o OUT.png [camera, selection and style options]
+// terralod render TILESET -o OUT.png|OUT.jpg [camera, selection and style options]
 // terralod render TILESET (--flight F.json | --auto-flight) --frames-dir DIR
 
 #include <cstdio>
@@ -34,6 +34,8 @@ int runRender(const RenderCommand& r) {
   const bool flight = !r.options.flightFile.empty() || r.options.autoFlight;
   if (flight && r.framesDir.empty()) return fail("a flight needs --frames-dir DIR for its frames");
   if (!flight && r.output.empty()) return fail("give -o OUT.png (or a flight with --frames-dir)");
+  if (!r.output.empty())
+    if (auto format = imageFormatFor(r.output); !format) return fail(format.error().message);
   if (!r.framesDir.empty() && !std::filesystem::is_directory(r.framesDir))
     return fail(r.framesDir + ": not a directory");
   auto selection = selectionOptions(r.options);
@@ -67,7 +69,8 @@ int runRender(const RenderCommand& r) {
     if (!frame) return fail(frame.error().message);
     const Image image = target->readPixels();
     const std::string path = flight ? framePath(r.framesDir, i) : r.output;
-    if (Status written = writePng(image, path); !written) return fail(written.error().message);
+    if (Status written = flight ? writePng(image, path) : writeImage(image, path); !written)
+      return fail(written.error().message);
     if (flight && i % every == 0) sheet.push_back(image);
     if (!flight)
       std::printf("terralod: wrote %s: %u chunks, %llu triangles, %u draw calls, select %.0f us\n",
@@ -94,7 +97,8 @@ void addRenderCommand(CLI::App& root, Runner& run) {
       "flight plus a contact sheet");
   auto r = std::make_shared<RenderCommand>();
   addRenderOptions(*cmd, r->options, true);
-  cmd->add_option("-o,--output", r->output, "PNG to write (a single view)");
+  cmd->add_option("-o,--output", r->output,
+                  "Image to write (a single view): .png, or .jpg/.jpeg for JPEG");
   cmd->add_option("--frames-dir", r->framesDir,
                   "Directory for a flight's frames (frame_00000.png, ...) and contact_sheet.png");
   cmd->add_option(

@@ -96,6 +96,8 @@ FlyInput readInput(GLFWwindow* w, double& lastX, double& lastY, bool& dragging) 
 }
 
 int runView(const ViewCommand& v) {
+  if (!v.screenshot.empty())
+    if (auto format = imageFormatFor(v.screenshot); !format) return fail(format.error().message);
   auto tileset = TilesetReader::openPathOrUrl(v.options.tileset);  // a path or an http(s):// URL
   if (!tileset) return fail(tileset.error().message);
   std::optional<Flight> playback;
@@ -213,7 +215,7 @@ int runView(const ViewCommand& v) {
     if (screenshotAsked || (playedOut && !v.screenshot.empty())) {
       const std::string path =
           !v.screenshot.empty() && playedOut ? v.screenshot : "terralod-screenshot.png";
-      if (Status s = writePng(readBackBuffer(width, height), path); !s) {
+      if (Status s = writeImage(readBackBuffer(width, height), path); !s) {
         warn(s.error().message);
         if (playedOut) status = 1;
       } else {
@@ -283,7 +285,8 @@ void addViewCommand(CLI::App& root, Runner& run) {
   auto v = std::make_shared<ViewCommand>();
   addRenderOptions(*cmd, v->options, true);
   cmd->add_option("--play", v->play, "Play a flight file instead of flying by hand");
-  cmd->add_option("--screenshot", v->screenshot, "With --play: save the last frame here (PNG)");
+  cmd->add_option("--screenshot", v->screenshot,
+                  "With --play: save the last frame here (.png, or .jpg/.jpeg for JPEG)");
   cmd->add_flag("--exit-after-play", v->exitAfterPlay, "With --play: close after the last frame");
   cmd->add_option("--record", v->record, "Where R saves the recorded flight (JSON)");
   cmd->footer(

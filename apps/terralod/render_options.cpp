@@ -7,6 +7,7 @@
 
 #include "cli_checks.h"
 #include "cli_values.h"
+#include "terralod/runtime/overview.h"
 
 namespace terralod::cli {
 
@@ -134,13 +135,12 @@ Result<std::vector<Camera>> camerasFor(const RenderOptions& o, const ChunkTree& 
       c.eye = *eye;
       c.target = *target;
     } else {
-      // From the south, high enough to see the whole extent, looking at its centre.
-      const Box& e = tree.extent();
-      const glm::dvec3 centre{0.5 * (e.min[0] + e.max[0]), 0.5 * (e.min[1] + e.max[1]),
-                              0.5 * (e.min[2] + e.max[2])};
-      const double span = std::max(e.max[0] - e.min[0], e.max[1] - e.min[1]);
-      c.target = centre;
-      c.eye = centre + glm::dvec3(0.0, -0.75 * span, 0.6 * span + (e.max[2] - e.min[2]));
+      // From the south, 40 degrees down, just far enough to see the whole extent.
+      OverviewOptions overview;
+      overview.hfovDegrees = c.hfovDegrees;
+      overview.width = c.width;
+      overview.height = c.height;
+      c = overviewCamera(tree.extent(), overview);
     }
     return std::vector<Camera>{c};
   }

@@ -44,6 +44,39 @@ TEST_F(RenderCli, OneViewBecomesAPngOfTerrain) {
   EXPECT_GT(distinctColours(*image), 50u) << "a blank or single-colour image";
 }
 
+// The name says the format: .jpg and .jpeg (any case) are JPEG, not PNG bytes under a JPEG name.
+TEST_F(RenderCli, JpegNamesGetJpegBytes) {
+  for (const char* name : {"v.jpg", "v.JPEG"}) {
+    const RunResult r =
+        runTerralod({"render", mDir.file("c.tlod"), "-o", mDir.file(name), "--size", "160x120"});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    const std::string bytes = readWholeFile(mDir.file(name));
+    ASSERT_GT(bytes.size(), 1000u) << name;
+    EXPECT_EQ(uint8_t(bytes[0]), 0xFF) << name;
+    EXPECT_EQ(uint8_t(bytes[1]), 0xD8) << name;
+    EXPECT_EQ(uint8_t(bytes[2]), 0xFF) << name;
+    EXPECT_EQ(uint8_t(bytes[bytes.size() - 2]), 0xFF) << name;  // end of image marker
+    EXPECT_EQ(uint8_t(bytes[bytes.size() - 1]), 0xD9) << name;
+  }
+  EXPECT_TRUE(readPng(mDir.file("v.jpg")).ok() == false) << "PNG bytes in a .jpg";
+}
+
+// Other names are refused with one line naming the file, before the tileset is even opened
+// (here it does not exist), and nothing is written.
+TEST_F(RenderCli, OtherImageNamesAreRefusedBeforeRendering) {
+  for (const std::string name : {"v.bmp", "v.tif", "v"}) {
+    const RunResult r = runTerralod(
+        {"render", mDir.file("missing.tlod"), "-o", mDir.file(name), "--size", "64x48"});
+    EXPECT_EQ(r.exitCode, 1) << name;
+    const std::string expected = "terralod: error: " + mDir.file(name) + ": " +
+                                 (name == "v" ? std::string("no image type in the name")
+                                              : "cannot write " + name.substr(1) + " images") +
+                                 ": name it .png, .jpg or .jpeg\n";
+    EXPECT_EQ(r.err, expected);
+    EXPECT_FALSE(fs::exists(mDir.file(name)));
+  }
+}
+
 TEST_F(RenderCli, ChunkBoxesOutlineTheDrawnChunksInTheirLevelsColours) {
   auto render = [&](const std::string& out, std::vector<std::string> extra) {
     std::vector<std::string> args = {"render",   mDir.file("c.tlod"), "-o",    out,

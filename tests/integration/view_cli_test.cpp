@@ -64,5 +64,15 @@ TEST(ViewCli, StreamsATilesetFromAWebServer) {
   expectViewerMatchesHeadless(dir, server.url("c.tlod"), www.file("c.tlod"));
 }
 
+// A screenshot name the viewer cannot write is refused at once, before any window opens.
+TEST(ViewCli, RefusesAScreenshotNameItCannotWrite) {
+  TempDir dir;
+  const RunResult r = runTerralod({"view", dir.file("missing.tlod"), "--screenshot",
+                                   dir.file("shot.bmp"), "--exit-after-play"});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_EQ(r.err, "terralod: error: " + dir.file("shot.bmp") +
+                       ": cannot write .bmp images: name it .png, .jpg or .jpeg\n");
+}
+
 }  // namespace
 }  // namespace terralod::test

@@ -4,8 +4,10 @@
 #include <stb_image_write.h>
 
 #include <cassert>
+#include <cctype>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -68,6 +70,23 @@ Status writeJpeg(const Image& image, const std::string& path, int quality) {
     return stbi_write_jpg_to_func(appendBytes, &jpeg, image.width, image.height, 4,
                                   image.rgba.data(), quality) != 0;
   });
+}
+
+Result<ImageFormat> imageFormatFor(const std::string& path) {
+  const std::string extension = std::filesystem::path(path).extension().string();
+  std::string lower;
+  for (const char ch : extension) lower += char(std::tolower(static_cast<unsigned char>(ch)));
+  if (lower == ".png") return ImageFormat::kPng;
+  if (lower == ".jpg" || lower == ".jpeg") return ImageFormat::kJpeg;
+  return makeError(path, (extension.empty() ? std::string("no image type in the name")
+                                            : "cannot write " + extension + " images") +
+                             ": name it .png, .jpg or .jpeg");
+}
+
+Status writeImage(const Image& image, const std::string& path) {
+  auto format = imageFormatFor(path);
+  if (!format) return format.error();
+  return *format == ImageFormat::kJpeg ? writeJpeg(image, path, 90) : writePng(image, path);
 }
 
 Result<Image> readPng(const std::string& path) {

@@ -190,6 +190,76 @@ double groundHeightBound(const ChunkTree& tree, double x, double y) {
   return tree.extent().max[2];
 }
 
+ReliefGrid reliefGrid(const ChunkTree& tree) {
+  constexpr double kMostCells = 512;
+  const Box& e = tree.extent();
+  const glm::dvec2 size{std::max(e.max[0] - e.min[0], 0.0), std::max(e.max[1] - e.min[1], 0.0)};
+  int level = 0;
+  auto cellSize = [&](int l) {
+    return glm::dvec2(double(tree.chunkCells(l)) * tree.spacing()[0],
+                      double(tree.chunkCells(l)) * tree.spacing()[1]);
+  };
+  while (level + 1 < tree.levelCount() && tree.chunkCells(level + 1) > 0 &&
+         size.x / cellSize(level + 1).x <= kMostCells &&
+         size.y / cellSize(level + 1).y <= kMostCells)
+    ++level;
+  ReliefGrid g;
+  g.origin = {e.min[0], e.min[1]};
+  g.cellSize = cellSize(level);
+  g.columns = std::max(1, int(std::ceil(size.x / g.cellSize.x)));
+  g.rows = std::max(1, int(std::ceil(size.y / g.cellSize.y)));
+  g.range.assign(size_t(g.columns) * size_t(g.rows), 0.0);
+  for (const ChunkNode& n : tree.nodes()) {
+    if (n.level != level) continue;
+    const int i = int(std::floor((n.box.min[0] - g.origin.x) / g.cellSize.x + 0.5));
+    const int j = int(std::floor((n.box.min[1] - g.origin.y) / g.cellSize.y + 0.5));
+    if (i < 0 || j < 0 || i >= g.columns || j >= g.rows) continue;
+    g.range[size_t(j) * size_t(g.columns) + size_t(i)] = std::max(n.box.max[2] - n.box.min[2], 0.0);
+  }
+  return g;
+}
+
+glm::dvec2 mostRuggedPoint(const ReliefGrid& g, const Box& e) {
+  const glm::dvec2 lo{e.min[0], e.min[1]}, hi{e.max[0], e.max[1]};
+  const glm::dvec2 centre = 0.5 * (lo + hi), size = hi - lo;
+  if (g.columns < 1 || g.rows < 1 || g.range.size() != size_t(g.columns) * size_t(g.rows) ||
+      !(g.cellSize.x > 0) || !(g.cellSize.y > 0))
+    return centre;
+  // Sums of the ranges over every rectangle from cell (0, 0): a window's sum in four look-ups.
+  const size_t stride = size_t(g.columns) + 1;
+  std::vector<double> sum(stride * (size_t(g.rows) + 1), 0.0);
+  for (int j = 0; j < g.rows; ++j)
+    for (int i = 0; i < g.columns; ++i)
+      sum[size_t(j + 1) * stride + size_t(i + 1)] =
+          g.range[size_t(j) * size_t(g.columns) + size_t(i)] +
+          sum[size_t(j) * stride + size_t(i + 1)] + sum[size_t(j + 1) * stride + size_t(i)] -
+          sum[size_t(j) * stride + size_t(i)];
+  const double side = std::min(size.x, size.y) / 8.0;
+  const int wx = std::clamp(int(std::lround(side / g.cellSize.x)), 1, g.columns);
+  const int wy = std::clamp(int(std::lround(side / g.cellSize.y)), 1, g.rows);
+  const glm::dvec2 inLo = lo + 0.15 * size, inHi = hi - 0.15 * size;
+  glm::dvec2 best = centre;
+  double bestScore = -1.0, bestDistance = 0.0;
+  for (int j = 0; j + wy <= g.rows; ++j)
+    for (int i = 0; i + wx <= g.columns; ++i) {
+      const glm::dvec2 at = g.origin + glm::dvec2(i + 0.5 * wx, j + 0.5 * wy) * g.cellSize;
+      if (at.x < inLo.x || at.x > inHi.x || at.y < inLo.y || at.y > inHi.y) continue;
+      const double score =
+          sum[size_t(j + wy) * stride + size_t(i + wx)] - sum[size_t(j) * stride + size_t(i + wx)] -
+          sum[size_t(j + wy) * stride + size_t(i)] + sum[size_t(j) * stride + size_t(i)];
+      const double distance = glm::length(at - centre);
+      // Sums that differ by rounding only are ties.
+      const double tolerance = 1e-9 * std::max(std::fabs(bestScore), 1.0);
+      if (score > bestScore + tolerance ||
+          (score >= bestScore - tolerance && distance < bestDistance)) {
+        best = at;
+        bestScore = score;
+        bestDistance = distance;
+      }
+    }
+  return best;
+}
+
 Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegrees, int maxFrames) {
   Flight f;
   f.width = width;
@@ -212,8 +282,16 @@ Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegree
   const double lookDistance = std::min(ahead, 0.25 * diagonal);
   const double tanDown =
       std::max(std::tan(kLookDownDegrees * std::numbers::pi / 180.0), clearance / lookDistance);
-  const glm::dvec2 start = lo + 0.1 * size, end = lo + 0.9 * size;
-  const glm::dvec2 heading = glm::normalize(end - start);
+  // Low over the data towards its most rugged place, from the farthest corner of its inner
+  // 80 % (the first of south-west, south-east, north-west, north-east among equals), so that
+  // place is ahead all along the pass and the climb starts over it.
+  const glm::dvec2 end = mostRuggedPoint(reliefGrid(tree), e);
+  glm::dvec2 start = lo + 0.1 * size;
+  for (const glm::dvec2 corner : {glm::dvec2(0.9, 0.1), glm::dvec2(0.1, 0.9), glm::dvec2(0.9, 0.9)})
+    if (glm::length(lo + corner * size - end) > glm::length(start - end) + 1e-9 * diagonal)
+      start = lo + corner * size;
+  const glm::dvec2 heading =
+      glm::length(end - start) > 0 ? glm::normalize(end - start) : glm::dvec2(0.0, 1.0);
   const double passLength = glm::length(end - start);
 
   // The highest ground under the next stretch of the path, so the eye rises before a ridge.

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "test_tree.h"
+
 namespace terralod {
 namespace {
 
@@ -107,6 +109,93 @@ TEST(Flight, AutoFlightMovesAtMostHalfAPercentOfItsHeightPerFrame) {
   const Flight climb = autoFlightClimb(tree, 320, 240, 60.0);
   EXPECT_EQ(climb.frames, f.frames - f.climbStart);
   EXPECT_EQ(climb.keyframes.front().eye, f.keyframes[size_t(f.climbStart)].eye);
+}
+
+// A 64 x 48 grid of 100 m cells, gently rolling (ranges of 1–3 m), with a rugged patch in one
+// corner: the flight must head there, not to the centre.
+ReliefGrid cornerRelief(bool northEast) {
+  ReliefGrid g;
+  g.columns = 64;
+  g.rows = 48;
+  g.cellSize = {100.0, 100.0};
+  g.range.resize(size_t(g.columns * g.rows));
+  for (int j = 0; j < g.rows; ++j)
+    for (int i = 0; i < g.columns; ++i) {
+      const bool rugged = northEast ? (i >= 48 && j >= 34) : (i < 16 && j < 14);
+      g.range[size_t(j * g.columns + i)] =
+          rugged ? 300.0 + 200.0 * ((i * 7 + j * 3) % 5) : 1.0 + double((i + 2 * j) % 3);
+    }
+  return g;
+}
+
+Box extentOf(double w, double h) {
+  Box e;
+  e.max = {w, h, 3000.0};
+  return e;
+}
+
+TEST(FlightStart, MostRuggedPointIsInTheRuggedCornerAwayFromTheEdge) {
+  const Box e = extentOf(6400.0, 4800.0);
+  const glm::dvec2 ne = mostRuggedPoint(cornerRelief(true), e);
+  EXPECT_GT(ne.x, 0.7 * 6400.0);
+  EXPECT_GT(ne.y, 0.7 * 4800.0);
+  EXPECT_LE(ne.x, 0.85 * 6400.0);
+  EXPECT_LE(ne.y, 0.85 * 4800.0);
+  const glm::dvec2 sw = mostRuggedPoint(cornerRelief(false), e);
+  EXPECT_LT(sw.x, 0.3 * 6400.0);
+  EXPECT_LT(sw.y, 0.3 * 4800.0);
+  EXPECT_GE(sw.x, 0.15 * 6400.0);
+  EXPECT_GE(sw.y, 0.15 * 4800.0);
+  // The same grid gives the same point (no hidden state).
+  EXPECT_EQ(mostRuggedPoint(cornerRelief(true), e), ne);
+}
+
+TEST(FlightStart, FlatOrTinyDataGivesTheCentre) {
+  ReliefGrid flat = cornerRelief(true);
+  std::fill(flat.range.begin(), flat.range.end(), 2.0);
+  const glm::dvec2 p = mostRuggedPoint(flat, extentOf(6400.0, 4800.0));
+  EXPECT_NEAR(p.x, 3200.0, 100.0);
+  EXPECT_NEAR(p.y, 2400.0, 100.0);
+  ReliefGrid one;
+  one.columns = one.rows = 1;
+  one.cellSize = {10.0, 10.0};
+  one.range = {5.0};
+  EXPECT_EQ(mostRuggedPoint(one, extentOf(10.0, 10.0)), glm::dvec2(5.0, 5.0));
+  EXPECT_EQ(mostRuggedPoint(ReliefGrid{}, extentOf(10.0, 20.0)), glm::dvec2(5.0, 10.0));
+}
+
+TEST(FlightStart, AutoFlightLowPassAndClimbGoToTheMostRuggedCorner) {
+  // 1024 m square, 5 levels (16 x 16 leaves of 64 m): leaves in the south-east corner span
+  // 0–1000 m, everything else 0–100 m. (The flight this replaced climbed in the north-east
+  // whatever the heights.)
+  FullTree t(5);
+  for (NodeRecord& n : t.nodes) {
+    const uint32_t shift = 4u - n.level;
+    if (n.x >= (11u >> shift) && n.y <= (4u >> shift)) n.maxZ = 1000.0f;
+  }
+  t.header.extentMax[2] = 1000.0;
+  const ChunkTree tree = t.tree();
+  const ReliefGrid g = reliefGrid(tree);
+  EXPECT_EQ(g.columns, 16);
+  EXPECT_EQ(g.rows, 16);
+  EXPECT_EQ(g.range[size_t(2 * 16 + 12)], 1000.0);
+  EXPECT_EQ(g.range[size_t(12 * 16 + 2)], 100.0);
+  const Flight f = autoFlight(tree, 320, 240, 60.0);
+  ASSERT_GT(f.climbStart, 10);
+  // The climb starts over the rugged corner, which the low pass flew towards from the
+  // north-west, looking at it.
+  const glm::dvec3 top = f.keyframes[size_t(f.climbStart)].eye;
+  EXPECT_GT(top.x, 0.65 * 1024);
+  EXPECT_LT(top.y, 0.35 * 1024);
+  EXPECT_LT(f.keyframes.front().eye.x, 0.15 * 1024);
+  EXPECT_GT(f.keyframes.front().eye.y, 0.85 * 1024);
+  const glm::dvec3 look = f.keyframes.front().target - f.keyframes.front().eye;
+  EXPECT_GT(look.x, 0.0);
+  EXPECT_LT(look.y, 0.0);
+  // Deterministic.
+  const Flight again = autoFlight(tree, 320, 240, 60.0);
+  ASSERT_EQ(again.keyframes.size(), f.keyframes.size());
+  EXPECT_EQ(again.keyframes.back().eye, f.keyframes.back().eye);
 }
 
 }  // namespace

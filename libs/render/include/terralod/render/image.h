@@ -1,6 +1,6 @@
 #pragma once
-// An 8-bit RGBA image in memory and its PNG files: what renders come back as, what golden
-// tests compare and what the CLI writes.
+// An 8-bit RGBA image in memory and its PNG (and JPEG) files: what renders come back as, what
+// golden tests compare and what the CLI writes.
 
 #include <array>
 #include <cstdint>
@@ -29,6 +29,16 @@ Status writePng(const Image& image, const std::string& path);
 /// Writes `image` as a baseline JPEG of `quality` (1..100), alpha dropped, atomically like
 /// writePng: for pictures of frames, where PNG would be several times larger. Any thread.
 Status writeJpeg(const Image& image, const std::string& path, int quality = 85);
+
+enum class ImageFormat { kPng, kJpeg };
+
+/// The format a file name asks for: `.png`, or `.jpg`/`.jpeg` (any case). Any other name is
+/// refused with one line naming the file. Touches nothing.
+Result<ImageFormat> imageFormatFor(const std::string& path);
+
+/// Writes `image` as its name asks (imageFormatFor): PNG, or JPEG of quality 90; atomically,
+/// like writePng. Refuses other names before encoding anything. Any thread.
+Status writeImage(const Image& image, const std::string& path);
 
 /// Reads a PNG into RGBA8 (grey, grey-alpha and RGB are expanded; 16-bit is reduced).
 /// Fails with a message naming `path` when it is missing or not a readable PNG. Any thread.

@@ -40,13 +40,33 @@ std::string flightToJson(const Flight& flight);
 /// One camera per frame.
 std::vector<Camera> flightCameras(const Flight& flight);
 
-/// The default flight over a tileset: a low pass diagonally across the data, looking ahead
-/// and 15 degrees down (steeper over data small next to the height) at about 1/200 of the extent's
-/// diagonal above the ground (higher where the finest level's error would otherwise exceed 1 pixel,
-/// so any τ >= 1 can be met), then a climb that turns to look at the whole. Every frame moves the
-/// eye at most 0.5 % of its height above the ground (a 60 fps flight), so the flight has as many
-/// frames as that takes; `maxFrames` (if > 0) keeps only its first frames. Every frame is a
-/// keyframe.
+/// Height ranges on a regular grid of cells over the data, row by row from the south-west.
+struct ReliefGrid {
+  int columns = 0, rows = 0;
+  glm::dvec2 origin{0.0};     ///< world x, y of the south-west corner of cell (0, 0)
+  glm::dvec2 cellSize{1.0};   ///< metres
+  std::vector<double> range;  ///< highest minus lowest height in each cell (0 where no data)
+};
+
+/// The tileset's relief without reading a chunk: the height ranges of the chunks' boxes at the
+/// finest level that has at most 512 chunks along either side.
+ReliefGrid reliefGrid(const ChunkTree& tree);
+
+/// Where the relief is most rugged: the centre of the square window of cells, 1/8 of the
+/// extent's shorter side wide, with the largest sum of cell ranges (the mean local relief),
+/// among windows whose centre lies at least 15 % of the extent's width and height from its
+/// edges. Ties go to the window nearest the extent's centre, so flat data gives about the
+/// centre. Deterministic; without any such window, the extent's centre.
+glm::dvec2 mostRuggedPoint(const ReliefGrid& grid, const Box& extent);
+
+/// The default flight over a tileset: a low pass towards the most rugged place of the data
+/// (mostRuggedPoint(reliefGrid(tree))), from the corner of the data's inner 80 % farthest from
+/// it, looking ahead and 15 degrees down (steeper over data small next to the height) at about
+/// 1/200 of the extent's diagonal above the ground (higher where the finest level's error would
+/// otherwise exceed 1 pixel, so any τ >= 1 can be met), then, from above that place, a climb
+/// that turns to look at the whole. Every frame moves the eye at most 0.5 % of its height above
+/// the ground (a 60 fps flight), so the flight has as many frames as that takes; `maxFrames`
+/// (if > 0) keeps only its first frames. Every frame is a keyframe.
 Flight autoFlight(const ChunkTree& tree, int width, int height, double fovDegrees,
                   int maxFrames = 0);
 
