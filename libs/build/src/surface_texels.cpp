@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <limits>
 #include <vector>
 
 #include "terralod/build/height_source.h"
@@ -53,6 +54,17 @@ Rgb paletteColor(float height) {
 
 constexpr float kSnowBand = 400.0f;  // metres from the snow line to full cover
 
+float snowCoverBelow(float height, float snowLine) {
+  return smoothstep(snowLine, snowLine + kSnowBand, height);
+}
+
+// groundColor for a snow line already worked out (a cosine per texel would cost).
+Rgb groundColorBelow(float height, float slope, float snowLine) {
+  Rgb c = mix(paletteColor(height), kSnowColor, snowCoverBelow(height, snowLine));
+  // Steep ground is bare rock at any height; snow does not hold on it.
+  return mix(c, kBareRockColor, smoothstep(0.45f, 0.75f, slope));
+}
+
 // Linear light to display values (gamma 2.2), by table: pow() per texel is a build hot spot.
 float toDisplay(float linear) {
   static const std::vector<float> table = [] {
@@ -74,14 +86,11 @@ double snowLine(double latitudeDeg) {
 }
 
 float snowCover(double height, double latitudeDeg) {
-  const float line = float(snowLine(latitudeDeg));
-  return smoothstep(line, line + kSnowBand, float(height));
+  return snowCoverBelow(float(height), float(snowLine(latitudeDeg)));
 }
 
 GroundColor groundColor(double height, float slope, double latitudeDeg) {
-  Rgb c = mix(paletteColor(float(height)), kSnowColor, snowCover(height, latitudeDeg));
-  // Steep ground is bare rock at any height; snow does not hold on it.
-  return mix(c, kBareRockColor, smoothstep(0.45f, 0.75f, slope));
+  return groundColorBelow(float(height), slope, float(snowLine(latitudeDeg)));
 }
 
 Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDrape* image,
@@ -99,14 +108,14 @@ Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDra
       mSums[size_t(y + 1) * (mSide + 1) + x + 1] = mSums[size_t(y) * (mSide + 1) + x + 1] + row;
     }
   }
-  mRowLatitude.resize(size_t(mSide));
+  mRowSnowLine.resize(size_t(mSide));
   const std::vector<double>* latitudes = mOptions.rowLatitudes.get();
   for (int32_t y = 0; y < mSide; ++y) {
     const int32_t gy = mY0 + y;
-    mRowLatitude[size_t(y)] =
-        latitudes && !latitudes->empty()
-            ? float((*latitudes)[size_t(std::clamp(gy, 0, int32_t(latitudes->size()) - 1))])
-            : float(kUnknownLatitude);
+    mRowSnowLine[size_t(y)] =
+        float(snowLine(latitudes && !latitudes->empty()
+                           ? (*latitudes)[size_t(std::clamp(gy, 0, int32_t(latitudes->size()) - 1))]
+                           : kUnknownLatitude));
   }
   findWater();
   mRefine = 0;
@@ -128,15 +137,32 @@ void BlockTexels::findWater() {
   const int32_t side = mSide, r = kWaterRadius;
   mWater.assign(size_t(side) * side, 0);
   auto inside = [](int32_t g, int32_t size) { return size == 0 || (g >= 0 && g < size); };
-  std::vector<float> rowMin(size_t(side) * side), rowMax(size_t(side) * side);
+  // Each row's 7 samples: all at sea level (bit 0), and within kLakeFlatness of each other
+  // (bit 1, with their minimum and maximum). Both tests stop at the first sample that fails
+  // them, which on land is the first or second.
+  const float band = float(kSeaLevelBand), flat = float(kLakeFlatness);
+  mRowFlags.assign(size_t(side) * side, 0);
+  mRowMin.resize(size_t(side) * side);
+  mRowMax.resize(size_t(side) * side);
   for (int32_t y = 0; y < side; ++y)
     for (int32_t x = r; x < side - r; ++x) {
       const float* h = mHeights.data() + size_t(y) * side + x;
+      uint8_t f = 1;
+      for (int32_t k = -r; k <= r && f; ++k)
+        if (!(std::fabs(h[k]) <= band)) f = 0;
       float lo = h[-r], hi = h[-r];
-      for (int32_t k = -r + 1; k <= r; ++k) lo = std::min(lo, h[k]), hi = std::max(hi, h[k]);
-      rowMin[size_t(y) * side + x] = lo;
-      rowMax[size_t(y) * side + x] = hi;
+      bool lake = true;
+      for (int32_t k = -r + 1; k <= r && lake; ++k) {
+        lo = std::min(lo, h[k]);
+        hi = std::max(hi, h[k]);
+        lake = hi - lo <= flat;
+      }
+      const size_t i = size_t(y) * side + x;
+      mRowFlags[i] = uint8_t(f | (lake ? 2 : 0));
+      mRowMin[i] = lo;
+      mRowMax[i] = hi;
     }
+  // Windows: 7 rows that are all at sea level, or all flat and together within kLakeFlatness.
   std::vector<uint8_t> core(size_t(side) * side, 0);
   bool any = false;
   for (int32_t y = r; y < side - r; ++y) {
@@ -144,14 +170,19 @@ void BlockTexels::findWater() {
     for (int32_t x = r; x < side - r; ++x) {
       if (!inside(mX0 + x - r, mOptions.columns) || !inside(mX0 + x + r, mOptions.columns))
         continue;
-      float lo = rowMin[size_t(y - r) * side + x], hi = rowMax[size_t(y - r) * side + x];
-      for (int32_t k = -r + 1; k <= r; ++k) {
-        lo = std::min(lo, rowMin[size_t(y + k) * side + x]);
-        hi = std::max(hi, rowMax[size_t(y + k) * side + x]);
+      size_t i = size_t(y - r) * side + x;
+      uint8_t f = mRowFlags[i];
+      float lo = mRowMin[i], hi = mRowMax[i];
+      for (int32_t k = -r + 1; k <= r && f; ++k) {
+        i += size_t(side);
+        f &= mRowFlags[i];
+        if (f & 2) {
+          lo = std::min(lo, mRowMin[i]);
+          hi = std::max(hi, mRowMax[i]);
+          if (!(hi - lo <= flat)) f &= 1;
+        }
       }
-      const bool sea = lo >= -float(kSeaLevelBand) && hi <= float(kSeaLevelBand);
-      const bool lake = hi - lo <= float(kLakeFlatness);
-      if (sea || lake) {
+      if (f) {
         core[size_t(y) * side + x] = 1;
         any = true;
       }
@@ -209,7 +240,7 @@ void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
   const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * float(0.5 / mOptions.spacingX);
   const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * float(0.5 / mOptions.spacingY);
   const float nz = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-  const Rgb c = groundColor(h, 1.0f - nz, mRowLatitude[size_t(ly)]);
+  const Rgb c = groundColorBelow(h, 1.0f - nz, mRowSnowLine[size_t(ly)]);
   // Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.
   const int32_t r = kReliefRadius;
   const int32_t lx0 = gx - mX0 - r, ly0 = gy - mY0 - r, lx1 = gx - mX0 + r + 1,

@@ -101,8 +101,10 @@ class BlockTexels {
   std::vector<float> mHeights;
   std::vector<double> mSums;        // summed-area table of the heights, (side + 1)^2
   std::vector<uint8_t> mWater;      // 1 where the texel is water, side^2 (valid inside the margin)
-  std::vector<float> mRowLatitude;  // latitude of every window row
-  uint32_t mRefine = 0;             // 0: no image
+  std::vector<float> mRowSnowLine;  // the snow line of every window row (metres)
+  std::vector<uint8_t> mRowFlags;   // findWater's scratch, kept between blocks
+  std::vector<float> mRowMin, mRowMax;
+  uint32_t mRefine = 0;  // 0: no image
   int64_t mImageX0 = 0, mImageY0 = 0;
   int32_t mImageSide = 0;
   std::vector<uint8_t> mImage;  // RGBA8 over the block, fine grid
