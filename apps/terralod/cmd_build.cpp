@@ -54,7 +54,8 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       ->check(wholeNumber(1, 22));
   cmd->add_option("--texture", options->textureImage,
                   "Image to drape (any georeferenced raster GDAL reads, in any CRS and "
-                  "resolution); default: a generated colour (height tint, rock, snow, occlusion)");
+                  "resolution); default: a generated colour (palette in metres, water, snow by "
+                  "latitude, rock, occlusion)");
   cmd->add_option("--min-tau", options->textureTau,
                   "Size textures so that no texel covers more than one pixel at this τ "
                   "(pixels) or below (the source's own resolution permitting)")

@@ -57,7 +57,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Dem{"nz_elev_1km.tif", {"--max-error", "4"}, 1348639},
                       Dem{"landlab_srtmgl3_frontrange.asc", {}, 0},
                       Dem{"landlab_west_bijou_gully_3m.asc", {"--max-error", "0.1"}, 2739},
-                      Dem{"loadersgl_terrarium_256.png", {"--encoding", "terrarium"}, 0}),
+                      Dem{"loadersgl_terrarium_256.png", {"--encoding", "terrarium"}, 0},
+                      Dem{"burrard_inlet_srtm3.tif", {}, 1413}),
     [](const ::testing::TestParamInfo<Dem>& param) {
       std::string name = param.param.file.substr(0, param.param.file.find('.'));
       for (char& c : name)

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "terralod/build/activation_pass.h"
@@ -93,6 +94,15 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
         {"color_refine", s.textureRefine ? s.textureRefine : 1},
         {"bytes", s.textureBytes},
         {"levels", levels}};
+    // Where the generated colour's snow line comes from (surface_texels.h).
+    const auto& latitudes = textures->surface.rowLatitudes;
+    if (latitudes && !latitudes->empty()) {
+      const auto [lo, hi] = std::minmax_element(latitudes->begin(), latitudes->end());
+      j["texture"]["latitude"] = {*lo, *hi};
+    } else {
+      j["texture"]["latitude_assumed"] = kUnknownLatitude;
+    }
+    if (textures->surface.seaVoids) j["texture"]["sea_voids"] = textures->surface.seaVoids->count();
   }
   return j.dump(2);
 }
@@ -104,6 +114,7 @@ struct HeightPlan {
   std::unique_ptr<SparseHeights> sparse;  // streamed raster
   std::unique_ptr<DemWindows> windows;
   double zMin = 0, zMax = 0;
+  std::shared_ptr<const SampleMask> seaVoids;  // voids that were sea (in memory only)
 };
 
 Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& plan,
@@ -111,6 +122,9 @@ Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& p
   auto loaded = loadHeights(reader, progress);
   if (!loaded) return loaded.error();
   plan.memory = std::make_unique<Heightfield>(std::move(loaded).value());
+  // Which voids were sea, for the generated colour, before filling them.
+  if (SampleMask sea = seaVoids(*plan.memory); sea.count() > 0)
+    plan.seaVoids = std::make_shared<const SampleMask>(std::move(sea));
   auto filled = fillVoids(*plan.memory, reader.info().path);
   if (!filled) return filled.error();
   summary.filledVoids = *filled;
@@ -249,7 +263,13 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   if (options.textures) {
     textures.plan = planTextures(*layout, budget->levelError, info.spacingX, info.spacingY,
                                  options.textureTau, image ? image->refine() : 1);
-    textures.surface = {info.spacingX, info.spacingY, plan.zMin, plan.zMax};
+    textures.surface.spacingX = info.spacingX;
+    textures.surface.spacingY = info.spacingY;
+    textures.surface.columns = info.columns;
+    textures.surface.rows = info.rows;
+    textures.surface.rowLatitudes =
+        std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
+    textures.surface.seaVoids = plan.seaVoids;
     textures.image = image.get();
     chunkOptions.textures = &textures;
   }

@@ -2,19 +2,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
 #include <vector>
 
 #include "terralod/build/height_source.h"
 #include "terralod/raster/image_drape.h"
+#include "terralod/raster/void_fill.h"
 
 namespace terralod {
 namespace {
 
 constexpr int32_t kReliefRadius = BlockTexels::kMargin - 1;
+constexpr double kRadians = 3.14159265358979323846 / 180.0;
+static_assert(2 * kWaterRadius <= BlockTexels::kMargin,
+              "water windows around the margin's inner samples must lie in the window");
 
-struct Rgb {
-  float r, g, b;
-};
+using Rgb = GroundColor;
 Rgb mix(Rgb a, Rgb b, float t) {
   return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
 }
@@ -23,16 +27,42 @@ float smoothstep(float e0, float e1, float x) {
   return t * t * (3 - 2 * t);
 }
 
-// Display-value (gamma 2.2) colour of ground at relative height t, slope 1 - nz.
-Rgb ramp(float t, float slope) {
-  const Rgb lowland{0.579f, 0.695f, 0.504f}, hills{0.762f, 0.762f, 0.606f};
-  const Rgb rock{0.743f, 0.689f, 0.644f}, snow{0.968f, 0.972f, 0.982f},
-      bare{0.695f, 0.667f, 0.644f};
-  Rgb c = t < 0.35f   ? mix(lowland, hills, t / 0.35f)
-          : t < 0.75f ? mix(hills, rock, (t - 0.35f) / 0.40f)
-                      : mix(rock, snow, smoothstep(0.82f, 0.95f, t));
+// The palette by height in metres (display values), linear between stops; below the first
+// and above the last, the end colours.
+struct Stop {
+  float height;
+  Rgb color;
+};
+constexpr Stop kPalette[] = {
+    {0, {0.553f, 0.682f, 0.451f}},     // coastal lowland, green
+    {300, {0.600f, 0.710f, 0.482f}},   // lowland
+    {800, {0.698f, 0.737f, 0.541f}},   // hills, olive
+    {1500, {0.769f, 0.741f, 0.580f}},  // uplands, tan
+    {2300, {0.722f, 0.655f, 0.553f}},  // mountains, brown
+    {3200, {0.690f, 0.659f, 0.631f}},  // high rock, grey
+    {5000, {0.761f, 0.741f, 0.722f}},  // the highest rock, lighter
+};
+
+Rgb paletteColor(float height) {
+  if (height <= kPalette[0].height) return kPalette[0].color;
+  for (size_t i = 1; i < std::size(kPalette); ++i)
+    if (height < kPalette[i].height)
+      return mix(kPalette[i - 1].color, kPalette[i].color,
+                 (height - kPalette[i - 1].height) / (kPalette[i].height - kPalette[i - 1].height));
+  return kPalette[std::size(kPalette) - 1].color;
+}
+
+constexpr float kSnowBand = 400.0f;  // metres from the snow line to full cover
+
+float snowCoverBelow(float height, float snowLine) {
+  return smoothstep(snowLine, snowLine + kSnowBand, height);
+}
+
+// groundColor for a snow line already worked out (a cosine per texel would cost).
+Rgb groundColorBelow(float height, float slope, float snowLine) {
+  Rgb c = mix(paletteColor(height), kSnowColor, snowCoverBelow(height, snowLine));
   // Steep ground is bare rock at any height; snow does not hold on it.
-  return mix(c, bare, smoothstep(0.45f, 0.75f, slope));
+  return mix(c, kBareRockColor, smoothstep(0.45f, 0.75f, slope));
 }
 
 // Linear light to display values (gamma 2.2), by table: pow() per texel is a build hot spot.
@@ -49,6 +79,20 @@ float toDisplay(float linear) {
 
 }  // namespace
 
+double snowLine(double latitudeDeg) {
+  if (std::isnan(latitudeDeg)) latitudeDeg = kUnknownLatitude;
+  const double c = std::max(0.0, std::cos(std::clamp(latitudeDeg, -90.0, 90.0) * kRadians));
+  return 5200.0 * c * std::sqrt(c);
+}
+
+float snowCover(double height, double latitudeDeg) {
+  return snowCoverBelow(float(height), float(snowLine(latitudeDeg)));
+}
+
+GroundColor groundColor(double height, float slope, double latitudeDeg) {
+  return groundColorBelow(float(height), slope, float(snowLine(latitudeDeg)));
+}
+
 Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDrape* image,
                          int32_t x0, int32_t y0, int32_t cells) {
   mX0 = x0 - kMargin;
@@ -64,6 +108,16 @@ Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDra
       mSums[size_t(y + 1) * (mSide + 1) + x + 1] = mSums[size_t(y) * (mSide + 1) + x + 1] + row;
     }
   }
+  mRowSnowLine.resize(size_t(mSide));
+  const std::vector<double>* latitudes = mOptions.rowLatitudes.get();
+  for (int32_t y = 0; y < mSide; ++y) {
+    const int32_t gy = mY0 + y;
+    mRowSnowLine[size_t(y)] =
+        float(snowLine(latitudes && !latitudes->empty()
+                           ? (*latitudes)[size_t(std::clamp(gy, 0, int32_t(latitudes->size()) - 1))]
+                           : kUnknownLatitude));
+  }
+  findWater();
   mRefine = 0;
   if (image) {
     mRefine = image->refine();
@@ -75,6 +129,86 @@ Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDra
       return s;
   }
   return {};
+}
+
+// Water: the union of the 7 x 7 windows that lie inside the data and are flat at sea level or
+// exactly flat (min and max by rows, then by columns), and the filled sea voids.
+void BlockTexels::findWater() {
+  const int32_t side = mSide, r = kWaterRadius;
+  mWater.assign(size_t(side) * side, 0);
+  auto inside = [](int32_t g, int32_t size) { return size == 0 || (g >= 0 && g < size); };
+  // Each row's 7 samples: all at sea level (bit 0), and within kLakeFlatness of each other
+  // (bit 1, with their minimum and maximum). Both tests stop at the first sample that fails
+  // them, which on land is the first or second.
+  const float band = float(kSeaLevelBand), flat = float(kLakeFlatness);
+  mRowFlags.assign(size_t(side) * side, 0);
+  mRowMin.resize(size_t(side) * side);
+  mRowMax.resize(size_t(side) * side);
+  for (int32_t y = 0; y < side; ++y)
+    for (int32_t x = r; x < side - r; ++x) {
+      const float* h = mHeights.data() + size_t(y) * side + x;
+      uint8_t f = 1;
+      for (int32_t k = -r; k <= r && f; ++k)
+        if (!(std::fabs(h[k]) <= band)) f = 0;
+      float lo = h[-r], hi = h[-r];
+      bool lake = true;
+      for (int32_t k = -r + 1; k <= r && lake; ++k) {
+        lo = std::min(lo, h[k]);
+        hi = std::max(hi, h[k]);
+        lake = hi - lo <= flat;
+      }
+      const size_t i = size_t(y) * side + x;
+      mRowFlags[i] = uint8_t(f | (lake ? 2 : 0));
+      mRowMin[i] = lo;
+      mRowMax[i] = hi;
+    }
+  // Windows: 7 rows that are all at sea level, or all flat and together within kLakeFlatness.
+  std::vector<uint8_t> core(size_t(side) * side, 0);
+  bool any = false;
+  for (int32_t y = r; y < side - r; ++y) {
+    if (!inside(mY0 + y - r, mOptions.rows) || !inside(mY0 + y + r, mOptions.rows)) continue;
+    for (int32_t x = r; x < side - r; ++x) {
+      if (!inside(mX0 + x - r, mOptions.columns) || !inside(mX0 + x + r, mOptions.columns))
+        continue;
+      size_t i = size_t(y - r) * side + x;
+      uint8_t f = mRowFlags[i];
+      float lo = mRowMin[i], hi = mRowMax[i];
+      for (int32_t k = -r + 1; k <= r && f; ++k) {
+        i += size_t(side);
+        f &= mRowFlags[i];
+        if (f & 2) {
+          lo = std::min(lo, mRowMin[i]);
+          hi = std::max(hi, mRowMax[i]);
+          if (!(hi - lo <= flat)) f &= 1;
+        }
+      }
+      if (f) {
+        core[size_t(y) * side + x] = 1;
+        any = true;
+      }
+    }
+  }
+  if (any) {
+    // Dilate the window centres into whole windows: by rows, then by columns.
+    std::vector<uint8_t> rows(size_t(side) * side, 0);
+    for (int32_t y = 0; y < side; ++y)
+      for (int32_t x = r; x < side - r; ++x) {
+        const uint8_t* c = core.data() + size_t(y) * side + x;
+        uint8_t v = 0;
+        for (int32_t k = -r; k <= r; ++k) v |= c[k];
+        rows[size_t(y) * side + x] = v;
+      }
+    for (int32_t y = r; y < side - r; ++y)
+      for (int32_t x = 0; x < side; ++x) {
+        uint8_t v = 0;
+        for (int32_t k = -r; k <= r; ++k) v |= rows[size_t(y + k) * side + x];
+        mWater[size_t(y) * side + x] = v;
+      }
+  }
+  if (const SampleMask* sea = mOptions.seaVoids.get())
+    for (int32_t y = 0; y < side; ++y)
+      for (int32_t x = 0; x < side; ++x)
+        if (sea->at(mX0 + x, mY0 + y)) mWater[size_t(y) * side + x] = 1;
 }
 
 TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
@@ -95,12 +229,18 @@ TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
 }
 
 void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
+  const int32_t ly = gy - mY0;
+  if (mWater[size_t(ly) * mSide + size_t(gx - mX0)]) {
+    rgb[0] = kWaterColor.r;
+    rgb[1] = kWaterColor.g;
+    rgb[2] = kWaterColor.b;
+    return;
+  }
   const float h = height(gx, gy);
   const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * float(0.5 / mOptions.spacingX);
   const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * float(0.5 / mOptions.spacingY);
   const float nz = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-  const double range = std::max(mOptions.zMax - mOptions.zMin, 1e-3);
-  Rgb c = ramp(float(std::clamp((h - mOptions.zMin) / range, 0.0, 1.0)), 1.0f - nz);
+  const Rgb c = groundColorBelow(h, 1.0f - nz, mRowSnowLine[size_t(ly)]);
   // Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.
   const int32_t r = kReliefRadius;
   const int32_t lx0 = gx - mX0 - r, ly0 = gy - mY0 - r, lx1 = gx - mX0 + r + 1,

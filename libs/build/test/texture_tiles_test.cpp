@@ -475,8 +475,6 @@ TEST(BlockTexels, NeighbouringBlocksAgreeOnTheirSharedBorder) {
   SurfaceTexelOptions options;
   options.spacingX = 10;
   options.spacingY = 12;
-  options.zMin = 0;
-  options.zMax = 300;
   BlockTexels a(options), b(options), c(options);
   const int32_t cells = 32;
   ASSERT_TRUE(a.load(heights, 0, nullptr, 32, 32, cells).ok());
@@ -516,8 +514,6 @@ TEST(BlockTexels, ColoursComeFromTheDrapedImage) {
   SurfaceTexelOptions options;
   options.spacingX = (*dem)->info().spacingX;
   options.spacingY = (*dem)->info().spacingY;
-  options.zMin = 0;
-  options.zMax = 300;
   // A block on the DEM's western edge, which the UTM image does not quite reach.
   const int32_t x0 = 0, y0 = 192, cells = 32;
   BlockTexels withImage(options), without(options);

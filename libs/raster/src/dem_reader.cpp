@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -75,6 +76,17 @@ std::optional<double> verticalUnitFactor(std::string unit) {
   return std::nullopt;
 }
 
+// A raster without a CRS is taken as WGS 84 degrees when its bounds lie inside the
+// longitude/latitude range and its cells are small.
+bool boundsLookLikeDegrees(const DemInfo& info) {
+  const auto& gt = info.geoTransform;
+  const double west = gt[0], north = gt[3];
+  const double east = west + gt[1] * info.columns, south = north + gt[5] * info.rows;
+  const bool inLonLat = std::min(west, east) >= -180.0 && std::max(west, east) <= 360.0 &&
+                        std::min(south, north) >= -90.0 && std::max(south, north) <= 90.0;
+  return inLonLat && std::fabs(gt[1]) < 0.1 && std::fabs(gt[5]) < 0.1;
+}
+
 // Metres per cell from an axis-aligned geotransform and the CRS (or a documented guess without
 // one).
 Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
@@ -106,11 +118,7 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
   } else if (!srs || srs->IsEmpty()) {
     // No CRS (e.g. an ESRI ASCII grid without .prj): small cells inside the lon/lat range are
     // taken as WGS 84 degrees, anything else as metres.
-    const double west = gt[0], north = gt[3];
-    const double east = west + gt[1] * info.columns, south = north + gt[5] * info.rows;
-    const bool inLonLat = std::min(west, east) >= -180.0 && std::max(west, east) <= 360.0 &&
-                          std::min(south, north) >= -90.0 && std::max(south, north) <= 90.0;
-    if (inLonLat && cellX < 0.1 && cellY < 0.1) {
+    if (boundsLookLikeDegrees(info)) {
       geographic = true;
     } else {
       info.spacingX = cellX;
@@ -319,6 +327,52 @@ Result<std::unique_ptr<DemReader>> DemReader::reopen() const {
   auto again = open(mImpl->openedName, mOptions);
   if (again) (*again)->mInfo.path = mInfo.path;
   return again;
+}
+
+std::vector<double> DemReader::gridRowLatitudes() const {
+  gdal::QuietErrors quiet;
+  const DemInfo& info = mInfo;
+  if (!info.hasGeoTransform) return {};
+  const auto& gt = info.geoTransform;
+  // Where raster row r's centre lies along the geotransform's y axis, for grid row gy.
+  const int32_t rows = info.rows;
+  auto rasterY = [&](int32_t gy) {
+    const int32_t r = info.southUp ? gy : rows - 1 - gy;
+    return gt[3] + (r + 0.5) * gt[5];
+  };
+  const double centreX = gt[0] + 0.5 * info.columns * gt[1];
+  std::vector<double> latitudes(size_t(rows), 0.0);
+  const OGRSpatialReference* srs = mImpl->dataset->GetSpatialRef();
+  if (!srs || srs->IsEmpty()) {
+    if (!boundsLookLikeDegrees(info)) return {};
+    for (int32_t gy = 0; gy < rows; ++gy) latitudes[size_t(gy)] = rasterY(gy);
+  } else if (srs->IsGeographic()) {
+    const double degreesPerUnit = srs->GetAngularUnits() * 180.0 / std::numbers::pi;
+    for (int32_t gy = 0; gy < rows; ++gy) latitudes[size_t(gy)] = rasterY(gy) * degreesPerUnit;
+  } else if (srs->IsProjected()) {
+    // Through PROJ to the CRS's own geographic CRS, at the centre column of every row.
+    OGRSpatialReference source(*srs);
+    source.SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::unique_ptr<OGRSpatialReference> geographic(source.CloneGeogCS());
+    if (!geographic) return {};
+    geographic->SetAxisMappingStrategy(OAMS_TRADITIONAL_GIS_ORDER);
+    std::unique_ptr<OGRCoordinateTransformation> toGeographic(
+        OGRCreateCoordinateTransformation(&source, geographic.get()));
+    if (!toGeographic) return {};
+    std::vector<double> x(size_t(rows), centreX), y(size_t(rows), 0.0);
+    for (int32_t gy = 0; gy < rows; ++gy) y[size_t(gy)] = rasterY(gy);
+    std::vector<int> ok(size_t(rows), 0);
+    if (!toGeographic->Transform(rows, x.data(), y.data(), nullptr, ok.data())) return {};
+    const double degreesPerUnit = geographic->GetAngularUnits() * 180.0 / std::numbers::pi;
+    for (int32_t gy = 0; gy < rows; ++gy) {
+      if (!ok[size_t(gy)] || !std::isfinite(y[size_t(gy)])) return {};
+      latitudes[size_t(gy)] = y[size_t(gy)] * degreesPerUnit;
+    }
+  } else {
+    return {};  // a local (engineering) CRS: not placed on Earth
+  }
+  for (double& latitude : latitudes) latitude = std::clamp(latitude, -90.0, 90.0);
+  return latitudes;
 }
 
 Result<std::array<double, 2>> DemReader::approximateHeightRange() const {

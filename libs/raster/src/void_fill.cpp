@@ -1,8 +1,10 @@
 #include "terralod/raster/void_fill.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 namespace terralod {
@@ -105,6 +107,62 @@ void push(Level& fine, const Level& coarse) {
 }
 
 }  // namespace
+
+uint64_t SampleMask::count() const {
+  uint64_t n = 0;
+  for (uint64_t word : mBits) n += uint64_t(std::popcount(word));
+  return n;
+}
+
+SampleMask seaVoids(const Heightfield& heights) {
+  const int32_t w = heights.columns(), h = heights.rows();
+  bool edgeVoid = false;
+  for (int32_t x = 0; x < w && !edgeVoid; ++x)
+    edgeVoid = std::isnan(heights(x, 0)) || std::isnan(heights(x, h - 1));
+  for (int32_t y = 0; y < h && !edgeVoid; ++y)
+    edgeVoid = std::isnan(heights(0, y)) || std::isnan(heights(w - 1, y));
+  if (!edgeVoid) return {};
+  SampleMask sea(w, h);
+  SampleMask seen(w, h);
+  std::vector<std::pair<int32_t, int32_t>> stack, members;
+  std::vector<float> rim;
+  auto group = [&](int32_t sx, int32_t sy) {
+    if (!std::isnan(heights(sx, sy)) || seen.at(sx, sy)) return;
+    stack.assign(1, {sx, sy});
+    seen.set(sx, sy);
+    members.clear();
+    rim.clear();
+    while (!stack.empty()) {
+      const auto [x, y] = stack.back();
+      stack.pop_back();
+      members.push_back({x, y});
+      const std::pair<int32_t, int32_t> next[4] = {{x - 1, y}, {x + 1, y}, {x, y - 1}, {x, y + 1}};
+      for (const auto& [nx, ny] : next) {
+        if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+        const float v = heights(nx, ny);
+        if (!std::isnan(v)) {
+          rim.push_back(v);
+        } else if (!seen.at(nx, ny)) {
+          seen.set(nx, ny);
+          stack.push_back({nx, ny});
+        }
+      }
+    }
+    const size_t low = size_t(std::count_if(rim.begin(), rim.end(),
+                                            [](float v) { return v <= float(kSeaVoidRimHeight); }));
+    if (rim.empty() || 4 * low < rim.size()) return;
+    for (const auto& [x, y] : members) sea.set(x, y);
+  };
+  for (int32_t x = 0; x < w; ++x) {
+    group(x, 0);
+    group(x, h - 1);
+  }
+  for (int32_t y = 0; y < h; ++y) {
+    group(0, y);
+    group(w - 1, y);
+  }
+  return sea;
+}
 
 uint64_t countVoids(const Heightfield& heights) {
   uint64_t voids = 0;

@@ -423,5 +423,43 @@ TEST(DemReader, BadInputsGetOneClearLine) {
   }
 }
 
+// Latitudes for the generated colour's snow line: per grid row, south first.
+TEST(DemReader, GridRowLatitudes) {
+  // Geographic: from the geotransform, at row centres.
+  auto geographic = open(testData("zion_srtm3.tif"));
+  const auto& gt = geographic->info().geoTransform;
+  const int32_t rows = geographic->info().rows;
+  const std::vector<double> lat = geographic->gridRowLatitudes();
+  ASSERT_EQ(lat.size(), size_t(rows));
+  EXPECT_NEAR(lat[0], gt[3] + (rows - 0.5) * gt[5], 1e-9);  // the south row
+  EXPECT_NEAR(lat[size_t(rows - 1)], gt[3] + 0.5 * gt[5], 1e-9);
+  // Projected (UTM 12N): through PROJ at the centre column; gdalinfo puts the centre at
+  // 37°19'22.8"N and the corners at 37°07'36" (south) and 37°30'45"–37°31'09" (north).
+  auto utm = open(testData("zion_srtm3_utm12_30m.tif"));
+  const std::vector<double> u = utm->gridRowLatitudes();
+  ASSERT_EQ(u.size(), size_t(utm->info().rows));
+  EXPECT_NEAR(u[u.size() / 2], 37.3230, 0.002);
+  EXPECT_NEAR(u.front(), 37.13, 0.01);
+  EXPECT_NEAR(u.back(), 37.52, 0.01);
+  for (size_t i = 1; i < u.size(); ++i) ASSERT_GT(u[i], u[i - 1]) << i;
+  // The southern hemisphere (New Zealand, a transverse Mercator grid): negative.
+  auto nz = open(testData("nz_elev_1km.tif"));
+  const std::vector<double> n = nz->gridRowLatitudes();
+  ASSERT_EQ(n.size(), size_t(nz->info().rows));
+  EXPECT_NEAR(n[n.size() / 2], -40.95, 0.05);
+  // No CRS: degrees when the bounds look like them (as for the spacing), else unknown.
+  const std::vector<double> d =
+      open(testData("landlab_srtmgl3_frontrange.asc"))->gridRowLatitudes();
+  ASSERT_FALSE(d.empty());
+  EXPECT_GT(d.front(), 35.0);
+  EXPECT_LT(d.back(), 45.0);
+  EXPECT_TRUE(open(testData("landlab_west_bijou_gully_3m.asc"))->gridRowLatitudes().empty());
+  // No georeferencing at all: unknown.
+  EXPECT_TRUE(
+      open(testData("loadersgl_terrarium_256.png"), {.encoding = HeightEncoding::kTerrarium})
+          ->gridRowLatitudes()
+          .empty());
+}
+
 }  // namespace
 }  // namespace terralod

@@ -152,5 +152,36 @@ TEST(VoidFill, NothingToFillAndNothingToFillFrom) {
   EXPECT_NE(r.error().message.find("every sample is nodata"), std::string::npos);
 }
 
+// Sea left as nodata reaches the raster's edge and meets the coast near 0 m; voids in mountains
+// that reach the edge, and voids inside the raster, are not sea.
+TEST(VoidFill, SeaVoidsTouchTheEdgeAndMeetTheCoastNearSeaLevel) {
+  Heightfield field(60, 40);
+  for (int32_t y = 0; y < 40; ++y)
+    for (int32_t x = 0; x < 60; ++x) field(x, y) = 5.0f + 40.0f * float(x - 8);  // coast at 5 m
+  for (int32_t y = 0; y < 40; ++y)
+    for (int32_t x = 0; x < 8; ++x) field(x, y) = kNaN;  // the sea, west
+  for (int32_t y = 30; y < 40; ++y)
+    for (int32_t x = 40; x < 45; ++x) field(x, y) = kNaN;  // a mountain void on the north edge
+  for (int32_t y = 10; y < 14; ++y)
+    for (int32_t x = 9; x < 12; ++x) field(x, y) = kNaN;  // a void inside, near the coast
+  const SampleMask sea = seaVoids(field);
+  EXPECT_EQ(sea.count(), 8u * 40u);
+  for (int32_t y = 0; y < 40; ++y)
+    for (int32_t x = 0; x < 60; ++x) ASSERT_EQ(sea.at(x, y), x < 8) << x << "," << y;
+  EXPECT_TRUE(sea.at(-5, 3)) << "outside the grid, the nearest edge sample";
+  EXPECT_FALSE(sea.at(70, 3));
+
+  // A sea whose coast is mostly cliffs still counts when a quarter of it is low...
+  Heightfield cliffs(20, 20, 200.0f);
+  for (int32_t y = 0; y < 20; ++y) cliffs(0, y) = kNaN;
+  for (int32_t y = 0; y < 5; ++y) cliffs(1, y) = 3.0f;
+  EXPECT_EQ(seaVoids(cliffs).count(), 20u);
+  // ... and not when less is.
+  cliffs(1, 4) = 200.0f;
+  EXPECT_EQ(seaVoids(cliffs).count(), 0u);
+  // Without voids on the edge, nothing is stored.
+  EXPECT_EQ(seaVoids(Heightfield(20, 20, 0.0f)).count(), 0u);
+}
+
 }  // namespace
 }  // namespace terralod

@@ -1,13 +1,21 @@
 #pragma once
 // The full-resolution texels of the leaf chunks of one block: normals from the heightfield by
-// central differences, the generated colour (hypsometric tint, bare rock on steep slopes, snow
-// on high flat ground, darkened hollows as a baked ambient occlusion), and, with an image
-// drape, the image's colour (the generated colour where the image has no data).
+// central differences, the generated colour, and, with an image drape, the image's colour (the
+// generated colour where the image has no data).
+//
+// The generated colour is a fixed palette in metres (groundColor: green lowland, tan hills,
+// brown and grey rock), bare rock on steep slopes, snow above the latitude's snow line
+// (snowLine) on ground flat enough to hold it, darkened hollows as a baked ambient occlusion,
+// and water (kWaterColor) where the ground is water: samples covered by a 7 x 7 window of
+// samples that is flat at sea level (every height within ±kSeaLevelBand of 0 m) or exactly
+// flat at any height (a lake, as SRTM and most DEMs flatten them: max - min <= kLakeFlatness),
+// the window lying inside the data; and filled voids that were sea (seaVoids).
 //
 // Everything is computed from a window of heights around the block with a margin, so texels
 // on a block's border come out exactly as the neighbouring block computes them.
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "terralod/build/texel_tile.h"
@@ -17,10 +25,52 @@ namespace terralod {
 
 class ImageDrape;
 class HeightWindows;
+class SampleMask;
+
+/// A display-value (gamma 2.2) colour, each channel 0..1.
+struct GroundColor {
+  float r, g, b;
+};
+
+/// Water (sea and lakes, whatever their depth).
+constexpr GroundColor kWaterColor{0.302f, 0.471f, 0.620f};
+/// Snow, and bare rock (steep ground at any height).
+constexpr GroundColor kSnowColor{0.968f, 0.972f, 0.982f};
+constexpr GroundColor kBareRockColor{0.695f, 0.667f, 0.644f};
+
+/// Latitude assumed where the raster's place on Earth is unknown (degrees).
+constexpr double kUnknownLatitude = 45.0;
+/// Heights within this of 0 m are at sea level (metres).
+constexpr double kSeaLevelBand = 0.5;
+/// A window whose heights span no more than this is flat water at any height (metres).
+constexpr double kLakeFlatness = 0.01;
+/// Half the side of the flat windows that make water (7 x 7 samples).
+constexpr int32_t kWaterRadius = 3;
+
+/// The climatic snow line in metres at a latitude in degrees (NaN: kUnknownLatitude):
+/// 5200 m · cos(latitude)^1.5, a simple fit to the observed line — about 5–5.5 km in the
+/// tropics (higher in the dry subtropical Andes, which this ignores), 2.8–3 km in the Alps at
+/// 46°, 1–1.5 km in Norway and Alaska at 60–65°, a few hundred metres on Svalbard at 78° —
+/// falling to 0 m at the poles, where glaciers reach the sea. Latitude is clamped to ±90°.
+double snowLine(double latitudeDeg);
+
+/// Snow cover 0..1 of flat ground at `height` metres: none up to the snow line, whole 400 m
+/// above it (smoothstep).
+float snowCover(double height, double latitudeDeg);
+
+/// The generated colour of dry ground (not water) at `height` metres, `slope` = 1 - n_z
+/// (0 flat, 1 vertical), at `latitudeDeg`, before the occlusion term: the palette by height,
+/// snow by snowCover, then bare rock on slopes steeper than about 45°.
+GroundColor groundColor(double height, float slope, double latitudeDeg);
 
 struct SurfaceTexelOptions {
   double spacingX = 1, spacingY = 1;
-  double zMin = 0, zMax = 1;  ///< the data's height range (for the colour ramp)
+  /// The data's size in samples: water windows must lie inside it. 0: no limit.
+  int32_t columns = 0, rows = 0;
+  /// Latitude of every grid row (south first); null or empty: kUnknownLatitude everywhere.
+  std::shared_ptr<const std::vector<double>> rowLatitudes;
+  /// Voids that were sea (filled since); null: none.
+  std::shared_ptr<const SampleMask> seaVoids;
 };
 
 class BlockTexels {
@@ -44,12 +94,17 @@ class BlockTexels {
     return mHeights[size_t(gy - mY0) * mSide + size_t(gx - mX0)];
   }
   void generatedColor(int32_t gx, int32_t gy, float* rgb) const;
+  void findWater();
 
   SurfaceTexelOptions mOptions;
   int32_t mX0 = 0, mY0 = 0, mSide = 0;  // window origin (grid) and side, margin included
   std::vector<float> mHeights;
-  std::vector<double> mSums;  // summed-area table of the heights, (side + 1)^2
-  uint32_t mRefine = 0;       // 0: no image
+  std::vector<double> mSums;        // summed-area table of the heights, (side + 1)^2
+  std::vector<uint8_t> mWater;      // 1 where the texel is water, side^2 (valid inside the margin)
+  std::vector<float> mRowSnowLine;  // the snow line of every window row (metres)
+  std::vector<uint8_t> mRowFlags;   // findWater's scratch, kept between blocks
+  std::vector<float> mRowMin, mRowMax;
+  uint32_t mRefine = 0;  // 0: no image
   int64_t mImageX0 = 0, mImageY0 = 0;
   int32_t mImageSide = 0;
   std::vector<uint8_t> mImage;  // RGBA8 over the block, fine grid

@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "terralod/core/result.h"
 
@@ -79,6 +80,13 @@ class DemReader {
   /// A quick estimate of the height range (min, max) in metres from GDAL's approximate
   /// statistics (overviews or a subsample); it can miss the extremes. Fails if unknown.
   Result<std::array<double, 2>> approximateHeightRange() const;
+
+  /// Latitude (degrees north) of every grid row, south row first, at the raster's centre
+  /// column: from the geotransform for a geographic CRS (and for a raster without a CRS whose
+  /// bounds look like longitude/latitude, as for its spacing), through PROJ for a projected
+  /// one. Empty when the raster's place on Earth is unknown: no georeferencing, a local CRS,
+  /// no CRS and bounds that are not degrees, or a transformation PROJ cannot do.
+  std::vector<double> gridRowLatitudes() const;
 
   /// Reads grid window [x0, x0+w) x [y0, y0+h) as heights in metres, south row first,
   /// `w` values per row. Points outside the raster take the value of the nearest raster
