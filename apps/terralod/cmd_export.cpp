@@ -173,12 +173,13 @@ void addExportCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--level", options->level,
                   "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)")
       ->check(wholeNumber<int64_t>());
-  auto* size = cmd->add_option(
-      "--texture-size", options->textureSize,
-      "Pixels along the longer side of the colour texture (the other in proportion), sampled "
-      "from the coarsest level of the texture quadtree that has as many (default: the tileset's "
-      "full resolution, at most 2048)")
-      ->check(wholeNumber<int64_t>());
+  auto* size = cmd->add_option("--texture-size", options->textureSize,
+                               "Pixels along the longer side of the colour texture (the other in "
+                               "proportion), sampled "
+                               "from the coarsest level of the texture quadtree that has as many "
+                               "(default: the tileset's "
+                               "full resolution, at most 2048)")
+                   ->check(wholeNumber<int64_t>());
   cmd->add_flag("--no-texture", options->noTexture,
                 "Write no texture (normals and texture coordinates are written all the same)")
       ->excludes(size);

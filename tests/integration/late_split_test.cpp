@@ -20,9 +20,9 @@ TEST(LateSplits, EasingFramesAreCountedApartAndTheBoundHoldsOnTheRest) {
   const std::string source = testData("n43w123_flat_64n.tif");
   const RunResult built = runTerralod({"build", source, "-o", dir.file("f.tlod")});
   ASSERT_EQ(built.exitCode, 0) << built.err;
-  const RunResult r = runTerralod({"bench", dir.file("f.tlod"), "--auto-flight", "--climb-only",
-                                   "--frames", "30", "--size", "640x480", "--source", source,
-                                   "--json", dir.file("b.json")});
+  const RunResult r =
+      runTerralod({"bench", dir.file("f.tlod"), "--auto-flight", "--climb-only", "--frames", "30",
+                   "--size", "640x480", "--source", source, "--json", dir.file("b.json")});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto j = nlohmann::json::parse(readWholeFile(dir.file("b.json")));
   EXPECT_GT(j["easing_frames"].get<int>(), 0);

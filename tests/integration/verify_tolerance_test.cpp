@@ -76,7 +76,9 @@ TEST(VerifyTolerance, PrintsEachLevelsAllowanceAndWhyItHolds) {
     const LevelRow* parent = nullptr;
     for (const LevelRow& p : rows)
       if (p.level == row.level - 1) parent = &p;
-    if (parent) EXPECT_NEAR(row.allowed, 0.5 * (row.step + parent->step) + 1e-6, 2e-6);
+    if (parent) {
+      EXPECT_NEAR(row.allowed, 0.5 * (row.step + parent->step) + 1e-6, 2e-6);
+    }
   }
   EXPECT_NE(r.out.find("morph mismatch allowed = (height step + parent level's step) / 2 + 1e-6 m"),
             std::string::npos)
