@@ -210,12 +210,18 @@ Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOpt
 uint64_t QualityMetrics::holes(const Image& image, const View& view,
                                std::array<uint8_t, 3> background) const {
   const Box& e = mTree.extent();
+  // Metres per pixel at distance t along a ray (at most; off-axis pixels are smaller).
+  const double pixelAngle = 2.0 * view.tanHalfWidth / image.width;
   auto overData = [&](const glm::dvec3& ray, double z) {
     if (ray.z >= 0.0) return false;  // never comes down to the terrain
     const double t = (z - view.camera.eye.z) / ray.z;
     if (t < -1e-9) return false;
     const glm::dvec3 p = view.camera.eye + ray * t;
-    return p.x >= e.min[0] && p.x <= e.max[0] && p.y >= e.min[1] && p.y <= e.max[1];
+    // Inside the data's footprint by more than the rasteriser's rounding of its outer edge
+    // (which has no skirt: nothing lies beyond it to cover).
+    const double margin = kRasterPrecisionPx * pixelAngle * std::max(t, 0.0);
+    return p.x >= e.min[0] + margin && p.x <= e.max[0] - margin && p.y >= e.min[1] + margin &&
+           p.y <= e.max[1] - margin;
   };
   // Every level's drawn surface lies within its error of the data, the coarsest error of all.
   const double slack = mTree.levelError(0);

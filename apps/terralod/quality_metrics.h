@@ -21,6 +21,11 @@
 
 namespace terralod::cli {
 
+/// How far (pixels) a rasteriser may move an edge by snapping vertices to its subpixel grid:
+/// one subpixel of GL_SUBPIXEL_BITS = 8, as Mesa's llvmpipe and NVIDIA GPUs report (the GL
+/// minimum is 4). The hole count leaves out pixel centres this close to the data's outer edge.
+inline constexpr double kRasterPrecisionPx = 1.0 / 256.0;
+
 class QualityMetrics {
  public:
   /// `source` is the tileset's source grid; every `stride`-th sample (in x and y) is measured.
@@ -38,8 +43,10 @@ class QualityMetrics {
 
   /// Pixels of `image` (rendered from `view` without a sky) with exactly the `background`
   /// colour whose ray certainly meets the terrain (it stays over the data's footprint from the
-  /// eye, or the data's top if lower, down to the data's lowest height), i.e. holes. The eye
-  /// must be above the ground.
+  /// eye, or the data's top if lower, down to the data's lowest height), i.e. holes. A ray
+  /// within kRasterPrecisionPx of the data's outer edge does not count: whether the
+  /// rasteriser covers that pixel is decided by how it rounds the edge, not by the surface.
+  /// The eye must be above the ground.
   uint64_t holes(const Image& image, const View& view, std::array<uint8_t, 3> background) const;
 
   int stride() const { return mStride; }

@@ -195,8 +195,8 @@ void ChunkMesher::addSkirts(ChunkMesh& mesh) {
       mesh.vertices.push_back(bottom);
     }
     // Skirts face outwards (counter-clockwise seen from outside the chunk), like the surface
-    // seen from above, so back-face culling keeps them. Along increasing q the south and east
-    // sides wind that way as (a, a2, b2); the north and west sides need the mirror image.
+    // seen from above, so a renderer that culls back faces keeps them. Along increasing q the south
+    // and east sides wind that way as (a, a2, b2); the north and west sides need the mirror image.
     const bool mirrored = side == kNorth || side == kWest;
     for (uint32_t k = 0; k + 1 < onSide.size(); ++k) {
       const uint32_t a = onSide[k].second, b = onSide[k + 1].second;

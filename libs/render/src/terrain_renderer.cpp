@@ -275,9 +275,13 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
 
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
-  glEnable(GL_CULL_FACE);
-  glCullFace(GL_BACK);
-  glFrontFace(GL_CCW);
+  // No back-face culling. Seen from above, a height field's back faces all lie behind front
+  // faces, so culling would only save work, but it can open pinholes: where a steep slope
+  // folds over in the image, a back-facing sliver a ten-thousandth of a pixel across can be
+  // the triangle that covers a pixel centre once the rasteriser has snapped the vertices to
+  // its subpixel grid, and a pipeline that decides facing before snapping (Mesa's, in floating
+  // point) drops it. Drawing both faces leaves no pixel uncovered (docs/architecture.md).
+  glDisable(GL_CULL_FACE);
   const double azimuth = style.sunAzimuthDegrees * std::numbers::pi / 180.0;
   const double elevation = style.sunElevationDegrees * std::numbers::pi / 180.0;
   const glm::vec3 sun(std::sin(azimuth) * std::cos(elevation),
@@ -343,7 +347,6 @@ DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
     glDisable(GL_POLYGON_OFFSET_LINE);
   }
-  glDisable(GL_CULL_FACE);
   if (style.chunkBoxes) {
     drawBoxes(view, tree, selection, store, viewProjection);
     ++stats.drawCalls;
