@@ -210,7 +210,8 @@ Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOpt
 uint64_t QualityMetrics::holes(const Image& image, const View& view,
                                std::array<uint8_t, 3> background) const {
   const Box& e = mTree.extent();
-  // Metres per pixel at distance t along a ray (at most; off-axis pixels are smaller).
+  // A pixel spans at most this angle (radians; off-axis pixels span less), so at most
+  // pixelAngle * t metres at distance t along its ray.
   const double pixelAngle = 2.0 * view.tanHalfWidth / image.width;
   auto overData = [&](const glm::dvec3& ray, double z) {
     if (ray.z >= 0.0) return false;  // never comes down to the terrain
