@@ -82,5 +82,27 @@ TEST_F(Holes, ARealCrackStillCounts) {
   EXPECT_EQ(bench(flight)["holes_total"].get<uint64_t>(), 0u);
 }
 
+TEST(HolesFarAway, NoneOverAGridOfAGlobalDemsSpacing) {
+  // A global DEM's cells (9,266 m; 4320 x 2161 of them made 1 hole in 1,518 frames, 38,000 km
+  // up, before the fix), on 1080 x 1080 of them (10,000 km square) to keep the test short: a
+  // climb from the ground to thousands of kilometres, where positions are far from the eye.
+  // bench/holes_climbs.sh flies the whole global grid.
+  TempDir dir;
+  ASSERT_EQ(runTerralod({"synth", "--size", "1081", "--spacing", "9266", "-o", dir.file("g.tif")})
+                .exitCode,
+            0);
+  const RunResult built =
+      runTerralod({"build", dir.file("g.tif"), "--max-error", "25", "-o", dir.file("g.tlod")});
+  ASSERT_EQ(built.exitCode, 0) << built.err;
+  const RunResult r =
+      runTerralod({"bench", dir.file("g.tlod"), "--auto-flight", "--climb-only", "--size",
+                   "320x240", "--source", dir.file("g.tif"), "--json", dir.file("b.json")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(readWholeFile(dir.file("b.json")));
+  EXPECT_GT(j["frames"].get<int>(), 1000);
+  EXPECT_EQ(j["holes_total"].get<uint64_t>(), 0u);
+  EXPECT_LE(j["max_error_px"].get<double>(), 2.0);
+}
+
 }  // namespace
 }  // namespace terralod::test
