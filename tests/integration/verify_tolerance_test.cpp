@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "cli_runner.h"
+#include "tamper_chunk.h"
 #include "terralod/format/chunk_codec.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/format/tileset_writer.h"
@@ -33,26 +34,6 @@ std::vector<LevelRow> morphRows(const std::string& out) {
       rows.push_back({std::stoi(m[1]), std::stod(m[2]), std::stod(m[3]), std::stod(m[5]), m[4]});
   }
   return rows;
-}
-
-// Writes `out`: the tileset `in` (untextured) with one chunk's geometry changed by `change`.
-void rewriteChunk(const std::string& in, const std::string& out, uint32_t node,
-                  const std::function<void(ChunkGeometry&)>& change) {
-  auto reader = TilesetReader::openFile(in).value();
-  auto writer = TilesetWriter::create(out).value();
-  std::vector<NodeRecord> nodes = reader->nodes();
-  for (uint32_t i = 0; i < nodes.size(); ++i) {
-    std::vector<uint8_t> blob = reader->readBlob(i).value();
-    if (i == node) {
-      ChunkGeometry g = reader->readChunk(i).value();
-      change(g);
-      blob = encodeChunk(g);
-    }
-    nodes[i].blobOffset = writer->appendBlob(blob).value();
-    nodes[i].blobBytes = uint32_t(blob.size());
-    nodes[i].blobCrc = crc32Of(blob);
-  }
-  ASSERT_TRUE(writer->finish(reader->header(), nodes, reader->metadataJson()).ok());
 }
 
 TEST(VerifyTolerance, PrintsEachLevelsAllowanceAndWhyItHolds) {
@@ -90,7 +71,7 @@ TEST(VerifyTolerance, PrintsEachLevelsAllowanceAndWhyItHolds) {
   while (reader->nodes()[victim].level != 1) ++victim;
   const double allowed = rows.front().allowed;
   const std::string bad = dir.file("bad.tlod");
-  rewriteChunk(good, bad, victim, [&](ChunkGeometry& g) {
+  tamperChunk(good, bad, victim, [&](ChunkGeometry& g) {
     ChunkPart& part = g.parts[0];
     ChunkVertex& v = part.vertices[part.indices[part.surfaceIndexCount / 2]];
     v.morphDelta = int16_t(v.morphDelta + int(std::ceil(2.0 * allowed / g.zStep)) + 1);

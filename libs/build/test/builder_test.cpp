@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "tamper_chunk.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/format/tileset_writer.h"
 #include "terralod/verify/verifier.h"
@@ -18,6 +19,7 @@ namespace terralod {
 namespace {
 
 namespace fs = std::filesystem;
+using test::tamperChunk;
 
 class TempDir {
  public:
@@ -151,39 +153,13 @@ TEST(Builder, OutputDoesNotDependOnThreadCount) {
   }
 }
 
-// Rewrites a tileset with one chunk's geometry changed (textures kept), to show verify
-// catches it.
-void tamper(const std::string& in, const std::string& out, uint32_t node,
-            const std::function<void(ChunkGeometry&)>& change) {
-  auto reader = TilesetReader::openFile(in).value();
-  auto writer = TilesetWriter::create(out).value();
-  std::vector<NodeRecord> nodes = reader->nodes();
-  for (uint32_t i = 0; i < nodes.size(); ++i) {
-    std::vector<uint8_t> blob = reader->readBlob(i).value();
-    if (i == node) {
-      ChunkGeometry g = reader->readChunk(i).value();
-      change(g);
-      blob = encodeChunk(g);
-    }
-    const NodeRecord& old = reader->nodes()[i];
-    nodes[i].blobOffset = writer->appendBlob(blob).value();
-    nodes[i].blobBytes = uint32_t(blob.size());
-    nodes[i].blobCrc = crc32Of(blob);
-    if (old.hasTexture()) {
-      const auto texture = reader->source().read(old.blobOffset + old.blobBytes, old.textureBytes);
-      ASSERT_TRUE(writer->appendBlob(texture.value()).ok());
-    }
-  }
-  ASSERT_TRUE(writer->finish(reader->header(), nodes, reader->metadataJson()).ok());
-}
-
 TEST(Verify, CatchesAChunkOutsideItsBound) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(129, 129, 8), dir.file("in.tif"));
   build(dir.file("in.tif"), dir.file("good.tlod"), 1.0);
   const uint32_t leaf =
       uint32_t(TilesetReader::openFile(dir.file("good.tlod")).value()->nodes().size() - 1);
-  tamper(dir.file("good.tlod"), dir.file("bad.tlod"), leaf, [](ChunkGeometry& g) {
+  tamperChunk(dir.file("good.tlod"), dir.file("bad.tlod"), leaf, [](ChunkGeometry& g) {
     g.parts[0].vertices[g.parts[0].vertices.size() / 2].z += uint16_t(2.0 / g.zStep);
   });
   NullProgress progress;
@@ -220,7 +196,7 @@ TEST(Verify, CatchesAMorphTargetOffItsParent) {
   uint32_t victim = 0;
   while (reader->nodes()[victim].level != 1) ++victim;
   const double allowed = good->levels[1].morphTolerance;
-  tamper(dir.file("good.tlod"), dir.file("bad.tlod"), victim, [&](ChunkGeometry& g) {
+  tamperChunk(dir.file("good.tlod"), dir.file("bad.tlod"), victim, [&](ChunkGeometry& g) {
     ChunkVertex& v = g.parts[0].vertices[g.parts[0].indices[0]];
     v.morphDelta = int16_t(v.morphDelta - int(std::ceil(2.0 * allowed / g.zStep)) - 1);
   });
@@ -244,7 +220,7 @@ TEST(Verify, CatchesMissingSkirts) {
   for (uint32_t i = 0; i < reader->nodes().size(); ++i) {
     if (reader->nodes()[i].level != 1) continue;
     const std::string next = dir.file("strip" + std::to_string(stripped++) + ".tlod");
-    tamper(current, next, i, [](ChunkGeometry& g) {
+    tamperChunk(current, next, i, [](ChunkGeometry& g) {
       for (ChunkPart& p : g.parts) p.indices.resize(p.surfaceIndexCount);
     });
     current = next;
