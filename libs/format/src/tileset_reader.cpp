@@ -47,6 +47,9 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
   if (crc32Of(*metadata) != t->mHeader.metadataCrc)
     return makeError(name, "metadata is corrupt (checksum mismatch)");
   t->mMetadata.assign(metadata->begin(), metadata->end());
+  auto typed = parseTilesetMetadata(t->mMetadata, t->mHeader, name);
+  if (!typed) return typed.error();
+  t->mTypedMetadata = std::move(typed).value();
   t->mSource = std::move(source);
   return t;
 }

@@ -1,7 +1,6 @@
 #include "terralod/render/terrain_scene.h"
 
 #include <algorithm>
-#include <nlohmann/json.hpp>
 #include <thread>
 
 namespace terralod {
@@ -35,28 +34,14 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
                                             " is not supported by this renderer");
   auto renderer = TerrainRenderer::create();
   if (!renderer) return renderer.error();
-  {
-    // Each level's tile sizes (metadata "texture": "levels"): where the mips keep their texels.
-    const auto meta = nlohmann::json::parse(tileset->metadataJson(), nullptr, false);
+  // Each level's tile sizes (metadata "texture": "levels"): where the mips keep their texels.
+  if (const auto& levels = tileset->metadata().textureLevels; !levels.empty()) {
     std::vector<uint32_t> colorSizes, normalSizes;
-    if (meta.is_object() && meta.contains("texture") && meta["texture"].is_object() &&
-        meta["texture"].contains("levels") && meta["texture"]["levels"].is_array()) {
-      for (const auto& level : meta["texture"]["levels"]) {
-        const auto size = [&](const char* key) -> uint32_t {
-          if (!level.is_object() || !level.contains(key) || !level[key].is_number_unsigned())
-            return 0;
-          const uint64_t v = level[key].get<uint64_t>();
-          return v >= 2 && v <= kMaxTextureSize ? uint32_t(v) : 0;
-        };
-        colorSizes.push_back(size("color_size"));
-        normalSizes.push_back(size("normal_size"));
-      }
+    for (const TextureLevelSizes& l : levels) {
+      colorSizes.push_back(l.color);
+      normalSizes.push_back(l.normal);
     }
-    // Sizes that are not all there, or not one per level, are not used.
-    const bool usable = colorSizes.size() == tileset->header().levelCount &&
-                        std::find(colorSizes.begin(), colorSizes.end(), 0) == colorSizes.end() &&
-                        std::find(normalSizes.begin(), normalSizes.end(), 0) == normalSizes.end();
-    if (usable) renderer->setTextureSizes(colorSizes, normalSizes);
+    renderer->setTextureSizes(colorSizes, normalSizes);
   }
   ChunkTree tree(tileset->header(), tileset->nodes());
   std::unique_ptr<TerrainScene> scene(new TerrainScene(

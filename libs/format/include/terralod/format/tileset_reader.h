@@ -11,6 +11,7 @@
 #include "terralod/format/chunk_codec.h"
 #include "terralod/format/texture_codec.h"
 #include "terralod/format/tileset_format.h"
+#include "terralod/format/tileset_metadata.h"
 
 namespace terralod {
 
@@ -33,6 +34,8 @@ class TilesetReader {
   const TilesetHeader& header() const { return mHeader; }
   const std::vector<NodeRecord>& nodes() const { return mNodes; }
   const std::string& metadataJson() const { return mMetadata; }
+  /// The metadata's typed fields, validated when the tileset was opened.
+  const TilesetMetadata& metadata() const { return mTypedMetadata; }
   const std::string& name() const { return mSource->name(); }
   const ByteSource& source() const { return *mSource; }
 
@@ -49,6 +52,7 @@ class TilesetReader {
   TilesetHeader mHeader;
   std::vector<NodeRecord> mNodes;
   std::string mMetadata;
+  TilesetMetadata mTypedMetadata;
 };
 
 }  // namespace terralod
