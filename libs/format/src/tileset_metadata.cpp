@@ -54,8 +54,8 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
       for (size_t level = 0; level < levels->size(); ++level) {
         const json& l = (*levels)[level];
         TextureLevelSizes sizes;
-        for (auto [key, out] : {std::pair{"color_size", &sizes.color},
-                                std::pair{"normal_size", &sizes.normal}}) {
+        for (auto [key, out] :
+             {std::pair{"color_size", &sizes.color}, std::pair{"normal_size", &sizes.normal}}) {
           const auto v = l.is_object() ? l.find(key) : l.end();
           if (!l.is_object() || v == l.end() || !v->is_number_unsigned() ||
               !isTileSize(v->get<uint64_t>()))

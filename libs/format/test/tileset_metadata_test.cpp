@@ -58,10 +58,9 @@ TEST(TilesetMetadata, RefusesWhatIsNotWhatTheWriterWrites) {
   EXPECT_EQ(parseError(R"({"texture": {"levels": [{"color_size": 3, "normal_size": 3}]}})"),
             prefix + "\"texture\".\"levels\" is not one entry per level (3)");
   const std::string bad = prefix + "texture level 1 has no valid \"";
-  for (const char* level : {R"({"color_size": 128, "normal_size": 65})",
-                            R"({"color_size": 8193, "normal_size": 65})",
-                            R"({"color_size": -129, "normal_size": 65})",
-                            R"({"normal_size": 65})", R"(7)"})
+  for (const char* level :
+       {R"({"color_size": 128, "normal_size": 65})", R"({"color_size": 8193, "normal_size": 65})",
+        R"({"color_size": -129, "normal_size": 65})", R"({"normal_size": 65})", R"(7)"})
     EXPECT_EQ(parseError(std::string(R"({"texture": {"levels": [)") +
                          R"({"color_size": 3, "normal_size": 3}, )" + level +
                          R"(, {"color_size": 3, "normal_size": 3}]}})"),
