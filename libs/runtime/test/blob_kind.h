@@ -7,6 +7,8 @@
 //   - RecordingBackend: what a GPU backend would do, recorded per frame (uploads, releases,
 //     draws); each upload advances a fake clock by 1 ms, so the per-frame upload budget bites.
 
+#include <gtest/gtest.h>
+
 #include <cstring>
 #include <string>
 #include <vector>

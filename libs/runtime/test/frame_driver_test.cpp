@@ -15,7 +15,7 @@
 namespace terralod {
 namespace {
 
-constexpr int kLevels = 5;  // 341 chunks
+constexpr int kLevels = 6;  // 1365 chunks
 
 std::string tilesetPath(const std::string& name) {
   return (std::filesystem::path(::testing::TempDir()) / name).string();
@@ -27,6 +27,7 @@ struct FlightRun {
   std::vector<RecordedFrame> drawn;   // per update: the draws the kind added to the frame
   std::vector<UpdateStats> stats;
   ResidencyCounters counters;
+  size_t readyWaiting = 0;              // loaded, not uploaded, at the end
   std::vector<uint64_t> residentBytes;  // after each update
 };
 
@@ -67,14 +68,16 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
     runner.runAll();  // the loads dispatched this frame finish before the next
   }
   run.counters = (*driver)->residency().counters();
+  run.readyWaiting = (*driver)->residency().readyWaiting();
   run.frames = backend.frames;
   return run;
 }
 
 FrameDriverOptions smallBudget() {
   FrameDriverOptions o;
-  o.cacheBytes = 120 * kBlobPayloadBytes;  // 120 of 341 chunks
-  o.maxInFlight = 4;
+  // 100.5 chunks: at exactly the budget nothing is evicted and no load starts.
+  o.cacheBytes = 100 * kBlobPayloadBytes + kBlobPayloadBytes / 2;
+  o.maxInFlight = 8;
   o.uploadMillisecondsPerFrame = 4.0;  // the backend takes 1 ms per upload: 5 per frame
   return o;
 }
@@ -105,14 +108,14 @@ TEST(FrameDriver, ARecordedFlightLoadsSelectsAndEvictsTheSameEveryRun) {
     deepest = std::max<uint32_t>(deepest, uint32_t(s.selection.deepestLevel));
   }
   EXPECT_GT(easing, 0u);
-  EXPECT_EQ(deepest, uint32_t(kLevels - 1));
+  EXPECT_GE(deepest, uint32_t(kLevels - 2));
   // The backend saw what the driver counted.
   uint64_t uploads = 0, releases = 0;
   for (const RecordedFrame& f : a.frames) {
     uploads += f.uploads.size();
     releases += f.releases.size();
   }
-  EXPECT_EQ(uploads, a.counters.loads);
+  EXPECT_EQ(uploads, a.counters.loads - a.counters.discarded - a.readyWaiting);
   EXPECT_EQ(releases, a.counters.evictions);
 }
 
@@ -123,8 +126,9 @@ TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {
     const Residency& r = driver.residency();
     for (uint32_t i = 0; i < tree.nodes().size(); ++i) {
       const uint32_t parent = tree.node(i).parent;
-      if (r.state(i) == ChunkState::kResident && parent != kNoNode)
+      if (r.state(i) == ChunkState::kResident && parent != kNoNode) {
         EXPECT_EQ(r.state(parent), ChunkState::kResident) << "node " << i;
+      }
     }
     for (const SelectedChunk& c : driver.selected())
       EXPECT_EQ(r.state(c.node), ChunkState::kResident) << "drawn node " << c.node;
