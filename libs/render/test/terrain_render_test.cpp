@@ -1,14 +1,20 @@
 // The terrain renderer on a real DEM through EGL: a golden image, one multi-draw per frame,
 // and skirts that close every crack a look-down view could show.
 
+#include <epoxy/gl.h>
 #include <gtest/gtest.h>
+
+#include <memory>
+#include <optional>
 
 #include "image_compare.h"
 #include "temp_dir.h"
 #include "terralod/build/builder.h"
+#include "terralod/render/composited_layer.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
 #include "terralod/render/gpu_chunk_store.h"
+#include "terralod/render/shader_program.h"
 #include "terralod/render/terrain_scene.h"
 
 namespace terralod {
@@ -190,6 +196,100 @@ TEST_F(TerrainRender, SkirtBottomsAreFoundForTheShaderToSlant) {
     }
   }
   EXPECT_GT(partsWithSkirts, 20u);
+}
+
+// A composited layer as simple as one can be: a screen-filling sheet `distance` metres in front
+// of the eye (along the view axis), drawn with the depth test the renderer sets up, and
+// coloured from the depth texture it samples: magenta where the terrain's depth says the sheet
+// is in front, green where it says the sheet is behind (the depth test should have hidden
+// those, so green means the texture and the depth test disagree).
+class DepthProbeLayer : public CompositedLayer {
+ public:
+  explicit DepthProbeLayer(double distance) : mDepth(float(kNearPlane / distance)) {
+    auto program = ShaderProgram::create("depth probe", {R"(#version 450 core
+uniform float uDepth;
+void main() {
+  vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2)) * 2.0 - 1.0;
+  gl_Position = vec4(p, uDepth, 1.0);
+}
+)",
+                                                         R"(#version 450 core
+uniform sampler2D uSceneDepth;
+uniform float uDepth;
+out vec4 fragColor;
+void main() {
+  float scene = texelFetch(uSceneDepth, ivec2(gl_FragCoord.xy), 0).r;
+  fragColor = scene <= uDepth ? vec4(1.0, 0.0, 1.0, 1.0) : vec4(0.0, 1.0, 0.0, 1.0);
+}
+)",
+                                                         {}});
+    EXPECT_TRUE(program.ok()) << program.error().message;
+    mProgram.emplace(std::move(program).value());
+    glCreateVertexArrays(1, &mVertexArray);
+  }
+  ~DepthProbeLayer() override { glDeleteVertexArrays(1, &mVertexArray); }
+
+  uint32_t draw(const FrameContext& frame) override {
+    ++mFrames;
+    if (!frame.depth.readable() || frame.depth.samples != 0) return 0;
+    mProgram->use();
+    glUniform1f(mProgram->uniformLocation("uDepth"), mDepth);
+    glBindTextureUnit(0, frame.depth.texture);
+    glUniform1i(mProgram->uniformLocation("uSceneDepth"), 0);
+    glBindVertexArray(mVertexArray);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    return 1;
+  }
+
+  float depth() const { return mDepth; }
+  int frames() const { return mFrames; }
+
+ private:
+  float mDepth;
+  std::optional<ShaderProgram> mProgram;
+  uint32_t mVertexArray = 0;
+  int mFrames = 0;
+};
+
+TEST_F(TerrainRender, CompositedLayerReadsTheTerrainDepthAndHidesBehindIt) {
+  SelectionOptions selection;
+  selection.tau = 2.0;
+  const Camera camera = oblique();
+  const Image plain = render(camera, selection, TerrainStyle{});
+  auto& layer = static_cast<DepthProbeLayer&>(
+      mScene->renderer().addLayer(std::make_unique<DepthProbeLayer>(4000.0)));
+  auto target = Framebuffer::create(camera.width, camera.height).value();
+  target.bind();
+  auto frame = mScene->renderFrame(makeView(camera).value(), selection, TerrainStyle{});
+  ASSERT_TRUE(frame.ok()) << frame.error().message;
+  EXPECT_EQ(layer.frames(), 1);
+  EXPECT_EQ(frame->draw.drawCalls, 3u) << "sky, one multi-draw, the layer";
+  const Image image = target.readPixels();
+  std::vector<float> depth(size_t(camera.width) * size_t(camera.height));
+  glGetTextureImage(target.depth().texture, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    GLsizei(depth.size() * sizeof(float)), depth.data());
+  size_t front = 0, behind = 0, wrong = 0, green = 0;
+  for (int y = 0; y < camera.height; ++y)
+    for (int x = 0; x < camera.width; ++x) {
+      const size_t i = size_t(y) * size_t(camera.width) + size_t(x);  // image: top row first
+      const float d = depth[size_t(camera.height - 1 - y) * camera.width + x];  // GL: bottom first
+      const uint8_t* p = &image.rgba[i * 4];
+      const uint8_t* q = &plain.rgba[i * 4];
+      const bool magenta = p[0] == 255 && p[1] == 0 && p[2] == 255;
+      green += p[0] == 0 && p[1] == 255 && p[2] == 0;
+      if (d <= layer.depth()) {
+        ++front;
+        wrong += !magenta;
+      } else {
+        ++behind;
+        wrong += p[0] != q[0] || p[1] != q[1] || p[2] != q[2];
+      }
+    }
+  EXPECT_EQ(green, 0u) << "the depth texture and the depth test disagree";
+  EXPECT_EQ(wrong, 0u) << "pixels not composited as their depth says";
+  const size_t pixels = depth.size();
+  EXPECT_GT(front, pixels / 10) << "the sheet covers the sky and the terrain beyond 4 km";
+  EXPECT_GT(behind, pixels / 10) << "the terrain nearer than 4 km hides the sheet";
 }
 
 }  // namespace
