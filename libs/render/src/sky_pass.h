@@ -1,6 +1,7 @@
 #pragma once
-// The sky: a full-screen triangle at infinite distance behind everything, from the haze colour
-// at the horizon to the background colour overhead. Render thread only.
+// The sky: a full-screen triangle at infinite distance behind everything, the background colour
+// seen through the air each pixel's ray crosses (atmosphere.h): haze at the horizon. Render thread
+// only.
 
 #include <cstdint>
 
@@ -14,8 +15,9 @@ namespace terralod {
 class SkyPass {
  public:
   static Result<SkyPass> create();
-  /// Draws the sky with the depth test off; returns the draw calls (1).
-  uint32_t draw(const FrameContext& frame) const;
+  /// Draws the sky with the depth test off; returns the draw calls (1). Rays looking down end
+  /// at `floor` (metres; the lower of sea level and the data's lowest point).
+  uint32_t draw(const FrameContext& frame, double floor) const;
 
  private:
   explicit SkyPass(ShaderProgram program);

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "atmosphere.h"
 #include "frame_colors.h"
 #include "terrain_shaders.h"
 #include "terralod/render/texture_placement.h"
@@ -147,7 +148,6 @@ void TerrainPass::setFrameUniforms(const FrameContext& frame, const ChunkTree& t
   const glm::vec3 sun(std::sin(azimuth) * std::cos(elevation),
                       std::cos(azimuth) * std::cos(elevation), std::sin(elevation));
   const Box& extent = tree.extent();
-  const double diagonal = std::hypot(extent.max[0] - extent.min[0], extent.max[1] - extent.min[1]);
   const glm::vec3 hazeLinear = glm::pow(hazeColor(style), glm::vec3(2.2f));
   // The frame's uniforms, in each program variant this frame uses.
   uint32_t variantsUsed = 0;
@@ -164,8 +164,8 @@ void TerrainPass::setFrameUniforms(const FrameContext& frame, const ChunkTree& t
     glProgramUniform2f(program, terrain.uniformLocation("uHeightRange"), float(extent.min[2]),
                        float(extent.max[2]));
     glProgramUniform3fv(program, terrain.uniformLocation("uHaze"), 1, glm::value_ptr(hazeLinear));
-    glProgramUniform1f(program, terrain.uniformLocation("uHazeDistance"),
-                       float(std::max(diagonal, 1.0) * 1.5));
+    glProgramUniform1f(program, terrain.uniformLocation("uScaleHeight"), float(kScaleHeight));
+    glProgramUniform1f(program, terrain.uniformLocation("uExtinction"), float(extinction(style)));
     glProgramUniform1i(program, terrain.uniformLocation("uColor"), 0);
     glProgramUniform1i(program, terrain.uniformLocation("uNormal"), 1);
   }

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <vector>
 
 #include "chunk_box_pass.h"
@@ -89,7 +90,8 @@ DrawStats TerrainRenderer::draw(const FrameContext& frame, const ChunkTree& tree
   Passes& passes = *mPasses;
   DrawStats stats = passes.terrain.prepare(frame, tree, selection, store);
   beginFrame(frame);
-  if (frame.style.sky) stats.drawCalls += passes.sky.draw(frame);
+  if (frame.style.sky)
+    stats.drawCalls += passes.sky.draw(frame, std::min(0.0, tree.extent().min[2]));
   stats.drawCalls += passes.terrain.draw(frame, tree, store, TerrainDrawMode::kSurface);
   stats.drawCalls += drawLayers(frame, passes.layers);
   // Overlays, over the terrain and the layers, when there is terrain to outline.

@@ -4,6 +4,8 @@
 #include <epoxy/gl.h>
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <memory>
 #include <optional>
 
@@ -196,6 +198,88 @@ TEST_F(TerrainRender, SkirtBottomsAreFoundForTheShaderToSlant) {
     }
   }
   EXPECT_GT(partsWithSkirts, 20u);
+}
+
+// Mean |a - b| over the colour channels of the pixels `pick` chooses (by index), and how many.
+template <typename Pick>
+std::pair<double, size_t> meanDifference(const Image& a, const Image& b, Pick pick) {
+  double sum = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < a.rgba.size() / 4; ++i) {
+    if (!pick(i)) continue;
+    for (size_t c = 0; c < 3; ++c) sum += std::abs(int(a.rgba[i * 4 + c]) - int(b.rgba[i * 4 + c]));
+    ++n;
+  }
+  return {n ? sum / double(n * 3) : 0.0, n};
+}
+
+// The distance along the view axis of each pixel (image order, top row first) from a depth
+// texture: kNearPlane / depth; infinite where nothing was drawn.
+std::vector<double> viewDistances(const Framebuffer& target) {
+  std::vector<float> depth(size_t(target.width()) * size_t(target.height()));
+  glGetTextureImage(target.depth().texture, 0, GL_DEPTH_COMPONENT, GL_FLOAT,
+                    GLsizei(depth.size() * sizeof(float)), depth.data());
+  std::vector<double> distance(depth.size());
+  for (int y = 0; y < target.height(); ++y)
+    for (int x = 0; x < target.width(); ++x) {
+      const float d = depth[size_t(target.height() - 1 - y) * size_t(target.width()) + size_t(x)];
+      distance[size_t(y) * size_t(target.width()) + size_t(x)] =
+          d > 0.0f ? kNearPlane / double(d) : INFINITY;
+    }
+  return distance;
+}
+
+TEST_F(TerrainRender, HazeFollowsTheAirARayCrosses) {
+  SelectionOptions selection;
+  selection.tau = 2.0;
+  TerrainStyle hazy, clear;
+  clear.haze = 0.0;
+  // Low over the south-west corner, looking across the whole DEM (about 17 km) to the
+  // north-east, a little down.
+  Camera low;
+  low.eye = {300, 300, 1900};
+  low.target = {10000, 13700, 2000};
+  low.width = 480;
+  low.height = 360;
+  const Image lowHazy = render(low, selection, hazy);
+  auto target = Framebuffer::create(low.width, low.height).value();
+  target.bind();
+  ASSERT_TRUE(mScene->renderFrame(makeView(low).value(), selection, clear).ok());
+  const Image lowClear = target.readPixels();
+  const std::vector<double> distance = viewDistances(target);
+  const auto [far, farPixels] = meanDifference(lowHazy, lowClear, [&](size_t i) {
+    return distance[i] > 10000.0 && std::isfinite(distance[i]);
+  });
+  const auto [near, nearPixels] =
+      meanDifference(lowHazy, lowClear, [&](size_t i) { return distance[i] < 1000.0; });
+  ASSERT_GT(farPixels, 300u);
+  ASSERT_GT(nearPixels, 1000u);
+  // Measured on llvmpipe: 4.7 beyond 10 km, 0.2 within 1 km (of 255).
+  EXPECT_GT(far, 3.0) << "the terrain 10 km and more away is hazed";
+  EXPECT_LT(near, 0.5) << "the terrain within 1 km is nearly clear";
+  EXPECT_GT(far, 10.0 * near);
+  std::printf(
+      "haze 1 vs 0, low view: mean difference %.2f beyond 10 km (%zu pixels), %.2f within "
+      "1 km (%zu pixels)\n",
+      far, farPixels, near, nearPixels);
+
+  // From 400 km up, looking straight down at the whole DEM: the ray crosses the whole column
+  // above the ground, whose optical depth is modest.
+  Camera orbit;
+  orbit.eye = {5150, 7000, 400000};
+  orbit.target = {5150, 7001, 0};
+  orbit.hfovDegrees = 2.0;
+  orbit.width = 320;
+  orbit.height = 240;
+  const Image orbitHazy = render(orbit, selection, hazy);
+  const Image orbitClear = render(orbit, selection, clear);
+  const auto [whole, wholePixels] =
+      meanDifference(orbitHazy, orbitClear, [](size_t) { return true; });
+  // Measured: 3.2 (the distance model hazed it by 70%).
+  EXPECT_LT(whole, 4.0) << "seen from orbit the ground stays clear";
+  EXPECT_LT(whole, far) << "less haze from orbit than across 10 km near the ground";
+  std::printf("haze 1 vs 0, orbit view from 400 km: mean difference %.2f (%zu pixels)\n", whole,
+              wholePixels);
 }
 
 // A composited layer as simple as one can be: a screen-filling sheet `distance` metres in front

@@ -19,6 +19,9 @@ struct TerrainStyle {
   std::array<uint8_t, 3> background{0x9C, 0xC3, 0xE6};  ///< sRGB; the sky overhead
   double sunAzimuthDegrees = 315.0;                     ///< clockwise from north
   double sunElevationDegrees = 40.0;
+  /// Aerial perspective: scales how much the air hazes what lies behind it (0: no haze).
+  /// The haze follows the air a ray crosses in an exponential atmosphere (atmosphere.h).
+  double haze = 1.0;
 };
 
 }  // namespace terralod
