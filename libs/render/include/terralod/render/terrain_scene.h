@@ -88,6 +88,8 @@ class TerrainScene {
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
   uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  /// The renderer, for adding composited layers (TerrainRenderer::addLayer).
+  TerrainRenderer& renderer() { return mRenderer; }
 
  private:
   TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer,
