@@ -5,12 +5,12 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "bench_flight.h"
-#include "bench_report.h"
 #include "cli_checks.h"
 #include "commands.h"
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/measure/bench_flight.h"
+#include "terralod/measure/bench_report.h"
 #include "terralod/render/gl_context.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/verify/verifier.h"

@@ -1,4 +1,4 @@
-#include "texture_metrics.h"
+#include "terralod/measure/texture_metrics.h"
 
 #include <algorithm>
 #include <cmath>

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "export_mesh.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/measure/export_mesh.h"
 
 namespace terralod::cli {
 

@@ -11,11 +11,11 @@
 #include <glm/vec3.hpp>
 
 #include "terralod/core/progress.h"
+#include "terralod/measure/texture_metrics.h"
 #include "terralod/raster/heightfield.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/runtime/view.h"
-#include "texture_metrics.h"
 
 namespace terralod::cli {
 

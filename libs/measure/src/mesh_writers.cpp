@@ -1,4 +1,4 @@
-#include "mesh_writers.h"
+#include "terralod/measure/mesh_writers.h"
 
 #include <algorithm>
 #include <bit>

@@ -1,4 +1,4 @@
-#include "export_mesh.h"
+#include "terralod/measure/export_mesh.h"
 
 #include <algorithm>
 #include <cassert>

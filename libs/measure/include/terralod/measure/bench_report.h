@@ -13,8 +13,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bench_flight.h"
 #include "terralod/core/result.h"
+#include "terralod/measure/bench_flight.h"
 
 namespace terralod::cli {
 

@@ -1,12 +1,12 @@
-#include "bench_flight.h"
+#include "terralod/measure/bench_flight.h"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <chrono>
 
-#include "quality_metrics.h"
 #include "terralod/core/parallel.h"
+#include "terralod/measure/quality_metrics.h"
 #include "terralod/render/framebuffer.h"
 
 namespace terralod::cli {

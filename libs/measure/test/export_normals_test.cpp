@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "export_mesh.h"
+#include "terralod/measure/export_mesh.h"
 
 namespace terralod::cli {
 namespace {

@@ -1,4 +1,4 @@
-#include "fly_camera.h"
+#include "terralod/measure/fly_camera.h"
 
 #include <algorithm>
 #include <cmath>

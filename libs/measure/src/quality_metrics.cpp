@@ -1,4 +1,4 @@
-#include "quality_metrics.h"
+#include "terralod/measure/quality_metrics.h"
 
 #include <algorithm>
 #include <atomic>

@@ -2,7 +2,7 @@
 // triangles whose error bound cannot beat the worst found so far; that must never change the
 // answer. The oracle here measures every sample of every selected triangle, no culling.
 
-#include "quality_metrics.h"
+#include "terralod/measure/quality_metrics.h"
 
 #include <gtest/gtest.h>
 

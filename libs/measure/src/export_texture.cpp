@@ -1,4 +1,4 @@
-#include "export_texture.h"
+#include "terralod/measure/export_texture.h"
 
 #include <stb_image_write.h>
 

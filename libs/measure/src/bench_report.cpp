@@ -1,4 +1,4 @@
-#include "bench_report.h"
+#include "terralod/measure/bench_report.h"
 
 #include <fcntl.h>
 #include <spawn.h>
