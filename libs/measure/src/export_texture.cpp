@@ -12,7 +12,7 @@
 // Debian's libstb ships the stb implementations compiled (libstb.so), so no
 // STB_*_IMPLEMENTATION here.
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 constexpr uint32_t kMaxSamplesPerAxis = 8;
@@ -182,4 +182,4 @@ Result<std::vector<uint8_t>> encodePng(const ExportTexture& texture, const std::
   return png;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

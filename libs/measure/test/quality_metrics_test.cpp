@@ -14,7 +14,7 @@
 #include "terralod/format/chunk_position.h"
 #include "terralod/verify/verifier.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 class QualityMetricsError : public ::testing::Test {
@@ -116,4 +116,4 @@ TEST_F(QualityMetricsError, SkippingBoundedChunksNeverChangesTheWorstError) {
 }
 
 }  // namespace
-}  // namespace terralod::cli
+}  // namespace terralod
