@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <nlohmann/json.hpp>
 
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/texture_decode.h"
@@ -22,18 +21,7 @@ constexpr uint32_t kMaxSamplesPerAxis = 8;
 Result<std::vector<uint32_t>> levelColorSizes(const TilesetReader& tileset) {
   const uint32_t levels = tileset.header().levelCount;
   std::vector<uint32_t> sizes;
-  const auto meta = nlohmann::json::parse(tileset.metadataJson(), nullptr, false);
-  if (meta.is_object() && meta.contains("texture") && meta["texture"].is_object() &&
-      meta["texture"].contains("levels") && meta["texture"]["levels"].is_array()) {
-    for (const auto& level : meta["texture"]["levels"]) {
-      if (!level.is_object() || !level.contains("color_size") ||
-          !level["color_size"].is_number_unsigned())
-        break;
-      const uint64_t size = level["color_size"].get<uint64_t>();
-      if (size < 2 || size > kMaxTextureSize) break;
-      sizes.push_back(uint32_t(size));
-    }
-  }
+  for (const TextureLevelSizes& l : tileset.metadata().textureLevels) sizes.push_back(l.color);
   if (sizes.size() == levels) return sizes;
   sizes.assign(levels, 0);
   for (uint32_t i = 0; i < tileset.nodes().size(); ++i) {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "image_compare.h"
+#include "shared_directory.h"
 #include "temp_dir.h"
 #include "terralod/build/builder.h"
 #include "terralod/render/framebuffer.h"
@@ -21,15 +22,19 @@ constexpr std::array<uint8_t, 3> kMagenta{0xFF, 0x00, 0xFF};
 class TerrainRender : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    sDir = new TempDir;
-    BuildOptions options;
-    options.input = test::testData("crater_lake_0513.bt");
-    options.output = sDir->file("crater.tlod");
-    options.maxError = 0.5;
-    options.textures = false;  // lit from the geometry (textured views: textured_render_test)
-    NullProgress progress;
-    auto built = buildTileset(options, progress, [](const std::string&) {});
-    ASSERT_TRUE(built.ok()) << built.error().message;
+    // Built once for every test process of this build of the tests.
+    sDir = new test::SharedDirectory(
+        test::sharedDirectory("crater-untextured", test::selfStamp(), [](const std::string& dir) {
+          BuildOptions options;
+          options.input = test::testData("crater_lake_0513.bt");
+          options.output = dir + "/crater.tlod";
+          options.maxError = 0.5;
+          options.textures = false;  // lit from the geometry (textured: textured_render_test)
+          NullProgress progress;
+          auto built = buildTileset(options, progress, [](const std::string&) {});
+          return built.ok() ? std::string() : built.error().message;
+        }));
+    ASSERT_EQ(sDir->error, "");
   }
   static void TearDownTestSuite() { delete sDir; }
 
@@ -100,7 +105,7 @@ class TerrainRender : public ::testing::Test {
     return c;
   }
 
-  static inline TempDir* sDir = nullptr;
+  static inline test::SharedDirectory* sDir = nullptr;
   std::unique_ptr<GlContext> mContext;
   std::unique_ptr<TerrainScene> mScene;
 };
