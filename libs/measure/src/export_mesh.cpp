@@ -1,4 +1,4 @@
-#include "export_mesh.h"
+#include "terralod/measure/export_mesh.h"
 
 #include <algorithm>
 #include <cassert>
@@ -8,7 +8,7 @@
 
 #include "terralod/format/chunk_position.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 // Below this two heights are the same point: the verifier's floating-point slack. Chunks
@@ -136,4 +136,4 @@ std::vector<std::array<float, 3>> angleWeightedNormals(
   return sums;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -1,4 +1,4 @@
-#include "bench_report.h"
+#include "terralod/measure/bench_report.h"
 
 #include <fcntl.h>
 #include <spawn.h>
@@ -16,7 +16,7 @@
 
 extern char** environ;
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 namespace fs = std::filesystem;
@@ -324,4 +324,4 @@ Status writeBenchReport(const std::string& dir, const BenchFlightResult& flight,
   return {};
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

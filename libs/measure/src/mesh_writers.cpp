@@ -1,4 +1,4 @@
-#include "mesh_writers.h"
+#include "terralod/measure/mesh_writers.h"
 
 #include <algorithm>
 #include <bit>
@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <span>
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 // PLY and GLB data are the in-memory floats and integers copied as they are.
@@ -301,4 +301,4 @@ std::string objMaterialLibrary(const std::string& description, const std::string
          textureFile + "\n";
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -1,4 +1,4 @@
-#include "export_texture.h"
+#include "terralod/measure/export_texture.h"
 
 #include <stb_image_write.h>
 
@@ -11,7 +11,7 @@
 // Debian's libstb ships the stb implementations compiled (libstb.so), so no
 // STB_*_IMPLEMENTATION here.
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 constexpr uint32_t kMaxSamplesPerAxis = 8;
@@ -170,4 +170,4 @@ Result<std::vector<uint8_t>> encodePng(const ExportTexture& texture, const std::
   return png;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "bench_flight.h"
 #include "terralod/core/result.h"
+#include "terralod/measure/bench_flight.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 /// How many frames the contact sheet shows.
 constexpr size_t kReportSheetFrames = 24;
@@ -30,4 +30,4 @@ Status checkReportTarget(const std::string& dir);
 Status writeBenchReport(const std::string& dir, const BenchFlightResult& flight,
                         const nlohmann::json& summary, const std::string& commandLine);
 
-}  // namespace terralod::cli
+}  // namespace terralod

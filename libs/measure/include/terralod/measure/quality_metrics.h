@@ -19,7 +19,7 @@
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/view.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 /// How far (pixels) a rasteriser may move an edge by snapping vertices to its subpixel grid:
 /// one subpixel of GL_SUBPIXEL_BITS = 8, as Mesa's llvmpipe and NVIDIA GPUs report (the GL
@@ -94,4 +94,4 @@ class QualityMetrics {
 /// The camera that looks for holes from `eye`: 60 degrees down, facing `view`'s heading.
 Camera lookDownCamera(const View& view);
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -11,13 +11,13 @@
 #include <glm/vec3.hpp>
 
 #include "terralod/core/progress.h"
+#include "terralod/measure/texture_metrics.h"
 #include "terralod/raster/heightfield.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/runtime/view.h"
-#include "texture_metrics.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 /// One frame's figures. Quality figures are NaN where they were not measured: without a
 /// source, or when nothing changed (image pops) or there is no last frame (pops).
@@ -64,4 +64,4 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
 /// The p-quantile (0..1) of `values` by the nearest-rank method; 0 for none. NaNs are skipped.
 double percentile(std::vector<double> values, double p);
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -8,7 +8,7 @@
 #include "terralod/core/progress.h"
 #include "terralod/format/tileset_reader.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 /// Every chunk of a level, unmorphed and without skirts, in world coordinates.
 struct LevelSurface {
@@ -42,4 +42,4 @@ Result<LevelSurface> gatherLevelSurface(const TilesetReader& tileset, uint32_t l
 std::vector<std::array<float, 3>> angleWeightedNormals(
     const std::vector<std::array<float, 3>>& positions, const std::vector<uint32_t>& indices);
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -9,7 +9,7 @@
 #include "terralod/core/progress.h"
 #include "terralod/format/tileset_reader.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 struct ExportTexture {
   uint32_t width = 0, height = 0;
@@ -38,4 +38,4 @@ Result<ExportTexture> assembleTexture(const TilesetReader& tileset, uint32_t lon
 /// `texture` as an RGB PNG file's bytes.
 Result<std::vector<uint8_t>> encodePng(const ExportTexture& texture, const std::string& subject);
 
-}  // namespace terralod::cli
+}  // namespace terralod

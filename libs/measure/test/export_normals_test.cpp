@@ -5,9 +5,9 @@
 
 #include <cmath>
 
-#include "export_mesh.h"
+#include "terralod/measure/export_mesh.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 using Positions = std::vector<std::array<float, 3>>;
@@ -64,4 +64,4 @@ TEST(AngleWeightedNormals, UnusedAndDegenerateVerticesPointUp) {
 }
 
 }  // namespace
-}  // namespace terralod::cli
+}  // namespace terralod

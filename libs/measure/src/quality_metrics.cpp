@@ -1,4 +1,4 @@
-#include "quality_metrics.h"
+#include "terralod/measure/quality_metrics.h"
 
 #include <algorithm>
 #include <atomic>
@@ -10,7 +10,7 @@
 #include "terralod/core/sample_raster.h"
 #include "terralod/format/chunk_position.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 uint64_t sampleKey(int64_t x, int64_t y) {
@@ -255,4 +255,4 @@ Camera lookDownCamera(const View& view) {
   return c;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "export_mesh.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/measure/export_mesh.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 enum class MeshFormat {
   kObj,  ///< Wavefront OBJ text: `v x y z`, `vt u v`, `vn x y z`, `f a/a/a b/b/b c/c/c`
@@ -41,4 +41,4 @@ Status writeMesh(const LevelSurface& surface, MeshFormat format, const MeshExtra
 /// texture `textureFile`.
 std::string objMaterialLibrary(const std::string& description, const std::string& textureFile);
 
-}  // namespace terralod::cli
+}  // namespace terralod

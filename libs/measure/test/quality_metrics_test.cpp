@@ -2,7 +2,7 @@
 // triangles whose error bound cannot beat the worst found so far; that must never change the
 // answer. The oracle here measures every sample of every selected triangle, no culling.
 
-#include "quality_metrics.h"
+#include "terralod/measure/quality_metrics.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +14,7 @@
 #include "terralod/format/chunk_position.h"
 #include "terralod/verify/verifier.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 class QualityMetricsError : public ::testing::Test {
@@ -116,4 +116,4 @@ TEST_F(QualityMetricsError, SkippingBoundedChunksNeverChangesTheWorstError) {
 }
 
 }  // namespace
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -15,7 +15,7 @@
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/view.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 struct TexelDensity {
   double max = 0.0;               ///< over layers sized by eq. 7
@@ -33,4 +33,4 @@ double meanAbsoluteDifference(const Image& a, const Image& b);
 /// Whether two selections hold different chunks (morph parameters aside).
 bool selectionsDiffer(std::span<const SelectedChunk> a, std::span<const SelectedChunk> b);
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -8,7 +8,7 @@
 
 #include "terralod/runtime/view.h"
 
-namespace terralod::cli {
+namespace terralod {
 
 /// What the user is pressing this frame.
 struct FlyInput {
@@ -39,4 +39,4 @@ class FlyCamera {
   glm::dvec3 forwardVector() const;
 };
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -1,4 +1,4 @@
-#include "texture_metrics.h"
+#include "terralod/measure/texture_metrics.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 #include <limits>
 #include <vector>
 
-namespace terralod::cli {
+namespace terralod {
 
 void addTexelDensity(const View& view, const ChunkTree& tree, const GpuChunkStore& store,
                      std::span<const SelectedChunk> chunks, TexelDensity& density) {
@@ -52,4 +52,4 @@ bool selectionsDiffer(std::span<const SelectedChunk> a, std::span<const Selected
   return x != y;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

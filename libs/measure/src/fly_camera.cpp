@@ -1,9 +1,9 @@
-#include "fly_camera.h"
+#include "terralod/measure/fly_camera.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 constexpr double kMaxPitch = 1.55;  // just short of straight up or down
@@ -52,4 +52,4 @@ Camera FlyCamera::camera(int width, int height, double fovDegrees) const {
   return c;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod

@@ -1,15 +1,15 @@
-#include "bench_flight.h"
+#include "terralod/measure/bench_flight.h"
 
 #include <epoxy/gl.h>
 
 #include <algorithm>
 #include <chrono>
 
-#include "quality_metrics.h"
 #include "terralod/core/parallel.h"
+#include "terralod/measure/quality_metrics.h"
 #include "terralod/render/framebuffer.h"
 
-namespace terralod::cli {
+namespace terralod {
 namespace {
 
 // Sources up to this many samples per side are measured at every sample; larger ones at every
@@ -167,4 +167,4 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
   return result;
 }
 
-}  // namespace terralod::cli
+}  // namespace terralod
