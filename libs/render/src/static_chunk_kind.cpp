@@ -69,7 +69,7 @@ void StaticChunkKind::release(uint32_t node) {
 }
 
 void StaticChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) {
-  frame.stats = mRenderer.draw(frame.view, frame.tree, chunks, mStore, frame.style);
+  mRenderer.drawStaticChunks(frame.context, frame.tree, chunks, mStore, frame.stats);
 }
 
 }  // namespace terralod

@@ -23,7 +23,7 @@ namespace {
 
 // Viewport, clip control and a cleared target: the background colour, depth 0 (infinitely far
 // in reversed-Z).
-void beginFrame(const FrameContext& frame) {
+void clearFrame(const FrameContext& frame) {
   const Viewport& v = frame.viewport;
   glViewport(v.x, v.y, v.width, v.height);
   glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
@@ -78,30 +78,47 @@ CompositedLayer& TerrainRenderer::addLayer(std::unique_ptr<CompositedLayer> laye
   return *mPasses->layers.back();
 }
 
+FrameContext TerrainRenderer::beginFrame(const View& view, const TerrainStyle& style,
+                                         const ChunkTree& tree, DrawStats& stats) {
+  FrameContext frame = makeFrameContext(view, style, boundDepthTexture());
+  clearFrame(frame);
+  if (style.sky) stats.drawCalls += mPasses->sky.draw(frame, std::min(0.0, tree.extent().min[2]));
+  return frame;
+}
+
+void TerrainRenderer::drawStaticChunks(const FrameContext& frame, const ChunkTree& tree,
+                                       std::span<const SelectedChunk> chunks,
+                                       const GpuChunkStore& store, DrawStats& stats) {
+  TerrainPass& terrain = mPasses->terrain;
+  const DrawStats prepared = terrain.prepare(frame, tree, chunks, store);
+  stats.chunks += prepared.chunks;
+  stats.missing += prepared.missing;
+  stats.drawCommands += prepared.drawCommands;
+  stats.triangles += prepared.triangles;
+  stats.drawCalls += prepared.drawCalls;
+  if (terrain.empty()) return;
+  stats.drawCalls += terrain.draw(frame, tree, store, TerrainDrawMode::kSurface);
+  if (frame.style.wireframe)
+    stats.drawCalls += terrain.draw(frame, tree, store, TerrainDrawMode::kWireframe);
+}
+
+void TerrainRenderer::finishFrame(const FrameContext& frame, const ChunkTree& tree,
+                                  std::span<const SelectedChunk> selection,
+                                  const GpuChunkStore& store, DrawStats& stats) {
+  stats.drawCalls += drawLayers(frame, mPasses->layers);
+  if (frame.style.chunkBoxes && !selection.empty())
+    stats.drawCalls += mPasses->boxes.draw(frame, tree, selection, store);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+}
+
 DrawStats TerrainRenderer::draw(const View& view, const ChunkTree& tree,
                                 std::span<const SelectedChunk> selection,
                                 const GpuChunkStore& store, const TerrainStyle& style) {
-  return draw(makeFrameContext(view, style, boundDepthTexture()), tree, selection, store);
-}
-
-DrawStats TerrainRenderer::draw(const FrameContext& frame, const ChunkTree& tree,
-                                std::span<const SelectedChunk> selection,
-                                const GpuChunkStore& store) {
-  Passes& passes = *mPasses;
-  DrawStats stats = passes.terrain.prepare(frame, tree, selection, store);
-  beginFrame(frame);
-  if (frame.style.sky)
-    stats.drawCalls += passes.sky.draw(frame, std::min(0.0, tree.extent().min[2]));
-  stats.drawCalls += passes.terrain.draw(frame, tree, store, TerrainDrawMode::kSurface);
-  stats.drawCalls += drawLayers(frame, passes.layers);
-  // Overlays, over the terrain and the layers, when there is terrain to outline.
-  if (!passes.terrain.empty()) {
-    if (frame.style.wireframe)
-      stats.drawCalls += passes.terrain.draw(frame, tree, store, TerrainDrawMode::kWireframe);
-    if (frame.style.chunkBoxes) stats.drawCalls += passes.boxes.draw(frame, tree, selection, store);
-  }
-  glDisable(GL_DEPTH_TEST);
-  glBindVertexArray(0);
+  DrawStats stats;
+  const FrameContext frame = beginFrame(view, style, tree, stats);
+  drawStaticChunks(frame, tree, selection, store, stats);
+  finishFrame(frame, tree, selection, store, stats);
   return stats;
 }
 

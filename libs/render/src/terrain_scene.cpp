@@ -69,15 +69,17 @@ TerrainScene::~TerrainScene() {
 
 DrawStats TerrainScene::drawSelection(const View& view, std::span<const SelectedChunk> chunks,
                                       const TerrainStyle& style) {
-  TerrainFrame frame{view, mTree, style, {}};
+  // Clear and sky; each kind's opaque draws; composited layers and overlays.
+  DrawStats stats;
+  const FrameContext context = mRenderer.beginFrame(view, style, mTree, stats);
+  TerrainFrame frame{context, mTree, stats};
   mRuns.split(mTree, chunks);
-  std::span<const SelectedChunk> staticChunks;
   for (const KindRuns::Run& run : mRuns.runs())
-    if (run.kind == MeshKind::kStaticRtin) staticChunks = run.chunks;
-  mStaticKind.addDraws(frame, staticChunks);
-  // Other kinds would add their draws here; create() registers none (their tilesets are
-  // refused with "no kind registered").
-  return frame.stats;
+    if (run.kind == MeshKind::kStaticRtin) mStaticKind.addDraws(frame, run.chunks);
+  // Other kinds add their draws here; create() registers none yet (their tilesets are refused
+  // with "no kind registered").
+  mRenderer.finishFrame(context, mTree, chunks, mStore, stats);
+  return stats;
 }
 
 Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOptions& options,

@@ -1,9 +1,8 @@
 #pragma once
 // Static RTIN chunks (MeshKind::kStaticRtin) as a chunk kind (terralod/runtime/chunk_kind.h,
 // whose thread contract applies): decoded on loader threads by the format's
-// decodeStaticChunk into ChunkData, put into a GpuChunkStore on the render thread, drawn by
-// TerrainRenderer::draw. Its draws clear the frame and draw the sky first, so it draws first
-// in a frame, also with no chunks.
+// decodeStaticChunk into ChunkData, put into a GpuChunkStore on the render thread, drawn in the
+// frame's opaque terrain pass (TerrainRenderer::drawStaticChunks).
 
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/terrain_frame.h"

@@ -1,18 +1,19 @@
 #pragma once
 // One frame as the chunk kinds of the GL renderer see it (DrawnChunkKind<TerrainFrame>): the
-// view, the tree, the style, and what was drawn. Render thread only.
+// frame context every pass shares (camera matrices, viewport, style, depth), the tree, and what
+// was drawn. Kinds add their opaque draws between TerrainRenderer::beginFrame (clear, sky) and
+// finishFrame (composited layers, overlays). Render thread only.
 
+#include "terralod/render/frame_context.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
-#include "terralod/runtime/view.h"
 
 namespace terralod {
 
 struct TerrainFrame {
-  const View& view;
+  const FrameContext& context;
   const ChunkTree& tree;
-  const TerrainStyle& style;
-  DrawStats stats;  ///< what the kinds drew into the frame
+  DrawStats& stats;  ///< what the kinds drew into the frame, added up
 };
 
 }  // namespace terralod

@@ -46,13 +46,28 @@ class TerrainRenderer {
   /// before it; returns it.
   CompositedLayer& addLayer(std::unique_ptr<CompositedLayer> layer);
 
-  /// Clears the bound framebuffer (viewport: the view's size) and draws the selected chunks
-  /// of `tree` that `store` holds: draw(makeFrameContext(view, style, boundDepthTexture())...).
+  // A frame in stages, for a caller that draws more than one kind of chunk (TerrainScene):
+  // beginFrame, then each kind's opaque draws (drawStaticChunks for static chunks), then
+  // finishFrame. draw() below is the three for static chunks alone.
+
+  /// Clears the bound framebuffer (viewport: the view's size) and draws the sky; returns the
+  /// frame context the other stages draw with (its depth: the bound target's depth texture).
+  FrameContext beginFrame(const View& view, const TerrainStyle& style, const ChunkTree& tree,
+                          DrawStats& stats);
+  /// The opaque pass of the static chunks among `chunks` that `store` holds, and their
+  /// wireframe overlay when the style asks for it.
+  void drawStaticChunks(const FrameContext& frame, const ChunkTree& tree,
+                        std::span<const SelectedChunk> chunks, const GpuChunkStore& store,
+                        DrawStats& stats);
+  /// The composited layers over the opaque terrain, then the chunk-box overlay of `selection`
+  /// (those `store` holds); leaves the GL state as the frame found it.
+  void finishFrame(const FrameContext& frame, const ChunkTree& tree,
+                   std::span<const SelectedChunk> selection, const GpuChunkStore& store,
+                   DrawStats& stats);
+
+  /// A whole frame of static chunks: the selected chunks of `tree` that `store` holds.
   DrawStats draw(const View& view, const ChunkTree& tree, std::span<const SelectedChunk> selection,
                  const GpuChunkStore& store, const TerrainStyle& style);
-  /// The same for a frame context made by the caller (frame.depth: the bound target's depth).
-  DrawStats draw(const FrameContext& frame, const ChunkTree& tree,
-                 std::span<const SelectedChunk> selection, const GpuChunkStore& store);
 
  private:
   struct Passes;
