@@ -128,8 +128,14 @@ void Residency::request(uint32_t node, float priority) {
 
 std::vector<uint32_t> Residency::evict() {
   std::vector<uint32_t> evicted;
+  // Over the budget, or exactly at it while loads wait (dispatch starts them only below it:
+  // without room made here, a full budget would keep them waiting for good).
+  const auto overBudget = [this] {
+    return mCounters.residentBytes > mOptions.budgetBytes ||
+           (mCounters.residentBytes == mOptions.budgetBytes && !mQueue.empty());
+  };
   // Loaded chunks nobody asked for this frame go first.
-  if (mCounters.residentBytes > mOptions.budgetBytes) {
+  if (overBudget()) {
     std::vector<ReadyChunk> keep;
     for (ReadyChunk& r : mReady) {
       if (mNodes[r.node].requested == mFrame) {
@@ -143,7 +149,7 @@ std::vector<uint32_t> Residency::evict() {
     }
     mReady.swap(keep);
   }
-  while (mCounters.residentBytes > mOptions.budgetBytes) {
+  while (overBudget()) {
     size_t best = mResident.size();
     for (size_t k = 0; k < mResident.size(); ++k) {
       const uint32_t i = mResident[k];

@@ -75,8 +75,8 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
 
 FrameDriverOptions smallBudget() {
   FrameDriverOptions o;
-  // 100.5 chunks: at exactly the budget nothing is evicted and no load starts.
-  o.cacheBytes = 100 * kBlobPayloadBytes + kBlobPayloadBytes / 2;
+  // Exactly 100 chunks: a budget filled to the byte still makes room for what is wanted.
+  o.cacheBytes = 100 * kBlobPayloadBytes;
   o.maxInFlight = 8;
   o.uploadMillisecondsPerFrame = 4.0;  // the backend takes 1 ms per upload: 5 per frame
   return o;

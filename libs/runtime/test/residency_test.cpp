@@ -195,6 +195,30 @@ TEST_F(ResidencyTest, NoNewLoadsStartOverTheBudget) {
   EXPECT_EQ(r->state(1), ChunkState::kQueued);
 }
 
+// Loads start only below the budget and eviction used to stop at it: a budget filled to the
+// byte kept a wanted chunk queued for good, with unused chunks resident.
+TEST_F(ResidencyTest, AFullBudgetMakesRoomForWhatIsWanted) {
+  ResidencyOptions o;
+  o.budgetBytes = 3 * kChunkBytes;
+  auto r = make(o);
+  loadRoot(*r);
+  for (uint32_t c = 1; c <= 2; ++c) r->request(c, float(c));
+  r->dispatch();
+  mRunner.runAll();
+  uploadAll(*r);  // root + 2 children: exactly the budget
+  EXPECT_TRUE(r->evict().empty()) << "nothing is wanted: nothing to make room for";
+  r->dispatch();
+  // Next frame child 2 is no longer used and child 3 is wanted.
+  r->touch(0);
+  r->touch(1);
+  r->request(3, 1.0f);
+  EXPECT_EQ(r->evict(), std::vector<uint32_t>{2});
+  r->dispatch();
+  EXPECT_EQ(r->state(3), ChunkState::kLoading);
+  EXPECT_LE(r->counters().residentBytes, o.budgetBytes);
+  mRunner.runAll();  // the residency waits for its loads when it goes
+}
+
 TEST_F(ResidencyTest, SelectionDrawsTheResidentParentUntilItsChildrenArrive) {
   ResidencyOptions o;
   o.maxInFlight = 8;
