@@ -16,7 +16,7 @@
 namespace terralod {
 namespace {
 
-constexpr double kNearPlane = 0.05;  // metres; reversed depth keeps precision far away
+constexpr double kNearPlane = kNearPlaneMetres;  // reversed depth keeps precision far away
 
 // An infinite reversed-depth perspective (depth 1 at the near plane, 0 at infinity), with
 // clip control set to [0, 1]: precision is spread evenly in log distance.

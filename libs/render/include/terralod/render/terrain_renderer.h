@@ -22,6 +22,9 @@ namespace terralod {
 
 enum class ColorBy { kRelief, kLevel, kMorph };
 
+/// The near plane's distance from the eye (reversed-Z, no far plane).
+inline constexpr double kNearPlaneMetres = 0.05;
+
 struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface

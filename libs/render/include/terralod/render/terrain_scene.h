@@ -23,6 +23,7 @@
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/task_runner.h"
@@ -39,6 +40,9 @@ struct SceneOptions {
   /// on a second context sharing it, on a worker thread, so that no frame waits for a driver
   /// to allocate and clear it (GlWorker); without it, memory is made when needed.
   GlContext* context = nullptr;
+  /// Leave out the selected chunks nearer terrain hides (horizon_culling.h; never with skirts
+  /// off, whose cracks a hidden chunk could show through).
+  HorizonCulling horizonCulling = HorizonCulling::kOn;
 };
 
 struct FrameStats {
@@ -54,6 +58,7 @@ struct FrameStats {
   /// (their error bound is then the parent's, over τ). A frame with any is, like one with
   /// `selection.coarserThanWanted`, still catching up with what it wants.
   uint32_t easing = 0;
+  HorizonCullingStats horizon;  ///< selected chunks not drawn: hidden behind nearer terrain
 };
 
 class TerrainScene {
@@ -95,6 +100,10 @@ class TerrainScene {
   void step(const View& view, const SelectionOptions& selection, FrameStats& stats,
             bool unlimitedUploads);
   void upload(const ReadyChunk& chunk);
+  // The selected chunks to draw: without those horizon culling finds hidden.
+  std::span<const SelectedChunk> visibleChunks(const View& view,
+                                               std::span<const SelectedChunk> selected,
+                                               const TerrainStyle& style, FrameStats& stats);
 
   std::unique_ptr<TilesetReader> mTileset;
   ChunkTree mTree;
@@ -106,6 +115,8 @@ class TerrainScene {
   std::unique_ptr<ThreadPool> mPool;
   std::unique_ptr<Residency> mResidency;
   std::vector<SelectedChunk> mSelected, mOtherView;
+  HorizonCuller mHorizonCuller;
+  std::vector<SelectedChunk> mVisible;
   SelectionStats mLastSelection;
   // Late splits: a chunk whose children arrived after its split distance hands over to them
   // at the parent's surface (t = 1), easing to their scheduled morph over a few frames.
