@@ -29,9 +29,9 @@ struct RenderOptions {
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   std::string flightFile;
   bool autoFlight = false;
-  bool climbOnly = false;  ///< with autoFlight: only its climb
-  int frames = 0;          ///< 0: the whole flight
-  double cacheMB = 512;    ///< --cache-mb: chunk memory budget
+  bool climbOnly = false;                               ///< with autoFlight: only its climb
+  int frames = 0;                                       ///< 0: the whole flight
+  double cacheMB = 512;                                 ///< --cache-mb: chunk memory budget
   HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
 };
 

@@ -229,8 +229,8 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   stats.selection = mLastSelection;
   if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
     return makeError(mTileset->name(), "no chunk can be drawn");
-  stats.draw = mRenderer.draw(view, mTree, visibleChunks(view, mSelected, style, stats), mStore,
-                              style);
+  stats.draw =
+      mRenderer.draw(view, mTree, visibleChunks(view, mSelected, style, stats), mStore, style);
   return stats;
 }
 
@@ -241,15 +241,15 @@ FrameStats TerrainScene::renderResident(const View& view, const SelectionOptions
   options.drawable = mResidency->drawable();
   mOtherView.reserve(mTree.nodes().size());
   stats.selection = selectChunks(mTree, view, options, mOtherView);
-  stats.draw = mRenderer.draw(view, mTree, visibleChunks(view, mOtherView, style, stats), mStore,
-                              style);
+  stats.draw =
+      mRenderer.draw(view, mTree, visibleChunks(view, mOtherView, style, stats), mStore, style);
   return stats;
 }
 
 std::span<const SelectedChunk> TerrainScene::visibleChunks(const View& view,
-                                                          std::span<const SelectedChunk> selected,
-                                                          const TerrainStyle& style,
-                                                          FrameStats& stats) {
+                                                           std::span<const SelectedChunk> selected,
+                                                           const TerrainStyle& style,
+                                                           FrameStats& stats) {
   if (mOptions.horizonCulling == HorizonCulling::kOff || !style.skirts) return selected;
   stats.horizon = mHorizonCuller.cull(mTree, view, selected, kNearPlaneMetres, mVisible);
   return mVisible;

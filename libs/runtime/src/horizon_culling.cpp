@@ -86,7 +86,9 @@ Box cullingBox(const ChunkNode& n) {
 
 // Distance along a direction component `d` to the plane `offset` away; the limit 0 when the
 // plane passes through the eye, +-inf for a direction parallel to it (d a signed zero).
-double slabDistance(double offset, double d) { return offset == 0.0 ? 0.0 : offset / d; }
+double slabDistance(double offset, double d) {
+  return offset == 0.0 ? 0.0 : offset / d;
+}
 
 // The horizon angle a rectangle occluder gives the rays between two directions of one bin
 // (quarter `quarter`, both hitting the rectangle), or -inf.
@@ -196,11 +198,13 @@ void HorizonCuller::addSolid(double x0, double y0, double x1, double y1, double 
     const size_t i = size_t(((k % mBins) + mBins) % mBins);
     return glm::dvec2(mCos[i], mSin[i]);
   };
-  const auto quarterOf = [&](int64_t k) { return int(4 * (((k % mBins) + mBins) % mBins) / mBins); };
+  const auto quarterOf = [&](int64_t k) {
+    return int(4 * (((k % mBins) + mBins) % mBins) / mBins);
+  };
   const auto full = [&](int64_t k) {
     const size_t b = size_t(((k % mBins) + mBins) % mBins);
-    mHorizon[b] = std::max(mHorizon[b], occluderAngle(r, eye, dz, quarterOf(k),
-                                                      {boundary(k), boundary(k + 1)}));
+    mHorizon[b] = std::max(mHorizon[b],
+                           occluderAngle(r, eye, dz, quarterOf(k), {boundary(k), boundary(k + 1)}));
   };
   if (contains(r, eye)) {
     for (int64_t k = 0; k < mBins; ++k) full(k);
@@ -248,10 +252,9 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
 
   // Is the eye above the drawn terrain under it, and far enough from every drawn triangle that
   // the first one a ray crosses is beyond the near plane?
-  const double clearance =
-      kNearPlanes * nearPlane *
-      std::sqrt(1.0 + view.tanHalfWidth * view.tanHalfWidth +
-                view.tanHalfHeight * view.tanHalfHeight);
+  const double clearance = kNearPlanes * nearPlane *
+                           std::sqrt(1.0 + view.tanHalfWidth * view.tanHalfWidth +
+                                     view.tanHalfHeight * view.tanHalfHeight);
   mSelected.resize(tree.nodes().size(), 0);
   for (const SelectedChunk& s : selected) mSelected[s.node] = 1;
   bool above = false;
@@ -268,7 +271,8 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
   const double reach = clearance + grow;
   const Rect near{eye.x - reach, eye.y - reach, eye.x + reach, eye.y + reach};
   // (The samples around: the corners of every cell a point of those chunks lies in.)
-  const Rect samples{near.x0 - 2 * grow, near.y0 - 2 * grow, near.x1 + 2 * grow, near.y1 + 2 * grow};
+  const Rect samples{near.x0 - 2 * grow, near.y0 - 2 * grow, near.x1 + 2 * grow,
+                     near.y1 + 2 * grow};
   double source = -std::numeric_limits<double>::infinity();
   for (uint32_t root = 0; above && root < tree.rootCount(); ++root)
     if (overlaps(footprint(tree.node(root)), samples))
@@ -292,8 +296,8 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
   std::fill(mHorizon.begin(), mHorizon.end(), -std::numeric_limits<double>::infinity());
   for (size_t b = 0; b < size_t(mBins); ++b) {
     const double none = -std::numeric_limits<double>::infinity();
-    mPartials[b * 4] = mPartials[b * 4 + 1] = {-1.0, none};          // from the start: none
-    mPartials[b * 4 + 2] = mPartials[b * 4 + 3] = {kTwoPi, none};    // to the end: none
+    mPartials[b * 4] = mPartials[b * 4 + 1] = {-1.0, none};        // from the start: none
+    mPartials[b * 4 + 2] = mPartials[b * 4 + 3] = {kTwoPi, none};  // to the end: none
   }
   mHidden.assign(selected.size(), 0);
   mPending.clear();
@@ -319,8 +323,7 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
     // near the zenith or nadir an angle moves the azimuth more).
     const double top = n.box.max[2] - eye.z;
     const double highest = std::atan(top >= 0.0 ? top / c.nearest : top / farthestDistance(r, eye));
-    const double steepest =
-        std::max(std::fabs(top), std::fabs(n.skirtBottom - eye.z)) / c.nearest;
+    const double steepest = std::max(std::fabs(top), std::fabs(n.skirtBottom - eye.z)) / c.nearest;
     const double widen = margin * std::sqrt(1.0 + steepest * steepest);
     if (!(widen < 0.25)) continue;
     auto [a0, a1] = azimuthRange(r, eye);
@@ -328,8 +331,8 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
     a1 += widen;
     if (!(a1 - a0 < std::numbers::pi)) continue;
     bool hidden = true;
-    for (int64_t k = int64_t(std::floor(a0 / width)); hidden && k <= int64_t(std::floor(a1 / width));
-         ++k)
+    for (int64_t k = int64_t(std::floor(a0 / width));
+         hidden && k <= int64_t(std::floor(a1 / width)); ++k)
       hidden = highest + margin < mHorizon[size_t(((k % mBins) + mBins) % mBins)];
     if (!hidden) continue;
     mHidden[c.index] = 1;

@@ -4,8 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <cstdio>
+#include <numbers>
 #include <random>
 
 #include "test_tree.h"
@@ -104,8 +104,8 @@ double finestTop(const ChunkTree& tree, double x, double y) {
 Camera randomLowCamera(const ChunkTree& tree, std::mt19937& rng, double clearanceMin,
                        double clearanceMax) {
   std::uniform_real_distribution<double> xy(1000.0, kCells * kSpacing - 1000.0);
-  std::uniform_real_distribution<double> up(clearanceMin, clearanceMax), azimuth(0.0, 2 * std::numbers::pi),
-      pitch(-0.5, 0.1);
+  std::uniform_real_distribution<double> up(clearanceMin, clearanceMax),
+      azimuth(0.0, 2 * std::numbers::pi), pitch(-0.5, 0.1);
   Camera c;
   c.eye = {xy(rng), xy(rng), 0.0};
   c.eye.z = finestTop(tree, c.eye.x, c.eye.y) + up(rng);
