@@ -36,6 +36,17 @@ CLI::Validator positiveNumber() {
       "", "");
 }
 
+CLI::Validator nonNegativeNumber() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const auto value = parseNumber(text);
+        if (!value) return "must be a number, 0 or more (got " + text + ")";
+        if (!(*value >= 0)) return "must be 0 or more (got " + text + ")";
+        return {};
+      },
+      "", "");
+}
+
 CLI::Validator numberBetween(double lo, double hi) {
   const std::string range = shortest(lo) + " to " + shortest(hi);
   return CLI::Validator(

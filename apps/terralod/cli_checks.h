@@ -15,6 +15,8 @@ namespace terralod::cli {
 
 /// A finite number greater than 0.
 CLI::Validator positiveNumber();
+/// A finite number, 0 or more.
+CLI::Validator nonNegativeNumber();
 /// A finite number from lo to hi (inclusive).
 CLI::Validator numberBetween(double lo, double hi);
 /// Any finite number.

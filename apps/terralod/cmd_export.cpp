@@ -9,10 +9,10 @@
 
 #include "cli_checks.h"
 #include "commands.h"
-#include "export_mesh.h"
-#include "export_texture.h"
-#include "mesh_writers.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/measure/export_mesh.h"
+#include "terralod/measure/export_texture.h"
+#include "terralod/measure/mesh_writers.h"
 
 namespace terralod::cli {
 namespace {

@@ -13,9 +13,9 @@
 #include <cstdio>
 
 #include "commands.h"
-#include "fly_camera.h"
 #include "render_options.h"
 #include "terralod/core/atomic_file.h"
+#include "terralod/measure/fly_camera.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/render/window.h"

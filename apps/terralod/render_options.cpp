@@ -49,6 +49,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
       ->delimiter(',')
       ->expected(2)
       ->check(finiteNumber());
+  c.add_option("--haze", o.haze,
+               "Aerial perspective K: scales the haze of the air between the eye and what it "
+               "sees (exponential atmosphere; 0 turns it off)")
+      ->capture_default_str()
+      ->check(nonNegativeNumber());
   c.add_option("--cache-mb", o.cacheMB,
                "Memory budget for chunks in MB (GPU copies and decoded chunks waiting for upload)")
       ->capture_default_str()
@@ -98,6 +103,8 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
     style.sunAzimuthDegrees = o.sun[0];
     style.sunElevationDegrees = o.sun[1];
   }
+  if (!(o.haze >= 0) || !std::isfinite(o.haze)) return Error{"--haze must be 0 or more"};
+  style.haze = o.haze;
   style.colorBy = o.colorBy == "level"   ? ColorBy::kLevel
                   : o.colorBy == "morph" ? ColorBy::kMorph
                                          : ColorBy::kRelief;

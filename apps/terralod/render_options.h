@@ -27,6 +27,7 @@ struct RenderOptions {
   bool chunkBoxes = false;
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
+  double haze = 1.0;        ///< --haze K: aerial perspective strength, 0 off
   std::string flightFile;
   bool autoFlight = false;
   bool climbOnly = false;                               ///< with autoFlight: only its climb

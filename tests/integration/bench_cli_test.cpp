@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_runner.h"
+#include "shared_directory.h"
 
 namespace terralod::test {
 namespace {
@@ -16,9 +17,14 @@ class BenchCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new TempDir;
-    const RunResult built =
-        runTerralod({"build", testData("crater_lake_0513.bt"), "-o", sDir->file("c.tlod")});
-    ASSERT_EQ(built.exitCode, 0) << built.err;
+    // Built once for every test process of this build of the CLI.
+    sTileset = new SharedDirectory(
+        sharedDirectory("crater-default", programStamp(TERRALOD_CLI), [](const std::string& dir) {
+          const RunResult built =
+              runTerralod({"build", testData("crater_lake_0513.bt"), "-o", dir + "/c.tlod"});
+          return built.exitCode == 0 ? std::string() : built.err;
+        }));
+    ASSERT_EQ(sTileset->error, "");
     // Down from 6 km towards the south-west rim, about 0.5 % of the height per frame.
     std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
       "frames": 300, "keyframes": [
@@ -26,10 +32,13 @@ class BenchCli : public ::testing::Test {
         {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
         {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
   }
-  static void TearDownTestSuite() { delete sDir; }
+  static void TearDownTestSuite() {
+    delete sDir;
+    delete sTileset;
+  }
 
   static nlohmann::json bench(const std::string& tau, const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"bench",    sDir->file("c.tlod"),
+    std::vector<std::string> args = {"bench",    sTileset->file("c.tlod"),
                                      "--flight", sDir->file("descend.json"),
                                      "--source", testData("crater_lake_0513.bt"),
                                      "--tau",    tau,
@@ -41,6 +50,7 @@ class BenchCli : public ::testing::Test {
   }
 
   static inline TempDir* sDir = nullptr;
+  static inline SharedDirectory* sTileset = nullptr;
 };
 
 TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {

@@ -7,11 +7,13 @@
 
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <random>
 #include <thread>
 
 #include "cli_expectations.h"
 #include "cli_runner.h"
+#include "shared_directory.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/format/tileset_reader.h"
 
@@ -27,13 +29,24 @@ class CrashSafety : public ::testing::Test {
  protected:
   // Shared by the tests: a 2049² DEM (a build of about a second on two threads), its complete
   // tileset, and how long building it took.
+  // Made once for every test process of this build of the CLI (the build time is kept beside).
   static void SetUpTestSuite() {
-    sShared = new Shared;
-    ASSERT_EQ(runTerralod({"synth", "--size", "2049", "-o", sShared->dem}).exitCode, 0);
-    const auto start = Clock::now();
-    const RunResult built = runTerralod(buildArgs(sShared->reference));
-    sShared->buildSeconds = std::chrono::duration<double>(Clock::now() - start).count();
-    ASSERT_EQ(built.exitCode, 0) << built.err;
+    const SharedDirectory dir =
+        sharedDirectory("crash-synth", programStamp(TERRALOD_CLI), [](const std::string& d) {
+          const std::string dem = d + "/dem.tif";
+          if (RunResult r = runTerralod({"synth", "--size", "2049", "-o", dem}); r.exitCode != 0)
+            return r.err;
+          const auto start = Clock::now();
+          const RunResult built =
+              runTerralod({"build", dem, "-o", d + "/reference.tlod", "--threads", "2"});
+          std::ofstream(d + "/build-seconds")
+              << std::chrono::duration<double>(Clock::now() - start).count();
+          return built.exitCode == 0 ? std::string() : built.err;
+        });
+    ASSERT_EQ(dir.error, "");
+    sShared = new Shared{dir.file("dem.tif"), dir.file("reference.tlod"), 0.0};
+    std::ifstream(dir.file("build-seconds")) >> sShared->buildSeconds;
+    ASSERT_GT(sShared->buildSeconds, 0.0);
   }
   static void TearDownTestSuite() {
     delete sShared;
@@ -77,9 +90,7 @@ class CrashSafety : public ::testing::Test {
   }
 
   struct Shared {
-    TempDir dir;
-    const std::string dem = dir.file("dem.tif");
-    const std::string reference = dir.file("reference.tlod");
+    std::string dem, reference;
     double buildSeconds = 0;
   };
   static Shared* sShared;

@@ -12,6 +12,7 @@
 
 #include "cli_runner.h"
 #include "nginx_server.h"
+#include "shared_directory.h"
 #include "terralod/format/http_source.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/framebuffer.h"
@@ -28,10 +29,14 @@ constexpr std::array<uint8_t, 3> kMagenta{0xFF, 0x00, 0xFF};
 class StreamingFaults : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    sDir = new TempDir;
-    const RunResult r = runTerralod({"build", testData("crater_lake_0513.bt"), "-o",
-                                     sDir->file("crater.tlod"), "--max-error", "0.5"});
-    ASSERT_EQ(r.exitCode, 0) << r.err;
+    // Built once for every test process of this build of the CLI.
+    sDir = new SharedDirectory(
+        sharedDirectory("crater-textured", programStamp(TERRALOD_CLI), [](const std::string& dir) {
+          const RunResult r = runTerralod({"build", testData("crater_lake_0513.bt"), "-o",
+                                           dir + "/crater.tlod", "--max-error", "0.5"});
+          return r.exitCode == 0 ? std::string() : r.err;
+        }));
+    ASSERT_EQ(sDir->error, "");
   }
   static void TearDownTestSuite() { delete sDir; }
 
@@ -92,14 +97,15 @@ class StreamingFaults : public ::testing::Test {
     return n;
   }
 
-  static inline TempDir* sDir = nullptr;
+  static inline SharedDirectory* sDir = nullptr;
   std::unique_ptr<GlContext> mContext;
   std::vector<std::string> mLog;
 };
 
 TEST_F(StreamingFaults, ACorruptChunkIsLoggedOnceAndDrawnFromItsAncestors) {
   // Damage one level-2 chunk's blob (its checksum in the node table no longer matches).
-  const std::string path = sDir->file("corrupt.tlod");
+  TempDir scratch;
+  const std::string path = scratch.file("corrupt.tlod");
   fs::copy_file(sDir->file("crater.tlod"), path, fs::copy_options::overwrite_existing);
   uint32_t victim = 0;
   {

@@ -85,7 +85,7 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   if (crcReader.get<uint32_t>() != crc32Of(bytes.first(kHeaderBytes - 4)))
     return makeError(subject, "tileset header is corrupt (checksum mismatch)");
   h.flags = r.get<uint32_t>();
-  h.meshKind = static_cast<MeshKind>(r.get<uint32_t>());
+  const uint32_t meshKind = r.get<uint32_t>();  // a u32 in the file: checked before narrowing
   h.levelCount = r.get<uint32_t>();
   h.leafCells = r.get<uint32_t>();
   h.rootCells = r.get<uint32_t>();
@@ -119,7 +119,10 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   auto bad = [&](const std::string& what) {
     return makeError(subject, "invalid tileset header: " + what);
   };
-  if (h.meshKind != MeshKind::kStaticRtin) return bad("unknown chunk mesh kind");
+  // Any kind may be stored; the runtime refuses kinds nobody registered (ChunkKinds).
+  if (meshKind == 0 || meshKind > 0xFF)
+    return bad("unknown chunk mesh kind " + std::to_string(meshKind));
+  h.meshKind = MeshKind(meshKind);
   if ((h.flags & ~kTilesetTextured) != 0) return bad("unknown flags");
   if (h.textured() && !(h.textureMinTau > 0 && std::isfinite(h.textureMinTau)))
     return bad("texture τ");
@@ -258,7 +261,7 @@ Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& node
   for (size_t i = 0; i < nodes.size(); ++i) {
     const NodeRecord& n = nodes[i];
     if (n.level >= h.levelCount) return bad(i, "has an impossible level");
-    if (n.meshKind != MeshKind::kStaticRtin) return bad(i, "has an unknown mesh kind");
+    if (uint8_t(n.meshKind) == 0) return bad(i, "has an unknown mesh kind");
     const uint64_t perSide = uint64_t(1) << n.level;
     if (n.x >= h.rootsX * perSide || n.y >= h.rootsY * perSide)
       return bad(i, "lies outside the tree");

@@ -47,6 +47,9 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
   if (crc32Of(*metadata) != t->mHeader.metadataCrc)
     return makeError(name, "metadata is corrupt (checksum mismatch)");
   t->mMetadata.assign(metadata->begin(), metadata->end());
+  auto typed = parseTilesetMetadata(t->mMetadata, t->mHeader, name);
+  if (!typed) return typed.error();
+  t->mTypedMetadata = std::move(typed).value();
   t->mSource = std::move(source);
   return t;
 }
@@ -61,32 +64,37 @@ Result<std::vector<uint8_t>> TilesetReader::readBlob(uint32_t node) const {
   return bytes;
 }
 
+Status TilesetReader::checkStatic(uint32_t node) const {
+  if (node < mNodes.size() && mNodes[node].meshKind != MeshKind::kStaticRtin)
+    return makeError(name(), "chunk " + std::to_string(node) + " has mesh kind " +
+                                 std::to_string(unsigned(mNodes[node].meshKind)) +
+                                 ", not static RTIN");
+  return {};
+}
+
 Result<ChunkGeometry> TilesetReader::readChunk(uint32_t node) const {
+  if (Status s = checkStatic(node); !s) return s.error();
   auto bytes = readBlob(node);
   if (!bytes) return bytes.error();
   return decodeChunk(*bytes, name() + " chunk " + std::to_string(node));
 }
 
-Result<ChunkData> TilesetReader::readChunkData(uint32_t node) const {
+Result<NodeBytes> TilesetReader::readNode(uint32_t node) const {
   if (node >= mNodes.size()) return makeError(name(), "no chunk " + std::to_string(node));
   const NodeRecord& n = mNodes[node];
   auto bytes = mSource->read(n.blobOffset, uint64_t(n.blobBytes) + n.textureBytes);
   if (!bytes) return bytes.error();
-  const std::span<const uint8_t> all(*bytes);
-  const std::string subject = name() + " chunk " + std::to_string(node);
-  if (crc32Of(all.first(n.blobBytes)) != n.blobCrc)
+  NodeBytes read{std::move(bytes).value(), n.blobBytes};
+  if (crc32Of(read.mesh()) != n.blobCrc)
     return makeError(name(), "chunk " + std::to_string(node) + " is corrupt (checksum mismatch)");
-  ChunkData data;
-  data.bytesRead = bytes->size();
-  auto geometry = decodeChunk(all.first(n.blobBytes), subject);
-  if (!geometry) return geometry.error();
-  data.geometry = std::move(geometry).value();
-  if (n.hasTexture()) {
-    auto texture = decodeTexture(all.subspan(n.blobBytes), subject);
-    if (!texture) return texture.error();
-    data.texture = std::move(texture).value();
-  }
-  return data;
+  return read;
+}
+
+Result<ChunkData> TilesetReader::readChunkData(uint32_t node) const {
+  if (Status s = checkStatic(node); !s) return s.error();
+  auto bytes = readNode(node);
+  if (!bytes) return bytes.error();
+  return decodeStaticChunk(*bytes, name() + " chunk " + std::to_string(node));
 }
 
 }  // namespace terralod

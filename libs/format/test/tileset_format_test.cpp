@@ -2,7 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
+#include <span>
 
 #include "terralod/format/tileset_reader.h"
 #include "terralod/format/tileset_writer.h"
@@ -48,6 +50,23 @@ TEST(TilesetHeader, RoundTrips) {
   EXPECT_EQ(parsed->extentMax[1], 1335.25);
   EXPECT_EQ(parsed->filledVoids, 17u);
   EXPECT_EQ(parsed->levelError[2], 1.0);
+}
+
+// meshKind is a u32 in the header: a corrupted 0x101 must not read as kind 1 once narrowed.
+TEST(TilesetHeader, MeshKindIsCheckedAsTheU32ItIs) {
+  std::vector<uint8_t> bytes = serializeHeader(sampleHeader());
+  const auto withKind = [&](uint32_t kind) {
+    auto b = bytes;
+    std::memcpy(b.data() + 24, &kind, sizeof kind);
+    const uint32_t crc = crc32Of(std::span(b).first(kHeaderBytes - 4));
+    std::memcpy(b.data() + kHeaderBytes - 4, &crc, sizeof crc);
+    return parseHeader(b, "k.tlod");
+  };
+  EXPECT_TRUE(withKind(1).ok());
+  EXPECT_EQ(withKind(0x101).error().message,
+            "k.tlod: invalid tileset header: unknown chunk mesh kind 257");
+  EXPECT_EQ(withKind(0x01000001).error().message,
+            "k.tlod: invalid tileset header: unknown chunk mesh kind 16777217");
 }
 
 TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {

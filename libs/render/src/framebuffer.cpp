@@ -81,14 +81,15 @@ Result<Framebuffer> Framebuffer::create(int width, int height, int samples) {
     glCreateRenderbuffers(1, &target.mMultisampleColor);
     glNamedRenderbufferStorageMultisample(target.mMultisampleColor, samples, kColorFormat, width,
                                           height);
-    glCreateRenderbuffers(1, &target.mMultisampleDepth);
-    glNamedRenderbufferStorageMultisample(target.mMultisampleDepth, samples, kDepthFormat, width,
-                                          height);
+    // Depth in a texture, as without multisampling, so later passes can read it (texelFetch).
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &target.mDepthTexture);
+    glTextureStorage2DMultisample(target.mDepthTexture, samples, kDepthFormat, width, height,
+                                  GL_TRUE);
     glCreateFramebuffers(1, &target.mDrawFramebuffer);
     glNamedFramebufferRenderbuffer(target.mDrawFramebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
                                    target.mMultisampleColor);
-    glNamedFramebufferRenderbuffer(target.mDrawFramebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                                   target.mMultisampleDepth);
+    glNamedFramebufferTexture(target.mDrawFramebuffer, GL_DEPTH_ATTACHMENT, target.mDepthTexture,
+                              0);
     glCreateFramebuffers(1, &target.mResolveFramebuffer);
     glNamedFramebufferTexture(target.mResolveFramebuffer, GL_COLOR_ATTACHMENT0,
                               target.mColorTexture, 0);
@@ -123,7 +124,6 @@ Framebuffer& Framebuffer::operator=(Framebuffer&& other) noexcept {
   mColorTexture = std::exchange(other.mColorTexture, 0);
   mDepthTexture = std::exchange(other.mDepthTexture, 0);
   mMultisampleColor = std::exchange(other.mMultisampleColor, 0);
-  mMultisampleDepth = std::exchange(other.mMultisampleDepth, 0);
   return *this;
 }
 
@@ -134,11 +134,10 @@ void Framebuffer::release() {
   // Deleting name 0 is a no-op, so a half-built target releases cleanly.
   const GLuint framebuffers[] = {mDrawFramebuffer, mResolveFramebuffer};
   glDeleteFramebuffers(2, framebuffers);
-  const GLuint renderbuffers[] = {mMultisampleColor, mMultisampleDepth};
-  glDeleteRenderbuffers(2, renderbuffers);
+  glDeleteRenderbuffers(1, &mMultisampleColor);
   const GLuint textures[] = {mColorTexture, mDepthTexture};
   glDeleteTextures(2, textures);
-  mDrawFramebuffer = mResolveFramebuffer = mMultisampleColor = mMultisampleDepth = 0;
+  mDrawFramebuffer = mResolveFramebuffer = mMultisampleColor = 0;
   mColorTexture = mDepthTexture = 0;
 }
 

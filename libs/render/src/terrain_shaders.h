@@ -20,6 +20,28 @@ inline std::string withLevelPalette(const char* body) {
   return std::string(kLevelPalette) + body;
 }
 
+// Aerial perspective from an exponential atmosphere: air density exp(-z / H) relative to sea
+// level (z in metres, H the scale height), so the haze a ray gathers is its optical depth, the
+// sea-level metres of air it crosses. The terrain and the sky include this after the version
+// line (atmosphere.h has the constants).
+inline constexpr const char* kAtmosphere = R"(
+uniform float uScaleHeight;  // H, metres
+uniform float uExtinction;   // per metre of sea-level air (sigma times --haze)
+// The integral of exp(-z / H) along the straight segment of length len between heights z0
+// and z1: len exp(-lo / H) (1 - exp(-x)) / x with lo the lower end and x = |z1 - z0| / H. The
+// quotient is taken by its series where it would lose its digits (near-horizontal segments).
+float opticalDepth(float z0, float z1, float len) {
+  float lo = min(z0, z1);
+  float x = abs(z1 - z0) / uScaleHeight;
+  float f = x < 1e-2 ? 1.0 - x * (0.5 - x / 6.0) : (1.0 - exp(-x)) / x;
+  return len * exp(-lo / uScaleHeight) * f;
+}
+// How much of what lies at the far end of the segment comes through the air.
+float transmittance(float z0, float z1, float len) {
+  return exp(-uExtinction * opticalDepth(z0, z1, len));
+}
+)";
+
 // Chunk vertices are 16-bit grid offsets and heights; each draw's placement comes from the
 // draws[] buffer indexed by gl_DrawIDARB. Positions are relative to the eye (computed in double
 // on the CPU per chunk), so float keeps millimetres even hundreds of kilometres from the origin.
@@ -93,8 +115,8 @@ uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
 uniform int uWire;         // 1: the wireframe overlay pass
 uniform vec3 uSun;         // unit vector towards the sun
 uniform vec2 uHeightRange; // data min, max z
-uniform vec3 uHaze;
-uniform float uHazeDistance;
+uniform vec3 uHaze;         // the air's colour, linear
+uniform float uEyeHeight;
 out vec4 fragColor;
 
 vec3 hypsometric(float h) {
@@ -163,8 +185,8 @@ void main() {
   float diffuse = max(dot(n, uSun), 0.0);
   float sky = 0.30 + 0.20 * n.z;
   vec3 color = base * (sky + 0.85 * diffuse);
-  float haze = 1.0 - exp(-length(vRelative) / uHazeDistance);
-  color = mix(color, uHaze, clamp(haze, 0.0, 0.7));
+  float through = transmittance(uEyeHeight, vHeight, length(vRelative));
+  color = color * through + uHaze * (1.0 - through);
   fragColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);
 }
 )";
@@ -172,8 +194,8 @@ void main() {
 // The terrain fragment shader's variant for a piecewise mask: bit 0, colour mips sampled piece
 // by piece; bit 1, normal mips (kTerrainFragment's sampleTile).
 inline std::string terrainFragment(int piecewise) {
-  return std::string(kLevelPalette) + "const int kPiecewise = " + std::to_string(piecewise) +
-         ";\n" + kTerrainFragment;
+  return std::string(kLevelPalette) + kAtmosphere +
+         "const int kPiecewise = " + std::to_string(piecewise) + ";\n" + kTerrainFragment;
 }
 
 // Chunk bounding boxes: lines between eye-relative corners, coloured by the chunk's level like
@@ -195,8 +217,8 @@ out vec4 fragColor;
 void main() { fragColor = vec4(levelColor(vLevel), 1.0); }
 )";
 
-// A full-screen triangle at the far plane: a gradient from the haze colour at the horizon to
-// the background colour overhead.
+// A full-screen triangle at the far plane: the background colour (what lies beyond the air)
+// seen through the air a ray crosses, so haze at the horizon and clearer overhead.
 inline constexpr const char* kSkyVertex = R"(#version 450 core
 uniform mat4 uInverseViewProjection;
 out vec3 vDirection;
@@ -208,16 +230,33 @@ void main() {
 }
 )";
 
-inline constexpr const char* kSkyFragment = R"(#version 450 core
+// Upwards the ray leaves the air (to infinity); downwards, where no terrain is, it ends at the
+// floor (sea level or the data's lowest point, if lower). Either way the optical depth grows
+// without bound towards the horizontal, so the horizon is the haze colour.
+inline constexpr const char* kSkyFragment = R"(
 in vec3 vDirection;
 uniform vec3 uBackground;
 uniform vec3 uHaze;
+uniform float uEyeHeight;
+uniform float uFloor;
 out vec4 fragColor;
 void main() {
-  float up = normalize(vDirection).z;
-  vec3 color = mix(uHaze, uBackground, smoothstep(-0.02, 0.45, up));
-  fragColor = vec4(color, 1.0);
+  float dz = normalize(vDirection).z;
+  const float kLevel = 1e-6;  // steeper than this: the length below stays finite in float
+  float through;
+  if (dz >= 0.0) {
+    through = exp(-uExtinction * uScaleHeight * exp(-uEyeHeight / uScaleHeight) /
+                  max(dz, kLevel));
+  } else {
+    float drop = max(uEyeHeight - uFloor, 0.0);
+    through = transmittance(uEyeHeight, uEyeHeight - drop, drop / max(-dz, kLevel));
+  }
+  fragColor = vec4(uBackground * through + uHaze * (1.0 - through), 1.0);
 }
 )";
+
+inline std::string skyFragment() {
+  return std::string("#version 450 core\n") + kAtmosphere + kSkyFragment;
+}
 
 }  // namespace terralod::shaders

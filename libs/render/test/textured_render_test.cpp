@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "image_compare.h"
-#include "temp_dir.h"
+#include "shared_directory.h"
 #include "terralod/build/builder.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
@@ -16,19 +16,23 @@
 namespace terralod {
 namespace {
 
-using test::TempDir;
+using test::SharedDirectory;
 
 class TexturedRender : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    sDir = new TempDir;
-    BuildOptions options;
-    options.input = test::testData("zion_srtm3_utm12_30m.tif");
-    options.textureImage = test::testData("zion_landsat8_rgb_utm12_30m.tif");
-    options.output = sDir->file("zion.tlod");
-    NullProgress progress;
-    auto built = buildTileset(options, progress, [](const std::string&) {});
-    ASSERT_TRUE(built.ok()) << built.error().message;
+    // Built once for every test process of this build of the tests.
+    sDir = new SharedDirectory(
+        test::sharedDirectory("zion-landsat", test::selfStamp(), [](const std::string& dir) {
+          BuildOptions options;
+          options.input = test::testData("zion_srtm3_utm12_30m.tif");
+          options.textureImage = test::testData("zion_landsat8_rgb_utm12_30m.tif");
+          options.output = dir + "/zion.tlod";
+          NullProgress progress;
+          auto built = buildTileset(options, progress, [](const std::string&) {});
+          return built.ok() ? std::string() : built.error().message;
+        }));
+    ASSERT_EQ(sDir->error, "");
   }
   static void TearDownTestSuite() { delete sDir; }
 
@@ -58,7 +62,7 @@ class TexturedRender : public ::testing::Test {
     return target.readPixels();
   }
 
-  static inline TempDir* sDir = nullptr;
+  static inline SharedDirectory* sDir = nullptr;
   std::unique_ptr<GlContext> mContext;
   std::unique_ptr<TerrainScene> mScene;
 };

@@ -4,7 +4,6 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <unordered_map>
 
 #include "terralod/core/parallel.h"
@@ -157,19 +156,11 @@ bool interpolate(const std::vector<SidePoint>& side, int32_t coord, SidePoint& o
 Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath) {
   const TilesetHeader& h = tileset.header();
   DemOpenOptions dem;
-  const auto metadata = nlohmann::json::parse(tileset.metadataJson(), nullptr, false);
-  if (!metadata.is_discarded()) {
-    if (metadata.contains("source")) {
-      dem.encoding = parseHeightEncoding(metadata["source"].value("encoding", "none"))
-                         .value_or(HeightEncoding::kPlain);
-      // The band the heights came from (recorded for multi-band sources only; band 1 before).
-      const auto band = metadata["source"].find("band");
-      if (dem.encoding == HeightEncoding::kPlain)
-        dem.band = band != metadata["source"].end() && band->is_number_integer() ? int(*band) : 1;
-    }
-    if (metadata.contains("build"))
-      dem.verticalScale = metadata["build"].value("vertical_scale", 1.0);
-  }
+  const TilesetMetadata& metadata = tileset.metadata();
+  dem.encoding = parseHeightEncoding(metadata.sourceEncoding).value_or(HeightEncoding::kPlain);
+  // The band the heights came from (recorded for multi-band sources only; band 1 before).
+  if (dem.encoding == HeightEncoding::kPlain) dem.band = metadata.sourceBand.value_or(1);
+  dem.verticalScale = metadata.verticalScale;
   auto source = DemReader::open(sourcePath, dem);
   if (!source) return source.error();
   const DemInfo& info = (*source)->info();

@@ -9,17 +9,12 @@
 
 #include "terralod/format/byte_source.h"
 #include "terralod/format/chunk_codec.h"
-#include "terralod/format/texture_codec.h"
+#include "terralod/format/node_bytes.h"
+#include "terralod/format/static_chunk.h"
 #include "terralod/format/tileset_format.h"
+#include "terralod/format/tileset_metadata.h"
 
 namespace terralod {
-
-/// Everything stored for one chunk.
-struct ChunkData {
-  ChunkGeometry geometry;
-  std::optional<ChunkTexture> texture;  ///< textured (version 2) tilesets
-  uint64_t bytesRead = 0;               ///< stored bytes read for it
-};
 
 class TilesetReader {
  public:
@@ -33,22 +28,30 @@ class TilesetReader {
   const TilesetHeader& header() const { return mHeader; }
   const std::vector<NodeRecord>& nodes() const { return mNodes; }
   const std::string& metadataJson() const { return mMetadata; }
+  /// The metadata's typed fields, validated when the tileset was opened.
+  const TilesetMetadata& metadata() const { return mTypedMetadata; }
   const std::string& name() const { return mSource->name(); }
   const ByteSource& source() const { return *mSource; }
 
   /// The stored bytes of a chunk, CRC-checked. Thread-safe.
   Result<std::vector<uint8_t>> readBlob(uint32_t node) const;
-  /// Reads and decodes a chunk's geometry. Thread-safe.
+  /// A node's mesh and texture blobs with one read, the mesh blob's CRC checked; of any mesh
+  /// kind (the kind decodes them). Thread-safe.
+  Result<NodeBytes> readNode(uint32_t node) const;
+  /// Reads and decodes a static chunk's geometry. Thread-safe.
   Result<ChunkGeometry> readChunk(uint32_t node) const;
-  /// Reads geometry and texture with one read, checks both checksums, decodes. Thread-safe.
+  /// A static chunk's geometry and texture: readNode, then decodeStaticChunk. Fails for
+  /// chunks of another mesh kind. Thread-safe.
   Result<ChunkData> readChunkData(uint32_t node) const;
 
  private:
   TilesetReader() = default;
+  Status checkStatic(uint32_t node) const;
   std::unique_ptr<ByteSource> mSource;
   TilesetHeader mHeader;
   std::vector<NodeRecord> mNodes;
   std::string mMetadata;
+  TilesetMetadata mTypedMetadata;
 };
 
 }  // namespace terralod

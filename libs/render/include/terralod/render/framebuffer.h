@@ -6,14 +6,16 @@
 #include <optional>
 
 #include "terralod/core/result.h"
+#include "terralod/render/depth_texture.h"
 #include "terralod/render/image.h"
 
 namespace terralod {
 
-/// RGBA8 colour plus 32-bit float depth. With samples > 0 drawing goes to multisampled
-/// buffers and resolve() (or readPixels()) averages them into the single-sample colour
-/// texture. Owns its GL objects: create, use and destroy it on the thread where its
-/// GlContext is current, and destroy it before that context. Movable, not copyable.
+/// RGBA8 colour plus 32-bit float depth, the depth always in a texture later passes can read
+/// (depth()). With samples > 0 drawing goes to multisampled buffers and resolve() (or readPixels())
+/// averages them into the single-sample colour texture. Owns its GL objects: create, use and
+/// destroy it on the thread where its GlContext is current, and destroy it before that context.
+/// Movable, not copyable.
 class Framebuffer {
  public:
   /// Creates a width x height target with `samples` samples per pixel (0: no multisampling).
@@ -41,6 +43,8 @@ class Framebuffer {
   uint32_t framebufferId() const { return mDrawFramebuffer; }
   /// The single-sample RGBA8 colour texture (GL name), valid for sampling after resolve().
   uint32_t colorTexture() const { return mColorTexture; }
+  /// The depth texture drawing writes (multisampled like the colour when samples() > 0).
+  DepthTexture depth() const { return {mDepthTexture, mSamples}; }
 
  private:
   Framebuffer() = default;
@@ -52,9 +56,8 @@ class Framebuffer {
   uint32_t mDrawFramebuffer = 0;     // what bind() binds: multisampled when mSamples > 0
   uint32_t mResolveFramebuffer = 0;  // wraps mColorTexture; 0 without multisampling
   uint32_t mColorTexture = 0;
-  uint32_t mDepthTexture = 0;      // 0 with multisampling
-  uint32_t mMultisampleColor = 0;  // renderbuffers, only with multisampling
-  uint32_t mMultisampleDepth = 0;
+  uint32_t mDepthTexture = 0;      // multisampled when mSamples > 0
+  uint32_t mMultisampleColor = 0;  // a renderbuffer, only with multisampling
 };
 
 /// Makes `target` a width x height single-sample Framebuffer, creating it when it is empty or

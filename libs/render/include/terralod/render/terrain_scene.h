@@ -1,14 +1,13 @@
 #pragma once
-// A tileset ready to draw: the reader, its chunk tree, the residency of its chunks (a loader
-// pool reads and decodes them under a memory budget), the chunks on the GPU and the renderer,
-// with one call per frame. What `render`, `bench` and the viewer share. Render thread only.
+// A tileset ready to draw: GL glue over the runtime's FrameDriver (which holds the streaming
+// policy: uploads within a budget, selection among the resident chunks, late-split easing,
+// requests, eviction, dispatch), with a loader pool, the chunks on the GPU (GpuChunkStore)
+// and the renderer, registered as the static RTIN chunk kind. One call per frame. What
+// `render`, `bench` and the viewer share. Render thread only.
 //
-// A frame never waits for IO: it uploads what the loaders have finished (within a per-frame
-// upload budget), selects among the resident chunks (a chunk whose children are missing is
-// drawn itself, coarser than wanted and counted), asks for what it wanted, evicts the least
-// recently used chunks over the budget, and draws. Only the roots are read before the first
-// frame. With `complete` set (single images, golden tests) a frame first waits until what it
-// wants is resident or has failed.
+// A frame never waits for IO unless `complete` is set (single images, golden tests): then it
+// first waits until what it wants is resident or has failed. Only the roots are read before
+// the first frame. A tileset using a mesh kind with no registered kind is refused.
 
 #include <chrono>
 #include <functional>
@@ -21,8 +20,11 @@
 #include "terralod/render/gl_context.h"
 #include "terralod/render/gl_worker.h"
 #include "terralod/render/gpu_chunk_store.h"
+#include "terralod/render/static_chunk_kind.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/frame_clock.h"
+#include "terralod/runtime/frame_driver.h"
 #include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/runtime/selection.h"
@@ -87,20 +89,20 @@ class TerrainScene {
   const ChunkTree& tree() const { return mTree; }
   const GpuChunkStore& store() const { return mStore; }
   const TilesetReader& tileset() const { return *mTileset; }
-  const Residency& residency() const { return *mResidency; }
+  const Residency& residency() const { return mDriver->residency(); }
   /// The chunks the last frame selected.
-  const std::vector<SelectedChunk>& selected() const { return mSelected; }
+  const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
   uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  /// The renderer, for adding composited layers (TerrainRenderer::addLayer).
+  TerrainRenderer& renderer() { return mRenderer; }
 
  private:
   TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer,
                SceneOptions options);
-  Status loadRoots();
-  // Everything of a frame but drawing: uploads, selection, requests, eviction, dispatch.
-  void step(const View& view, const SelectionOptions& selection, FrameStats& stats,
-            bool unlimitedUploads);
-  void upload(const ReadyChunk& chunk);
-  // The selected chunks to draw: without those horizon culling finds hidden.
+  // Each kind adds its draws of `chunks` to the frame; the static kind first (it clears).
+  DrawStats drawSelection(const View& view, std::span<const SelectedChunk> chunks,
+                          const TerrainStyle& style);
+  // The chunks of `selected` to draw: without those horizon culling finds hidden.
   std::span<const SelectedChunk> visibleChunks(const View& view,
                                                std::span<const SelectedChunk> selected,
                                                const TerrainStyle& style, FrameStats& stats);
@@ -110,19 +112,15 @@ class TerrainScene {
   SceneOptions mOptions;
   GpuChunkStore mStore;
   TerrainRenderer mRenderer;
+  StaticChunkKind mStaticKind;
   // Stops (after finishing its job) before the store, which deletes what it left unadopted.
   std::unique_ptr<GlWorker> mGlWorker;
   std::unique_ptr<ThreadPool> mPool;
-  std::unique_ptr<Residency> mResidency;
-  std::vector<SelectedChunk> mSelected, mOtherView;
-  HorizonCuller mHorizonCuller;
+  SteadyFrameClock mClock;
+  std::unique_ptr<FrameDriver> mDriver;  // reset first: waits for the loads on mPool
+  std::vector<SelectedChunk> mOtherView;
+  KindRuns mRuns;
   std::vector<SelectedChunk> mVisible;
-  SelectionStats mLastSelection;
-  // Late splits: a chunk whose children arrived after its split distance hands over to them
-  // at the parent's surface (t = 1), easing to their scheduled morph over a few frames.
-  std::vector<uint64_t> mDrawnFrame;
-  std::vector<float> mEntryMorph;
-  uint64_t mFrame = 2;
 };
 
 }  // namespace terralod

@@ -1,0 +1,75 @@
+#include "terralod/format/tileset_metadata.h"
+
+#include <gtest/gtest.h>
+
+namespace terralod {
+namespace {
+
+TilesetHeader threeLevels() {
+  TilesetHeader h;
+  h.levelCount = 3;
+  return h;
+}
+
+std::string parseError(const std::string& json) {
+  auto m = parseTilesetMetadata(json, threeLevels(), "m.tlod");
+  return m.ok() ? "ok" : m.error().message;
+}
+
+TEST(TilesetMetadata, ReadsTheTypedFields) {
+  const std::string json = R"({"generator": "terralod",
+    "source": {"encoding": "terrarium", "band": 2, "nodata": -32768},
+    "build": {"vertical_scale": 2.5, "max_error": 1},
+    "texture": {"color": "generated", "levels": [
+      {"color_size": 129, "normal_size": 65}, {"color_size": 257, "normal_size": 129},
+      {"color_size": 257, "normal_size": 2}]}})";
+  auto m = parseTilesetMetadata(json, threeLevels(), "m.tlod");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->sourceEncoding, "terrarium");
+  EXPECT_EQ(m->sourceBand, 2);
+  EXPECT_EQ(m->verticalScale, 2.5);
+  const std::vector<TextureLevelSizes> levels{{129, 65}, {257, 129}, {257, 2}};
+  EXPECT_EQ(m->textureLevels, levels);
+}
+
+TEST(TilesetMetadata, AbsentFieldsTakeTheirDefaults) {
+  auto m = parseTilesetMetadata("{}", threeLevels(), "m.tlod");
+  ASSERT_TRUE(m.ok());
+  EXPECT_EQ(m->sourceEncoding, "none");
+  EXPECT_FALSE(m->sourceBand);
+  EXPECT_EQ(m->verticalScale, 1.0);
+  EXPECT_TRUE(m->textureLevels.empty());
+  // A textured tileset written before the sizes were recorded: no levels, the renderer uses
+  // GL's own mip sampling.
+  EXPECT_EQ(parseError(R"({"texture": {"color": "generated"}})"), "ok");
+}
+
+TEST(TilesetMetadata, RefusesWhatIsNotWhatTheWriterWrites) {
+  const std::string prefix = "m.tlod: invalid tileset metadata: ";
+  EXPECT_EQ(parseError("not json"), prefix + "not a JSON object");
+  EXPECT_EQ(parseError("[1, 2]"), prefix + "not a JSON object");
+  EXPECT_EQ(parseError(R"({"source": 3})"), prefix + "\"source\" is not an object");
+  EXPECT_EQ(parseError(R"({"source": {"encoding": 1}})"),
+            prefix + "\"source\".\"encoding\" is not a string");
+  EXPECT_EQ(parseError(R"({"source": {"band": 0}})"),
+            prefix + "\"source\".\"band\" is not a band number");
+  EXPECT_EQ(parseError(R"({"build": {"vertical_scale": 0}})"),
+            prefix + "\"build\".\"vertical_scale\" is not a non-zero number");
+  EXPECT_EQ(parseError(R"({"texture": {"levels": [{"color_size": 3, "normal_size": 3}]}})"),
+            prefix + "\"texture\".\"levels\" is not one entry per level (3)");
+  const std::string bad = prefix + "texture level 1 has no valid \"";
+  for (const char* level :
+       {R"({"color_size": 128, "normal_size": 65})", R"({"color_size": 8193, "normal_size": 65})",
+        R"({"color_size": -129, "normal_size": 65})", R"({"normal_size": 65})", R"(7)"})
+    EXPECT_EQ(parseError(std::string(R"({"texture": {"levels": [)") +
+                         R"({"color_size": 3, "normal_size": 3}, )" + level +
+                         R"(, {"color_size": 3, "normal_size": 3}]}})"),
+              bad + "color_size\" (2^k + 1 texels, at most 4097)")
+        << level;
+  EXPECT_EQ(parseError(R"({"texture": {"levels": [{"color_size": 3, "normal_size": 3},
+              {"color_size": 3, "normal_size": 4}, {"color_size": 3, "normal_size": 3}]}})"),
+            bad + "normal_size\" (2^k + 1 texels, at most 4097)");
+}
+
+}  // namespace
+}  // namespace terralod

@@ -1,0 +1,69 @@
+#pragma once
+// bench's flight: renders every camera headless through the streaming scene, as an application
+// would (frames never wait for data), and records each frame's figures. With a source raster it
+// also measures the drawn surface against it (error, pops, holes, image pops).
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "terralod/core/progress.h"
+#include "terralod/measure/texture_metrics.h"
+#include "terralod/raster/heightfield.h"
+#include "terralod/render/image.h"
+#include "terralod/render/terrain_scene.h"
+#include "terralod/runtime/view.h"
+
+namespace terralod {
+
+/// One frame's figures. Quality figures are NaN where they were not measured: without a
+/// source, or when nothing changed (image pops) or there is no last frame (pops).
+struct FrameRecord {
+  double frameMs = 0;   ///< selection, uploads and drawing, to glFinish
+  double selectUs = 0;  ///< selection alone
+  double uploadMs = 0;  ///< copying chunks to the GPU
+  uint64_t triangles = 0;
+  uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
+  uint32_t culledChunks = 0;     ///< selected but hidden behind nearer terrain: not drawn
+  uint64_t culledTriangles = 0;  ///< their triangles (skirts included when drawn)
+  double residentMB = 0;         ///< chunk memory after the frame (GPU copies and decoded chunks)
+  bool coarser = false;          ///< drew a chunk whose wanted children were not resident, or
+                                 ///< a late split still easing in from its parent's surface
+  bool easing = false;           ///< drew a late split still easing in (part of `coarser`)
+  bool waitedOnIo = false;       ///< blocked on a read
+  glm::dvec3 eye{0.0};
+  double errorPx = NAN;      ///< largest screen-space error over the source samples in view
+  double popPx = NAN;        ///< largest change from selection alone since the last frame
+  double imagePop = NAN;     ///< mean absolute pixel change from LOD alone (8-bit units)
+  bool popComplete = false;  ///< this frame and the last had every wanted chunk (pops count)
+  uint64_t holes = 0;        ///< background pixels in the look-down render
+};
+
+struct BenchFlightOptions {
+  SelectionOptions selection;
+  TerrainStyle style;
+  const Heightfield* source = nullptr;  ///< measure quality against it (optional)
+  int metricStride = 0;   ///< measure every k-th source sample in x and y; 0: automatic
+  size_t keepFrames = 0;  ///< keep this many evenly spaced frames' images (contact sheet)
+};
+
+struct BenchFlightResult {
+  std::vector<FrameRecord> frames;
+  TexelDensity texels;   ///< over frames that had every wanted chunk resident
+  int metricStride = 0;  ///< every how many source samples the quality figures used
+  std::vector<Image> keptImages;
+  std::vector<size_t> keptFrameIndices;
+};
+
+/// Flies `cameras` over `scene`. Progress is one step per frame. Fails only on GL or decoding
+/// errors (a frame naming its index).
+Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera>& cameras,
+                                   const BenchFlightOptions& options, Progress& progress);
+
+/// The p-quantile (0..1) of `values` by the nearest-rank method; 0 for none. NaNs are skipped.
+double percentile(std::vector<double> values, double p);
+
+}  // namespace terralod

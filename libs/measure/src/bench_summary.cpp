@@ -1,0 +1,125 @@
+#include "terralod/measure/bench_summary.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace terralod {
+namespace {
+
+template <typename Field>
+std::vector<double> column(const std::vector<FrameRecord>& frames, Field field) {
+  std::vector<double> out;
+  out.reserve(frames.size());
+  for (const FrameRecord& r : frames) out.push_back(double(field(r)));
+  return out;
+}
+
+}  // namespace
+
+nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult& flight,
+                              const BenchFlightOptions& options, const BenchRunInfo& info) {
+  const SelectionOptions& selection = options.selection;
+  const TerrainStyle& style = options.style;
+  const std::vector<FrameRecord>& f = flight.frames;
+  nlohmann::json j;
+  j["tileset"] = info.tileset;
+  j["gl"] = info.gl;
+  j["frames"] = f.size();
+  j["tau"] = selection.tau;
+  j["morph"] = selection.morph;
+  j["skirts"] = style.skirts;
+  const auto selectUs = column(f, [](const FrameRecord& r) { return r.selectUs; });
+  const auto frameMs = column(f, [](const FrameRecord& r) { return r.frameMs; });
+  const auto triangles = column(f, [](const FrameRecord& r) { return r.triangles; });
+  j["select_us_p50"] = percentile(selectUs, 0.5);
+  j["select_us_max"] = percentile(selectUs, 1.0);
+  j["frame_ms_p50"] = percentile(frameMs, 0.5);
+  j["frame_ms_p99"] = percentile(frameMs, 0.99);
+  j["frame_ms_max"] = percentile(frameMs, 1.0);
+  j["triangles_p50"] = percentile(triangles, 0.5);
+  j["triangles_max"] = percentile(triangles, 1.0);
+  j["draws_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.draws; }), 0.5);
+  j["chunks_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.chunks; }), 0.5);
+  // Horizon culling: selected chunks (and their triangles) hidden behind nearer terrain.
+  j["horizon_culling"] = info.horizonCulling;
+  const auto culled = column(f, [](const FrameRecord& r) { return r.culledChunks; });
+  const auto culledTriangles = column(f, [](const FrameRecord& r) { return r.culledTriangles; });
+  j["culled_chunks_p50"] = percentile(culled, 0.5);
+  j["culled_chunks_max"] = percentile(culled, 1.0);
+  j["culled_triangles_p50"] = percentile(culledTriangles, 0.5);
+  j["culled_triangles_max"] = percentile(culledTriangles, 1.0);
+  const ResidencyCounters& rc = scene.residency().counters();
+  j["loads"] = rc.loads;
+  j["evictions"] = rc.evictions;
+  j["bytes_read"] = rc.bytesRead;
+  j["load_failures"] = rc.failures;
+  j["cancelled_requests"] = rc.cancelled;
+  j["resident_mb_max"] =
+      percentile(column(f, [](const FrameRecord& r) { return r.residentMB; }), 1.0);
+  j["cache_mb"] = info.cacheMB;
+  uint64_t waiting = 0, coarser = 0, easing = 0, holes = 0, imagePopFrames = 0;
+  double maxError = 0, maxErrorAll = 0, maxPop = 0, uploadMax = 0, imagePopMax = 0,
+         imagePopMaxAll = 0, imagePopSum = 0;
+  for (const FrameRecord& r : f) {
+    waiting += r.waitedOnIo ? 1 : 0;
+    coarser += r.coarser ? 1 : 0;
+    easing += r.easing ? 1 : 0;
+    holes += r.holes;
+    uploadMax = std::max(uploadMax, r.uploadMs);
+    if (!std::isnan(r.errorPx)) {
+      // τ holds where the frame has what it wants; frames drawn coarser while chunks stream
+      // in are counted apart.
+      maxErrorAll = std::max(maxErrorAll, r.errorPx);
+      if (!r.coarser) maxError = std::max(maxError, r.errorPx);
+    }
+    if (!std::isnan(r.popPx)) maxPop = std::max(maxPop, r.popPx);
+    if (!std::isnan(r.imagePop)) {
+      imagePopMaxAll = std::max(imagePopMaxAll, r.imagePop);
+      if (r.popComplete) {
+        imagePopMax = std::max(imagePopMax, r.imagePop);
+        imagePopSum += r.imagePop;
+        ++imagePopFrames;
+      }
+    }
+  }
+  j["frames_waiting_on_io"] = waiting;
+  j["coarser_than_wanted_frames"] = coarser;
+  j["easing_frames"] = easing;  // (among them) frames with a late split easing in
+  j["upload_ms_max"] = uploadMax;
+  j["textured"] = scene.tileset().header().textured();
+  if (flight.texels.any) j["max_texel_per_px"] = flight.texels.max;
+  if (flight.texels.anySourceLimited)
+    j["max_texel_per_px_source_limited"] = flight.texels.sourceLimitedMax;
+  j["gpu_mb"] = double(scene.gpuBytes()) / 1e6;
+  if (options.source) {
+    j["source"] = info.source;
+    j["metric_stride"] = flight.metricStride;
+    j["max_error_px"] = maxError;  // over frames with every wanted chunk resident
+    j["max_error_px_all"] = maxErrorAll;
+    j["max_pop_px"] = maxPop;
+    j["holes_total"] = holes;
+    // 8-bit units: the largest per-frame mean absolute pixel change from LOD alone, and its
+    // average over the frames whose selection changed (both between frames that had what they
+    // wanted, like max_pop_px; _all also over frames while chunks streamed in).
+    j["image_pop_mean"] = imagePopMax;
+    j["image_pop_mean_all"] = imagePopMaxAll;
+    j["image_pop_mean_avg"] = imagePopFrames ? imagePopSum / double(imagePopFrames) : 0.0;
+    j["image_pop_frames"] = imagePopFrames;
+  }
+  return j;
+}
+
+Result<BenchRun> runBenchFlight(TerrainScene& scene, const std::vector<Camera>& cameras,
+                                const BenchFlightOptions& options, const BenchRunInfo& info,
+                                Progress& progress) {
+  if (cameras.empty()) return Error{"the flight has no frames"};
+  auto flight = flyBench(scene, cameras, options, progress);
+  if (!flight) return flight.error();
+  BenchRun run;
+  run.flight = std::move(flight).value();
+  run.summary = summarizeBench(scene, run.flight, options, info);
+  run.summary["size"] = {cameras[0].width, cameras[0].height};
+  return run;
+}
+
+}  // namespace terralod

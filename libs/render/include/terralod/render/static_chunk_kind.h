@@ -1,0 +1,37 @@
+#pragma once
+// Static RTIN chunks (MeshKind::kStaticRtin) as a chunk kind (terralod/runtime/chunk_kind.h,
+// whose thread contract applies): decoded on loader threads by the format's
+// decodeStaticChunk into ChunkData, put into a GpuChunkStore on the render thread, drawn by
+// TerrainRenderer::draw. Its draws clear the frame and draw the sky first, so it draws first
+// in a frame, also with no chunks.
+
+#include "terralod/render/gpu_chunk_store.h"
+#include "terralod/render/terrain_frame.h"
+#include "terralod/render/terrain_renderer.h"
+#include "terralod/runtime/chunk_kind.h"
+
+namespace terralod {
+
+/// Whether a tileset's static chunks must carry colour and normal textures.
+enum class ChunkTextures : uint8_t { kOptional, kRequired };
+
+class StaticChunkKind final : public DrawnChunkKind<TerrainFrame> {
+ public:
+  /// `store` and `renderer` must outlive the kind.
+  StaticChunkKind(GpuChunkStore& store, TerrainRenderer& renderer, ChunkTextures textures);
+
+  MeshKind meshKind() const override { return MeshKind::kStaticRtin; }
+  Result<LoadedChunk> decode(const ChunkBlob& blob) const override;
+  void beginFrame() override;
+  UploadRoom prepare(const ChunkPayload& payload) override;
+  uint64_t upload(uint32_t node, const ChunkPayload& payload) override;
+  void release(uint32_t node) override;
+  void addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) override;
+
+ private:
+  GpuChunkStore& mStore;
+  TerrainRenderer& mRenderer;
+  ChunkTextures mTextures;
+};
+
+}  // namespace terralod

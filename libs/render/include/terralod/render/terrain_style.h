@@ -1,0 +1,27 @@
+#pragma once
+// How the terrain is drawn: colours, overlays and light. A value every pass of a frame reads
+// (frame_context.h).
+
+#include <array>
+#include <cstdint>
+
+namespace terralod {
+
+enum class ColorBy { kRelief, kLevel, kMorph };
+
+struct TerrainStyle {
+  ColorBy colorBy = ColorBy::kRelief;
+  bool wireframe = false;  ///< draw triangle edges over the surface
+  bool skirts = true;
+  bool textures = true;     ///< false: ignore chunk textures, light from the drawn geometry
+  bool sky = true;          ///< false: empty pixels keep exactly the background colour
+  bool chunkBoxes = false;  ///< outline each drawn chunk's bounding box, coloured by level
+  std::array<uint8_t, 3> background{0x9C, 0xC3, 0xE6};  ///< sRGB; the sky overhead
+  double sunAzimuthDegrees = 315.0;                     ///< clockwise from north
+  double sunElevationDegrees = 40.0;
+  /// Aerial perspective: scales how much the air hazes what lies behind it (0: no haze).
+  /// The haze follows the air a ray crosses in an exponential atmosphere (atmosphere.h).
+  double haze = 1.0;
+};
+
+}  // namespace terralod

@@ -1,0 +1,128 @@
+#pragma once
+// The streaming policy of a frame, without GL: what the render thread does once per frame
+// before drawing. It owns the residency of a tileset's chunks and the late-split easing, and
+// drives the chunk kinds (chunk_kind.h) registered for the tileset's mesh kinds:
+//
+//   update(view):
+//     1. collect finished loads; prepare + upload the ready ones, most wanted first, within
+//        the per-frame upload budget (measured on the injected clock; at least one chunk)
+//     2. select among the resident chunks (selectChunks with Residency::drawable)
+//     3. late-split easing: children split off a parent drawn last frame start at its
+//        surface (t = 1) and ease to their schedule over 16 frames
+//     4. touch the drawn chunks and their ancestors; request the children of chunks drawn
+//        coarser than wanted (priority τ/ρ, nearest first), then of chunks within a factor 2
+//        of splitting (prefetch, priority + 1)
+//     5. evict the least recently used chunks over the budget (each kind releases its own)
+//     6. dispatch the most wanted loads on the injected TaskRunner (read + decode there)
+//   With FrameCompleteness::kComplete, update repeats 1-6 (uploads unlimited), sleeping on
+//   the clock between rounds, until nothing the frame wants is on its way.
+//
+// Render thread only (loads run on the runner). Deterministic for a deterministic runner and
+// clock: the same flight gives the same selections, loads and evictions.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/format/tileset_reader.h"
+#include "terralod/runtime/chunk_kind.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/frame_clock.h"
+#include "terralod/runtime/horizon_culling.h"
+#include "terralod/runtime/residency.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/task_runner.h"
+#include "terralod/runtime/view.h"
+
+namespace terralod {
+
+/// Whether a frame may show chunks coarser than wanted while the rest load.
+enum class FrameCompleteness : uint8_t {
+  kStreaming,  ///< never wait for IO: draw what is resident, ask for the rest
+  kComplete    ///< wait until what the frame wants is resident or has failed (single images)
+};
+
+struct FrameDriverOptions {
+  uint64_t cacheBytes = uint64_t{512} << 20;  ///< resident plus decoded-not-uploaded
+  unsigned maxInFlight = 4;                   ///< loads running at once
+  double uploadMillisecondsPerFrame = 4.0;    ///< at least one chunk per frame
+  FrameCompleteness completeness = FrameCompleteness::kStreaming;
+  std::function<void(const std::string&)> log;  ///< one line per chunk that fails to load
+};
+
+/// What update() did.
+struct UpdateStats {
+  SelectionStats selection;
+  double selectMicroseconds = 0;
+  double uploadMilliseconds = 0;
+  uint32_t uploads = 0;          ///< chunks uploaded this frame
+  uint32_t deferredUploads = 0;  ///< ready chunks left for later: their memory is on its way
+  uint32_t evictions = 0;        ///< chunks released this frame
+  bool waitedOnIo = false;       ///< the frame slept waiting for loads (complete frames)
+  uint32_t easing = 0;           ///< chunks drawn above their morph schedule (late splits)
+};
+
+class FrameDriver {
+ public:
+  /// Checks that every node's mesh kind is registered, then loads and uploads the roots on
+  /// the calling thread. `tileset`, `tree`, the kinds, `runner` and `clock` must outlive the
+  /// driver; `tree` must be the tileset's.
+  static Result<std::unique_ptr<FrameDriver>> create(const TilesetReader& tileset,
+                                                     const ChunkTree& tree, ChunkKinds kinds,
+                                                     TaskRunner& runner, FrameClock& clock,
+                                                     FrameDriverOptions options);
+  ~FrameDriver();  ///< waits for loads still running
+  FrameDriver(const FrameDriver&) = delete;
+  FrameDriver& operator=(const FrameDriver&) = delete;
+
+  /// One frame's update for `view` (see above); selected() then holds what to draw.
+  UpdateStats update(const View& view, const SelectionOptions& selection);
+
+  /// The chunks the last update selected, with their (eased) morph parameters.
+  const std::vector<SelectedChunk>& selected() const { return mSelected; }
+  const SelectionStats& lastSelection() const { return mLastSelection; }
+  const Residency& residency() const { return *mResidency; }
+  const ChunkKinds& kinds() const { return mKinds; }
+
+  /// Horizon culling (horizon_culling.h): writes to `visible` the chunks of `chunks` (a
+  /// selection among the resident chunks for `view`, e.g. selected()) that nearer drawn
+  /// terrain does not hide, in their order. `nearPlane`: the renderer's near-plane distance
+  /// in metres. Selection, loads and morphs do not change; only fewer chunks are drawn.
+  HorizonCullingStats cullHidden(const View& view, std::span<const SelectedChunk> chunks,
+                                 double nearPlane, std::vector<SelectedChunk>& visible);
+
+ private:
+  // Whether a step may upload beyond the per-frame budget.
+  enum class UploadLimit : uint8_t { kBudget, kUnlimited };
+
+  FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, ChunkKinds kinds,
+              TaskRunner& runner, FrameClock& clock, FrameDriverOptions options);
+  Status loadRoots();
+  void step(const View& view, const SelectionOptions& selection, UploadLimit limit,
+            UpdateStats& stats);
+  void uploadReady(UploadLimit limit, UpdateStats& stats);
+  void easeLateSplits(const SelectionOptions& selection, UpdateStats& stats);
+  void requestWanted(const View& view, const SelectionOptions& selection);
+  ChunkKind& kindOf(uint32_t node);
+
+  const TilesetReader& mTileset;
+  const ChunkTree& mTree;
+  ChunkKinds mKinds;
+  FrameClock& mClock;
+  FrameDriverOptions mOptions;
+  std::unique_ptr<Residency> mResidency;  // after mKinds: its loads use them
+  std::vector<SelectedChunk> mSelected;
+  SelectionStats mLastSelection;
+  // Late splits: a chunk whose children arrived after its split distance hands over to them
+  // at the parent's surface (t = 1), easing to their scheduled morph over a few frames.
+  std::vector<uint64_t> mDrawnFrame;
+  std::vector<float> mEntryMorph;
+  uint64_t mFrame = 2;
+  HorizonCuller mCuller;
+};
+
+}  // namespace terralod

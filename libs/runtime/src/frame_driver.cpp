@@ -1,0 +1,175 @@
+#include "terralod/runtime/frame_driver.h"
+
+#include <algorithm>
+
+namespace terralod {
+
+Result<std::unique_ptr<FrameDriver>> FrameDriver::create(const TilesetReader& tileset,
+                                                         const ChunkTree& tree, ChunkKinds kinds,
+                                                         TaskRunner& runner, FrameClock& clock,
+                                                         FrameDriverOptions options) {
+  if (Status s = kinds.covers(tree, tileset.name()); !s) return s.error();
+  std::unique_ptr<FrameDriver> driver(
+      new FrameDriver(tileset, tree, std::move(kinds), runner, clock, std::move(options)));
+  if (Status s = driver->loadRoots(); !s) return s.error();
+  return driver;
+}
+
+FrameDriver::FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, ChunkKinds kinds,
+                         TaskRunner& runner, FrameClock& clock, FrameDriverOptions options)
+    : mTileset(tileset),
+      mTree(tree),
+      mKinds(std::move(kinds)),
+      mClock(clock),
+      mOptions(std::move(options)) {
+  mSelected.reserve(mTree.nodes().size());
+  mDrawnFrame.assign(mTree.nodes().size(), 0);
+  mEntryMorph.assign(mTree.nodes().size(), 0.0f);
+  // Runs on loader threads: reads the node's bytes and has its kind decode them. Touches
+  // only the reader (thread-safe) and the kinds' decode (thread-safe by contract).
+  auto load = [reader = &mTileset, tree = &mTree,
+               kinds = &mKinds](uint32_t node) -> Result<LoadedChunk> {
+    auto bytes = reader->readNode(node);
+    if (!bytes) return bytes.error();
+    const ChunkKind* kind = kinds->find(tree->node(node).meshKind);  // checked by create()
+    auto loaded = kind->decode(ChunkBlob{node, *bytes, reader->name()});
+    if (!loaded) return loaded.error();
+    loaded->bytesRead = bytes->bytes.size();
+    return loaded;
+  };
+  ResidencyOptions r;
+  r.budgetBytes = mOptions.cacheBytes;
+  r.maxInFlight = mOptions.maxInFlight;
+  mResidency = std::make_unique<Residency>(mTree, load, runner, r, mOptions.log);
+}
+
+FrameDriver::~FrameDriver() = default;
+
+ChunkKind& FrameDriver::kindOf(uint32_t node) {
+  return *mKinds.find(mTree.node(node).meshKind);
+}
+
+Status FrameDriver::loadRoots() {
+  for (uint32_t root = 0; root < mTree.rootCount(); ++root) {
+    auto loaded = mResidency->loadNow(root);
+    if (!loaded) return loaded.error();
+    const uint64_t bytes = kindOf(root).upload(root, *loaded->payload);
+    mResidency->markLoadedNow(root, bytes);
+  }
+  return {};
+}
+
+void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
+  // Most wanted first, within the frame's budget (always at least one).
+  Residency& residency = *mResidency;
+  const double start = mClock.nowMilliseconds();
+  for (ChunkKind* kind : mKinds.all()) kind->beginFrame();
+  std::vector<ReadyChunk> ready = residency.collect();
+  for (ReadyChunk& chunk : ready) {
+    if (limit == UploadLimit::kBudget && stats.uploads > 0 &&
+        mClock.nowMilliseconds() - start > mOptions.uploadMillisecondsPerFrame) {
+      residency.returnReady(std::move(chunk));
+      continue;
+    }
+    ChunkKind& kind = kindOf(chunk.node);
+    if (kind.prepare(*chunk.chunk.payload) == UploadRoom::kMemoryOnItsWay) {
+      residency.returnReady(std::move(chunk));
+      ++stats.deferredUploads;
+      continue;
+    }
+    const uint64_t bytes = kind.upload(chunk.node, *chunk.chunk.payload);
+    residency.markResident(chunk, bytes);
+    ++stats.uploads;
+  }
+  stats.uploadMilliseconds = mClock.nowMilliseconds() - start;
+}
+
+void FrameDriver::easeLateSplits(const SelectionOptions& selection, UpdateStats& stats) {
+  // A split the selection makes now that last frame drew the parent: the children start at
+  // the parent's surface. On time (the children's ρ <= τ/2) that is their schedule anyway and
+  // any t keeps the error within τ; late, it hides the pop while they ease in. (Not for
+  // complete frames: they show the settled selection.)
+  constexpr float kEntryStep = 1.0f / 16.0f;
+  const bool easeIn = mOptions.completeness == FrameCompleteness::kStreaming && selection.morph;
+  for (SelectedChunk& c : mSelected) {
+    const uint32_t parent = mTree.node(c.node).parent;
+    const bool drawnLastFrame = mDrawnFrame[c.node] + 1 == mFrame;
+    if (easeIn && parent != kNoNode && !drawnLastFrame && mDrawnFrame[parent] + 1 == mFrame)
+      mEntryMorph[c.node] = 1.0f;
+    else if (!drawnLastFrame)
+      mEntryMorph[c.node] = 0.0f;  // an easing cut short (it split again) does not come back
+    if (mEntryMorph[c.node] > 0.0f) {
+      if (mEntryMorph[c.node] > c.morph) ++stats.easing;
+      c.morph = std::max(c.morph, mEntryMorph[c.node]);
+      mEntryMorph[c.node] = std::max(0.0f, mEntryMorph[c.node] - kEntryStep);
+    }
+    mDrawnFrame[c.node] = mFrame;
+  }
+  ++mFrame;
+}
+
+void FrameDriver::requestWanted(const View& view, const SelectionOptions& selection) {
+  // In use: the drawn chunks and their ancestors. Wanted: the children of chunks drawn
+  // coarser than wanted (nearest first), then those of chunks close to splitting (prefetch).
+  Residency& residency = *mResidency;
+  for (const SelectedChunk& s : mSelected) {
+    for (uint32_t i = s.node; i != kNoNode; i = mTree.node(i).parent) residency.touch(i);
+    const ChunkNode& n = mTree.node(s.node);
+    if (n.childCount == 0) continue;
+    const double rho =
+        screenSpaceError(view, mTree.levelError(n.level), distanceToBox(view.camera.eye, n.box));
+    if (rho <= 0.5 * selection.tau) continue;
+    const float priority = float(selection.tau / rho) + (rho > selection.tau ? 0.0f : 1.0f);
+    for (uint32_t c = n.firstChild; c < n.firstChild + n.childCount; ++c)
+      residency.request(c, priority);
+  }
+}
+
+void FrameDriver::step(const View& view, const SelectionOptions& selection, UploadLimit limit,
+                       UpdateStats& stats) {
+  uploadReady(limit, stats);
+
+  const double selectStart = mClock.nowMilliseconds();
+  SelectionOptions options = selection;
+  options.drawable = mResidency->drawable();
+  mLastSelection = selectChunks(mTree, view, options, mSelected);
+  stats.selectMicroseconds = (mClock.nowMilliseconds() - selectStart) * 1000.0;
+
+  easeLateSplits(selection, stats);
+  requestWanted(view, selection);
+  for (uint32_t node : mResidency->evict()) {
+    kindOf(node).release(node);
+    ++stats.evictions;
+  }
+  mResidency->dispatch();
+}
+
+UpdateStats FrameDriver::update(const View& view, const SelectionOptions& selection) {
+  const bool complete = mOptions.completeness == FrameCompleteness::kComplete;
+  UpdateStats stats;
+  step(view, selection, complete ? UploadLimit::kUnlimited : UploadLimit::kBudget, stats);
+  // Complete frames wait until nothing they want is still on its way.
+  for (int round = 0; complete && mLastSelection.coarserThanWanted > 0 && round < 100000; ++round) {
+    // Nothing on its way: the rest failed (retried later) or does not fit the budget.
+    // (Chunks whose GPU memory is being made are on their way too.)
+    if (mResidency->inFlight() == 0 && mResidency->readyWaiting() == 0 &&
+        (mResidency->queued() == 0 || round > 0))
+      break;
+    mClock.sleepMicroseconds(200);
+    stats.waitedOnIo = true;
+    UpdateStats more;
+    step(view, selection, UploadLimit::kUnlimited, more);
+    stats.uploads += more.uploads;
+    stats.evictions += more.evictions;
+    stats.uploadMilliseconds += more.uploadMilliseconds;
+  }
+  stats.selection = mLastSelection;
+  return stats;
+}
+
+HorizonCullingStats FrameDriver::cullHidden(const View& view, std::span<const SelectedChunk> chunks,
+                                            double nearPlane, std::vector<SelectedChunk>& visible) {
+  return mCuller.cull(mTree, view, chunks, nearPlane, visible);
+}
+
+}  // namespace terralod

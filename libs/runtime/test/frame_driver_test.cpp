@@ -1,0 +1,219 @@
+// The frame driver flown through a recorded flight with no threads and no GL: a tileset of a
+// test-only chunk kind (blob_kind.h) written to a file, an inline task runner, a fake clock and
+// a recording backend. The same flight gives the same selections, morphs, loads and evictions
+// every run; the budgets hold; the resident set stays closed under parents.
+
+#include "terralod/runtime/frame_driver.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "blob_kind.h"
+#include "terralod/runtime/flight.h"
+
+namespace terralod {
+namespace {
+
+constexpr int kLevels = 6;  // 1365 chunks
+
+std::string tilesetPath(const std::string& name) {
+  return (std::filesystem::path(::testing::TempDir()) / name).string();
+}
+
+// One run of the flight: what each frame drew, uploaded and released, and the counters.
+struct FlightRun {
+  std::vector<RecordedFrame> frames;  // the backend's: [0] the roots
+  std::vector<RecordedFrame> drawn;   // per update: the draws the kind added to the frame
+  std::vector<UpdateStats> stats;
+  ResidencyCounters counters;
+  size_t readyWaiting = 0;              // loaded, not uploaded, at the end
+  std::vector<uint64_t> residentBytes;  // after each update
+};
+
+Flight recordedFlight(const ChunkTree& tree) {
+  // As a recorded flight is stored: JSON, read back.
+  const Flight flight = autoFlight(tree, 320, 240, 60.0, 300);
+  return parseFlight(flightToJson(flight), "flight.json").value();
+}
+
+FlightRun fly(const std::string& path, FrameDriverOptions options,
+              const std::function<void(const FrameDriver&, const ChunkTree&)>& check = {}) {
+  auto reader = TilesetReader::openFile(path);
+  EXPECT_TRUE(reader.ok()) << reader.error().message;
+  const ChunkTree tree((*reader)->header(), (*reader)->nodes());
+  InlineRunner runner;
+  FakeClock clock(&runner);
+  RecordingBackend backend(clock);
+  BlobKind kind(backend);
+  ChunkKinds kinds;
+  kinds.add(kind);
+  auto driver = FrameDriver::create(**reader, tree, kinds, runner, clock, std::move(options));
+  EXPECT_TRUE(driver.ok()) << driver.error().message;
+  FlightRun run;
+  KindRuns runs;
+  SelectionOptions selection;
+  selection.tau = 2.0;
+  for (const Camera& camera : flightCameras(recordedFlight(tree))) {
+    run.stats.push_back((*driver)->update(makeView(camera).value(), selection));
+    RecordedFrame frame;
+    runs.split(tree, (*driver)->selected());
+    for (const KindRuns::Run& r : runs.runs()) {
+      EXPECT_EQ(r.kind, kBlobMeshKind);
+      kind.addDraws(frame, r.chunks);
+    }
+    run.drawn.push_back(std::move(frame));
+    run.residentBytes.push_back((*driver)->residency().counters().residentBytes);
+    if (check) check(**driver, tree);
+    runner.runAll();  // the loads dispatched this frame finish before the next
+  }
+  run.counters = (*driver)->residency().counters();
+  run.readyWaiting = (*driver)->residency().readyWaiting();
+  run.frames = backend.frames;
+  return run;
+}
+
+FrameDriverOptions smallBudget() {
+  FrameDriverOptions o;
+  // 100.5 chunks: at exactly the budget nothing is evicted and no load starts.
+  o.cacheBytes = 100 * kBlobPayloadBytes + kBlobPayloadBytes / 2;
+  o.maxInFlight = 8;
+  o.uploadMillisecondsPerFrame = 4.0;  // the backend takes 1 ms per upload: 5 per frame
+  return o;
+}
+
+TEST(FrameDriver, ARecordedFlightLoadsSelectsAndEvictsTheSameEveryRun) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_same.tlod"), kLevels);
+  const FlightRun a = fly(path, smallBudget());
+  const FlightRun b = fly(path, smallBudget());
+  ASSERT_EQ(a.drawn.size(), 300u);
+  ASSERT_EQ(a.frames.size(), b.frames.size());
+  for (size_t f = 0; f < a.frames.size(); ++f) EXPECT_TRUE(a.frames[f] == b.frames[f]) << f;
+  for (size_t f = 0; f < a.drawn.size(); ++f) {
+    EXPECT_TRUE(a.drawn[f] == b.drawn[f]) << f;
+    EXPECT_EQ(a.stats[f].selection.selected, b.stats[f].selection.selected) << f;
+    EXPECT_EQ(a.stats[f].easing, b.stats[f].easing) << f;
+  }
+  EXPECT_EQ(a.counters.loads, b.counters.loads);
+  EXPECT_EQ(a.counters.evictions, b.counters.evictions);
+  EXPECT_EQ(a.counters.cancelled, b.counters.cancelled);
+  EXPECT_EQ(a.counters.residentBytesMax, b.counters.residentBytesMax);
+
+  // It did something: chunks loaded, evicted under the small budget, late splits eased.
+  EXPECT_GT(a.counters.loads, 150u);
+  EXPECT_GT(a.counters.evictions, 20u);
+  uint32_t easing = 0, deepest = 0;
+  for (const UpdateStats& s : a.stats) {
+    easing += s.easing;
+    deepest = std::max<uint32_t>(deepest, uint32_t(s.selection.deepestLevel));
+  }
+  EXPECT_GT(easing, 0u);
+  EXPECT_GE(deepest, uint32_t(kLevels - 2));
+  // The backend saw what the driver counted.
+  uint64_t uploads = 0, releases = 0;
+  for (const RecordedFrame& f : a.frames) {
+    uploads += f.uploads.size();
+    releases += f.releases.size();
+  }
+  EXPECT_EQ(uploads, a.counters.loads - a.counters.discarded - a.readyWaiting);
+  EXPECT_EQ(releases, a.counters.evictions);
+}
+
+TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_budget.tlod"), kLevels);
+  const FrameDriverOptions options = smallBudget();
+  const FlightRun run = fly(path, options, [](const FrameDriver& driver, const ChunkTree& tree) {
+    const Residency& r = driver.residency();
+    for (uint32_t i = 0; i < tree.nodes().size(); ++i) {
+      const uint32_t parent = tree.node(i).parent;
+      if (r.state(i) == ChunkState::kResident && parent != kNoNode) {
+        EXPECT_EQ(r.state(parent), ChunkState::kResident) << "node " << i;
+      }
+    }
+    for (const SelectedChunk& c : driver.selected())
+      EXPECT_EQ(r.state(c.node), ChunkState::kResident) << "drawn node " << c.node;
+  });
+  for (size_t f = 0; f < run.residentBytes.size(); ++f)
+    EXPECT_LE(run.residentBytes[f], options.cacheBytes) << "frame " << f;
+  // 1 ms per upload against 4 ms per frame: never more than 5 uploads in a frame.
+  for (size_t f = 1; f < run.frames.size(); ++f) EXPECT_LE(run.frames[f].uploads.size(), 5u) << f;
+  size_t fullFrames = 0;
+  for (const UpdateStats& s : run.stats) fullFrames += s.uploads == 5 ? 1 : 0;
+  EXPECT_GT(fullFrames, 0u) << "the upload budget never bit: nothing tested";
+}
+
+TEST(FrameDriver, CompleteFramesWaitUntilWhatTheyWantIsResident) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_complete.tlod"), kLevels);
+  FrameDriverOptions options;
+  options.completeness = FrameCompleteness::kComplete;
+  const FlightRun run = fly(path, options);
+  bool waited = false;
+  for (size_t f = 0; f < run.stats.size(); ++f) {
+    EXPECT_EQ(run.stats[f].selection.coarserThanWanted, 0u) << f;
+    EXPECT_EQ(run.stats[f].easing, 0u) << f;  // complete frames show the settled selection
+    waited = waited || run.stats[f].waitedOnIo;
+  }
+  EXPECT_TRUE(waited);
+}
+
+TEST(FrameDriver, RefusesATilesetWithAMeshKindNobodyRegistered) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_unknown.tlod"), 2);
+  auto reader = TilesetReader::openFile(path);
+  ASSERT_TRUE(reader.ok()) << reader.error().message;
+  const ChunkTree tree((*reader)->header(), (*reader)->nodes());
+  InlineRunner runner;
+  FakeClock clock;
+  auto driver = FrameDriver::create(**reader, tree, ChunkKinds{}, runner, clock, {});
+  ASSERT_FALSE(driver.ok());
+  EXPECT_NE(driver.error().message.find(path), std::string::npos) << driver.error().message;
+  EXPECT_NE(driver.error().message.find("no kind registered for mesh kind 7"), std::string::npos)
+      << driver.error().message;
+  // The static kind's reader refuses it too, clearly.
+  auto data = (*reader)->readChunkData(0);
+  ASSERT_FALSE(data.ok());
+  EXPECT_NE(data.error().message.find("chunk 0 has mesh kind 7, not static RTIN"),
+            std::string::npos)
+      << data.error().message;
+}
+
+TEST(FrameDriver, AChunkItsKindCannotDecodeFailsOnTheLoaderAndIsNeverDrawn) {
+  // Node 1's blob is node 2's: the kind refuses it on the loader; the frames go on without it.
+  const std::string path = writeBlobTileset(tilesetPath("driver_bad_blob.tlod"), kLevels, 1);
+  FrameDriverOptions options = smallBudget();
+  options.log = [](const std::string& line) {
+    EXPECT_NE(line.find("chunk 1 is another's"), std::string::npos) << line;
+  };
+  const FlightRun run = fly(path, options);
+  EXPECT_GT(run.counters.failures, 0u);
+  for (const RecordedFrame& f : run.frames)
+    for (uint32_t node : f.uploads) EXPECT_NE(node, 1u);
+  for (const RecordedFrame& f : run.drawn) {
+    EXPECT_FALSE(f.draws.empty());
+    for (const SelectedChunk& c : f.draws) EXPECT_NE(c.node, 1u);
+  }
+}
+
+TEST(KindRuns, GroupsAMixedSelectionByKindInSelectionOrder) {
+  FullTree full(2);
+  full.nodes[2].meshKind = kBlobMeshKind;
+  full.nodes[4].meshKind = kBlobMeshKind;
+  const ChunkTree tree = full.tree();
+  const std::vector<SelectedChunk> chunks = {{1, 0.f}, {2, 0.f}, {3, 0.f}, {4, 0.f}};
+  KindRuns runs;
+  runs.split(tree, chunks);
+  ASSERT_EQ(runs.runs().size(), 2u);
+  EXPECT_EQ(runs.runs()[0].kind, MeshKind::kStaticRtin);
+  EXPECT_EQ(runs.runs()[0].chunks[0].node, 1u);
+  EXPECT_EQ(runs.runs()[0].chunks[1].node, 3u);
+  EXPECT_EQ(runs.runs()[1].kind, kBlobMeshKind);
+  EXPECT_EQ(runs.runs()[1].chunks[0].node, 2u);
+  EXPECT_EQ(runs.runs()[1].chunks[1].node, 4u);
+  // One kind: one run over the selection itself.
+  const std::vector<SelectedChunk> one = {{1, 0.f}, {3, 0.f}};
+  runs.split(tree, one);
+  ASSERT_EQ(runs.runs().size(), 1u);
+  EXPECT_EQ(runs.runs()[0].chunks.data(), one.data());
+}
+
+}  // namespace
+}  // namespace terralod
