@@ -48,6 +48,7 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   j["culled_chunks_max"] = percentile(culled, 1.0);
   j["culled_triangles_p50"] = percentile(culledTriangles, 0.5);
   j["culled_triangles_max"] = percentile(culledTriangles, 1.0);
+  j["occluder_grids_mb"] = double(scene.occluderBytes()) / 1e6;  // after the flight
   const ResidencyCounters& rc = scene.residency().counters();
   j["loads"] = rc.loads;
   j["evictions"] = rc.evictions;

@@ -168,9 +168,47 @@ static double sourceHeightBound(const ChunkTree& tree, uint32_t node, const Rect
   return any ? std::min(own, children) : own;
 }
 
-void HorizonCuller::addOccluders(const ChunkTree& tree, uint32_t node, const glm::dvec3& eye) {
+void HorizonCuller::addGrid(const ChunkTree& tree, const ChunkNode& n, const OccluderGrid& grid,
+                            const glm::dvec3& eye) {
+  // A cell can raise a bin's horizon only above the lowest horizon of the bins the chunk spans
+  // (horizons only rise): the others are left out (which only ever culls less).
+  const Rect whole = footprint(n);
+  double lowest = -std::numeric_limits<double>::infinity();
+  if (!contains(whole, eye)) {
+    const double width = kTwoPi / double(mBins);
+    const auto [a0, a1] = azimuthRange(whole, eye);
+    lowest = std::numeric_limits<double>::infinity();
+    for (int64_t k = int64_t(std::floor(a0 / width)); k <= int64_t(std::floor(a1 / width)); ++k)
+      lowest = std::min(lowest, mHorizon[size_t(((k % mBins) + mBins) % mBins)]);
+  }
+  const double lowestSlope = lowest > -0.5 * std::numbers::pi
+                                 ? std::tan(lowest)
+                                 : -std::numeric_limits<double>::infinity();
+  const double sx = tree.spacing()[0], sy = tree.spacing()[1];
+  for (uint32_t j = 0; j < grid.cellsY; ++j) {
+    const double y0 = n.box.min[1] + grid.rowY(j) * sy, y1 = n.box.min[1] + grid.rowY(j + 1) * sy;
+    for (uint32_t i = 0; i < grid.cellsX; ++i) {
+      const double top = double(grid.floors[size_t(j) * grid.cellsX + i]);
+      if (!(top > n.box.min[2])) continue;  // no better than the chunk's box
+      const Rect cell{n.box.min[0] + grid.columnX(i) * sx, y0,
+                      n.box.min[0] + grid.columnX(i + 1) * sx, y1};
+      // Below the eye a cell's angle is at most atan(dz / its farthest point).
+      const double dz = top - eye.z;
+      if (dz < 0.0 && !contains(cell, eye) && dz / farthestDistance(cell, eye) <= lowestSlope)
+        continue;
+      addSolid(cell.x0, cell.y0, cell.x1, cell.y1, top, eye);
+    }
+  }
+}
+
+void HorizonCuller::addOccluders(const ChunkTree& tree, uint32_t node, const glm::dvec3& eye,
+                                 const OccluderGrid* grid) {
   const ChunkNode& n = tree.node(node);
   addSolid(n.box.min[0], n.box.min[1], n.box.max[0], n.box.max[1], n.box.min[2], eye);
+  if (grid && !grid->empty()) {
+    addGrid(tree, n, *grid, eye);
+    return;
+  }
   // Finer solids under the same surface: over a descendant's footprint the chunk's surface is
   // within 2 δ (morphed to the parent) plus both height steps (<= 3/4 δ) of the source
   // samples there, which are within the descendant's δ of its surface, above its minZ.
@@ -242,7 +280,8 @@ void HorizonCuller::addPartial(size_t bin, double offset, bool fromStart, double
 
 HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
                                         std::span<const SelectedChunk> selected, double nearPlane,
-                                        std::vector<SelectedChunk>& visible) {
+                                        std::vector<SelectedChunk>& visible,
+                                        std::span<const OccluderGrid> occluders) {
   HorizonCullingStats stats;
   visible.assign(selected.begin(), selected.end());
   if (selected.empty()) return stats;
@@ -309,7 +348,9 @@ HorizonCullingStats HorizonCuller::cull(const ChunkTree& tree, const View& view,
     // Occluders wholly nearer than this chunk (and all later ones) join the horizon.
     while (!mPending.empty() && mPending.front().farthest * (1.0 + kDepthMargin) < c.nearest) {
       std::pop_heap(mPending.begin(), mPending.end(), later);
-      addOccluders(tree, mPending.back().node, eye);
+      const uint32_t occluder = mPending.back().node;
+      addOccluders(tree, occluder, eye,
+                   occluder < occluders.size() ? &occluders[occluder] : nullptr);
       mPending.pop_back();
     }
     const uint32_t node = selected[c.index].node;

@@ -102,7 +102,7 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
       return makeError(blob.tilesetName, "chunk " + std::to_string(blob.node) + " is another's");
     auto payload = std::make_unique<BlobPayload>();
     payload->node = node;
-    return LoadedChunk{std::move(payload), kBlobPayloadBytes, 0};
+    return LoadedChunk{std::move(payload), kBlobPayloadBytes, 0, {}};
   }
   void beginFrame() override { mBackend.beginFrame(); }
   UploadRoom prepare(const ChunkPayload&) override { return UploadRoom::kReady; }

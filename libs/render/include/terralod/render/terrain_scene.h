@@ -93,6 +93,8 @@ class TerrainScene {
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
   uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  /// Memory the resident chunks' occluder grids hold (horizon culling).
+  uint64_t occluderBytes() const { return mDriver->occluderBytes(); }
   /// The renderer, for adding composited layers (TerrainRenderer::addLayer).
   TerrainRenderer& renderer() { return mRenderer; }
 

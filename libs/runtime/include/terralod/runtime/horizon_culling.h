@@ -6,12 +6,15 @@
 //
 // Occluders. A selected chunk's drawn surface covers its footprint (box x, y) and lies within
 // its box's z range over the whole morph range (docs/format.md, minZ/maxZ), so the solid
-// {footprint} x (-inf, minZ] lies under it. Skirts close every step between neighbours of any
-// levels (`verify` checks each side's depth against both tops), so a ray that starts above the
-// drawn terrain cannot get under any chunk's surface without crossing a drawn triangle first.
-// A chunk outside the frustum is a box no pixel ray enters, which keeps that true where the
-// selection drew nothing. Hence: a ray that passes through an occluder's solid has crossed a
-// drawn triangle before, no farther (horizontally) than the solid's far side.
+// {footprint} x (-inf, minZ] lies under it. A chunk's occluder grid (occluder_grid.h: per cell
+// of its footprint, a floor under the surface it draws there at any morph, made when its kind
+// decoded it) gives finer solids {cell} x (-inf, floor]; a chunk without one falls back to its
+// descendants' boxes in the node table (their minZ lowered by both levels' errors). Skirts close
+// every step between neighbours of any levels (`verify` checks each side's depth against both
+// tops), so a ray that starts above the drawn terrain cannot get under any chunk's surface without
+// crossing a drawn triangle first. A chunk outside the frustum is a box no pixel ray enters, which
+// keeps that true where the selection drew nothing. Hence: a ray that passes through an occluder's
+// solid has crossed a drawn triangle before, no farther (horizontally) than the solid's far side.
 //
 // The horizon. Around the eye, per azimuth bin, the steepest elevation angle below which every
 // ray of the bin passes through some occluder's solid: an occluder counts in a bin only when
@@ -35,6 +38,7 @@
 #include <vector>
 
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/occluder_grid.h"
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/view.h"
 
@@ -58,14 +62,19 @@ class HorizonCuller {
 
   /// Writes to `visible` the chunks of `selected` (a selection for `view` over `tree`) that
   /// may show a pixel, in their order. `nearPlane`: the renderer's near-plane distance in
-  /// metres. Deterministic; a pure function of its arguments.
+  /// metres. `occluders`: per node, its occluder grid (empty ones, or an empty span: none).
+  /// Deterministic; a pure function of its arguments.
   HorizonCullingStats cull(const ChunkTree& tree, const View& view,
                            std::span<const SelectedChunk> selected, double nearPlane,
-                           std::vector<SelectedChunk>& visible);
+                           std::vector<SelectedChunk>& visible,
+                           std::span<const OccluderGrid> occluders = {});
 
  private:
   bool eyeOverDrawnColumn(const ChunkTree& tree, const View& view, uint32_t node) const;
-  void addOccluders(const ChunkTree& tree, uint32_t node, const glm::dvec3& eye);
+  void addOccluders(const ChunkTree& tree, uint32_t node, const glm::dvec3& eye,
+                    const OccluderGrid* grid);
+  void addGrid(const ChunkTree& tree, const ChunkNode& n, const OccluderGrid& grid,
+               const glm::dvec3& eye);
   void addSolid(double x0, double y0, double x1, double y1, double top, const glm::dvec3& eye);
   void addPartial(size_t bin, double offset, bool fromStart, double angle);
 
