@@ -143,6 +143,7 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.draws = frame->draw.drawCalls;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;
+    r.cullingActive = frame->horizon.active;
     r.culledTriangles =
         frame->horizon.triangles + (options.style.skirts ? frame->horizon.skirtTriangles : 0);
     r.uploads = frame->uploads;

@@ -29,6 +29,7 @@ struct FrameRecord {
   uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
   uint32_t culledChunks = 0;     ///< selected but hidden behind nearer terrain: not drawn
   uint64_t culledTriangles = 0;  ///< their triangles (skirts included when drawn)
+  bool cullingActive = false;    ///< horizon culling tested chunks (the eye was above the terrain)
   double residentMB = 0;         ///< chunk memory after the frame (GPU copies and decoded chunks)
   bool coarser = false;          ///< drew a chunk whose wanted children were not resident, or
                                  ///< a late split still easing in from its parent's surface
