@@ -44,9 +44,8 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   j["horizon_culling"] = info.horizonCulling;
   const auto culled = column(f, [](const FrameRecord& r) { return r.culledChunks; });
   const auto culledTriangles = column(f, [](const FrameRecord& r) { return r.culledTriangles; });
-  j["culling_active_frames"] = std::count_if(f.begin(), f.end(), [](const FrameRecord& r) {
-    return r.cullingActive;
-  });
+  j["culling_active_frames"] =
+      std::count_if(f.begin(), f.end(), [](const FrameRecord& r) { return r.cullingActive; });
   j["culled_chunks_p50"] = percentile(culled, 0.5);
   j["culled_chunks_max"] = percentile(culled, 1.0);
   j["culled_triangles_p50"] = percentile(culledTriangles, 0.5);
