@@ -68,6 +68,7 @@ int runBench(const BenchCommand& b) {
   info.gl = (*context)->description();
   info.source = b.source;
   info.cacheMB = b.options.cacheMB;
+  info.horizonCulling = b.options.horizonCulling == HorizonCulling::kOn;
   TerminalProgress progress;
   auto run = runBenchFlight(scene, *cameras, flightOptions, info, progress);
   if (!run) return fail(run.error().message);

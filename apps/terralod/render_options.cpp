@@ -33,6 +33,10 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
              "Outline every drawn chunk's bounding box, coloured by its level");
   c.add_flag("--no-morph", o.noMorph, "Draw every chunk unmorphed (shows the pops morphing hides)");
   c.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows the cracks they hide)");
+  c.add_flag_callback(
+      "--no-horizon-culling", [&o] { o.horizonCulling = HorizonCulling::kOff; },
+      "Draw every selected chunk, also those nearer terrain hides (culling them never changes "
+      "a pixel)");
   c.add_flag("--no-textures", o.noTextures,
              "Ignore the chunks' textures: height tint lit from the drawn geometry (cheaper "
              "where texture filtering is slow, e.g. software OpenGL)");
@@ -76,6 +80,7 @@ SceneOptions sceneOptions(const RenderOptions& o, bool complete, GlContext& cont
   s.context = &context;
   s.cacheBytes = uint64_t(o.cacheMB * 1024.0 * 1024.0);
   s.complete = complete;
+  s.horizonCulling = o.horizonCulling;
   s.log = [](const std::string& line) {
     std::fprintf(stderr, "terralod: warning: %s\n", line.c_str());
   };

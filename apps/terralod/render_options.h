@@ -11,6 +11,7 @@
 #include "terralod/render/terrain_scene.h"
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/flight.h"
+#include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/selection.h"
 
 namespace terralod::cli {
@@ -29,9 +30,10 @@ struct RenderOptions {
   double haze = 1.0;        ///< --haze K: aerial perspective strength, 0 off
   std::string flightFile;
   bool autoFlight = false;
-  bool climbOnly = false;  ///< with autoFlight: only its climb
-  int frames = 0;          ///< 0: the whole flight
-  double cacheMB = 512;    ///< --cache-mb: chunk memory budget
+  bool climbOnly = false;                               ///< with autoFlight: only its climb
+  int frames = 0;                                       ///< 0: the whole flight
+  double cacheMB = 512;                                 ///< --cache-mb: chunk memory budget
+  HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
 };
 
 /// The scene's options for these command-line options (`complete`: wait for data each frame),

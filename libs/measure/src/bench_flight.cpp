@@ -142,6 +142,10 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.triangles = frame->draw.triangles;
     r.draws = frame->draw.drawCalls;
     r.chunks = frame->selection.selected;
+    r.culledChunks = frame->horizon.culled;
+    r.cullingActive = frame->horizon.active;
+    r.culledTriangles =
+        frame->horizon.triangles + (options.style.skirts ? frame->horizon.skirtTriangles : 0);
     r.uploads = frame->uploads;
     r.evictions = frame->evictions;
     // Resident memory, every frame: GPU copies and decoded chunks waiting for upload.

@@ -72,17 +72,19 @@ std::string number(double v, const char* format = "%.6g") {
 std::string framesCsv(const BenchFlightResult& flight) {
   std::string csv =
       "frame,frame_ms,select_us,upload_ms,triangles,draws,chunks,uploads,evictions,resident_mb,"
-      "coarser,waited_on_io,eye_x,eye_y,eye_z,error_px,pop_px,image_pop,holes,easing\n";
+      "coarser,waited_on_io,eye_x,eye_y,eye_z,error_px,pop_px,image_pop,holes,easing,culled_chunks,"
+      "culled_triangles\n";
   for (size_t i = 0; i < flight.frames.size(); ++i) {
     const FrameRecord& r = flight.frames[i];
     char line[512];
     std::snprintf(line, sizeof line,
                   "%zu,%.4f,%.2f,%.4f,%" PRIu64
-                  ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64 ",%d\n",
+                  ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64 ",%d,%u,%" PRIu64 "\n",
                   i, r.frameMs, r.selectUs, r.uploadMs, r.triangles, r.draws, r.chunks, r.uploads,
                   r.evictions, r.residentMB, r.coarser ? 1 : 0, r.waitedOnIo ? 1 : 0, r.eye.x,
                   r.eye.y, r.eye.z, number(r.errorPx).c_str(), number(r.popPx).c_str(),
-                  number(r.imagePop).c_str(), r.holes, r.easing ? 1 : 0);
+                  number(r.imagePop).c_str(), r.holes, r.easing ? 1 : 0, r.culledChunks,
+                  r.culledTriangles);
     csv += line;
   }
   return csv;

@@ -40,6 +40,17 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   j["triangles_max"] = percentile(triangles, 1.0);
   j["draws_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.draws; }), 0.5);
   j["chunks_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.chunks; }), 0.5);
+  // Horizon culling: selected chunks (and their triangles) hidden behind nearer terrain.
+  j["horizon_culling"] = info.horizonCulling;
+  const auto culled = column(f, [](const FrameRecord& r) { return r.culledChunks; });
+  const auto culledTriangles = column(f, [](const FrameRecord& r) { return r.culledTriangles; });
+  j["culling_active_frames"] =
+      std::count_if(f.begin(), f.end(), [](const FrameRecord& r) { return r.cullingActive; });
+  j["culled_chunks_p50"] = percentile(culled, 0.5);
+  j["culled_chunks_max"] = percentile(culled, 1.0);
+  j["culled_triangles_p50"] = percentile(culledTriangles, 0.5);
+  j["culled_triangles_max"] = percentile(culledTriangles, 1.0);
+  j["occluder_grids_mb"] = double(scene.occluderBytes()) / 1e6;  // after the flight
   const ResidencyCounters& rc = scene.residency().counters();
   j["loads"] = rc.loads;
   j["evictions"] = rc.evictions;

@@ -1,5 +1,9 @@
 #include "terralod/render/static_chunk_kind.h"
 
+#include <algorithm>
+#include <limits>
+
+#include "terralod/format/chunk_position.h"
 #include "terralod/format/static_chunk.h"
 
 namespace terralod {
@@ -25,6 +29,31 @@ uint64_t decodedBytes(const ChunkData& d) {
 
 }  // namespace
 
+OccluderGrid staticChunkOccluders(const ChunkGeometry& geometry) {
+  std::array<uint32_t, 2> lo{UINT32_MAX, UINT32_MAX}, hi{0, 0};
+  for (const ChunkPart& p : geometry.parts)
+    for (uint32_t k = 0; k < p.surfaceIndexCount; ++k) {
+      const ChunkVertex& v = p.vertices[p.indices[k]];
+      lo = {std::min<uint32_t>(lo[0], v.x), std::min<uint32_t>(lo[1], v.y)};
+      hi = {std::max<uint32_t>(hi[0], v.x), std::max<uint32_t>(hi[1], v.y)};
+    }
+  OccluderGridBuilder builder(lo, hi);
+  for (const ChunkPart& p : geometry.parts)
+    for (uint32_t k = 0; k + 2 < p.surfaceIndexCount; k += 3) {
+      std::array<uint32_t, 3> xs, ys;
+      double lowest = std::numeric_limits<double>::infinity();
+      for (int j = 0; j < 3; ++j) {
+        const ChunkVertex& v = p.vertices[p.indices[k + uint32_t(j)]];
+        xs[size_t(j)] = v.x;
+        ys[size_t(j)] = v.y;
+        lowest = std::min(
+            {lowest, chunkVertexHeight(geometry, v, 0.0), chunkVertexHeight(geometry, v, 1.0)});
+      }
+      builder.addTriangle(xs, ys, lowest);
+    }
+  return std::move(builder).finish();
+}
+
 StaticChunkKind::StaticChunkKind(GpuChunkStore& store, TerrainRenderer& renderer,
                                  ChunkTextures textures)
     : mStore(store), mRenderer(renderer), mTextures(textures) {}
@@ -41,6 +70,7 @@ Result<LoadedChunk> StaticChunkKind::decode(const ChunkBlob& blob) const {
   auto payload = std::make_unique<StaticChunkPayload>();
   payload->data = std::move(data).value();
   LoadedChunk loaded;
+  loaded.occluders = staticChunkOccluders(payload->data.geometry);
   loaded.bytes = decodedBytes(payload->data);
   loaded.bytesRead = payload->data.bytesRead;
   loaded.payload = std::move(payload);

@@ -98,7 +98,7 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   stats.selection = mDriver->lastSelection();
   if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
     return makeError(mTileset->name(), "no chunk can be drawn");
-  stats.draw = drawSelection(view, mDriver->selected(), style);
+  stats.draw = drawSelection(view, visibleChunks(view, mDriver->selected(), style, stats), style);
   return stats;
 }
 
@@ -109,8 +109,17 @@ FrameStats TerrainScene::renderResident(const View& view, const SelectionOptions
   options.drawable = mDriver->residency().drawable();
   mOtherView.reserve(mTree.nodes().size());
   stats.selection = selectChunks(mTree, view, options, mOtherView);
-  stats.draw = drawSelection(view, mOtherView, style);
+  stats.draw = drawSelection(view, visibleChunks(view, mOtherView, style, stats), style);
   return stats;
+}
+
+std::span<const SelectedChunk> TerrainScene::visibleChunks(const View& view,
+                                                           std::span<const SelectedChunk> selected,
+                                                           const TerrainStyle& style,
+                                                           FrameStats& stats) {
+  if (mOptions.horizonCulling == HorizonCulling::kOff || !style.skirts) return selected;
+  stats.horizon = mDriver->cullHidden(view, selected, kNearPlane, mVisible);
+  return mVisible;
 }
 
 DrawStats TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,

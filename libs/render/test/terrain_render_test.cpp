@@ -130,6 +130,67 @@ TEST_F(TerrainRender, ObliqueViewMatchesGoldenImage) {
   EXPECT_TRUE(result.matches) << result.message;
 }
 
+TEST_F(TerrainRender, HorizonCullingLeavesTheImageAsItIs) {
+  // Low over Crater Lake (1883 m, in the east of the data), near the water, towards the rim
+  // on the north, west and south: the slopes outside the caldera are selected but hidden
+  // behind the rim. Culling them changes no pixel, and
+  // culls some (so the switch is alive).
+  // Leaves of 16 cells (six levels): whole chunks to hide behind the rim.
+  const test::SharedDirectory dir(
+      test::sharedDirectory("crater-16", test::selfStamp(), [](const std::string& out) {
+        BuildOptions options;
+        options.input = test::testData("crater_lake_0513.bt");
+        options.output = out + "/crater16.tlod";
+        options.chunkCells = 16;
+        options.textures = false;
+        NullProgress progress;
+        auto built = buildTileset(options, progress, [](const std::string&) {});
+        return built.ok() ? std::string() : built.error().message;
+      }));
+  ASSERT_EQ(dir.error, "");
+  std::unique_ptr<TerrainScene> scenes[2];
+  for (const HorizonCulling culling : {HorizonCulling::kOn, HorizonCulling::kOff}) {
+    auto tileset = TilesetReader::openFile(dir.file("crater16.tlod"));
+    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
+    SceneOptions options;
+    options.complete = true;
+    options.horizonCulling = culling;
+    auto scene = TerrainScene::create(std::move(tileset).value(), options);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    scenes[culling == HorizonCulling::kOn ? 0 : 1] = std::move(scene).value();
+  }
+  SelectionOptions selection;
+  selection.tau = 0.25;  // fine chunks far away too
+  uint32_t culled = 0;
+  const glm::dvec3 eye{9500.0, 8500.0, 1950.0};
+  for (const glm::dvec2 to : {glm::dvec2(0, 1), glm::dvec2(-0.7, 0.7), glm::dvec2(-1, 0),
+                              glm::dvec2(-0.7, -0.7), glm::dvec2(0, -1)}) {
+    Camera c;
+    c.eye = eye;
+    c.target = eye + glm::dvec3(to * 4000.0, 150.0);
+    c.width = 320;
+    c.height = 240;
+    Image images[2];
+    for (int k = 0; k < 2; ++k) {
+      auto target = Framebuffer::create(c.width, c.height).value();
+      target.bind();
+      auto frame = scenes[k]->renderFrame(makeView(c).value(), selection, TerrainStyle{});
+      ASSERT_TRUE(frame.ok()) << frame.error().message;
+      images[k] = target.readPixels();
+      if (k == 1) {
+        EXPECT_EQ(frame->horizon.culled, 0u) << "culling off";
+        continue;
+      }
+      EXPECT_TRUE(frame->horizon.active);
+      culled += frame->horizon.culled;
+      std::printf("towards %g,%g: %u of %u selected chunks culled\n", to.x, to.y,
+                  frame->horizon.culled, frame->selection.selected);
+    }
+    EXPECT_TRUE(images[0].rgba == images[1].rgba) << "towards " << to.x << "," << to.y;
+  }
+  EXPECT_GT(culled, 0u);
+}
+
 TEST_F(TerrainRender, LevelColoursShowSeveralLevels) {
   SelectionOptions selection;
   selection.tau = 0.5;

@@ -25,6 +25,7 @@ FrameDriver::FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, Ch
   mSelected.reserve(mTree.nodes().size());
   mDrawnFrame.assign(mTree.nodes().size(), 0);
   mEntryMorph.assign(mTree.nodes().size(), 0.0f);
+  mOccluders.resize(mTree.nodes().size());
   // Runs on loader threads: reads the node's bytes and has its kind decode them. Touches
   // only the reader (thread-safe) and the kinds' decode (thread-safe by contract).
   auto load = [reader = &mTileset, tree = &mTree,
@@ -35,6 +36,7 @@ FrameDriver::FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, Ch
     auto loaded = kind->decode(ChunkBlob{node, *bytes, reader->name()});
     if (!loaded) return loaded.error();
     loaded->bytesRead = bytes->bytes.size();
+    if (!loaded->occluders.empty()) loaded->bytes += loaded->occluders.bytes();
     return loaded;
   };
   ResidencyOptions r;
@@ -54,7 +56,9 @@ Status FrameDriver::loadRoots() {
     auto loaded = mResidency->loadNow(root);
     if (!loaded) return loaded.error();
     const uint64_t bytes = kindOf(root).upload(root, *loaded->payload);
-    mResidency->markLoadedNow(root, bytes);
+    const uint64_t grid = loaded->occluders.empty() ? 0 : loaded->occluders.bytes();
+    mResidency->markLoadedNow(root, bytes + grid);
+    keepOccluders(root, std::move(loaded->occluders));
   }
   return {};
 }
@@ -78,7 +82,9 @@ void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
       continue;
     }
     const uint64_t bytes = kind.upload(chunk.node, *chunk.chunk.payload);
-    residency.markResident(chunk, bytes);
+    const OccluderGrid& grid = chunk.chunk.occluders;
+    residency.markResident(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
+    keepOccluders(chunk.node, std::move(chunk.chunk.occluders));
     ++stats.uploads;
   }
   stats.uploadMilliseconds = mClock.nowMilliseconds() - start;
@@ -139,6 +145,7 @@ void FrameDriver::step(const View& view, const SelectionOptions& selection, Uplo
   requestWanted(view, selection);
   for (uint32_t node : mResidency->evict()) {
     kindOf(node).release(node);
+    keepOccluders(node, {});
     ++stats.evictions;
   }
   mResidency->dispatch();
@@ -165,6 +172,18 @@ UpdateStats FrameDriver::update(const View& view, const SelectionOptions& select
   }
   stats.selection = mLastSelection;
   return stats;
+}
+
+HorizonCullingStats FrameDriver::cullHidden(const View& view, std::span<const SelectedChunk> chunks,
+                                            double nearPlane, std::vector<SelectedChunk>& visible) {
+  return mCuller.cull(mTree, view, chunks, nearPlane, visible, mOccluders);
+}
+
+void FrameDriver::keepOccluders(uint32_t node, OccluderGrid grid) {
+  OccluderGrid& kept = mOccluders[node];
+  if (!kept.empty()) mOccluderBytes -= kept.bytes();
+  kept = std::move(grid);
+  if (!kept.empty()) mOccluderBytes += kept.bytes();
 }
 
 }  // namespace terralod

@@ -17,6 +17,7 @@
 #include "terralod/format/tileset_writer.h"
 #include "terralod/runtime/chunk_kind.h"
 #include "terralod/runtime/frame_clock.h"
+#include "terralod/runtime/occluder_grid.h"
 #include "terralod/runtime/task_runner.h"
 #include "test_tree.h"
 
@@ -88,6 +89,13 @@ inline std::vector<uint8_t> blobFor(uint32_t node) {
   return b;
 }
 
+// Every blob's occluder grid: 2 x 2 cells at 0 m (what the driver keeps while it is resident).
+inline OccluderGrid blobOccluders() {
+  OccluderGridBuilder builder({0, 0}, {2, 2}, 2);
+  builder.addTriangle({0, 2, 0}, {0, 0, 2}, 0.0);
+  return std::move(builder).finish();
+}
+
 class BlobKind final : public DrawnChunkKind<RecordedFrame> {
  public:
   explicit BlobKind(RecordingBackend& backend) : mBackend(backend) {}
@@ -102,7 +110,7 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
       return makeError(blob.tilesetName, "chunk " + std::to_string(blob.node) + " is another's");
     auto payload = std::make_unique<BlobPayload>();
     payload->node = node;
-    return LoadedChunk{std::move(payload), kBlobPayloadBytes, 0};
+    return LoadedChunk{std::move(payload), kBlobPayloadBytes, 0, blobOccluders()};
   }
   void beginFrame() override { mBackend.beginFrame(); }
   UploadRoom prepare(const ChunkPayload&) override { return UploadRoom::kReady; }

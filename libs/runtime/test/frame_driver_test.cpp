@@ -132,6 +132,11 @@ TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {
     }
     for (const SelectedChunk& c : driver.selected())
       EXPECT_EQ(r.state(c.node), ChunkState::kResident) << "drawn node " << c.node;
+    // The occluder grids of the resident chunks, and only theirs, are kept.
+    uint64_t resident = 0;
+    for (uint32_t i = 0; i < tree.nodes().size(); ++i)
+      resident += r.state(i) == ChunkState::kResident ? 1 : 0;
+    EXPECT_EQ(driver.occluderBytes(), resident * blobOccluders().bytes());
   });
   for (size_t f = 0; f < run.residentBytes.size(); ++f)
     EXPECT_LE(run.residentBytes[f], options.cacheBytes) << "frame " << f;

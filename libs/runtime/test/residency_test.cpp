@@ -36,7 +36,7 @@ class ResidencyTest : public ::testing::Test {
           if (mFailing.count(node)) return Error{"chunk " + std::to_string(node) + " is broken"};
           auto p = std::make_unique<FakePayload>();
           p->node = node;
-          return LoadedChunk{std::move(p), kChunkBytes, kChunkBytes};
+          return LoadedChunk{std::move(p), kChunkBytes, kChunkBytes, {}};
         },
         mRunner, options, [this](const std::string& line) { mLog.push_back(line); });
   }
@@ -277,7 +277,7 @@ TEST(ResidencyThreaded, ManyFramesOnAThreadPoolKeepTheInvariants) {
         ++loads;
         if (node % 17 == 5) return Error{"flaky chunk " + std::to_string(node)};
         std::this_thread::sleep_for(std::chrono::microseconds(50 + node % 7 * 20));
-        return LoadedChunk{std::make_unique<FakePayload>(), 1000, 1000};
+        return LoadedChunk{std::make_unique<FakePayload>(), 1000, 1000, {}};
       },
       pool, o);
   ASSERT_TRUE(r.loadNow(0).ok());

@@ -27,11 +27,14 @@ struct FrameRecord {
   double uploadMs = 0;  ///< copying chunks to the GPU
   uint64_t triangles = 0;
   uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
-  double residentMB = 0;    ///< chunk memory after the frame (GPU copies and decoded chunks)
-  bool coarser = false;     ///< drew a chunk whose wanted children were not resident, or
-                            ///< a late split still easing in from its parent's surface
-  bool easing = false;      ///< drew a late split still easing in (part of `coarser`)
-  bool waitedOnIo = false;  ///< blocked on a read
+  uint32_t culledChunks = 0;     ///< selected but hidden behind nearer terrain: not drawn
+  uint64_t culledTriangles = 0;  ///< their triangles (skirts included when drawn)
+  bool cullingActive = false;    ///< horizon culling tested chunks (the eye was above the terrain)
+  double residentMB = 0;         ///< chunk memory after the frame (GPU copies and decoded chunks)
+  bool coarser = false;          ///< drew a chunk whose wanted children were not resident, or
+                                 ///< a late split still easing in from its parent's surface
+  bool easing = false;           ///< drew a late split still easing in (part of `coarser`)
+  bool waitedOnIo = false;       ///< blocked on a read
   glm::dvec3 eye{0.0};
   double errorPx = NAN;      ///< largest screen-space error over the source samples in view
   double popPx = NAN;        ///< largest change from selection alone since the last frame

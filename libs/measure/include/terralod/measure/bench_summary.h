@@ -17,10 +17,11 @@ namespace terralod {
 
 /// What bench's JSON says about the run besides the flight's figures.
 struct BenchRunInfo {
-  std::string tileset;  ///< as given (a path or a URL)
-  std::string gl;       ///< the GL context's description
-  std::string source;   ///< the source raster as given; shown when the options measure one
-  double cacheMB = 0;   ///< the scene's chunk memory budget
+  std::string tileset;         ///< as given (a path or a URL)
+  std::string gl;              ///< the GL context's description
+  std::string source;          ///< the source raster as given; shown when the options measure one
+  double cacheMB = 0;          ///< the scene's chunk memory budget
+  bool horizonCulling = true;  ///< the scene leaves out chunks nearer terrain hides
 };
 
 struct BenchRun {

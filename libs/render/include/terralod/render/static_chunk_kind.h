@@ -4,12 +4,20 @@
 // decodeStaticChunk into ChunkData, put into a GpuChunkStore on the render thread, drawn in the
 // frame's opaque terrain pass (TerrainRenderer::drawStaticChunks).
 
+#include "terralod/format/chunk_codec.h"
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/terrain_frame.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_kind.h"
+#include "terralod/runtime/occluder_grid.h"
 
 namespace terralod {
+
+/// A static chunk's occluder grid (occluder_grid.h), as its decode makes it: the footprint
+/// is its surface vertices' extent; each surface triangle lowers the cells its bounding box
+/// touches to the least of its corners' heights at morph 0 and 1 (the drawn height is linear
+/// in the morph parameter, and over a triangle linear between its corners).
+OccluderGrid staticChunkOccluders(const ChunkGeometry& geometry);
 
 /// Whether a tileset's static chunks must carry colour and normal textures.
 enum class ChunkTextures : uint8_t { kOptional, kRequired };

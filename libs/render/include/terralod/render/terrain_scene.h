@@ -25,6 +25,7 @@
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/frame_clock.h"
 #include "terralod/runtime/frame_driver.h"
+#include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/task_runner.h"
@@ -41,6 +42,9 @@ struct SceneOptions {
   /// on a second context sharing it, on a worker thread, so that no frame waits for a driver
   /// to allocate and clear it (GlWorker); without it, memory is made when needed.
   GlContext* context = nullptr;
+  /// Leave out the selected chunks nearer terrain hides (horizon_culling.h; never with skirts
+  /// off, whose cracks a hidden chunk could show through).
+  HorizonCulling horizonCulling = HorizonCulling::kOn;
 };
 
 struct FrameStats {
@@ -56,6 +60,7 @@ struct FrameStats {
   /// (their error bound is then the parent's, over τ). A frame with any is, like one with
   /// `selection.coarserThanWanted`, still catching up with what it wants.
   uint32_t easing = 0;
+  HorizonCullingStats horizon;  ///< selected chunks not drawn: hidden behind nearer terrain
 };
 
 class TerrainScene {
@@ -88,6 +93,8 @@ class TerrainScene {
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
   uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  /// Memory the resident chunks' occluder grids hold (horizon culling).
+  uint64_t occluderBytes() const { return mDriver->occluderBytes(); }
   /// The renderer, for adding composited layers (TerrainRenderer::addLayer).
   TerrainRenderer& renderer() { return mRenderer; }
 
@@ -97,6 +104,10 @@ class TerrainScene {
   // Each kind adds its draws of `chunks` to the frame; the static kind first (it clears).
   DrawStats drawSelection(const View& view, std::span<const SelectedChunk> chunks,
                           const TerrainStyle& style);
+  // The chunks of `selected` to draw: without those horizon culling finds hidden.
+  std::span<const SelectedChunk> visibleChunks(const View& view,
+                                               std::span<const SelectedChunk> selected,
+                                               const TerrainStyle& style, FrameStats& stats);
 
   std::unique_ptr<TilesetReader> mTileset;
   ChunkTree mTree;
@@ -111,6 +122,7 @@ class TerrainScene {
   std::unique_ptr<FrameDriver> mDriver;  // reset first: waits for the loads on mPool
   std::vector<SelectedChunk> mOtherView;
   KindRuns mRuns;
+  std::vector<SelectedChunk> mVisible;
 };
 
 }  // namespace terralod

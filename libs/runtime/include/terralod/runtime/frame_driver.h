@@ -12,7 +12,8 @@
 //     4. touch the drawn chunks and their ancestors; request the children of chunks drawn
 //        coarser than wanted (priority τ/ρ, nearest first), then of chunks within a factor 2
 //        of splitting (prefetch, priority + 1)
-//     5. evict the least recently used chunks over the budget (each kind releases its own)
+//     5. evict the least recently used chunks over the budget (each kind releases its own,
+//        the driver the chunk's occluder grid)
 //     6. dispatch the most wanted loads on the injected TaskRunner (read + decode there)
 //   With FrameCompleteness::kComplete, update repeats 1-6 (uploads unlimited), sleeping on
 //   the clock between rounds, until nothing the frame wants is on its way.
@@ -23,6 +24,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,6 +33,7 @@
 #include "terralod/runtime/chunk_kind.h"
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/frame_clock.h"
+#include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/task_runner.h"
@@ -86,6 +89,17 @@ class FrameDriver {
   const Residency& residency() const { return *mResidency; }
   const ChunkKinds& kinds() const { return mKinds; }
 
+  /// Horizon culling (horizon_culling.h): writes to `visible` the chunks of `chunks` (a
+  /// selection among the resident chunks for `view`, e.g. selected()) that nearer drawn
+  /// terrain does not hide, in their order. `nearPlane`: the renderer's near-plane distance
+  /// in metres. Selection, loads and morphs do not change; only fewer chunks are drawn.
+  /// The resident chunks' occluder grids (those their kinds made on decode) are the
+  /// occluders.
+  HorizonCullingStats cullHidden(const View& view, std::span<const SelectedChunk> chunks,
+                                 double nearPlane, std::vector<SelectedChunk>& visible);
+  /// Memory the resident chunks' occluder grids hold (counted in the cache budget too).
+  uint64_t occluderBytes() const { return mOccluderBytes; }
+
  private:
   // Whether a step may upload beyond the per-frame budget.
   enum class UploadLimit : uint8_t { kBudget, kUnlimited };
@@ -113,6 +127,10 @@ class FrameDriver {
   std::vector<uint64_t> mDrawnFrame;
   std::vector<float> mEntryMorph;
   uint64_t mFrame = 2;
+  HorizonCuller mCuller;
+  std::vector<OccluderGrid> mOccluders;  // per node, while resident
+  uint64_t mOccluderBytes = 0;
+  void keepOccluders(uint32_t node, OccluderGrid grid);
 };
 
 }  // namespace terralod

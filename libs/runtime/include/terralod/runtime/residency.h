@@ -28,6 +28,7 @@
 
 #include "terralod/core/result.h"
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/occluder_grid.h"
 #include "terralod/runtime/task_runner.h"
 
 namespace terralod {
@@ -40,6 +41,9 @@ struct LoadedChunk {
   std::unique_ptr<ChunkPayload> payload;
   uint64_t bytes = 0;      ///< memory it holds until uploaded
   uint64_t bytesRead = 0;  ///< from the source
+  /// Horizon culling's occluders under its surface (empty: the kind makes none). The frame
+  /// driver keeps it while the chunk is resident and adds its bytes to `bytes`.
+  OccluderGrid occluders;
 };
 
 /// Reads and decodes one chunk. Called on loader threads: must be thread-safe.
