@@ -55,8 +55,8 @@ OccluderGrid staticChunkOccluders(const ChunkGeometry& geometry) {
 }
 
 StaticChunkKind::StaticChunkKind(GpuChunkStore& store, TerrainRenderer& renderer,
-                                 ChunkTextures textures)
-    : mStore(store), mRenderer(renderer), mTextures(textures) {}
+                                 ChunkTextures textures, HorizonCulling culling)
+    : mStore(store), mRenderer(renderer), mCulling(culling), mTextures(textures) {}
 
 Result<LoadedChunk> StaticChunkKind::decode(const ChunkBlob& blob) const {
   auto data =
@@ -70,7 +70,8 @@ Result<LoadedChunk> StaticChunkKind::decode(const ChunkBlob& blob) const {
   auto payload = std::make_unique<StaticChunkPayload>();
   payload->data = std::move(data).value();
   LoadedChunk loaded;
-  loaded.occluders = staticChunkOccluders(payload->data.geometry);
+  if (mCulling == HorizonCulling::kOn)
+    loaded.occluders = staticChunkOccluders(payload->data.geometry);
   loaded.bytes = decodedBytes(payload->data);
   loaded.bytesRead = payload->data.bytesRead;
   loaded.payload = std::move(payload);

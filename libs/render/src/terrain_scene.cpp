@@ -58,7 +58,8 @@ TerrainScene::TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tre
       mRenderer(std::move(renderer)),
       mStaticKind(
           mStore, mRenderer,
-          mTileset->header().textured() ? ChunkTextures::kRequired : ChunkTextures::kOptional),
+          mTileset->header().textured() ? ChunkTextures::kRequired : ChunkTextures::kOptional,
+          mOptions.horizonCulling),
       mPool(std::make_unique<ThreadPool>(std::max(1u, mOptions.loaderThreads))) {}
 
 TerrainScene::~TerrainScene() {

@@ -9,6 +9,7 @@
 #include "terralod/render/terrain_frame.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_kind.h"
+#include "terralod/runtime/horizon_culling.h"
 #include "terralod/runtime/occluder_grid.h"
 
 namespace terralod {
@@ -24,8 +25,10 @@ enum class ChunkTextures : uint8_t { kOptional, kRequired };
 
 class StaticChunkKind final : public DrawnChunkKind<TerrainFrame> {
  public:
-  /// `store` and `renderer` must outlive the kind.
-  StaticChunkKind(GpuChunkStore& store, TerrainRenderer& renderer, ChunkTextures textures);
+  /// `store` and `renderer` must outlive the kind. With horizon culling off, decode makes no
+  /// occluder grids (nothing would read them, and they would take from the budget).
+  StaticChunkKind(GpuChunkStore& store, TerrainRenderer& renderer, ChunkTextures textures,
+                  HorizonCulling culling = HorizonCulling::kOn);
 
   MeshKind meshKind() const override { return MeshKind::kStaticRtin; }
   Result<LoadedChunk> decode(const ChunkBlob& blob) const override;
@@ -38,6 +41,7 @@ class StaticChunkKind final : public DrawnChunkKind<TerrainFrame> {
  private:
   GpuChunkStore& mStore;
   TerrainRenderer& mRenderer;
+  HorizonCulling mCulling;
   ChunkTextures mTextures;
 };
 
