@@ -101,7 +101,8 @@ class TerrainScene {
  private:
   TerrainScene(std::unique_ptr<TilesetReader> tileset, ChunkTree tree, TerrainRenderer renderer,
                SceneOptions options);
-  // Each kind adds its draws of `chunks` to the frame; the static kind first (it clears).
+  // One frame of `chunks`: the renderer begins it (clear, sky), each kind adds its opaque
+  // draws, the renderer finishes it (composited layers, overlays).
   DrawStats drawSelection(const View& view, std::span<const SelectedChunk> chunks,
                           const TerrainStyle& style);
   // The chunks of `selected` to draw: without those horizon culling finds hidden.
