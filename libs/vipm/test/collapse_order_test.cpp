@@ -1,0 +1,212 @@
+#include "terralod/vipm/collapse_order.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <vector>
+
+#include "patch_mesh.h"
+#include "vipm_test_patches.h"
+
+namespace terralod {
+namespace {
+
+using Tri = std::array<uint16_t, 3>;
+
+int64_t area2(const GridPatch& p, const Tri& t) {
+  const int64_t ax = p.xOf(t[0]), ay = p.yOf(t[0]), bx = p.xOf(t[1]), by = p.yOf(t[1]);
+  const int64_t cx = p.xOf(t[2]), cy = p.yOf(t[2]);
+  return (bx - ax) * (cy - ay) - (cx - ax) * (by - ay);
+}
+
+// Replays the first `count` collapses of `order` naively (corners renamed, degenerate
+// triangles dropped).
+std::vector<Tri> meshAfter(const CollapseOrder& order, size_t count, uint32_t points) {
+  std::vector<uint16_t> to(points);
+  std::iota(to.begin(), to.end(), uint16_t{0});
+  for (size_t k = 0; k < count; ++k) to[order.collapses[k].vertex] = order.collapses[k].target;
+  auto resolve = [&](uint16_t v) {
+    while (to[v] != v) v = to[v];
+    return v;
+  };
+  std::vector<Tri> out;
+  for (const Tri& t : order.gridTriangles) {
+    const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
+    if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) out.push_back(r);
+  }
+  return out;
+}
+
+// Brute force: for every sample, the vertical distance to each triangle covering it, and the
+// material weights there.
+struct Oracle {
+  double error = 0;
+  bool everySampleCovered = true;
+};
+Oracle bruteForce(const GridPatch& p, const std::vector<Tri>& tris) {
+  Oracle o;
+  for (int32_t y = 0; y < p.height; ++y) {
+    for (int32_t x = 0; x < p.width; ++x) {
+      bool covered = false;
+      for (const Tri& t : tris) {
+        double px[3], py[3], pz[3];
+        for (int i = 0; i < 3; ++i) {
+          px[i] = p.xOf(t[i]);
+          py[i] = p.yOf(t[i]);
+          pz[i] = p.vertexHeight(t[i]);
+        }
+        const double d = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
+        const double l1 = ((x - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (y - py[0])) / d;
+        const double l2 = ((px[1] - px[0]) * (y - py[0]) - (x - px[0]) * (py[1] - py[0])) / d;
+        const double l0 = 1 - l1 - l2;
+        if (l0 < -1e-9 || l1 < -1e-9 || l2 < -1e-9) continue;
+        covered = true;
+        const double z = l0 * pz[0] + l1 * pz[1] + l2 * pz[2];
+        o.error = std::max(o.error, std::abs(z - p.heightAt(x, y)));
+      }
+      if (!covered) o.everySampleCovered = false;
+    }
+  }
+  return o;
+}
+
+TEST(GridTriangulation, CoversTheCellsCounterClockwise) {
+  GridPatch p = test::wavyPatch(5, 4);
+  const auto tris = gridTriangulation(5, 4);
+  ASSERT_EQ(tris.size(), size_t(2 * 4 * 3));
+  int64_t total = 0;
+  for (const Tri& t : tris) {
+    EXPECT_EQ(area2(p, t), 1);
+    total += area2(p, t);
+  }
+  EXPECT_EQ(total, 2 * 4 * 3);
+}
+
+TEST(TriangleError, MatchesTheBruteForceOnARealWindow) {
+  const GridPatch p = test::demPatch("crater_lake_0513.bt", 100, 300, 1800, 2000, 17);
+  // A big triangle across the window and its brute-force error.
+  const Tri t{p.id(0, 0), p.id(16, 3), p.id(5, 16)};
+  const double scanned = triangleError(p, t[0], t[1], t[2]);
+  EXPECT_NEAR(scanned, bruteForce(p, {t}).error, 1e-9);
+  EXPECT_GT(scanned, 1.0);
+  // The early stop returns something above the limit.
+  EXPECT_GT(triangleError(p, t[0], t[1], t[2], scanned / 2), scanned / 2);
+}
+
+TEST(CollapseOrder, AFlatPatchCollapsesToItsCornersAtNoError) {
+  GridPatch p;
+  p.width = p.height = 9;
+  p.heights.assign(81, 5.0f);
+  p.materials.assign(81, 0);
+  const CollapseOrder order = buildCollapseOrder(p, MaterialRules::kOn);
+  EXPECT_EQ(order.collapses.size(), 81u - 4u);
+  for (const Collapse& c : order.collapses) EXPECT_EQ(c.error, 0.0f);
+  const auto last = meshAfter(order, order.collapses.size(), 81);
+  EXPECT_EQ(last.size(), 2u);
+}
+
+class RealChunk : public ::testing::TestWithParam<MaterialRules> {};
+
+// Every few collapses: errors never decrease and bound the true error; the mesh covers the
+// square with counter-clockwise triangles; corners stay; side vertices move along their side.
+TEST_P(RealChunk, ErrorsBoundTheSurfaceAndTheBorderHolds) {
+  const GridPatch p = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 33);
+  const CollapseOrder order = buildCollapseOrder(p, GetParam());
+  ASSERT_GT(order.collapses.size(), 500u);
+  float previous = 0;
+  for (const Collapse& c : order.collapses) {
+    EXPECT_GE(c.error, previous);
+    previous = c.error;
+    const int32_t vx = p.xOf(c.vertex), vy = p.yOf(c.vertex);
+    const int32_t ux = p.xOf(c.target), uy = p.yOf(c.target);
+    const bool vOnX = vx == 0 || vx == p.width - 1, vOnY = vy == 0 || vy == p.height - 1;
+    EXPECT_FALSE(vOnX && vOnY) << "a corner moved";
+    if (vOnX) {
+      EXPECT_EQ(ux, vx);
+    }
+    if (vOnY) {
+      EXPECT_EQ(uy, vy);
+    }
+  }
+  for (size_t k : {size_t(0), size_t(50), order.collapses.size() / 2, order.collapses.size() - 1,
+                   order.collapses.size()}) {
+    const auto tris = meshAfter(order, k, p.pointCount());
+    int64_t total = 0;
+    for (const Tri& t : tris) {
+      EXPECT_GT(area2(p, t), 0);
+      total += area2(p, t);
+    }
+    EXPECT_EQ(total, 2 * int64_t(p.width - 1) * (p.height - 1)) << "after " << k;
+    const Oracle o = bruteForce(p, tris);
+    EXPECT_TRUE(o.everySampleCovered);
+    const double recorded = k == 0 ? 0.0 : order.collapses[k - 1].error;
+    EXPECT_LE(o.error, recorded + 1e-6) << "after " << k << " collapses";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Rules, RealChunk,
+                         ::testing::Values(MaterialRules::kOn, MaterialRules::kOff));
+
+// The three material rules hold for every collapse with them, and the first fails without
+// them (so the test can tell).
+TEST(CollapseOrder, MaterialRulesHoldAndAreAlive) {
+  const GridPatch p = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 65);
+  auto check = [&](MaterialRules rules) {
+    const CollapseOrder order = buildCollapseOrder(p, rules);
+    size_t crossMaterial = 0, boundaryToInterior = 0, interpolationChanged = 0;
+    std::vector<uint16_t> to(p.pointCount());
+    std::iota(to.begin(), to.end(), uint16_t{0});
+    auto resolve = [&](uint16_t v) {
+      while (to[v] != v) v = to[v];
+      return v;
+    };
+    auto tris = meshAfter(order, 0, p.pointCount());
+    for (const Collapse& c : order.collapses) {
+      auto onBoundary = [&](uint16_t v) {
+        for (const Tri& t : tris)
+          if (std::find(t.begin(), t.end(), v) != t.end())
+            for (uint16_t w : t)
+              if (p.materials[w] != p.materials[v]) return true;
+        return false;
+      };
+      if (p.materials[c.vertex] != p.materials[c.target]) ++crossMaterial;
+      if (onBoundary(c.vertex) && !onBoundary(c.target)) ++boundaryToInterior;
+      to[c.vertex] = c.target;
+      std::vector<Tri> next;
+      for (const Tri& t : tris) {
+        const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
+        if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) next.push_back(r);
+      }
+      tris = std::move(next);
+      // Interpolated material at the removed vertex's position.
+      const double x = p.xOf(c.vertex), y = p.yOf(c.vertex);
+      for (const Tri& t : tris) {
+        double px[3], py[3];
+        for (int i = 0; i < 3; ++i) px[i] = p.xOf(t[i]), py[i] = p.yOf(t[i]);
+        const double d = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
+        const double l[3] = {
+            1 - ((x - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (y - py[0])) / d -
+                ((px[1] - px[0]) * (y - py[0]) - (x - px[0]) * (py[1] - py[0])) / d,
+            ((x - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (y - py[0])) / d,
+            ((px[1] - px[0]) * (y - py[0]) - (x - px[0]) * (py[1] - py[0])) / d};
+        if (l[0] < -1e-9 || l[1] < -1e-9 || l[2] < -1e-9) continue;
+        for (int i = 0; i < 3; ++i)
+          if (l[i] > 1e-9 && p.materials[t[i]] != p.materials[c.vertex]) ++interpolationChanged;
+      }
+    }
+    return std::array<size_t, 3>{crossMaterial, boundaryToInterior, interpolationChanged};
+  };
+  const auto with = check(MaterialRules::kOn);
+  EXPECT_EQ(with[0], 0u);
+  EXPECT_EQ(with[1], 0u);
+  EXPECT_EQ(with[2], 0u);
+  const auto without = check(MaterialRules::kOff);
+  EXPECT_GT(without[0], 10u);
+  EXPECT_GT(without[2], 10u);
+}
+
+}  // namespace
+}  // namespace terralod

@@ -1,0 +1,44 @@
+#pragma once
+// Patches for the VIPM tests: windows of real DEMs with a simple material classification,
+// and synthetic ones.
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "terralod/raster/dem_reader.h"
+#include "terralod/vipm/grid_patch.h"
+
+namespace terralod::test {
+
+/// Materials by height band: 0 below `low`, 1 up to `high`, 2 above (three regions with
+/// irregular boundaries on real terrain).
+inline GridPatch demPatch(const std::string& file, int32_t x0, int32_t y0, float low,
+                          float high, int32_t size = 65) {
+  GridPatch p;
+  p.width = p.height = size;
+  p.heights.resize(size_t(size) * size);
+  auto dem = DemReader::open(std::string(TERRALOD_TEST_DATA) + "/" + file, {});
+  EXPECT_TRUE(dem.ok()) << (dem.ok() ? "" : dem.error().message);
+  if (!dem.ok()) return p;
+  EXPECT_TRUE((*dem)->readWindow(x0, y0, size, size, p.heights.data()).ok());
+  p.materials.resize(p.heights.size());
+  for (size_t i = 0; i < p.heights.size(); ++i)
+    p.materials[i] = p.heights[i] < low ? 0 : p.heights[i] < high ? 1 : 2;
+  return p;
+}
+
+/// A smooth synthetic surface (no data needed), one material.
+inline GridPatch wavyPatch(int32_t w, int32_t h) {
+  GridPatch p;
+  p.width = w;
+  p.height = h;
+  for (int32_t y = 0; y < h; ++y)
+    for (int32_t x = 0; x < w; ++x)
+      p.heights.push_back(float(10.0 * std::sin(x * 0.2) * std::cos(y * 0.15) + 0.05 * x * y));
+  p.materials.assign(p.heights.size(), 0);
+  return p;
+}
+
+}  // namespace terralod::test
