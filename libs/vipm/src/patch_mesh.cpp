@@ -21,20 +21,22 @@ int64_t floorDiv(int64_t a, int64_t b) {
   const int64_t q = a / b;
   return (a % b != 0 && ((a < 0) != (b < 0))) ? q - 1 : q;
 }
-int64_t ceilDiv(int64_t a, int64_t b) { return -floorDiv(-a, b); }
+int64_t ceilDiv(int64_t a, int64_t b) {
+  return -floorDiv(-a, b);
+}
 
 enum Side { kWest = 1, kEast = 2, kSouth = 4, kNorth = 8 };
 
 }  // namespace
 
-double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic,
-                     double limit) {
+double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic, double limit) {
   const Point a{patch.xOf(ia), patch.yOf(ia)};
   const Point b{patch.xOf(ib), patch.yOf(ib)};
   const Point c{patch.xOf(ic), patch.yOf(ic)};
   const int64_t det = area2(a, b, c);
   assert(det > 0);
-  const double za = patch.vertexHeight(ia), zb = patch.vertexHeight(ib), zc = patch.vertexHeight(ic);
+  const double za = patch.vertexHeight(ia), zb = patch.vertexHeight(ib),
+               zc = patch.vertexHeight(ic);
   const double gx = ((zb - za) * double(c.y - a.y) - double(b.y - a.y) * (zc - za)) / double(det);
   const double gy = (double(b.x - a.x) * (zc - za) - (zb - za) * double(c.x - a.x)) / double(det);
   const Point corners[3] = {a, b, c};

@@ -28,7 +28,8 @@ ProgressiveMesh makeProgressiveMesh(const GridPatch& patch, const CollapseOrder&
   mesh.height = patch.height;
   double quantisation = 0.0;
   for (uint32_t v = 0; v < n; ++v)
-    quantisation = std::max(quantisation, std::abs(double(patch.heights[v]) - patch.vertexHeight(v)));
+    quantisation =
+        std::max(quantisation, std::abs(double(patch.heights[v]) - patch.vertexHeight(v)));
   mesh.finestError = applied > 0 ? all[applied - 1].error : float(quantisation);
 
   // Vertex order: never removed (by point id), then the runtime collapses' vertices, last

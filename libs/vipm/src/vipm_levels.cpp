@@ -44,7 +44,8 @@ Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
   // The whole chunk's part.
   VipmPart whole;
   whole.indices.reserve(size_t(triangleCount) * 3);
-  for (const auto& tri : mesh.triangles) whole.indices.insert(whole.indices.end(), tri.begin(), tri.end());
+  for (const auto& tri : mesh.triangles)
+    whole.indices.insert(whole.indices.end(), tri.begin(), tri.end());
   whole.triangles.resize(r + 1);
   whole.triangles[0] = triangleCount;
   for (uint32_t j = 0; j < r; ++j) whole.triangles[j + 1] = whole.triangles[j] - deaths[j];
@@ -95,14 +96,16 @@ void VipmLevels::setApplied(uint32_t count) {
   while (mApplied < count) {
     const uint32_t j = mApplied++;
     for (VipmPart& p : mParts) {
-      for (uint32_t i = p.moveStart[j]; i < p.moveStart[j + 1]; ++i) p.indices[p.moves[i]] = mTargets[j];
+      for (uint32_t i = p.moveStart[j]; i < p.moveStart[j + 1]; ++i)
+        p.indices[p.moves[i]] = mTargets[j];
       p.dirty = true;
     }
   }
   while (mApplied > count) {
     const uint32_t j = --mApplied;
     for (VipmPart& p : mParts) {
-      for (uint32_t i = p.moveStart[j]; i < p.moveStart[j + 1]; ++i) p.indices[p.moves[i]] = mRemoved[j];
+      for (uint32_t i = p.moveStart[j]; i < p.moveStart[j + 1]; ++i)
+        p.indices[p.moves[i]] = mRemoved[j];
       p.dirty = true;
     }
   }

@@ -14,8 +14,8 @@ namespace terralod::test {
 
 /// Materials by height band: 0 below `low`, 1 up to `high`, 2 above (three regions with
 /// irregular boundaries on real terrain).
-inline GridPatch demPatch(const std::string& file, int32_t x0, int32_t y0, float low,
-                          float high, int32_t size = 65) {
+inline GridPatch demPatch(const std::string& file, int32_t x0, int32_t y0, float low, float high,
+                          int32_t size = 65) {
   GridPatch p;
   p.width = p.height = size;
   p.heights.resize(size_t(size) * size);

@@ -32,12 +32,12 @@ namespace terralod {
 inline constexpr int kWholeChunk = -1;
 
 struct VipmPart {
-  int material = kWholeChunk;      ///< material index, or kWholeChunk
-  std::vector<uint16_t> indices;   ///< current state (the applied collapses' edits made)
-  std::vector<uint32_t> triangles; ///< per collapse count 0..R: living triangles (a prefix)
-  std::vector<uint32_t> moveStart; ///< per collapse 0..R: start of its moves
-  std::vector<uint16_t> moves;     ///< index positions in `indices` a collapse rewrites
-  bool dirty = true;               ///< indices changed since the flag was last cleared
+  int material = kWholeChunk;       ///< material index, or kWholeChunk
+  std::vector<uint16_t> indices;    ///< current state (the applied collapses' edits made)
+  std::vector<uint32_t> triangles;  ///< per collapse count 0..R: living triangles (a prefix)
+  std::vector<uint32_t> moveStart;  ///< per collapse 0..R: start of its moves
+  std::vector<uint16_t> moves;      ///< index positions in `indices` a collapse rewrites
+  bool dirty = true;                ///< indices changed since the flag was last cleared
 };
 
 class VipmLevels {

@@ -1,0 +1,43 @@
+#pragma once
+// VIPM chunk blobs (MeshKind::kVipm): a chunk's progressive mesh in compact form, as
+// docs/format.md "VIPM chunks" lays it out. The collapse order is the vertex order (the last
+// vertices go first), so a collapse costs its target (2 bytes) and its quantised error
+// (2 bytes); the finest level's triangles are stored in removal order with meshoptimizer's
+// index codec. Index buffers for every level are rebuilt from this in O(n) (libs/vipm,
+// VipmLevels::reconstruct). The whole payload is one zstd frame.
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+struct VipmChunkData {
+  uint8_t width = 0, height = 0;  ///< the chunk's grid points along x and y, 2..65
+  double zBase = 0.0;             ///< height = zBase + z * zStep (metres)
+  double zStep = 1.0;
+  float errorStep = 1.0f;     ///< a collapse's error = its quantised error * errorStep
+  float finestError = 0.0f;   ///< error of the finest level, metres
+  std::vector<uint16_t> points;     ///< per vertex: grid point y * width + x
+  std::vector<uint16_t> heights;    ///< per vertex: quantised height
+  std::vector<uint8_t> materials;   ///< per vertex: material index, < 8
+  std::vector<uint16_t> targets;    ///< per collapse j: the vertex that vertex N-1-j moves onto
+  std::vector<uint16_t> errors;     ///< per collapse: quantised error, non-decreasing
+  std::vector<uint16_t> indices;    ///< the finest level's triangles, by removal (last first)
+
+  uint32_t vertexCount() const { return uint32_t(points.size()); }
+  uint32_t collapseCount() const { return uint32_t(targets.size()); }
+  uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
+};
+
+/// Encodes; `compressionLevel` is zstd's.
+std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& chunk, int compressionLevel);
+
+/// Decodes and validates a blob (never trusts it); `subject` names it in errors. The
+/// collapse order's consistency with the triangles is checked when it is reconstructed.
+Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::string& subject);
+
+}  // namespace terralod

@@ -1,0 +1,139 @@
+#include "terralod/format/vipm_chunk_codec.h"
+
+#include <meshoptimizer.h>
+#include <zstd.h>
+
+#include <bit>
+#include <cassert>
+#include <cmath>
+#include <memory>
+#include <mutex>
+
+#include "byte_io.h"
+
+namespace terralod {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "terralod's format is little-endian");
+
+constexpr uint32_t kVipmMagic = 0x50564C54;  // "TLVP"
+constexpr uint16_t kVipmVersion = 1;
+constexpr size_t kVipmHeaderBytes = 48;
+constexpr uint64_t kMaxDecodedBytes = uint64_t{1} << 24;
+
+void pinIndexCodecVersion() {
+  static std::once_flag once;
+  std::call_once(once, [] { meshopt_encodeIndexVersion(1); });
+}
+
+template <typename T>
+void putArray(ByteWriter& w, const std::vector<T>& values) {
+  for (T v : values) w.put<T>(v);
+}
+template <typename T>
+void getArray(ByteReader& r, std::vector<T>& values, size_t n) {
+  values.resize(n);
+  for (T& v : values) v = r.get<T>();
+}
+
+}  // namespace
+
+std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& c, int compressionLevel) {
+  pinIndexCodecVersion();
+  const size_t n = c.vertexCount(), r = c.collapseCount();
+  assert(c.heights.size() == n && c.materials.size() == n && c.errors.size() == r);
+  std::vector<uint8_t> stream(meshopt_encodeIndexBufferBound(c.indices.size(), n));
+  stream.resize(meshopt_encodeIndexBuffer(stream.data(), stream.size(), c.indices.data(),
+                                          c.indices.size()));
+  std::vector<uint8_t> raw(kVipmHeaderBytes + 5 * n + 4 * r + stream.size());
+  ByteWriter w(raw.data());
+  w.put<uint32_t>(kVipmMagic);
+  w.put<uint16_t>(kVipmVersion);
+  w.put<uint8_t>(c.width);
+  w.put<uint8_t>(c.height);
+  w.put<uint32_t>(uint32_t(n));
+  w.put<uint32_t>(uint32_t(r));
+  w.put<uint32_t>(c.triangleCount());
+  w.put<uint32_t>(uint32_t(stream.size()));
+  w.put<double>(c.zBase);
+  w.put<double>(c.zStep);
+  w.put<float>(c.errorStep);
+  w.put<float>(c.finestError);
+  putArray(w, c.points);
+  putArray(w, c.heights);
+  putArray(w, c.materials);
+  putArray(w, c.targets);
+  putArray(w, c.errors);
+  w.putBytes(stream.data(), stream.size());
+  assert(w.position() == raw.size());
+  std::vector<uint8_t> blob(ZSTD_compressBound(raw.size()));
+  const size_t size =
+      ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), compressionLevel);
+  assert(!ZSTD_isError(size));
+  blob.resize(size);
+  return blob;
+}
+
+Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::string& subject) {
+  auto bad = [&](const std::string& what) {
+    return makeError(subject, "corrupt VIPM chunk: " + what);
+  };
+  const unsigned long long size = ZSTD_getFrameContentSize(blob.data(), blob.size());
+  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
+    return bad("not a zstd frame");
+  if (size < kVipmHeaderBytes || size > kMaxDecodedBytes) return bad("implausible size");
+  const auto buffer = std::make_unique_for_overwrite<uint8_t[]>(size);
+  const size_t got = ZSTD_decompress(buffer.get(), size, blob.data(), blob.size());
+  if (ZSTD_isError(got) || got != size) return bad("zstd data does not decompress");
+
+  ByteReader r(buffer.get());
+  if (r.get<uint32_t>() != kVipmMagic) return bad("wrong magic");
+  if (r.get<uint16_t>() != kVipmVersion) return bad("unknown VIPM chunk version");
+  VipmChunkData c;
+  c.width = r.get<uint8_t>();
+  c.height = r.get<uint8_t>();
+  const uint32_t n = r.get<uint32_t>(), collapses = r.get<uint32_t>();
+  const uint32_t triangles = r.get<uint32_t>(), streamBytes = r.get<uint32_t>();
+  c.zBase = r.get<double>();
+  c.zStep = r.get<double>();
+  c.errorStep = r.get<float>();
+  c.finestError = r.get<float>();
+  if (c.width < 2 || c.width > 65 || c.height < 2 || c.height > 65) return bad("bad grid size");
+  const uint32_t points = uint32_t(c.width) * c.height;
+  if (n < 3 || n > points || collapses > n - 3) return bad("bad vertex or collapse count");
+  if (triangles == 0 || triangles > 2 * uint32_t(c.width - 1) * uint32_t(c.height - 1) ||
+      streamBytes < triangles)
+    return bad("bad triangle count");
+  if (!std::isfinite(c.zBase) || !(c.zStep > 0) || !std::isfinite(c.zStep))
+    return bad("bad height scale");
+  if (!(c.errorStep > 0) || !std::isfinite(c.errorStep) || !(c.finestError >= 0) ||
+      !std::isfinite(c.finestError))
+    return bad("bad error scale");
+  if (kVipmHeaderBytes + 5 * uint64_t(n) + 4 * uint64_t(collapses) + streamBytes != size)
+    return bad("sizes do not match the data");
+  getArray(r, c.points, n);
+  getArray(r, c.heights, n);
+  getArray(r, c.materials, n);
+  getArray(r, c.targets, collapses);
+  getArray(r, c.errors, collapses);
+  std::vector<uint8_t> seen(points, 0);
+  for (uint16_t p : c.points) {
+    if (p >= points || seen[p]) return bad("bad vertex point");
+    seen[p] = 1;
+  }
+  for (uint8_t m : c.materials)
+    if (m >= 8) return bad("material out of range");
+  for (uint32_t j = 0; j < collapses; ++j) {
+    if (c.targets[j] >= n - 1 - j) return bad("collapse onto a removed vertex");
+    if (j > 0 && c.errors[j] < c.errors[j - 1]) return bad("errors decrease");
+  }
+  c.indices.resize(size_t(triangles) * 3);
+  if (meshopt_decodeIndexBuffer(c.indices.data(), c.indices.size(), sizeof(uint16_t),
+                                buffer.get() + r.position(), streamBytes) != 0)
+    return bad("index data does not decode");
+  for (uint16_t i : c.indices)
+    if (i >= n) return bad("index out of range");
+  return c;
+}
+
+}  // namespace terralod

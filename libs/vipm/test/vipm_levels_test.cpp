@@ -1,0 +1,167 @@
+#include "terralod/vipm/vipm_levels.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <set>
+
+#include "terralod/vipm/progressive_mesh.h"
+#include "vipm_test_patches.h"
+
+namespace terralod {
+namespace {
+
+using Tri = std::array<uint16_t, 3>;
+
+struct Built {
+  GridPatch patch;
+  ProgressiveMesh mesh;
+  std::vector<uint8_t> materials;  // per vertex
+};
+
+Built build(double maxError, MaterialRules rules = MaterialRules::kOn) {
+  Built b;
+  b.patch = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 65);
+  b.mesh = makeProgressiveMesh(b.patch, buildCollapseOrder(b.patch, rules), maxError);
+  for (uint16_t p : b.mesh.points) b.materials.push_back(b.patch.materials[p]);
+  return b;
+}
+
+// The mesh after j collapses, by renaming corners (the oracle for the index edits).
+std::vector<Tri> naive(const ProgressiveMesh& m, uint32_t j) {
+  std::vector<uint16_t> to(m.vertexCount());
+  std::iota(to.begin(), to.end(), uint16_t{0});
+  for (uint32_t k = 0; k < j; ++k) to[m.vertexCount() - 1 - k] = m.targets[k];
+  auto resolve = [&](uint16_t v) {
+    while (to[v] != v) v = to[v];
+    return v;
+  };
+  std::vector<Tri> out;
+  for (const Tri& t : m.triangles) {
+    const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
+    if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) out.push_back(r);
+  }
+  return out;
+}
+
+TEST(ProgressiveMesh, StartsAtTheMaxErrorWithRemovedVerticesLast) {
+  const Built b = build(1.0);
+  const ProgressiveMesh& m = b.mesh;
+  ASSERT_GT(m.collapseCount(), 100u);
+  EXPECT_LE(m.finestError, 1.0f);
+  EXPECT_GT(m.errors.front(), 1.0f);
+  EXPECT_TRUE(std::is_sorted(m.errors.begin(), m.errors.end()));
+  EXPECT_LT(m.vertexCount(), b.patch.pointCount());
+  std::set<uint16_t> distinct(m.points.begin(), m.points.end());
+  EXPECT_EQ(distinct.size(), m.points.size());
+  for (uint32_t j = 0; j < m.collapseCount(); ++j) EXPECT_LT(m.targets[j], m.vertexCount() - 1 - j);
+  // After j collapses the living triangles are a prefix and use only vertices [0, N - j).
+  auto removal = triangleRemovals(m);
+  ASSERT_TRUE(removal.ok()) << removal.error().message;
+  for (uint32_t j : {0u, m.collapseCount() / 3, m.collapseCount()}) {
+    const auto tris = naive(m, j);
+    size_t prefix = 0;
+    while (prefix < removal->size() && (*removal)[prefix] >= j) ++prefix;
+    EXPECT_EQ(tris.size(), prefix);
+    for (const Tri& t : tris)
+      for (uint16_t v : t) EXPECT_LT(v, m.vertexCount() - j);
+  }
+}
+
+TEST(ProgressiveMesh, ALargerMaxErrorStartsCoarser) {
+  EXPECT_LT(build(4.0).mesh.vertexCount(), build(0.5).mesh.vertexCount());
+}
+
+TEST(VipmLevels, IndexEditsGiveTheSameMeshAsRenamingAtEveryLevel) {
+  const Built b = build(1.0);
+  auto levels = VipmLevels::reconstruct(b.mesh, b.materials);
+  ASSERT_TRUE(levels.ok()) << levels.error().message;
+  // Jump around: forwards, backwards, to the ends.
+  const uint32_t r = b.mesh.collapseCount();
+  for (uint32_t j : {r / 2, r / 5, r, 0u, r - 1, 7u, r / 2}) {
+    levels->setApplied(j);
+    const auto expect = naive(b.mesh, j);
+    const VipmPart& whole = levels->whole();
+    ASSERT_EQ(levels->drawnTriangles(whole), expect.size()) << j;
+    for (size_t t = 0; t < expect.size(); ++t)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(whole.indices[3 * t + k], expect[t][k]) << j;
+    // Each material's part: exactly the living triangles with a corner of its material, in
+    // the same order.
+    for (const VipmPart& part : levels->parts()) {
+      if (part.material == kWholeChunk) continue;
+      std::vector<Tri> mine;
+      for (const Tri& t : expect)
+        if (b.materials[t[0]] == part.material || b.materials[t[1]] == part.material ||
+            b.materials[t[2]] == part.material)
+          mine.push_back(t);
+      ASSERT_EQ(levels->drawnTriangles(part), mine.size()) << "material " << part.material;
+      for (size_t t = 0; t < mine.size(); ++t)
+        for (int k = 0; k < 3; ++k) ASSERT_EQ(part.indices[3 * t + k], mine[t][k]);
+    }
+  }
+  EXPECT_EQ(levels->parts().size(), 4u);  // the whole chunk and three materials
+}
+
+TEST(VipmLevels, RefusesAnInconsistentMesh) {
+  Built b = build(1.0);
+  ProgressiveMesh broken = b.mesh;
+  std::swap(broken.triangles.front(), broken.triangles.back());
+  EXPECT_FALSE(VipmLevels::reconstruct(broken, b.materials).ok());
+  broken = b.mesh;
+  broken.targets[3] = uint16_t(broken.vertexCount() - 1);  // onto a removed vertex
+  EXPECT_FALSE(VipmLevels::reconstruct(broken, b.materials).ok());
+  broken = b.mesh;
+  broken.targets[10] = broken.targets[10] == 0 ? 1 : 0;  // not a neighbour (almost surely)
+  EXPECT_FALSE(VipmLevels::reconstruct(broken, b.materials).ok());
+}
+
+TEST(MorphWindow, SpansAFactorTwoOfErrorAndIsASharpCutWithoutMorphing) {
+  const std::vector<float> errors{1, 1, 2, 3, 4, 6, 8, 12};
+  auto w = morphWindow(errors, 4.0, Geomorph::kOn);
+  EXPECT_EQ(w.applied, 3u);   // errors <= 2
+  EXPECT_EQ(w.morphing, 5u);  // errors <= 4
+  w = morphWindow(errors, 4.0, Geomorph::kOff);
+  EXPECT_EQ(w.applied, 5u);
+  EXPECT_EQ(w.morphing, 5u);
+}
+
+TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
+  const Built b = build(1.0);
+  const ProgressiveMesh& m = b.mesh;
+  std::vector<std::array<float, 3>> own;
+  for (uint16_t p : m.points)
+    own.push_back({float(b.patch.xOf(p)), float(b.patch.yOf(p)), b.patch.heights[p]});
+  // Resolves a vertex through applied collapses to the one drawn in its place.
+  auto drawnAt = [&](double theta, Geomorph g) {
+    const MorphWindow w = morphWindow(m.errors, theta, g);
+    std::vector<std::array<float, 3>> drawn = own;
+    morphPositions(m, w, theta, own, drawn);
+    std::vector<std::array<float, 3>> out(m.vertexCount());
+    for (uint32_t v = 0; v < m.vertexCount(); ++v) {
+      uint32_t x = v;
+      while (x >= m.vertexCount() - w.applied) x = m.targets[m.vertexCount() - 1 - x];
+      out[v] = drawn[x];
+    }
+    return out;
+  };
+  // Sweeping theta finely, every vertex's drawn position changes little between steps with
+  // morphing, and jumps somewhere without it.
+  double worstOn = 0, worstOff = 0;
+  auto prevOn = drawnAt(1.0, Geomorph::kOn), prevOff = drawnAt(1.0, Geomorph::kOff);
+  for (double theta = 1.0; theta < 40.0; theta *= 1.001) {
+    const auto on = drawnAt(theta, Geomorph::kOn), off = drawnAt(theta, Geomorph::kOff);
+    for (uint32_t v = 0; v < m.vertexCount(); ++v)
+      for (int k = 0; k < 3; ++k) {
+        worstOn = std::max(worstOn, double(std::abs(on[v][k] - prevOn[v][k])));
+        worstOff = std::max(worstOff, double(std::abs(off[v][k] - prevOff[v][k])));
+      }
+    prevOn = on;
+    prevOff = off;
+  }
+  EXPECT_LT(worstOn, 0.2);
+  EXPECT_GT(worstOff, 2.0);
+}
+
+}  // namespace
+}  // namespace terralod
