@@ -82,7 +82,7 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   MemoryFile memory{memoryPath()};
   CPLStringList createOptions;
   createOptions.SetNameValue("COMPRESS", "DEFLATE");
-  createOptions.SetNameValue("PREDICTOR", "1");
+  createOptions.SetNameValue("ZLEVEL", "9");
   createOptions.SetNameValue("TILED", "YES");
   GDALDriverH gtiff = GDALGetDriverByName("GTiff");
   if (!gtiff) return makeError(outputPath, "GDAL has no GeoTIFF driver");

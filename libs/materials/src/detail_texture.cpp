@@ -39,84 +39,141 @@ uint32_t hash32(uint32_t x) {
   return x;
 }
 
-// Periodic value noise in [-1, 1]: a lattice of `period` cells across the texture, corner
-// values hashed from the wrapped lattice coordinates, quintic interpolation.
+// Periodic value noise in [-1, 1], evaluated for the whole texture at once: a lattice of
+// `period` cells across the texture, corner values hashed from the wrapped lattice
+// coordinates, quintic interpolation. Layers are size * size floats, row by row.
 class PeriodicNoise {
  public:
   PeriodicNoise(int size, uint32_t seed) : mSize(size), mSeed(seed) {}
 
-  float value(int x, int y, int period, uint32_t octaveSeed) const {
-    period = std::clamp(period, 1, mSize);
-    const double u = (double(x) + 0.5) * period / mSize, v = (double(y) + 0.5) * period / mSize;
-    const int i0 = int(std::floor(u)), j0 = int(std::floor(v));
-    const double fx = fade(u - i0), fy = fade(v - j0);
-    auto corner = [&](int i, int j) {
-      i = ((i % period) + period) % period;
-      j = ((j % period) + period) % period;
-      const uint32_t h = hash32(uint32_t(i) * 0x9e3779b1U ^
-                                hash32(uint32_t(j) ^ mSeed ^ octaveSeed * 0x85ebca6bU));
-      return double(h) / 2147483647.5 - 1.0;
-    };
-    const double a = corner(i0, j0), b = corner(i0 + 1, j0), c = corner(i0, j0 + 1),
-                 d = corner(i0 + 1, j0 + 1);
-    return float((a + (b - a) * fx) + ((c + (d - c) * fx) - (a + (b - a) * fx)) * fy);
+  using Layer = std::vector<float>;
+
+  Layer value(int period, uint32_t octaveSeed) const {
+    Layer out(size_t(mSize) * size_t(mSize), 0.0f);
+    addOctave(out, period, octaveSeed, 1.0f);
+    return out;
   }
 
   /// Octaves from `period` doubling, amplitudes halving, normalised to about [-1, 1].
-  float fbm(int x, int y, int period, int octaves, uint32_t octaveSeed) const {
-    double sum = 0, norm = 0, amplitude = 1;
-    for (int o = 0; o < octaves; ++o) {
-      sum += amplitude * value(x, y, period << o, octaveSeed + uint32_t(o) * 7919U);
-      norm += amplitude;
-      amplitude *= 0.5;
-    }
-    return float(sum / norm);
+  Layer fbm(int period, int octaves, uint32_t octaveSeed) const {
+    Layer out(size_t(mSize) * size_t(mSize), 0.0f);
+    float norm = 0, amplitude = 1;
+    for (int o = 0; o < octaves; ++o) norm += amplitude, amplitude *= 0.5f;
+    amplitude = 1.0f / norm;
+    for (int o = 0; o < octaves; ++o, amplitude *= 0.5f)
+      addOctave(out, period << o, octaveSeed + uint32_t(o) * 7919U, amplitude);
+    return out;
   }
 
  private:
-  static double fade(double t) { return t * t * t * (t * (t * 6 - 15) + 10); }
+  void addOctave(Layer& out, int period, uint32_t octaveSeed, float amplitude) const {
+    period = std::clamp(period, 1, mSize);
+    std::vector<float> lattice(size_t(period) * size_t(period));
+    for (int j = 0; j < period; ++j)
+      for (int i = 0; i < period; ++i) {
+        const uint32_t h = hash32(uint32_t(i) * 0x9e3779b1U ^
+                                  hash32(uint32_t(j) ^ mSeed ^ octaveSeed * 0x85ebca6bU));
+        lattice[size_t(j) * size_t(period) + size_t(i)] = float(double(h) / 2147483647.5 - 1.0);
+      }
+    // Per column (and, the same, per row): the lattice cell and the eased fraction.
+    std::vector<int> cell0(static_cast<size_t>(mSize)), cell1(static_cast<size_t>(mSize));
+    std::vector<float> ease(static_cast<size_t>(mSize));
+    for (int x = 0; x < mSize; ++x) {
+      const double u = (double(x) + 0.5) * period / mSize;
+      const int i = int(std::floor(u));
+      const double t = u - i;
+      ease[size_t(x)] = float(t * t * t * (t * (t * 6 - 15) + 10));
+      cell0[size_t(x)] = ((i % period) + period) % period;
+      cell1[size_t(x)] = (cell0[size_t(x)] + 1) % period;
+    }
+    for (int y = 0; y < mSize; ++y) {
+      const float* r0 = lattice.data() + size_t(cell0[size_t(y)]) * size_t(period);
+      const float* r1 = lattice.data() + size_t(cell1[size_t(y)]) * size_t(period);
+      const float fy = ease[size_t(y)];
+      float* o = out.data() + size_t(y) * size_t(mSize);
+      for (int x = 0; x < mSize; ++x) {
+        const int i0 = cell0[size_t(x)], i1 = cell1[size_t(x)];
+        const float fx = ease[size_t(x)];
+        const float a = r0[i0] + (r0[i1] - r0[i0]) * fx, b = r1[i0] + (r1[i1] - r1[i0]) * fx;
+        o[x] += amplitude * (a + (b - a) * fy);
+      }
+    }
+  }
+
   int mSize;
   uint32_t mSeed;
 };
 
-// The pattern as an offset per channel (in 0..255 units) at pixel (x, y).
-std::array<float, 3> pattern(Kind kind, const PeriodicNoise& n, int size, int x, int y) {
+// The pattern as offsets per channel (in 0..255 units): pixel i's are out[3 i .. 3 i + 2].
+std::vector<float> pattern(Kind kind, const PeriodicNoise& n, int size) {
   const double tau = 2 * std::numbers::pi;
-  const double fx = double(x) / size, fy = double(y) / size;
+  const size_t pixels = size_t(size) * size_t(size);
+  std::vector<float> out(pixels * 3);
+  auto each = [&](auto&& f) {  // f(x, y, i) -> {r, g, b}
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x) {
+        const size_t i = size_t(y) * size_t(size) + size_t(x);
+        const std::array<float, 3> v = f(x, y, i);
+        out[i * 3] = v[0], out[i * 3 + 1] = v[1], out[i * 3 + 2] = v[2];
+      }
+  };
   switch (kind) {
     case Kind::kWater: {
-      const double bend = 1.2 * n.fbm(x, y, 4, 2, 1);
-      const double w = 0.6 * std::sin(tau * (3 * fx + 5 * fy) + bend) +
-                       0.4 * std::sin(tau * (-4 * fx + 2 * fy) + 0.7 * bend);
-      const float v = float(9 * w + 3 * n.fbm(x, y, 16, 2, 2));
-      return {0.7f * v, 0.9f * v, 1.2f * v};
+      const auto bend = n.fbm(4, 2, 1), fine = n.fbm(16, 2, 2);
+      each([&](int x, int y, size_t i) {
+        const double fx = double(x) / size, fy = double(y) / size, b = 1.2 * bend[i];
+        const double w = 0.6 * std::sin(tau * (3 * fx + 5 * fy) + b) +
+                         0.4 * std::sin(tau * (-4 * fx + 2 * fy) + 0.7 * b);
+        const float v = float(9 * w + 3 * fine[i]);
+        return std::array<float, 3>{0.7f * v, 0.9f * v, 1.2f * v};
+      });
+      break;
     }
     case Kind::kRock: {
-      const double strata = std::sin(tau * (7 * fy + 0.5 * n.fbm(x, y, 4, 2, 3)));
-      const double ridge = 1.0 - std::abs(double(n.fbm(x, y, 8, 3, 4)));
-      const double crack = std::clamp((ridge - 0.88) / 0.12, 0.0, 1.0);
-      const float v = float(24 * strata + 20 * n.fbm(x, y, 16, 4, 5) - 70 * crack);
-      return {v, v, v};
+      const auto bend = n.fbm(4, 2, 3), ridges = n.fbm(8, 3, 4), grain = n.fbm(16, 4, 5);
+      each([&](int, int y, size_t i) {
+        const double strata = std::sin(tau * (7.0 * y / size + 0.5 * bend[i]));
+        const double ridge = 1.0 - std::abs(double(ridges[i]));
+        const double crack = std::clamp((ridge - 0.88) / 0.12, 0.0, 1.0);
+        const float v = float(24 * strata + 20 * grain[i] - 70 * crack);
+        return std::array<float, 3>{v, v, v};
+      });
+      break;
     }
     case Kind::kGrass: {
-      const double speckle = n.value(x, y, size / 2, 6);
-      const double blotch = n.fbm(x, y, 8, 3, 7);
-      const float v = float(18 * speckle + 12 * blotch);
-      return {0.8f * v, 1.1f * v, 0.6f * v};
+      const auto speckle = n.value(size / 2, 6), blotch = n.fbm(8, 3, 7);
+      each([&](int, int, size_t i) {
+        const float v = 18 * speckle[i] + 12 * blotch[i];
+        return std::array<float, 3>{0.8f * v, 1.1f * v, 0.6f * v};
+      });
+      break;
     }
     case Kind::kSnow: {
-      const float v = 4 * n.fbm(x, y, 4, 3, 8);
-      return {v, v, 0.8f * v};
+      const auto soft = n.fbm(4, 3, 8);
+      each([&](int, int, size_t i) {
+        const float v = 4 * soft[i];
+        return std::array<float, 3>{v, v, 0.8f * v};
+      });
+      break;
     }
     case Kind::kSoil: {
-      const float v = 20 * n.fbm(x, y, 8, 4, 9) + 6 * n.value(x, y, size / 4, 10);
-      return {1.05f * v, v, 0.9f * v};
-    }
-    case Kind::kGeneric:
+      const auto blotch = n.fbm(8, 4, 9), grit = n.value(size / 4, 10);
+      each([&](int, int, size_t i) {
+        const float v = 20 * blotch[i] + 6 * grit[i];
+        return std::array<float, 3>{1.05f * v, v, 0.9f * v};
+      });
       break;
+    }
+    case Kind::kGeneric: {
+      const auto noise = n.fbm(8, 4, 11);
+      each([&](int, int, size_t i) {
+        const float v = 16 * noise[i];
+        return std::array<float, 3>{v, v, v};
+      });
+      break;
+    }
   }
-  const float v = 16 * n.fbm(x, y, 8, 4, 11);
-  return {v, v, v};
+  return out;
 }
 
 }  // namespace
@@ -130,16 +187,9 @@ DetailTexture makeDetailTexture(const Material& material, int size) {
   const PeriodicNoise noise(size, kind == Kind::kGeneric ? hash32(material.id + 1U) : seed);
 
   const size_t pixels = size_t(size) * size_t(size);
-  std::vector<float> offsets(pixels * 3);
+  const std::vector<float> offsets = pattern(kind, noise, size);
   std::array<double, 3> mean{};
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      const auto p = pattern(kind, noise, size, x, y);
-      for (int c = 0; c < 3; ++c) {
-        offsets[(size_t(y) * size_t(size) + size_t(x)) * 3 + size_t(c)] = p[size_t(c)];
-        mean[size_t(c)] += p[size_t(c)];
-      }
-    }
+  for (size_t i = 0; i < pixels * 3; ++i) mean[i % 3] += offsets[i];
   for (double& m : mean) m /= double(pixels);
 
   DetailTexture texture{size, std::vector<uint8_t>(pixels * 3)};
@@ -154,7 +204,7 @@ DetailTexture makeDetailTexture(const Material& material, int size) {
         uint64_t sum = 0;
         for (size_t i = 0; i < pixels; ++i) {
           const double v = std::clamp(shift + contrast * offsets[i * 3 + size_t(c)], 0.0, 255.0);
-          const auto byte = uint8_t(std::lround(v));
+          const auto byte = uint8_t(v + 0.5);  // v is in [0, 255]
           texture.rgb[i * 3 + size_t(c)] = byte;
           sum += byte;
         }
