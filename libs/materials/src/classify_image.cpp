@@ -79,6 +79,9 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
                          "has masked (nodata) pixels, written as 255, but the palette uses "
                          "class value 255");
 
+  // Opened first: an output that cannot be written fails before any work.
+  auto file = AtomicFile::create(outputPath);
+  if (!file) return file.error();
   MemoryFile memory{memoryPath()};
   CPLStringList createOptions;
   createOptions.SetNameValue("COMPRESS", "DEFLATE");
@@ -157,8 +160,6 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   vsi_l_offset size = 0;
   const GByte* bytes = VSIGetMemFileBuffer(memory.path.c_str(), &size, FALSE);
   if (!bytes) return makeError(outputPath, "write failed: the GeoTIFF was not produced");
-  auto file = AtomicFile::create(outputPath);
-  if (!file) return file.error();
   if (Status s = file->write(std::span<const uint8_t>(bytes, size_t(size))); !s) return s.error();
   if (Status s = file->commit(); !s) return s.error();
   return result;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -62,6 +63,21 @@ TEST(DetailTexture, TilesSeamlesslyBothWays) {
           << m.name << (vertical ? " vertical" : " horizontal") << ": seam " << g.seam
           << ", interior " << g.interior;
     }
+}
+
+TEST(DetailTexture, TheSeamCheckCatchesATextureThatDoesNotTile) {
+  // The south-west quarter of a 512² texture is not periodic at 256: its seams show.
+  for (const char* name : {"water", "soil", "rock", "snow"}) {
+    const DetailTexture big = makeDetailTexture({0, name, {128, 128, 128}}, 512);
+    DetailTexture crop{256, std::vector<uint8_t>(256 * 256 * 3)};
+    for (int y = 0; y < 256; ++y)
+      std::copy_n(big.rgb.begin() + ptrdiff_t(y) * 512 * 3, 256 * 3,
+                  crop.rgb.begin() + ptrdiff_t(y) * 256 * 3);
+    for (bool vertical : {false, true}) {
+      const Gradients g = gradients(crop, vertical);
+      EXPECT_GT(g.seam, 1.3 * g.interior + 0.5) << name << (vertical ? " vertical" : "");
+    }
+  }
 }
 
 TEST(DetailTexture, CharacterFollowsTheMaterial) {

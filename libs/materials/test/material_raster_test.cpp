@@ -237,6 +237,10 @@ TEST(MaterialRaster, BadInputGivesOneClearLine) {
   const std::string far = dir.file("far.tif");
   writeRaster(far, 20, 20, GDT_Byte, [](int, int) { return 1; }, {900000, 30, 0, 4100600, 0, -30});
   expectError(read(far), "far.tif", "does not overlap the DEM");
+  const std::string europe = dir.file("europe.tif");  // another CRS, elsewhere on Earth
+  writeRaster(
+      europe, 20, 20, GDT_Byte, [](int, int) { return 1; }, {10, 0.01, 0, 50, 0, -0.01}, 4326);
+  expectError(read(europe), "europe.tif", "does not overlap the DEM dem.tif");
 
   const std::string many = dir.file("many.tif");
   writeRaster(

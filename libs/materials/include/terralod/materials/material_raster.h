@@ -11,6 +11,9 @@
 // metadata items CLASS_NAME_<value> that `terralod classify` writes; else "class <value>" and
 // distinctColor().
 //
+// When the raster or the DEM has no CRS (but both have a geotransform), both are taken to be in
+// the same one.
+//
 // Grid points the raster does not cover, or where it holds nodata, take the class of the
 // nearest covered point (in 4-connected steps over the grid; ties go to the first reached in
 // scan order, so the result is deterministic).
