@@ -116,7 +116,8 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   result.counts.assign(palette.size(), 0);
   std::vector<uint8_t> rgb(size_t(columns) * kStripRows * 3), mask(size_t(columns) * kStripRows),
       classes(size_t(columns) * kStripRows);
-  // Nearest class per colour, computed once for every colour that occurs (a 2 MB table).
+  // Nearest class per colour, computed once for every colour that occurs (a 16 MB table, only
+  // the pages of colours that occur are touched).
   std::vector<uint8_t> nearestOf(size_t(1) << 24, 0xff);
   int bands[3] = {1, 2, 3};
   for (int32_t row0 = 0; row0 < rows; row0 += kStripRows) {
