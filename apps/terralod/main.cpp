@@ -25,6 +25,7 @@ int main(int argc, char** argv) {
   addRenderCommand(app, run);
   addBenchCommand(app, run);
   addViewCommand(app, run);
+  addClassifyCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
