@@ -43,8 +43,8 @@ std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& c, int compressionLeve
   const size_t n = c.vertexCount(), r = c.collapseCount();
   assert(c.heights.size() == n && c.materials.size() == n && c.errors.size() == r);
   std::vector<uint8_t> stream(meshopt_encodeIndexBufferBound(c.indices.size(), n));
-  stream.resize(meshopt_encodeIndexBuffer(stream.data(), stream.size(), c.indices.data(),
-                                          c.indices.size()));
+  stream.resize(
+      meshopt_encodeIndexBuffer(stream.data(), stream.size(), c.indices.data(), c.indices.size()));
   std::vector<uint8_t> raw(kVipmHeaderBytes + 5 * n + 4 * r + stream.size());
   ByteWriter w(raw.data());
   w.put<uint32_t>(kVipmMagic);

@@ -64,8 +64,8 @@ UnpackedChunk unpackChunk(const VipmChunkData& c) {
     m.triangles.push_back({c.indices[i], c.indices[i + 1], c.indices[i + 2]});
   for (uint32_t v = 0; v < c.vertexCount(); ++v) {
     const uint16_t p = c.points[v];
-    u.positions.push_back({float(p % c.width), float(p / c.width),
-                           float(c.zBase + double(c.heights[v]) * c.zStep)});
+    u.positions.push_back(
+        {float(p % c.width), float(p / c.width), float(c.zBase + double(c.heights[v]) * c.zStep)});
   }
   u.materials = c.materials;
   return u;

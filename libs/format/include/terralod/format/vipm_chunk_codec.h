@@ -19,14 +19,14 @@ struct VipmChunkData {
   uint8_t width = 0, height = 0;  ///< the chunk's grid points along x and y, 2..65
   double zBase = 0.0;             ///< height = zBase + z * zStep (metres)
   double zStep = 1.0;
-  float errorStep = 1.0f;     ///< a collapse's error = its quantised error * errorStep
-  float finestError = 0.0f;   ///< error of the finest level, metres
-  std::vector<uint16_t> points;     ///< per vertex: grid point y * width + x
-  std::vector<uint16_t> heights;    ///< per vertex: quantised height
-  std::vector<uint8_t> materials;   ///< per vertex: material index, < 8
-  std::vector<uint16_t> targets;    ///< per collapse j: the vertex that vertex N-1-j moves onto
-  std::vector<uint16_t> errors;     ///< per collapse: quantised error, non-decreasing
-  std::vector<uint16_t> indices;    ///< the finest level's triangles, by removal (last first)
+  float errorStep = 1.0f;          ///< a collapse's error = its quantised error * errorStep
+  float finestError = 0.0f;        ///< error of the finest level, metres
+  std::vector<uint16_t> points;    ///< per vertex: grid point y * width + x
+  std::vector<uint16_t> heights;   ///< per vertex: quantised height
+  std::vector<uint8_t> materials;  ///< per vertex: material index, < 8
+  std::vector<uint16_t> targets;   ///< per collapse j: the vertex that vertex N-1-j moves onto
+  std::vector<uint16_t> errors;    ///< per collapse: quantised error, non-decreasing
+  std::vector<uint16_t> indices;   ///< the finest level's triangles, by removal (last first)
 
   uint32_t vertexCount() const { return uint32_t(points.size()); }
   uint32_t collapseCount() const { return uint32_t(targets.size()); }
