@@ -1,6 +1,6 @@
 // VIPM chunk generation and reconstruction on real DEM windows (tests/data): the grid
 // collapser (collapse_order.h) per 65 x 65 chunk with and without the material rules, and the
-// O(n) reconstruction (vipm_levels.h). Materials: three height bands.
+// O(n) reconstruction (vipm_levels.h). Materials: three height bands (vipm_chunks.h).
 //
 //   build/release/bench/bench_vipm [--benchmark_filter=...]
 #include <benchmark/benchmark.h>
@@ -10,35 +10,16 @@
 #include <string>
 #include <vector>
 
-#include "terralod/raster/dem_reader.h"
 #include "terralod/vipm/collapse_order.h"
 #include "terralod/vipm/progressive_mesh.h"
 #include "terralod/vipm/vipm_levels.h"
+#include "vipm_chunks.h"
 
 namespace {
 
 using namespace terralod;
 
-// Chunks of a DEM at (64 i, 64 j), materials by the window's height terciles.
-std::vector<GridPatch> chunks(const std::string& file, int count) {
-  auto dem = DemReader::open(std::string(TERRALOD_TEST_DATA_DIR) + "/" + file, {});
-  if (!dem.ok()) return {};
-  std::vector<GridPatch> out;
-  const int32_t nx = ((*dem)->info().columns - 1) / 64, ny = ((*dem)->info().rows - 1) / 64;
-  for (int k = 0; k < count; ++k) {
-    const int32_t i = (k * 7) % nx, j = (k * 5 + 1) % ny;
-    GridPatch p;
-    p.width = p.height = 65;
-    p.heights.resize(65 * 65);
-    if (!(*dem)->readWindow(i * 64, j * 64, 65, 65, p.heights.data()).ok()) return {};
-    std::vector<float> sorted = p.heights;
-    std::sort(sorted.begin(), sorted.end());
-    const float a = sorted[sorted.size() / 3], b = sorted[2 * sorted.size() / 3];
-    for (float h : p.heights) p.materials.push_back(h < a ? 0 : h < b ? 1 : 2);
-    out.push_back(std::move(p));
-  }
-  return out;
-}
+using bench::chunks;
 
 void collapseOrder(benchmark::State& state, const char* file, MaterialRules rules) {
   const auto patches = chunks(file, 8);

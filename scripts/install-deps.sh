@@ -10,8 +10,9 @@ packages=(
   # sanitizer builds and fuzzing: clang, its runtimes (ASan, UBSan, TSan, libFuzzer) and
   # llvm-symbolizer for readable reports
   clang libclang-rt-14-dev llvm
-  # rasters, meshes, compression
-  libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev
+  # rasters, meshes, compression (libopenmesh-dev: only bench/bench_vipm_openmesh, the VIPM
+  # generation benchmark)
+  libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev libopenmesh-dev
   # math, CLI, JSON, images
   libglm-dev libcli11-dev nlohmann-json3-dev libstb-dev
   # OpenGL 4.5 core through EGL (headless) and GLFW (windows), Dear ImGui
