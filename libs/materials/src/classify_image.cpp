@@ -18,12 +18,7 @@ namespace {
 constexpr int32_t kStripRows = 256;
 constexpr uint8_t kMaskedValue = 255;
 
-struct DatasetCloser {
-  void operator()(void* d) const {
-    if (d) GDALClose(d);
-  }
-};
-using Dataset = std::unique_ptr<void, DatasetCloser>;
+using gdal::Dataset;
 
 // A /vsimem/ file removed when this goes out of scope.
 struct MemoryFile {

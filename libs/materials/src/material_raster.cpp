@@ -1,12 +1,10 @@
 #include "terralod/materials/material_raster.h"
 
 #include <gdal.h>
-#include <gdal_utils.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <deque>
 #include <filesystem>
 #include <map>
@@ -23,18 +21,7 @@ namespace {
 constexpr int32_t kStripRows = 256;
 constexpr uint8_t kUncovered = 255;
 
-struct DatasetCloser {
-  void operator()(void* d) const {
-    if (d) GDALClose(d);
-  }
-};
-using Dataset = std::unique_ptr<void, DatasetCloser>;
-
-std::string number(double v) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.17g", v);
-  return buffer;
-}
+using gdal::Dataset;
 
 std::string fileName(const std::string& path) {
   return std::filesystem::path(path).filename().string();
@@ -54,10 +41,10 @@ Result<Dataset> warpOntoDem(const std::string& path, GDALDatasetH source, const 
   std::vector<std::string> args = {"-of",
                                    "VRT",
                                    "-te",
-                                   number(std::min(xa, xb)),
-                                   number(std::min(ya, yb)),
-                                   number(std::max(xa, xb)),
-                                   number(std::max(ya, yb)),
+                                   gdal::exactNumber(std::min(xa, xb)),
+                                   gdal::exactNumber(std::min(ya, yb)),
+                                   gdal::exactNumber(std::max(xa, xb)),
+                                   gdal::exactNumber(std::max(ya, yb)),
                                    "-ts",
                                    std::to_string(dem.columns),
                                    std::to_string(dem.rows),
@@ -71,15 +58,7 @@ Result<Dataset> warpOntoDem(const std::string& path, GDALDatasetH source, const 
   const char* sourceWkt = GDALGetProjectionRef(source);
   if (!dem.crsWkt.empty() && sourceWkt && *sourceWkt)
     args.insert(args.end(), {"-t_srs", dem.crsWkt});
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  GDALWarpAppOptions* options = GDALWarpAppOptionsNew(argv.data(), nullptr);
-  if (!options) return makeError(path, "internal error: bad warp options");
-  int usageError = 0;
-  GDALDatasetH sources[1] = {source};
-  Dataset warped(GDALWarp("", nullptr, 1, sources, options, &usageError));
-  GDALWarpAppOptionsFree(options);
+  Dataset warped = gdal::warp(source, std::move(args));
   if (!warped) {
     const std::string why = gdal::lastErrorMessage();
     return makeError(path, "cannot be reprojected onto the DEM " + fileName(dem.path) +
@@ -267,8 +246,8 @@ Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader&
         if (!valid[i]) continue;
         const double v = values[i];
         if (!std::isfinite(v) || v != std::floor(v)) {
-          return makeError(
-              path, "has non-integer values (e.g. " + number(v) + ") over the DEM: " + continuous);
+          return makeError(path, "has non-integer values (e.g. " + gdal::exactNumber(v) +
+                                     ") over the DEM: " + continuous);
         }
         ++covered;
         isCovered[rowStart + size_t(x)] = true;
@@ -289,7 +268,7 @@ Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader&
     return makeError(path, "does not overlap the DEM " + fileName(dem.path) +
                                " (no class at any of its points)");
   if (!outOfRange.empty())
-    return makeError(path, "has class value " + number(*outOfRange.begin()) +
+    return makeError(path, "has class value " + gdal::exactNumber(*outOfRange.begin()) +
                                "; class values must be whole numbers 0..255");
   if (distinct > kMaxMaterials)
     return makeError(path, "has " + std::to_string(distinct) + " classes over the DEM; at most " +

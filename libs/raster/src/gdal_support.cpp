@@ -1,7 +1,9 @@
 #include "gdal_support.h"
 
 #include <gdal.h>
+#include <gdal_utils.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <mutex>
 
@@ -27,6 +29,25 @@ std::string lastErrorMessage() {
     if (c == '\n' || c == '\r') c = ' ';
   while (!message.empty() && message.back() == ' ') message.pop_back();
   return message;
+}
+
+std::string exactNumber(double v) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.17g", v);
+  return buffer;
+}
+
+Dataset warp(GDALDatasetH source, std::vector<std::string> args) {
+  std::vector<char*> argv;
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  GDALWarpAppOptions* options = GDALWarpAppOptionsNew(argv.data(), nullptr);
+  if (!options) return nullptr;
+  int usageError = 0;
+  GDALDatasetH sources[1] = {source};
+  Dataset warped(GDALWarp("", nullptr, 1, sources, options, &usageError));
+  GDALWarpAppOptionsFree(options);
+  return warped;
 }
 
 }  // namespace terralod::gdal

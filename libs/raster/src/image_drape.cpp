@@ -144,11 +144,7 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
   impl->width = int64_t(dem.columns - 1) * refine + 1;
   impl->height = int64_t(dem.rows - 1) * refine + 1;
   const double yA = oy, yB = oy + double(impl->height) * py;
-  const auto num = [](double v) {
-    char b[64];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return std::string(b);
-  };
+  const auto num = gdal::exactNumber;
   const double imageToFine =
       std::sqrt(image.area() / (double(cols) * rows)) / std::sqrt(std::abs(px * py));
   std::vector<std::string> args = {"-of",
@@ -169,15 +165,7 @@ Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, con
   if (!dem.crsWkt.empty()) {
     args.insert(args.end(), {"-t_srs", dem.crsWkt});
   }
-  std::vector<char*> argv;
-  for (std::string& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  GDALWarpAppOptions* options = GDALWarpAppOptionsNew(argv.data(), nullptr);
-  if (!options) return makeError(path, "internal error: bad warp options");
-  int usageError = 0;
-  GDALDatasetH sources[1] = {warpInput};
-  impl->warped = GDALWarp("", nullptr, 1, sources, options, &usageError);
-  GDALWarpAppOptionsFree(options);
+  impl->warped = gdal::warp(warpInput, std::move(args)).release();
   if (!impl->warped) {
     const std::string why = gdal::lastErrorMessage();
     return makeError(path, "cannot be reprojected onto the DEM" + (why.empty() ? "" : ": " + why));
