@@ -2,7 +2,9 @@
 // Replays a progressive mesh's collapses over its triangle list in O(vertices + triangles):
 // per vertex a linked list of the triangle corners that refer to it; collapse j moves vertex
 // v = N - 1 - j's corners onto targets[j], and the triangles holding both die. Checks that the
-// mesh is consistent as it goes (what decoding a stored mesh relies on).
+// mesh is consistent as it goes (what decoding a stored mesh relies on); with
+// TriangleOrder::kAny the triangles need not be in removal order yet (the builder replays to
+// find that order).
 //
 //   onMove(j, corner)  corner (3 * triangle + k) changes from v to targets[j]
 //   onDeath(j, triangle)
@@ -16,8 +18,11 @@
 
 namespace terralod {
 
+enum class TriangleOrder : uint8_t { kByRemoval, kAny };
+
 template <class OnMove, class OnDeath>
-Status replayCollapses(const ProgressiveMesh& mesh, OnMove&& onMove, OnDeath&& onDeath) {
+Status replayCollapses(const ProgressiveMesh& mesh, OnMove&& onMove, OnDeath&& onDeath,
+                       TriangleOrder order = TriangleOrder::kByRemoval) {
   const uint32_t n = mesh.vertexCount();
   const uint32_t triangleCount = uint32_t(mesh.triangles.size());
   constexpr uint32_t kEnd = UINT32_MAX;
@@ -64,9 +69,10 @@ Status replayCollapses(const ProgressiveMesh& mesh, OnMove&& onMove, OnDeath&& o
       return Error{"collapse " + std::to_string(j) + " removes " + std::to_string(dying) +
                    " triangles"};
     alive -= dying;
-    for (uint32_t t = alive; t < alive + dying; ++t)
-      if (!dead[t])
-        return Error{"triangles are not in removal order at collapse " + std::to_string(j)};
+    if (order == TriangleOrder::kByRemoval)
+      for (uint32_t t = alive; t < alive + dying; ++t)
+        if (!dead[t])
+          return Error{"triangles are not in removal order at collapse " + std::to_string(j)};
   }
   return {};
 }

@@ -1,6 +1,7 @@
 #include "terralod/vipm/progressive_mesh.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 
@@ -58,30 +59,12 @@ ProgressiveMesh makeProgressiveMesh(const GridPatch& patch, const CollapseOrder&
 
   // Order them by removal, last removed first (stable: grid order within a collapse).
   std::vector<uint32_t> removal(mesh.triangles.size(), mesh.collapseCount());
+  [[maybe_unused]] const Status replayed = replayCollapses(
+      mesh, [](uint32_t, uint32_t) {}, [&](uint32_t j, uint32_t t) { removal[t] = j; },
+      TriangleOrder::kAny);
+  assert(replayed.ok());  // the collapser's own order is consistent
   std::vector<uint32_t> perm(mesh.triangles.size());
   std::iota(perm.begin(), perm.end(), 0u);
-  {
-    // Union-find over vertex indices: a triangle dies at the first collapse that makes two of
-    // its corners the same vertex.
-    std::vector<uint16_t> r(mesh.vertexCount());
-    std::iota(r.begin(), r.end(), uint16_t{0});
-    std::vector<std::vector<uint32_t>> around(mesh.vertexCount());
-    for (uint32_t t = 0; t < mesh.triangles.size(); ++t)
-      for (uint16_t v : mesh.triangles[t]) around[v].push_back(t);
-    for (uint32_t j = 0; j < mesh.collapseCount(); ++j) {
-      const uint16_t v = uint16_t(mesh.vertexCount() - 1 - j), u = mesh.targets[j];
-      r[v] = u;
-      for (uint32_t t : around[v]) {
-        if (removal[t] != mesh.collapseCount()) continue;
-        const auto& tri = mesh.triangles[t];
-        const uint16_t a = find(r, tri[0]), b = find(r, tri[1]), c = find(r, tri[2]);
-        if (a == b || b == c || a == c) removal[t] = j;
-      }
-      auto& into = around[u];
-      into.insert(into.end(), around[v].begin(), around[v].end());
-      around[v].clear();
-    }
-  }
   std::stable_sort(perm.begin(), perm.end(),
                    [&](uint32_t a, uint32_t b) { return removal[a] > removal[b]; });
   std::vector<std::array<uint16_t, 3>> sorted;
