@@ -25,19 +25,9 @@ int64_t area2(const GridPatch& p, const Tri& t) {
 // Replays the first `count` collapses of `order` naively (corners renamed, degenerate
 // triangles dropped).
 std::vector<Tri> meshAfter(const CollapseOrder& order, size_t count, uint32_t points) {
-  std::vector<uint16_t> to(points);
-  std::iota(to.begin(), to.end(), uint16_t{0});
+  std::vector<uint16_t> to = test::unrenamed(points);
   for (size_t k = 0; k < count; ++k) to[order.collapses[k].vertex] = order.collapses[k].target;
-  auto resolve = [&](uint16_t v) {
-    while (to[v] != v) v = to[v];
-    return v;
-  };
-  std::vector<Tri> out;
-  for (const Tri& t : order.gridTriangles) {
-    const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
-    if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) out.push_back(r);
-  }
-  return out;
+  return test::renamed(order.gridTriangles, to);
 }
 
 // Brute force: for every sample, the vertical distance to each triangle covering it, and the
@@ -157,12 +147,7 @@ TEST(CollapseOrder, MaterialRulesHoldAndAreAlive) {
   auto check = [&](MaterialRules rules) {
     const CollapseOrder order = buildCollapseOrder(p, rules);
     size_t crossMaterial = 0, boundaryToInterior = 0, interpolationChanged = 0;
-    std::vector<uint16_t> to(p.pointCount());
-    std::iota(to.begin(), to.end(), uint16_t{0});
-    auto resolve = [&](uint16_t v) {
-      while (to[v] != v) v = to[v];
-      return v;
-    };
+    std::vector<uint16_t> to = test::unrenamed(p.pointCount());
     auto tris = meshAfter(order, 0, p.pointCount());
     for (const Collapse& c : order.collapses) {
       auto onBoundary = [&](uint16_t v) {
@@ -175,12 +160,7 @@ TEST(CollapseOrder, MaterialRulesHoldAndAreAlive) {
       if (p.materials[c.vertex] != p.materials[c.target]) ++crossMaterial;
       if (onBoundary(c.vertex) && !onBoundary(c.target)) ++boundaryToInterior;
       to[c.vertex] = c.target;
-      std::vector<Tri> next;
-      for (const Tri& t : tris) {
-        const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
-        if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) next.push_back(r);
-      }
-      tris = std::move(next);
+      tris = test::renamed(tris, to);
       // Interpolated material at the removed vertex's position.
       const double x = p.xOf(c.vertex), y = p.yOf(c.vertex);
       for (const Tri& t : tris) {

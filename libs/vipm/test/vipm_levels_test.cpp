@@ -30,19 +30,9 @@ Built build(double maxError, MaterialRules rules = MaterialRules::kOn) {
 
 // The mesh after j collapses, by renaming corners (the oracle for the index edits).
 std::vector<Tri> naive(const ProgressiveMesh& m, uint32_t j) {
-  std::vector<uint16_t> to(m.vertexCount());
-  std::iota(to.begin(), to.end(), uint16_t{0});
+  std::vector<uint16_t> to = test::unrenamed(m.vertexCount());
   for (uint32_t k = 0; k < j; ++k) to[m.vertexCount() - 1 - k] = m.targets[k];
-  auto resolve = [&](uint16_t v) {
-    while (to[v] != v) v = to[v];
-    return v;
-  };
-  std::vector<Tri> out;
-  for (const Tri& t : m.triangles) {
-    const Tri r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
-    if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) out.push_back(r);
-  }
-  return out;
+  return test::renamed(m.triangles, to);
 }
 
 TEST(ProgressiveMesh, StartsAtTheMaxErrorWithRemovedVerticesLast) {

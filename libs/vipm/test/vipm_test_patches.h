@@ -2,8 +2,12 @@
 // Patches for the VIPM tests: windows of real DEMs with a simple material classification,
 // and synthetic ones.
 
+#include <array>
 #include <cmath>
+#include <cstdint>
+#include <numeric>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -39,6 +43,29 @@ inline GridPatch wavyPatch(int32_t w, int32_t h) {
       p.heights.push_back(float(10.0 * std::sin(x * 0.2) * std::cos(y * 0.15) + 0.05 * x * y));
   p.materials.assign(p.heights.size(), 0);
   return p;
+}
+
+/// The identity renaming of `n` vertices (for renamed()).
+inline std::vector<uint16_t> unrenamed(uint32_t n) {
+  std::vector<uint16_t> to(n);
+  std::iota(to.begin(), to.end(), uint16_t{0});
+  return to;
+}
+
+/// A naive replay, the oracle for collapses: every corner renamed through `to` (followed until
+/// it names itself), the triangles that became degenerate dropped.
+inline std::vector<std::array<uint16_t, 3>> renamed(
+    const std::vector<std::array<uint16_t, 3>>& triangles, const std::vector<uint16_t>& to) {
+  auto resolve = [&](uint16_t v) {
+    while (to[v] != v) v = to[v];
+    return v;
+  };
+  std::vector<std::array<uint16_t, 3>> out;
+  for (const auto& t : triangles) {
+    const std::array<uint16_t, 3> r{resolve(t[0]), resolve(t[1]), resolve(t[2])};
+    if (r[0] != r[1] && r[1] != r[2] && r[0] != r[2]) out.push_back(r);
+  }
+  return out;
 }
 
 }  // namespace terralod::test
