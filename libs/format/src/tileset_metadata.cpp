@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "terralod/format/texture_codec.h"
 
@@ -14,7 +15,36 @@ bool isTileSize(uint64_t v) {
   return v >= 2 && v <= kMaxTextureSize && ((v - 1) & (v - 2)) == 0;
 }
 
+std::optional<std::array<uint8_t, 3>> parseColorHex(const std::string& text) {
+  if (text.size() != 7 || text[0] != '#') return std::nullopt;
+  std::array<uint8_t, 3> color{};
+  for (size_t i = 0; i < 6; ++i) {
+    const char c = text[1 + i];
+    int v = 0;
+    if (c >= '0' && c <= '9')
+      v = c - '0';
+    else if (c >= 'a' && c <= 'f')
+      v = c - 'a' + 10;
+    else if (c >= 'A' && c <= 'F')
+      v = c - 'A' + 10;
+    else
+      return std::nullopt;
+    color[i / 2] = uint8_t(color[i / 2] * 16 + v);
+  }
+  return color;
+}
+
 }  // namespace
+
+std::string colorHex(const std::array<uint8_t, 3>& color) {
+  static constexpr char kDigits[] = "0123456789abcdef";
+  std::string s = "#";
+  for (uint8_t c : color) {
+    s += kDigits[c >> 4];
+    s += kDigits[c & 15];
+  }
+  return s;
+}
 
 Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const TilesetHeader& header,
                                              const std::string& subject) {
@@ -67,6 +97,28 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
       }
     }
   }
+  const auto materials = j.find("materials");
+  if (materials != j.end()) {
+    if (!materials->is_array() || materials->size() > kMaxTilesetMaterials)
+      return bad("\"materials\" is not an array of at most " +
+                 std::to_string(kMaxTilesetMaterials) + " materials");
+    for (size_t i = 0; i < materials->size(); ++i) {
+      const json& e = (*materials)[i];
+      const auto id = e.is_object() ? e.find("id") : e.end();
+      const auto name = e.is_object() ? e.find("name") : e.end();
+      const auto color = e.is_object() ? e.find("color") : e.end();
+      const auto rgb = color != e.end() && color->is_string()
+                           ? parseColorHex(color->get<std::string>())
+                           : std::nullopt;
+      if (id == e.end() || !id->is_number_unsigned() || id->get<uint64_t>() > 255 ||
+          name == e.end() || !name->is_string() || !rgb)
+        return bad("material " + std::to_string(i) +
+                   " is not {\"id\": 0..255, \"name\": text, \"color\": \"#rrggbb\"}");
+      m.materials.push_back({uint8_t(id->get<uint64_t>()), name->get<std::string>(), *rgb});
+    }
+  }
+  if (header.meshKind == MeshKind::kVipm && m.materials.empty())
+    return bad("a VIPM tileset names no \"materials\"");
   return m;
 }
 

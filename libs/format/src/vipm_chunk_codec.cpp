@@ -98,7 +98,8 @@ Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::
   c.zStep = r.get<double>();
   c.errorStep = r.get<float>();
   c.finestError = r.get<float>();
-  if (c.width < 2 || c.width > 65 || c.height < 2 || c.height > 65) return bad("bad grid size");
+  if (c.width < 2 || c.width > kVipmMaxGridPoints || c.height < 2 || c.height > kVipmMaxGridPoints)
+    return bad("bad grid size");
   const uint32_t points = uint32_t(c.width) * c.height;
   if (n < 3 || n > points || collapses > n - 3) return bad("bad vertex or collapse count");
   if (triangles == 0 || triangles > 2 * uint32_t(c.width - 1) * uint32_t(c.height - 1) ||

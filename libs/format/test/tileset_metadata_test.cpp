@@ -71,5 +71,39 @@ TEST(TilesetMetadata, RefusesWhatIsNotWhatTheWriterWrites) {
             bad + "normal_size\" (2^k + 1 texels, at most 4097)");
 }
 
+TEST(TilesetMetadata, ReadsAVipmTilesetsMaterials) {
+  TilesetHeader vipm;
+  vipm.levelCount = 2;
+  vipm.meshKind = MeshKind::kVipm;
+  auto m = parseTilesetMetadata(
+      R"({"materials": [{"id": 11, "name": "water", "color": "#1f4e8C"},
+                        {"id": 42, "name": "rock", "color": "#808080"}]})",
+      vipm, "v.tlod");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  const std::vector<TilesetMaterial> expected{{11, "water", {0x1f, 0x4e, 0x8c}},
+                                              {42, "rock", {0x80, 0x80, 0x80}}};
+  EXPECT_EQ(m->materials, expected);
+  EXPECT_EQ(colorHex(expected[0].color), "#1f4e8c");
+
+  const std::string prefix = "v.tlod: invalid tileset metadata: ";
+  auto error = [&](const std::string& json) {
+    auto r = parseTilesetMetadata(json, vipm, "v.tlod");
+    return r.ok() ? "ok" : r.error().message;
+  };
+  EXPECT_EQ(error("{}"), prefix + "a VIPM tileset names no \"materials\"");
+  EXPECT_EQ(error(R"({"materials": []})"), prefix + "a VIPM tileset names no \"materials\"");
+  EXPECT_EQ(error(R"({"materials": 3})"),
+            prefix + "\"materials\" is not an array of at most 8 materials");
+  const std::string shape =
+      prefix + "material 0 is not {\"id\": 0..255, \"name\": text, \"color\": \"#rrggbb\"}";
+  for (const char* bad : {R"({"id": 256, "name": "a", "color": "#000000"})",
+                          R"({"id": 1, "name": 2, "color": "#000000"})",
+                          R"({"id": 1, "name": "a", "color": "#00000g"})",
+                          R"({"id": 1, "name": "a", "color": "000000"})", R"(5)"})
+    EXPECT_EQ(error(std::string(R"({"materials": [)") + bad + "]}"), shape) << bad;
+  // Static tilesets need none.
+  EXPECT_EQ(parseError("{}"), "ok");
+}
+
 }  // namespace
 }  // namespace terralod

@@ -31,7 +31,13 @@ inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 /// VIPM chunks) get new values.
 enum class MeshKind : uint8_t {
   kStaticRtin = 1,  ///< static RTIN mesh with per-vertex morph deltas and skirts
+  kVipm = 2,        ///< a VIPM chunk blob (vipm_chunk_codec.h); docs/format.md "VIPM tilesets"
 };
+
+/// VIPM tilesets (docs/format.md "VIPM tilesets"): two levels, fallback roots of 128 cells over
+/// progressive-mesh leaves of 64 cells.
+inline constexpr uint32_t kVipmLeafCells = 64;
+inline constexpr uint32_t kVipmRootCells = 128;
 
 /// TilesetHeader::flags (version 2).
 inline constexpr uint32_t kTilesetTextured = 1u;  ///< every node has a texture blob

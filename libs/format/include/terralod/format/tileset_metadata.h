@@ -4,6 +4,7 @@
 // and each level's texture tile sizes (for the renderer's mip placement and for export).
 // What nobody reads stays in the JSON (`terralod info` prints it whole).
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,6 +23,18 @@ struct TextureLevelSizes {
   friend bool operator==(const TextureLevelSizes&, const TextureLevelSizes&) = default;
 };
 
+/// A material of a VIPM tileset ("materials"; its position in the list is the material index
+/// the chunk blobs store per vertex).
+struct TilesetMaterial {
+  uint8_t id = 0;                  ///< the class value as the user knows it
+  std::string name;                ///< e.g. "rock"
+  std::array<uint8_t, 3> color{};  ///< average colour, sRGB ("#rrggbb" in the JSON)
+  friend bool operator==(const TilesetMaterial&, const TilesetMaterial&) = default;
+};
+
+/// Materials a VIPM tileset may name (one splatting pass each; blobs store indices < 8).
+inline constexpr size_t kMaxTilesetMaterials = 8;
+
 struct TilesetMetadata {
   /// "source": "encoding" as written ("none", "terrain-rgb", "terrarium").
   std::string sourceEncoding = "none";
@@ -32,7 +45,12 @@ struct TilesetMetadata {
   /// "texture": "levels", root level first: one per level, or empty when the tileset is
   /// untextured or was written before the sizes were recorded.
   std::vector<TextureLevelSizes> textureLevels;
+  /// "materials": required, 1..8 of them, in VIPM tilesets (header meshKind 2); empty otherwise.
+  std::vector<TilesetMaterial> materials;
 };
+
+/// "#rrggbb" for a colour (what "materials" stores).
+std::string colorHex(const std::array<uint8_t, 3>& color);
 
 /// Parses and validates `json` for a tileset with `header`; `subject` names the file in
 /// errors. Refuses what is not a JSON object, and fields of the wrong type or out of range

@@ -15,8 +15,12 @@
 
 namespace terralod {
 
+/// Grid points a side of a VIPM blob at most: 65 for a leaf, 129 for a fallback root (its four
+/// children's coarsest levels, no collapses).
+inline constexpr uint32_t kVipmMaxGridPoints = 129;
+
 struct VipmChunkData {
-  uint8_t width = 0, height = 0;  ///< the chunk's grid points along x and y, 2..65
+  uint8_t width = 0, height = 0;  ///< the chunk's grid points along x and y, 2..129
   double zBase = 0.0;             ///< height = zBase + z * zStep (metres)
   double zStep = 1.0;
   float errorStep = 1.0f;          ///< a collapse's error = its quantised error * errorStep
