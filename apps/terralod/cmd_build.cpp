@@ -64,6 +64,22 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto noTexture = std::make_shared<bool>(false);
   cmd->add_flag("--no-texture", *noTexture,
                 "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
+  auto kind = std::make_shared<std::string>("static");
+  cmd->add_option("--kind", *kind,
+                  "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
+                  "64-cell chunk with material-aware collapses; untextured)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"static", "vipm"}));
+  cmd->add_option("--materials", options->materialsPath,
+                  "vipm: categorical raster of material classes (any CRS; nearest-neighbour onto "
+                  "the DEM; at most 8 classes); default: classify the DEM (water, grass, soil, "
+                  "rock, snow)");
+  cmd->add_option("--palette", options->palettePath,
+                  "vipm: JSON palette naming the classes of --materials "
+                  "({\"classes\": [{\"value\", \"name\", \"color\"}]})");
+  auto noRules = std::make_shared<bool>(false);
+  cmd->add_flag("--no-material-rules", *noRules,
+                "vipm: collapse without the material rules (shows what they buy)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -73,13 +89,28 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build dem.tif --texture ortho.tif --max-error 0.5 -o dem.tlod\n"
       "  terralod build tile.png --encoding terrarium -o tile.tlod\n"
       "  terralod build scan.tif --band 2 -o scan.tlod\n"
+      "  terralod build dem.tif --kind vipm --materials classes.tif -o dem.tlod\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
-  cmd->callback([&run, options, encoding, spacing, verbose, noTexture] {
-    run = [options, encoding, spacing, verbose, noTexture] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules] {
+    run = [options, encoding, spacing, verbose, noTexture, kind, noRules] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
+      if (*kind == "vipm") {
+        if (!options->textureImage.empty())
+          return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
+        options->kind = ChunkKind::kVipm;
+        options->textures = false;  // VIPM tilesets are untextured
+        options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
+      } else {
+        for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},
+                                   std::pair{!options->palettePath.empty(), "--palette"},
+                                   std::pair{*noRules, "--no-material-rules"}})
+          if (given) return fail(std::string(name) + " applies to --kind vipm only");
+      }
+      if (!options->palettePath.empty() && options->materialsPath.empty())
+        return fail("--palette names the classes of --materials, which is missing");
       options->dem.encoding = *parseHeightEncoding(*encoding);
       if (options->dem.band != 0 && options->dem.encoding != HeightEncoding::kPlain)
         return fail(
@@ -107,6 +138,12 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           s.vertices ? double(geometryBytes) / double(s.vertices) : 0.0,
           double(geometryBytes) / double(s.sourceSamples), texture,
           (unsigned long long)s.filledVoids, s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
+      if (options->kind == ChunkKind::kVipm)
+        std::printf(
+            "terralod: vipm: %u materials, %llu collapses, %.1f ms per leaf chunk (median; max "
+            "%.1f ms)\n",
+            s.materials, (unsigned long long)s.collapses, s.chunkSecondsMedian * 1e3,
+            s.chunkSecondsMax * 1e3);
       if (*verbose)
         std::printf(
             "terralod: %s input, %d error pass(es), %llu triangles scanned exactly, %llu "
