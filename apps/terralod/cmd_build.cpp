@@ -140,7 +140,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           (unsigned long long)s.filledVoids, s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
       if (options->kind == ChunkKind::kVipm)
         std::printf(
-            "terralod: vipm: %u materials, %llu collapses, %.1f ms per leaf chunk (median; max "
+            "terralod: vipm: %u materials, %llu collapses, %.1f ms CPU per leaf chunk (median; max "
             "%.1f ms)\n",
             s.materials, (unsigned long long)s.collapses, s.chunkSecondsMedian * 1e3,
             s.chunkSecondsMax * 1e3);

@@ -39,7 +39,7 @@ struct VipmLeaf {
   /// and that level's border polyline (docs/format.md "Node fields").
   double borderDeviation = 0.0;
   uint32_t collapses = 0;
-  double seconds = 0.0;  ///< wall time of this leaf
+  double seconds = 0.0;  ///< CPU time building this leaf (its thread's)
 };
 
 struct VipmLeafParams {
