@@ -56,11 +56,12 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "Image to drape (any georeferenced raster GDAL reads, in any CRS and "
                   "resolution); default: a generated colour (palette in metres, water, snow by "
                   "latitude, rock, occlusion)");
-  cmd->add_option("--min-tau", options->textureTau,
-                  "Size textures so that no texel covers more than one pixel at this τ "
-                  "(pixels) or below (the source's own resolution permitting)")
-      ->capture_default_str()
-      ->check(positiveNumber());
+  auto* minTau =
+      cmd->add_option("--min-tau", options->textureTau,
+                      "Size textures so that no texel covers more than one pixel at this τ "
+                      "(pixels) or below (the source's own resolution permitting)")
+          ->capture_default_str()
+          ->check(positiveNumber());
   auto noTexture = std::make_shared<bool>(false);
   cmd->add_flag("--no-texture", *noTexture,
                 "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
@@ -92,14 +93,18 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build dem.tif --kind vipm --materials classes.tif -o dem.tlod\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
-  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules] {
-    run = [options, encoding, spacing, verbose, noTexture, kind, noRules] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
+    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
       if (*kind == "vipm") {
         if (!options->textureImage.empty())
           return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
+        if (minTau->count() > 0)
+          return fail(
+              "--min-tau does not apply to --kind vipm (it sizes textures; VIPM "
+              "tilesets have none)");
         options->kind = ChunkKind::kVipm;
         options->textures = false;  // VIPM tilesets are untextured
         options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
