@@ -134,15 +134,21 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       char texture[64] = "";
       if (s.textureBytes)
         std::snprintf(texture, sizeof texture, " + %.2f MB textures", s.textureBytes / 1e6);
+      char phases[64];
+      if (options->kind == ChunkKind::kVipm)
+        std::snprintf(phases, sizeof phases, "chunks %.2f s", s.meshSeconds);
+      else
+        std::snprintf(phases, sizeof phases, "errors %.2f s, meshes %.2f s", s.errorSeconds,
+                      s.meshSeconds);
       std::printf(
           "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %llu vertices, %.2f MB "
           "geometry (%.2f bytes/vertex, %.3f bytes/sample)%s, %llu voids filled, %.2f s (%s, "
-          "errors %.2f s, meshes %.2f s)\n",
+          "%s)\n",
           options->output.c_str(), s.levels, (unsigned long long)s.chunks,
           (unsigned long long)s.triangles, (unsigned long long)s.vertices, geometryBytes / 1e6,
           s.vertices ? double(geometryBytes) / double(s.vertices) : 0.0,
           double(geometryBytes) / double(s.sourceSamples), texture,
-          (unsigned long long)s.filledVoids, s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
+          (unsigned long long)s.filledVoids, s.totalSeconds, read, phases);
       if (options->kind == ChunkKind::kVipm)
         std::printf(
             "terralod: vipm: %u materials, %llu collapses, %.1f ms CPU per leaf chunk (median; max "
