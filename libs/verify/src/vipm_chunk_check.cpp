@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "terralod/core/sample_raster.h"
+#include "terralod/format/tileset_format.h"
 #include "terralod/materials/material.h"
 #include "terralod/verify/verifier.h"
 #include "terralod/vipm/vipm_levels.h"
@@ -157,6 +158,31 @@ void widenSides(const Grid& g, const std::array<std::vector<uint16_t>, 4>& sides
   }
 }
 
+constexpr int32_t kLeafPoints = int32_t(kVipmLeafCells) + 1;
+
+// Each quarter's surface from the triangles inside it (see VipmChunkCheck::quarters).
+std::array<std::vector<double>, 4> quarterSurfaces(const Grid& g,
+                                                   const std::vector<Triangle>& triangles) {
+  std::array<std::vector<double>, 4> out;
+  const int32_t cells = int32_t(kVipmLeafCells);
+  for (int q = 0; q < 4; ++q) {
+    const int32_t qx = (q & 1) * cells, qy = (q >> 1) * cells;
+    out[q].assign(size_t(kLeafPoints) * kLeafPoints, std::numeric_limits<double>::quiet_NaN());
+    auto inside = [&](uint16_t v) {
+      return g.x(v) >= qx && g.x(v) <= qx + cells && g.y(v) >= qy && g.y(v) <= qy + cells;
+    };
+    for (const Triangle& t : triangles) {
+      if (!inside(t[0]) || !inside(t[1]) || !inside(t[2])) continue;
+      rasterizeTriangle(
+          SampleVertex{g.x(t[0]) - qx, g.y(t[0]) - qy, g.z(t[0])},
+          SampleVertex{g.x(t[1]) - qx, g.y(t[1]) - qy, g.z(t[1])},
+          SampleVertex{g.x(t[2]) - qx, g.y(t[2]) - qy, g.z(t[2])}, 0, cells, 0, cells,
+          [&](int64_t x, int64_t y, double z) { out[q][size_t(y * kLeafPoints + x)] = z; });
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
@@ -231,6 +257,7 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
     }
     if (j == collapses) {
       out.coarsestHeights = surface;
+      if (w > kLeafPoints || h > kLeafPoints) out.quarters = quarterSurfaces(g, triangles);
       break;
     }
     const uint16_t v = uint16_t(n - 1 - j), t = c.targets[j];

@@ -36,6 +36,11 @@ struct VipmChunkCheck {
   std::array<SideEnvelope, 4> sides;
   /// The coarsest level's height at every grid point of the chunk (y * width + x).
   std::vector<double> coarsestHeights;
+  /// Fallback roots (wider than a leaf): the coarsest level of each 64-cell quarter, SW, SE,
+  /// NW, NE (65 x 65 grid points each, NaN where none of its triangles reach), drawn from
+  /// the triangles inside that quarter only: its children's meshes joined side by side, whose
+  /// shared sides need not match (flanges close them, as between leaves).
+  std::array<std::vector<double>, 4> quarters;
   std::vector<std::string> problems;  ///< what is wrong, one line each (without the chunk name)
 };
 

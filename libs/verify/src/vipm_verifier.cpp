@@ -24,7 +24,8 @@ struct Checked {
   int32_t width = 0, height = 0;
   std::array<SideEnvelope, 4> sides;  // south, east, north, west
   std::vector<double> coarsest;
-  double lastError = 0;  // recorded error of its coarsest LOD
+  std::array<std::vector<double>, 4> quarters;  // roots
+  double lastError = 0;                         // recorded error of its coarsest LOD
   double trueFinest = 0;
 };
 
@@ -115,6 +116,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
            chunk->height,
            c.sides,
            c.coarsestHeights,
+           c.quarters,
            chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
                                   : double(chunk->finestError),
            c.finestError};
@@ -170,13 +172,18 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
         const auto child = find(1, 2 * int64_t(n.x) + (q & 1), 2 * int64_t(n.y) + (q >> 1));
         if (!child || !checked[*child].ok) continue;
         const Checked& c = checked[*child];
+        // A root no wider than a leaf has one child, drawn whole.
+        const bool whole = a.quarters[size_t(q)].empty();
+        const std::vector<double>& quarter = whole ? a.coarsest : a.quarters[size_t(q)];
+        const int32_t stride = whole ? a.width : int32_t(kVipmLeafCells + 1);
+        if (nodes[*child].maxSkirtDepth > n.maxSkirtDepth)
+          addFailure(name(i) + ": its flanges are shallower than child " + std::to_string(*child) +
+                     "'s");
         double worst = 0;
         for (int32_t y = 0; y < c.height; ++y)
           for (int32_t x = 0; x < c.width; ++x) {
-            const int64_t rx = c.x0 - a.x0 + x, ry = c.y0 - a.y0 + y;
-            if (rx >= a.width || ry >= a.height) continue;
-            const double d = std::fabs(a.coarsest[size_t(ry * a.width + rx)] -
-                                       c.coarsest[size_t(y * c.width + x)]);
+            const double d =
+                std::fabs(quarter[size_t(y * stride + x)] - c.coarsest[size_t(y * c.width + x)]);
             worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
             ++stats.fallbackSamples;
           }
