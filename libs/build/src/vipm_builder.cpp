@@ -121,6 +121,14 @@ void setFlangeDepths(std::vector<NodeRecord>& nodes, const std::vector<double>& 
     }
     n.maxSkirtDepth = floatAbove(inside + outside + zStep);
   }
+  // A root draws its children's coarsest levels side by side, with their flanges between
+  // them: at least as deep as each child's.
+  for (NodeRecord& n : nodes) {
+    if (n.level != 0 || n.firstChild == kNoNode) continue;
+    const int children = std::popcount(unsigned(n.childMask));
+    for (int c = 0; c < children; ++c)
+      n.maxSkirtDepth = std::max(n.maxSkirtDepth, nodes[n.firstChild + uint32_t(c)].maxSkirtDepth);
+  }
 }
 
 std::string metadataJson(const DemInfo& info, const BuildOptions& options, const BuildSummary& s,
