@@ -4,6 +4,7 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -179,7 +180,16 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   summary.materials = uint32_t(materials->materials.size());
   warnAboutSource(info, warn);
 
-  const double zStep = vipmTilesetZStep(options.maxError, largestRootRange(*heights, layout));
+  const double rootRange = largestRootRange(*heights, layout);
+  const double zStep = vipmTilesetZStep(options.maxError, rootRange);
+  if (zStep > options.maxError) {  // rounding alone would take half the error budget
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "--max-error %g m is too fine for 16-bit heights over a root's %.0f m of "
+                  "relief; use at least %.3g m",
+                  options.maxError, rootRange, vipmTilesetZStep(rootRange / 65000.0, rootRange));
+    return makeError(info.path, text);
+  }
   std::vector<NodeRecord> nodes = enumerateNodes(layout);
   const size_t rootCount = size_t(layout.rootsX) * size_t(layout.rootsY);
   const size_t leafCount = nodes.size() - rootCount;
