@@ -120,6 +120,9 @@ void setFlangeDepths(std::vector<NodeRecord>& nodes, const std::vector<double>& 
       outside = std::max({outside, dev(x0 - 1, y0 + k), dev(x0 + size, y0 + k), dev(x0 + k, y0 - 1),
                           dev(x0 + k, y0 + size)});
     }
+    // A root also covers the seams between its children, which need not simplify their
+    // shared sides alike (T-junctions): there a gap is at most twice the inside deviation.
+    if (n.level == 0) outside = std::max(outside, inside);
     n.maxSkirtDepth = floatAbove(inside + outside + zStep);
   }
 }
