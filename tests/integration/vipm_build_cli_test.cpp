@@ -116,6 +116,9 @@ TEST_F(VipmBuildCli, RefusesBadMaterialsAndOptionsThatDoNotApply) {
       {"chunk cells with vipm",
        {"build", kDem, "--kind", "vipm", "--chunk-cells", "32", "-o", out},
        "--chunk-cells: VIPM chunks are always 64 cells"},
+      {"error too fine",
+       {"build", kDem, "--kind", "vipm", "--max-error", "0.00001", "-o", out},
+       "gzcommon_dem_squared_129.tif: --max-error 1e-05 m is too fine for 16-bit heights"},
       {"unknown kind", {"build", kDem, "--kind", "rtin", "-o", out}, "--kind"},
   };
   const std::vector<std::string> before = filesIn(mDir.path());

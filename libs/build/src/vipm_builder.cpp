@@ -1,9 +1,9 @@
 #include "terralod/build/vipm_builder.h"
 
 #include <algorithm>
-#include <bit>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -119,15 +119,10 @@ void setFlangeDepths(std::vector<NodeRecord>& nodes, const std::vector<double>& 
       outside = std::max({outside, dev(x0 - 1, y0 + k), dev(x0 + size, y0 + k), dev(x0 + k, y0 - 1),
                           dev(x0 + k, y0 + size)});
     }
+    // A root also covers the seams between its children, which need not simplify their
+    // shared sides alike (T-junctions): there a gap is at most twice the inside deviation.
+    if (n.level == 0) outside = std::max(outside, inside);
     n.maxSkirtDepth = floatAbove(inside + outside + zStep);
-  }
-  // A root draws its children's coarsest levels side by side, with their flanges between
-  // them: at least as deep as each child's.
-  for (NodeRecord& n : nodes) {
-    if (n.level != 0 || n.firstChild == kNoNode) continue;
-    const int children = std::popcount(unsigned(n.childMask));
-    for (int c = 0; c < children; ++c)
-      n.maxSkirtDepth = std::max(n.maxSkirtDepth, nodes[n.firstChild + uint32_t(c)].maxSkirtDepth);
   }
 }
 
@@ -187,7 +182,16 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   summary.materials = uint32_t(materials->materials.size());
   warnAboutSource(info, warn);
 
-  const double zStep = vipmTilesetZStep(options.maxError, largestRootRange(*heights, layout));
+  const double rootRange = largestRootRange(*heights, layout);
+  const double zStep = vipmTilesetZStep(options.maxError, rootRange);
+  if (zStep > options.maxError) {  // rounding alone would take half the error budget
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "--max-error %g m is too fine for 16-bit heights over a root's %.0f m of "
+                  "relief; use at least %.3g m",
+                  options.maxError, rootRange, vipmTilesetZStep(rootRange / 65000.0, rootRange));
+    return makeError(info.path, text);
+  }
   std::vector<NodeRecord> nodes = enumerateNodes(layout);
   const size_t rootCount = size_t(layout.rootsX) * size_t(layout.rootsY);
   const size_t leafCount = nodes.size() - rootCount;
