@@ -105,7 +105,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           return fail(
               "--min-tau does not apply to --kind vipm (it sizes textures; VIPM "
               "tilesets have none)");
-        options->kind = ChunkKind::kVipm;
+        options->kind = TilesetKind::kVipm;
         options->textures = false;  // VIPM tilesets are untextured
         options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
       } else {
@@ -135,7 +135,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       if (s.textureBytes)
         std::snprintf(texture, sizeof texture, " + %.2f MB textures", s.textureBytes / 1e6);
       char phases[64];
-      if (options->kind == ChunkKind::kVipm)
+      if (options->kind == TilesetKind::kVipm)
         std::snprintf(phases, sizeof phases, "chunks %.2f s", s.meshSeconds);
       else
         std::snprintf(phases, sizeof phases, "errors %.2f s, meshes %.2f s", s.errorSeconds,
@@ -149,7 +149,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           s.vertices ? double(geometryBytes) / double(s.vertices) : 0.0,
           double(geometryBytes) / double(s.sourceSamples), texture,
           (unsigned long long)s.filledVoids, s.totalSeconds, read, phases);
-      if (options->kind == ChunkKind::kVipm)
+      if (options->kind == TilesetKind::kVipm)
         std::printf(
             "terralod: vipm: %u materials, %llu collapses, %.1f ms CPU per leaf chunk (median; max "
             "%.1f ms)\n",

@@ -116,7 +116,7 @@ Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& p
 
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
                                   const std::function<void(const std::string&)>& warn) {
-  if (options.kind == ChunkKind::kVipm) return buildVipmTileset(options, progress, warn);
+  if (options.kind == TilesetKind::kVipm) return buildVipmTileset(options, progress, warn);
   const auto start = Clock::now();
   BuildSummary summary;
   auto opened = DemReader::open(options.input, options.dem);

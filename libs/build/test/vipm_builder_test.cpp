@@ -83,7 +83,7 @@ BuildOptions vipmOptions(const std::string& input, const std::string& output) {
   BuildOptions o;
   o.input = input;
   o.output = output;
-  o.kind = ChunkKind::kVipm;
+  o.kind = TilesetKind::kVipm;
   o.textures = false;
   o.threads = 2;
   return o;

@@ -22,7 +22,7 @@ enum class Streaming {
 };
 
 /// What kind of chunks a build writes (docs/format.md).
-enum class ChunkKind : uint8_t {
+enum class TilesetKind : uint8_t {
   kStatic,  ///< the chunked LOD tree of static RTIN meshes (mesh kind 1)
   kVipm,    ///< progressive meshes per 64-cell chunk under fallback roots (mesh kind 2)
 };
@@ -41,7 +41,7 @@ struct BuildOptions {
   bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
   std::string textureImage;  ///< draped image; empty: the generated colour
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
-  ChunkKind kind = ChunkKind::kStatic;
+  TilesetKind kind = TilesetKind::kStatic;
   // VIPM only (kind kVipm):
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
