@@ -43,9 +43,9 @@ VipmChunkKind::~VipmChunkKind() = default;
 Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[blob.node];
-  auto decoded = decodeVipmPayload(
-      blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
-      {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
+  auto decoded =
+      decodeVipmPayload(blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
+                        {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
   if (!decoded) return decoded.error();
   auto payload = std::make_unique<Payload>();
   payload->chunk = std::move(decoded).value();

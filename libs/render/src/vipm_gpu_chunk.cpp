@@ -94,7 +94,8 @@ void VipmGpuChunk::update(double theta, Geomorph geomorph) {
   // Those that morphed go back to their own positions, then the window morphs.
   const bool morphed = previous.morphing > previous.applied;
   const bool morphs = window.morphing > window.applied;
-  for (uint32_t j = previous.applied; j < previous.morphing; ++j) mDrawn[n - 1 - j] = mOwn[n - 1 - j];
+  for (uint32_t j = previous.applied; j < previous.morphing; ++j)
+    mDrawn[n - 1 - j] = mOwn[n - 1 - j];
   if (morphs)
     morphPositions(mMesh, window, theta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
   mWindow = window;

@@ -95,7 +95,7 @@ TEST(VipmNormalMap, PlanesGiveTheirNormalEverywhereIncludingTheEdges) {
 // The border polyline of side `bit` after `applied` collapses, straight from the mesh: the
 // edges of living triangles with both ends on the side.
 std::set<std::pair<uint16_t, uint16_t>> borderEdges(const UnpackedChunk& c, uint32_t applied,
-                                                   bool (*on)(int32_t, int32_t, int32_t)) {
+                                                    bool (*on)(int32_t, int32_t, int32_t)) {
   auto levels = VipmLevels::reconstruct(c.mesh, c.materials);
   EXPECT_TRUE(levels.ok());
   levels->setApplied(applied);

@@ -17,8 +17,7 @@ namespace terralod {
 /// θ for a chunk whose unconstrained allowance is `tauDistanceOverK` (τ·D/K), drawn with
 /// morph parameter `morph`, of level error `ownError` under a parent of `parentError` (for a
 /// root, its own).
-inline double vipmTheta(double tauDistanceOverK, float morph, double ownError,
-                        double parentError) {
+inline double vipmTheta(double tauDistanceOverK, float morph, double ownError, double parentError) {
   const double t = std::clamp(double(morph), 0.0, 1.0);
   return std::max(tauDistanceOverK, ownError + t * (parentError - ownError));
 }
