@@ -58,12 +58,17 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
 uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
   auto chunk = std::make_unique<VipmGpuChunk>(static_cast<const Payload&>(payload).chunk);
   const uint64_t bytes = chunk->bytes();
+  mGpuBytes += chunk->gpuBytes();
+  if (auto& slot = mChunks[node]) mGpuBytes -= slot->gpuBytes();
   mChunks[node] = std::move(chunk);
   return bytes;
 }
 
 void VipmChunkKind::release(uint32_t node) {
-  mChunks.erase(node);
+  auto it = mChunks.find(node);
+  if (it == mChunks.end()) return;
+  mGpuBytes -= it->second->gpuBytes();
+  mChunks.erase(it);
 }
 
 uint32_t VipmChunkKind::appliedCollapses(uint32_t node) const {
@@ -75,8 +80,8 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
   const ChunkTree& tree = frame.tree;
   const View& view = frame.context.view;
   const Geomorph geomorph = frame.selection.morph ? Geomorph::kOn : Geomorph::kOff;
-  std::vector<VipmPass::Draw> draws;
-  draws.reserve(chunks.size());
+  std::vector<VipmDraw>& draws = mDraws;
+  draws.clear();
   for (const SelectedChunk& s : chunks) {
     auto it = mChunks.find(s.node);
     if (it == mChunks.end()) {

@@ -68,8 +68,8 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   glTextureParameteri(mNormalMap.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
-  mBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + p.normals.size() +
-           p.bytes() + uint64_t(positionBytes);
+  mGpuBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + p.normals.size();
+  mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes);
   update(0.0, Geomorph::kOff);
 }
 

@@ -59,6 +59,8 @@ class VipmGpuChunk {
   double zBase() const { return mZBase; }
   /// GPU bytes plus the CPU state kept for level changes.
   uint64_t bytes() const { return mBytes; }
+  /// GPU bytes alone.
+  uint64_t gpuBytes() const { return mGpuBytes; }
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
@@ -78,7 +80,7 @@ class VipmGpuChunk {
   GlTexture mNormalMap;
   int32_t mWidth = 0, mHeight = 0;
   double mZBase = 0.0;
-  uint64_t mBytes = 0;
+  uint64_t mBytes = 0, mGpuBytes = 0;
 };
 
 }  // namespace terralod

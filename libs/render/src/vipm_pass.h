@@ -21,6 +21,13 @@
 
 namespace terralod {
 
+/// A chunk to draw, already at the frame's level.
+struct VipmDraw {
+  const VipmGpuChunk* chunk = nullptr;
+  uint32_t node = 0;
+  float morph = 0.0f;
+};
+
 /// Detail textures repeat every this many grid cells.
 inline constexpr double kDetailCells = 32.0;
 
@@ -29,11 +36,7 @@ class VipmPass {
   /// Compiles the program and makes every material's detail texture.
   static Result<VipmPass> create(std::span<const TilesetMaterial> materials);
 
-  struct Draw {
-    const VipmGpuChunk* chunk = nullptr;
-    uint32_t node = 0;
-    float morph = 0.0f;
-  };
+  using Draw = VipmDraw;
   /// Draws `draws` (their chunks already at the frame's level) into the frame; adds draw
   /// calls and triangles (the whole chunk's and, with skirts on, the flanges') to `stats`.
   void draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,

@@ -20,6 +20,9 @@ class VipmRender : public ::testing::Test {
   static void SetUpTestSuite() {
     sDir = new test::TempDir;
     ASSERT_EQ(test::writeVipmTestTileset(sDir->file("crater.tlod")), "");
+    if (const char* dir = std::getenv("TERRALOD_VIPM_TEST_IMAGES")) {
+      ASSERT_EQ(test::writeVipmTestTileset(std::string(dir) + "/crater.tlod"), "");
+    }
   }
   static void TearDownTestSuite() { delete sDir; }
 

@@ -95,7 +95,9 @@ class TerrainScene {
   const Residency& residency() const { return mDriver->residency(); }
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
-  uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  uint64_t gpuBytes() const {
+    return mStore.residentBytes() + (mVipmKind ? mVipmKind->gpuBytes() : 0);
+  }
   /// Memory the resident chunks' occluder grids hold (horizon culling).
   uint64_t occluderBytes() const { return mDriver->occluderBytes(); }
   /// The renderer, for adding composited layers (TerrainRenderer::addLayer).

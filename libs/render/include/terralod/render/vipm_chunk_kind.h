@@ -15,6 +15,7 @@
 #include <memory>
 #include <span>
 #include <unordered_map>
+#include <vector>
 
 #include "terralod/core/result.h"
 #include "terralod/format/tileset_reader.h"
@@ -25,6 +26,7 @@ namespace terralod {
 
 class VipmPass;
 class VipmGpuChunk;
+struct VipmDraw;
 
 class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
  public:
@@ -42,6 +44,8 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
 
   /// The collapses applied now in `node` (for tests); none when it is not uploaded.
   uint32_t appliedCollapses(uint32_t node) const;
+  /// GPU memory the uploaded chunks take.
+  uint64_t gpuBytes() const { return mGpuBytes; }
 
  private:
   VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
@@ -49,6 +53,8 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   const TilesetReader& mTileset;
   std::unique_ptr<VipmPass> mPass;
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
+  uint64_t mGpuBytes = 0;
+  std::vector<VipmDraw> mDraws;  // per frame, kept to avoid allocating
 };
 
 }  // namespace terralod
