@@ -56,14 +56,31 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "Image to drape (any georeferenced raster GDAL reads, in any CRS and "
                   "resolution); default: a generated colour (palette in metres, water, snow by "
                   "latitude, rock, occlusion)");
-  cmd->add_option("--min-tau", options->textureTau,
-                  "Size textures so that no texel covers more than one pixel at this τ "
-                  "(pixels) or below (the source's own resolution permitting)")
-      ->capture_default_str()
-      ->check(positiveNumber());
+  auto* minTau =
+      cmd->add_option("--min-tau", options->textureTau,
+                      "Size textures so that no texel covers more than one pixel at this τ "
+                      "(pixels) or below (the source's own resolution permitting)")
+          ->capture_default_str()
+          ->check(positiveNumber());
   auto noTexture = std::make_shared<bool>(false);
   cmd->add_flag("--no-texture", *noTexture,
                 "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
+  auto kind = std::make_shared<std::string>("static");
+  cmd->add_option("--kind", *kind,
+                  "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
+                  "64-cell chunk with material-aware collapses; untextured)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"static", "vipm"}));
+  cmd->add_option("--materials", options->materialsPath,
+                  "vipm: categorical raster of material classes (any CRS; nearest-neighbour onto "
+                  "the DEM; at most 8 classes); default: classify the DEM (water, grass, soil, "
+                  "rock, snow)");
+  cmd->add_option("--palette", options->palettePath,
+                  "vipm: JSON palette naming the classes of --materials "
+                  "({\"classes\": [{\"value\", \"name\", \"color\"}]})");
+  auto noRules = std::make_shared<bool>(false);
+  cmd->add_flag("--no-material-rules", *noRules,
+                "vipm: collapse without the material rules (shows what they buy)");
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -73,13 +90,32 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build dem.tif --texture ortho.tif --max-error 0.5 -o dem.tlod\n"
       "  terralod build tile.png --encoding terrarium -o tile.tlod\n"
       "  terralod build scan.tif --band 2 -o scan.tlod\n"
+      "  terralod build dem.tif --kind vipm --materials classes.tif -o dem.tlod\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
-  cmd->callback([&run, options, encoding, spacing, verbose, noTexture] {
-    run = [options, encoding, spacing, verbose, noTexture] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
+    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
+      if (*kind == "vipm") {
+        if (!options->textureImage.empty())
+          return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
+        if (minTau->count() > 0)
+          return fail(
+              "--min-tau does not apply to --kind vipm (it sizes textures; VIPM "
+              "tilesets have none)");
+        options->kind = ChunkKind::kVipm;
+        options->textures = false;  // VIPM tilesets are untextured
+        options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
+      } else {
+        for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},
+                                   std::pair{!options->palettePath.empty(), "--palette"},
+                                   std::pair{*noRules, "--no-material-rules"}})
+          if (given) return fail(std::string(name) + " applies to --kind vipm only");
+      }
+      if (!options->palettePath.empty() && options->materialsPath.empty())
+        return fail("--palette names the classes of --materials, which is missing");
       options->dem.encoding = *parseHeightEncoding(*encoding);
       if (options->dem.band != 0 && options->dem.encoding != HeightEncoding::kPlain)
         return fail(
@@ -98,15 +134,27 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       char texture[64] = "";
       if (s.textureBytes)
         std::snprintf(texture, sizeof texture, " + %.2f MB textures", s.textureBytes / 1e6);
+      char phases[64];
+      if (options->kind == ChunkKind::kVipm)
+        std::snprintf(phases, sizeof phases, "chunks %.2f s", s.meshSeconds);
+      else
+        std::snprintf(phases, sizeof phases, "errors %.2f s, meshes %.2f s", s.errorSeconds,
+                      s.meshSeconds);
       std::printf(
           "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %llu vertices, %.2f MB "
           "geometry (%.2f bytes/vertex, %.3f bytes/sample)%s, %llu voids filled, %.2f s (%s, "
-          "errors %.2f s, meshes %.2f s)\n",
+          "%s)\n",
           options->output.c_str(), s.levels, (unsigned long long)s.chunks,
           (unsigned long long)s.triangles, (unsigned long long)s.vertices, geometryBytes / 1e6,
           s.vertices ? double(geometryBytes) / double(s.vertices) : 0.0,
           double(geometryBytes) / double(s.sourceSamples), texture,
-          (unsigned long long)s.filledVoids, s.totalSeconds, read, s.errorSeconds, s.meshSeconds);
+          (unsigned long long)s.filledVoids, s.totalSeconds, read, phases);
+      if (options->kind == ChunkKind::kVipm)
+        std::printf(
+            "terralod: vipm: %u materials, %llu collapses, %.1f ms CPU per leaf chunk (median; max "
+            "%.1f ms)\n",
+            s.materials, (unsigned long long)s.collapses, s.chunkSecondsMedian * 1e3,
+            s.chunkSecondsMax * 1e3);
       if (*verbose)
         std::printf(
             "terralod: %s input, %d error pass(es), %llu triangles scanned exactly, %llu "

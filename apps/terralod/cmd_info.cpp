@@ -13,6 +13,18 @@ struct LevelStats {
   uint64_t chunks = 0, vertices = 0, triangles = 0, skirtTriangles = 0, bytes = 0, textureBytes = 0;
 };
 
+std::string kindName(const TilesetHeader& h) {
+  return h.meshKind == MeshKind::kVipm ? "vipm" : "static";
+}
+
+// [{id, name, color}], material index order (empty for static tilesets).
+nlohmann::json materialsJson(const TilesetMetadata& metadata) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const TilesetMaterial& m : metadata.materials)
+    list.push_back({{"id", m.id}, {"name", m.name}, {"color", colorHex(m.color)}});
+  return list;
+}
+
 int printInfo(const std::string& path, bool json) {
   auto opened = TilesetReader::openPathOrUrl(path);  // a path or an http(s):// URL
   if (!opened) return fail(opened.error().message);
@@ -39,6 +51,8 @@ int printInfo(const std::string& path, bool json) {
     nlohmann::json j;
     j["file"] = path;
     j["format_version"] = h.version;
+    j["kind"] = kindName(h);
+    j["materials"] = materialsJson(t.metadata());
     j["levels"] = h.levelCount;
     j["chunks"] = total.chunks;
     j["vertices"] = total.vertices;
@@ -88,6 +102,15 @@ int printInfo(const std::string& path, bool json) {
     std::printf("  spacing         %.4f x %.4f m (%s)\n", h.spacingX, h.spacingY,
                 s.value("spacing_source", "?").c_str());
   }
+  std::printf("  kind            %s\n",
+              h.meshKind == MeshKind::kVipm
+                  ? "vipm (a progressive mesh per 64-cell leaf, fallback roots)"
+                  : "static (chunked LOD, RTIN meshes)");
+  const auto& materials = t.metadata().materials;
+  for (size_t i = 0; i < materials.size(); ++i)
+    std::printf("  %-15s %zu: %s (id %u, %s)\n", i == 0 ? "materials" : "", i,
+                materials[i].name.c_str(), unsigned(materials[i].id),
+                colorHex(materials[i].color).c_str());
   std::printf("  extent          x %.1f..%.1f  y %.1f..%.1f  z %.1f..%.1f m\n", h.extentMin[0],
               h.extentMax[0], h.extentMin[1], h.extentMax[1], h.extentMin[2], h.extentMax[2]);
   std::printf("  filled voids    %llu (%.3f%% of samples)\n", (unsigned long long)h.filledVoids,

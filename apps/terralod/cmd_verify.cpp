@@ -7,6 +7,22 @@
 #include "terralod/verify/verifier.h"
 
 namespace terralod::cli {
+namespace {
+
+void printVipmChecks(const VipmVerifyStats& v) {
+  std::printf(
+      "  VIPM: %llu LODs, smallest (recorded - true error) %.4f m; %llu collapses, %llu "
+      "break a material rule (%s); vertex materials %s: %llu differ; parts agree at %llu "
+      "LODs; roots vs children's coarsest LOD: %llu samples, largest difference %.6f m\n",
+      (unsigned long long)v.lods, v.worstErrorMargin, (unsigned long long)v.collapsesChecked,
+      (unsigned long long)v.ruleViolations,
+      v.rulesPromised ? "built with the rules" : "built with --no-material-rules",
+      v.materialsFromSource ? "against the source's" : "not checked against the source",
+      (unsigned long long)v.materialMismatches, (unsigned long long)v.partLevelsChecked,
+      (unsigned long long)v.fallbackSamples, v.fallbackMismatch);
+}
+
+}  // namespace
 
 void addVerifyCommand(CLI::App& root, Runner& run) {
   auto* cmd = root.add_subcommand(
@@ -21,6 +37,12 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
                   "Tileset: a .tlod file, or an http(s):// URL of one (read with range requests)")
       ->required();
   cmd->add_option("--source", *source, "The raster the tileset was built from")->required();
+  cmd->add_option("--materials", options->materialsPath,
+                  "VIPM tilesets built with --materials: that categorical raster, to check every "
+                  "vertex's material against (without it, against the stored materials only)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--palette", options->palettePath, "The --palette the tileset was built with")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")
       ->check(wholeNumber<unsigned>());
   cmd->footer(
@@ -53,9 +75,10 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
           "morphed chunk shows its parent's exact surface rounded to its own step, the parent "
           "draws its vertices rounded to its step, and both are linear over the chunk's "
           "triangles (which refine the parent's)\n");
-      std::printf("  skirts: %llu chunk pairs, %llu border samples, smallest margin %.4f m\n",
-                  (unsigned long long)r.skirtPairs, (unsigned long long)r.skirtSamples,
-                  r.worstSkirtMargin);
+      if (r.vipm) printVipmChecks(*r.vipm);
+      std::printf("  %s: %llu chunk pairs, %llu border samples, smallest margin %.4f m\n",
+                  r.vipm ? "flanges" : "skirts", (unsigned long long)r.skirtPairs,
+                  (unsigned long long)r.skirtSamples, r.worstSkirtMargin);
       if (r.ok()) {
         std::printf("verify: OK\n");
         return 0;

@@ -8,6 +8,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "load_heights.h"
+#include "source_metadata.h"
 #include "terralod/build/activation_pass.h"
 #include "terralod/build/chunk_pass.h"
 #include "terralod/build/dem_windows.h"
@@ -15,6 +17,7 @@
 #include "terralod/build/height_source.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
+#include "terralod/build/vipm_builder.h"
 #include "terralod/core/parallel.h"
 #include "terralod/format/tileset_writer.h"
 #include "terralod/raster/heightfield.h"
@@ -31,40 +34,9 @@ double secondsSince(Clock::time_point t) {
 
 constexpr uint64_t kStreamAbove = uint64_t{1} << 24;  // samples
 
-Result<Heightfield> loadHeights(const DemReader& reader, Progress& progress) {
-  const DemInfo& info = reader.info();
-  Heightfield heights(info.columns, info.rows);
-  constexpr int32_t kStrip = 256;
-  progress.begin("reading", uint64_t(info.rows));
-  for (int32_t y = 0; y < info.rows; y += kStrip) {
-    const int32_t n = std::min(kStrip, info.rows - y);
-    if (Status s = reader.readWindow(0, y, info.columns, n, heights.row(y)); !s) return s.error();
-    progress.advance(uint64_t(n));
-  }
-  progress.end();
-  return heights;
-}
-
 std::string metadataJson(const DemInfo& info, const BuildOptions& options, const BuildSummary& s,
                          const TreeLayout& layout, const TextureBuild* textures) {
-  nlohmann::json source = {
-      {"file", std::filesystem::path(info.path).filename().string()},
-      {"driver", info.driver},
-      {"data_type", info.dataType},
-      {"columns", info.columns},
-      {"rows", info.rows},
-      {"spacing", {info.spacingX, info.spacingY}},
-      {"spacing_source", info.spacingSource},
-      {"crs_wkt", info.crsWkt},
-      {"encoding", info.encoding == HeightEncoding::kPlain        ? "none"
-                   : info.encoding == HeightEncoding::kTerrainRgb ? "terrain-rgb"
-                                                                  : "terrarium"},
-  };
-  if (info.hasGeoTransform) source["geotransform"] = info.geoTransform;
-  if (info.nodata) source["nodata"] = *info.nodata;
-  // Only multi-band sources say which band held the heights: single-band tilesets keep their
-  // bytes (and the golden files stay valid).
-  if (info.encoding == HeightEncoding::kPlain && info.bandCount > 1) source["band"] = info.band;
+  const nlohmann::json source = sourceMetadata(info);
   nlohmann::json j = {
       {"generator", "terralod"},
       {"source", source},
@@ -144,6 +116,7 @@ Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& p
 
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
                                   const std::function<void(const std::string&)>& warn) {
+  if (options.kind == ChunkKind::kVipm) return buildVipmTileset(options, progress, warn);
   const auto start = Clock::now();
   BuildSummary summary;
   auto opened = DemReader::open(options.input, options.dem);
@@ -245,13 +218,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   summary.trianglesScanned = activationStats.trianglesScanned;
   summary.trianglesBounded = activationStats.trianglesBounded;
   // Warn only once the input has proven usable, so a broken input gets its one error line.
-  if (info.looksLikeImage)
-    warn(info.path +
-         ": looks like an image, not heights (one 8-bit band, no georeferencing): its values "
-         "0..255 are taken as metres on 1 m cells; for a heightmap give --spacing and "
-         "--vertical-scale");
-  else if (info.spacingAssumed)
-    warn(info.path + ": " + info.spacingSource);
+  warnAboutSource(info, warn);
 
   const auto meshStart = Clock::now();
   std::vector<NodeRecord> nodes = enumerateNodes(*layout);

@@ -74,6 +74,14 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
         return bad("\"build\".\"vertical_scale\" is not a non-zero number");
       m.verticalScale = s->get<double>();
     }
+    if (const auto v = build->find("materials"); v != build->end()) {
+      if (!v->is_string()) return bad("\"build\".\"materials\" is not a string");
+      m.materialsSource = v->get<std::string>();
+    }
+    if (const auto v = build->find("material_rules"); v != build->end()) {
+      if (!v->is_boolean()) return bad("\"build\".\"material_rules\" is not true or false");
+      m.materialRules = v->get<bool>();
+    }
   }
   if (const auto texture = j.find("texture"); texture != j.end()) {
     if (!texture->is_object()) return bad("\"texture\" is not an object");

@@ -76,13 +76,16 @@ TEST(TilesetMetadata, ReadsAVipmTilesetsMaterials) {
   vipm.levelCount = 2;
   vipm.meshKind = MeshKind::kVipm;
   auto m = parseTilesetMetadata(
-      R"({"materials": [{"id": 11, "name": "water", "color": "#1f4e8C"},
+      R"({"build": {"materials": "classes.tif", "material_rules": false},
+          "materials": [{"id": 11, "name": "water", "color": "#1f4e8C"},
                         {"id": 42, "name": "rock", "color": "#808080"}]})",
       vipm, "v.tlod");
   ASSERT_TRUE(m.ok()) << m.error().message;
   const std::vector<TilesetMaterial> expected{{11, "water", {0x1f, 0x4e, 0x8c}},
                                               {42, "rock", {0x80, 0x80, 0x80}}};
   EXPECT_EQ(m->materials, expected);
+  EXPECT_EQ(m->materialsSource, "classes.tif");
+  EXPECT_FALSE(m->materialRules);
   EXPECT_EQ(colorHex(expected[0].color), "#1f4e8c");
 
   const std::string prefix = "v.tlod: invalid tileset metadata: ";
@@ -101,6 +104,8 @@ TEST(TilesetMetadata, ReadsAVipmTilesetsMaterials) {
                           R"({"id": 1, "name": "a", "color": "#00000g"})",
                           R"({"id": 1, "name": "a", "color": "000000"})", R"(5)"})
     EXPECT_EQ(error(std::string(R"({"materials": [)") + bad + "]}"), shape) << bad;
+  EXPECT_EQ(error(R"({"build": {"material_rules": 1}})"),
+            prefix + "\"build\".\"material_rules\" is not true or false");
   // Static tilesets need none.
   EXPECT_EQ(parseError("{}"), "ok");
 }

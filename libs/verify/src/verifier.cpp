@@ -12,6 +12,7 @@
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/void_fill.h"
+#include "vipm_verifier.h"
 
 namespace terralod {
 namespace {
@@ -153,15 +154,19 @@ bool interpolate(const std::vector<SidePoint>& side, int32_t coord, SidePoint& o
 
 }  // namespace
 
-Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath) {
-  const TilesetHeader& h = tileset.header();
+DemOpenOptions tilesetDemOptions(const TilesetReader& tileset) {
   DemOpenOptions dem;
   const TilesetMetadata& metadata = tileset.metadata();
   dem.encoding = parseHeightEncoding(metadata.sourceEncoding).value_or(HeightEncoding::kPlain);
   // The band the heights came from (recorded for multi-band sources only; band 1 before).
   if (dem.encoding == HeightEncoding::kPlain) dem.band = metadata.sourceBand.value_or(1);
   dem.verticalScale = metadata.verticalScale;
-  auto source = DemReader::open(sourcePath, dem);
+  return dem;
+}
+
+Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath) {
+  const TilesetHeader& h = tileset.header();
+  auto source = DemReader::open(sourcePath, tilesetDemOptions(tileset));
   if (!source) return source.error();
   const DemInfo& info = (*source)->info();
   if (uint32_t(info.columns) != h.sourceColumns || uint32_t(info.rows) != h.sourceRows)
@@ -193,6 +198,11 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   report.levels.resize(h.levelCount);
   for (uint32_t l = 0; l < h.levelCount; ++l) report.levels[l].bound = h.levelError[l];
   report.chunks = nodes.size();
+  if (h.meshKind == MeshKind::kVipm) {
+    if (Status s = verifyVipmTileset(tileset, heights, sourcePath, options, progress, report); !s)
+      return s.error();
+    return report;
+  }
   report.worstSkirtMargin = std::numeric_limits<double>::infinity();
 
   std::mutex mutex;

@@ -9,6 +9,7 @@
 #include "terralod/core/result.h"
 #include "terralod/format/chunk_codec.h"
 #include "terralod/raster/dem_reader.h"
+#include "terralod/vipm/collapse_order.h"
 
 namespace terralod {
 
@@ -18,6 +19,12 @@ enum class Streaming {
             ///< (RGB-encoded tiles are always loaded)
   kAlways,  ///< always stream (the path huge rasters take; slower for small ones)
   kNever,   ///< always load whole; fails over the memory budget
+};
+
+/// What kind of chunks a build writes (docs/format.md).
+enum class ChunkKind : uint8_t {
+  kStatic,  ///< the chunked LOD tree of static RTIN meshes (mesh kind 1)
+  kVipm,    ///< progressive meshes per 64-cell chunk under fallback roots (mesh kind 2)
 };
 
 struct BuildOptions {
@@ -34,6 +41,11 @@ struct BuildOptions {
   bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
   std::string textureImage;  ///< draped image; empty: the generated colour
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
+  ChunkKind kind = ChunkKind::kStatic;
+  // VIPM only (kind kVipm):
+  std::string materialsPath;  ///< categorical raster; empty: classify the DEM
+  std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
+  MaterialRules materialRules = MaterialRules::kOn;
 };
 
 struct BuildSummary {
@@ -51,9 +63,15 @@ struct BuildSummary {
   uint64_t trianglesScanned = 0, trianglesBounded = 0;
   uint64_t textureBytes = 0;   ///< texture blobs over all chunks
   uint32_t textureRefine = 0;  ///< draped image texels per DEM cell (0: generated colour)
+  // VIPM builds:
+  uint64_t collapses = 0;         ///< runtime collapses over all leaves
+  uint32_t materials = 0;         ///< materials in the tileset
+  double chunkSecondsMedian = 0;  ///< per leaf chunk: collapse order to encoded blob
+  double chunkSecondsMax = 0;
 };
 
-/// Builds `options.output` from `options.input`. Warnings (e.g. assumed spacing) go to `warn`.
+/// Builds `options.output` from `options.input` (a VIPM tileset when options.kind says so:
+/// buildVipmTileset). Warnings (e.g. assumed spacing) go to `warn`.
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
                                   const std::function<void(const std::string&)>& warn);
 

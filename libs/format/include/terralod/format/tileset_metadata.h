@@ -47,6 +47,10 @@ struct TilesetMetadata {
   std::vector<TextureLevelSizes> textureLevels;
   /// "materials": required, 1..8 of them, in VIPM tilesets (header meshKind 2); empty otherwise.
   std::vector<TilesetMaterial> materials;
+  /// VIPM: "build": "materials": "classification" or the categorical raster's file name.
+  std::string materialsSource;
+  /// VIPM: "build": "material_rules" (absent: true).
+  bool materialRules = true;
 };
 
 /// "#rrggbb" for a colour (what "materials" stores).

@@ -6,6 +6,7 @@
 // levels) is checked for a crack their skirts would not cover; checksums are checked on read.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,25 @@ namespace terralod {
 struct VerifyOptions {
   unsigned threads = 0;  ///< 0 = all hardware threads
   size_t maxListedFailures = 20;
+  /// VIPM tilesets built with --materials: the categorical raster (and palette) they came
+  /// from, to check vertex materials against; empty: checked against the stored ones only.
+  std::string materialsPath, palettePath;
+};
+
+/// What verify checked in a VIPM tileset (docs/format.md "VIPM tilesets") beyond the levels.
+struct VipmVerifyStats {
+  uint64_t lods = 0;                 ///< chunk levels of detail checked, over all chunks
+  double worstErrorMargin = 0;       ///< smallest (recorded - true error) over every LOD
+  uint64_t collapsesChecked = 0;     ///< collapses checked against the material rules
+  uint64_t ruleViolations = 0;       ///< collapses breaking one (a failure when promised)
+  bool rulesPromised = true;         ///< the tileset was built with the rules
+  bool materialsFromSource = false;  ///< vertex materials compared with the source's
+  uint64_t materialMismatches = 0;
+  uint64_t partLevelsChecked = 0;  ///< LODs at which every material's part was compared
+  uint64_t fallbackSamples = 0;    ///< root samples compared with the children's coarsest LOD
+  double fallbackMismatch = 0;     ///< largest difference there
+  uint64_t flangePairs = 0;        ///< chunk pairs checked across a side
+  double worstFlangeMargin = 0;    ///< smallest (flange depth - largest gap), metres
 };
 
 struct LevelCheck {
@@ -42,9 +62,10 @@ inline constexpr double kVerifySlack = 1e-6;
 struct VerifyReport {
   std::vector<LevelCheck> levels;
   uint64_t chunks = 0;
-  uint64_t skirtPairs = 0;      ///< chunk pairs checked across borders
-  uint64_t skirtSamples = 0;    ///< border samples checked
-  double worstSkirtMargin = 0;  ///< smallest (skirt depth - largest possible step), metres
+  uint64_t skirtPairs = 0;              ///< chunk pairs checked across borders
+  uint64_t skirtSamples = 0;            ///< border samples checked
+  double worstSkirtMargin = 0;          ///< smallest (skirt depth - largest possible step), metres
+  std::optional<VipmVerifyStats> vipm;  ///< VIPM tilesets
   std::vector<std::string> failures;
   uint64_t failureCount = 0;
   bool ok() const { return failureCount == 0; }

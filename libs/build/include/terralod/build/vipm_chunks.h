@@ -1,0 +1,72 @@
+#pragma once
+// The chunks of a VIPM tileset (docs/format.md "VIPM tilesets"): a leaf's progressive mesh
+// built from the DEM, and a root's fallback mesh joined from its children's coarsest levels.
+// Pure functions of their inputs (deterministic), used by buildVipmTileset.
+
+#include <cstdint>
+#include <vector>
+
+#include "terralod/format/tileset_format.h"
+#include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/materials/material.h"
+#include "terralod/raster/heightfield.h"
+#include "terralod/vipm/collapse_order.h"
+#include "terralod/vipm/progressive_mesh.h"
+
+namespace terralod {
+
+/// A power of two no coarser than maxError / 8, doubled until a height range of `range` metres
+/// fits 65000 steps (the builder passes the largest range of any root, so every chunk of the
+/// tileset shares it and a root's heights are its children's exactly).
+double vipmTilesetZStep(double maxError, double range);
+
+/// A chunk's coarsest level in tileset terms: vertices at DEM grid points with their stored
+/// heights (zBase + q zStep, zBase a multiple of the tileset's zStep).
+struct CoarseMesh {
+  std::vector<uint32_t> gridX, gridY;  ///< per vertex: DEM grid point
+  std::vector<double> heights;         ///< per vertex: stored height (metres)
+  std::vector<uint8_t> materials;      ///< per vertex
+  std::vector<uint32_t> indices;       ///< triangles, counter-clockwise from above
+  float error = 0.0f;                  ///< the level's error as stored (metres)
+};
+
+/// What building one leaf gives.
+struct VipmLeaf {
+  std::vector<uint8_t> blob;  ///< the encoded VIPM chunk
+  NodeRecord node;            ///< minZ, maxZ, vertexCount, triangleCount, meshKind; no offsets
+  CoarseMesh coarsest;
+  /// Largest vertical distance, over every level, between a border grid point's source height
+  /// and that level's border polyline (docs/format.md "Node fields").
+  double borderDeviation = 0.0;
+  uint32_t collapses = 0;
+  double seconds = 0.0;  ///< CPU time building this leaf (its thread's)
+};
+
+struct VipmLeafParams {
+  double zStep = 1.0;
+  double maxError = 1.0;
+  MaterialRules rules = MaterialRules::kOn;
+  int compressionLevel = 19;
+};
+
+/// Builds the leaf whose south-west grid point is (x0, y0), `width` x `height` points, from the
+/// (void-filled) heights and the materials of every DEM grid point.
+VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
+                       int32_t y0, int32_t width, int32_t height, const VipmLeafParams& params);
+
+/// The border deviation of `mesh` over all its levels (see VipmLeaf): `source` are the patch's
+/// source heights (row-major, mesh.width per row), `stored` every mesh vertex's stored height.
+double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& source,
+                       const std::vector<double>& stored);
+
+/// A root's fallback chunk: the children's coarsest meshes joined on the root's grid (points
+/// deduplicated, first use first), collapseCount 0, finestError the largest child error.
+/// (x0, y0) is the root's south-west grid point, width x height its points (<= 129).
+VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                           int32_t width, int32_t height, double zStep);
+
+/// f32 bounds that contain [lo, hi] (rounded outward).
+float floatBelow(double v);
+float floatAbove(double v);
+
+}  // namespace terralod

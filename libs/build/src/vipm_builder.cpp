@@ -1,0 +1,296 @@
+#include "terralod/build/vipm_builder.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "load_heights.h"
+#include "source_metadata.h"
+#include "terralod/build/chunk_pass.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/build/vipm_chunks.h"
+#include "terralod/core/parallel.h"
+#include "terralod/format/tileset_metadata.h"
+#include "terralod/format/tileset_writer.h"
+#include "terralod/materials/dem_classification.h"
+#include "terralod/materials/material_raster.h"
+#include "terralod/raster/void_fill.h"
+
+namespace terralod {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+constexpr int32_t kLeaf = int32_t(kVipmLeafCells), kRoot = int32_t(kVipmRootCells);
+
+// A chunk's grid points along one axis: clipped at the data's far edge.
+int32_t pointsFrom(int32_t first, int32_t cells, int32_t side) {
+  return std::min(side, cells - first) + 1;
+}
+
+Status checkOptions(const BuildOptions& options) {
+  if (!options.textureImage.empty())
+    return Error{"--texture does not apply to --kind vipm (colour comes from the materials)"};
+  if (options.chunkCells != 0 && options.chunkCells != kLeaf)
+    return Error{"--chunk-cells: VIPM chunks are always " + std::to_string(kLeaf) + " cells"};
+  if (!options.palettePath.empty() && options.materialsPath.empty())
+    return Error{"--palette names the classes of --materials, which is missing"};
+  return {};
+}
+
+// Stage: the DEM, whole, voids filled.
+Result<Heightfield> readDem(const DemReader& reader, const BuildOptions& options,
+                            Progress& progress, BuildSummary& summary) {
+  const DemInfo& info = reader.info();
+  const uint64_t bytes = summary.sourceSamples * (sizeof(float) + 1);
+  if (bytes > options.memoryMB << 20)
+    return makeError(info.path, "the raster needs " + std::to_string(bytes >> 20) +
+                                    " MB, more than --memory-mb " +
+                                    std::to_string(options.memoryMB) +
+                                    " (VIPM builds read it whole)");
+  auto heights = loadHeights(reader, progress);
+  if (!heights) return heights.error();
+  auto filled = fillVoids(*heights, info.path);
+  if (!filled) return filled.error();
+  summary.filledVoids = *filled;
+  return heights;
+}
+
+// Stage: the material of every grid point.
+Result<MaterialMap> readMaterials(const DemReader& reader, const BuildOptions& options,
+                                  Progress& progress) {
+  if (options.materialsPath.empty()) return classifyDem(reader, &progress);
+  MaterialRasterOptions rasterOptions;
+  rasterOptions.palettePath = options.palettePath;
+  return readMaterialRaster(options.materialsPath, reader, rasterOptions);
+}
+
+TreeLayout vipmLayout(const DemInfo& info) {
+  TreeLayout l;
+  l.cellsX = info.columns - 1;
+  l.cellsY = info.rows - 1;
+  l.leafCells = kLeaf;
+  l.depth = 1;
+  l.rootCells = kRoot;
+  l.rootsX = (l.cellsX + kRoot - 1) / kRoot;
+  l.rootsY = (l.cellsY + kRoot - 1) / kRoot;
+  return l;
+}
+
+// The largest height range of any root's grid points.
+double largestRootRange(const Heightfield& h, const TreeLayout& layout) {
+  double largest = 0.0;
+  for (int32_t ry = 0; ry < layout.rootsY; ++ry)
+    for (int32_t rx = 0; rx < layout.rootsX; ++rx) {
+      const int32_t x0 = rx * kRoot, y0 = ry * kRoot;
+      const int32_t w = pointsFrom(x0, layout.cellsX, kRoot),
+                    hh = pointsFrom(y0, layout.cellsY, kRoot);
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int32_t y = y0; y < y0 + hh; ++y)
+        for (int32_t x = x0; x < x0 + w; ++x) {
+          lo = std::min(lo, h(x, y));
+          hi = std::max(hi, h(x, y));
+        }
+      largest = std::max(largest, double(hi) - double(lo));
+    }
+  return largest;
+}
+
+// maxSkirtDepth of every node (docs/format.md "Node fields").
+void setFlangeDepths(std::vector<NodeRecord>& nodes, const std::vector<double>& leafDeviation,
+                     int32_t leavesX, int32_t leavesY, double zStep) {
+  auto dev = [&](int32_t x, int32_t y) {
+    if (x < 0 || y < 0 || x >= leavesX || y >= leavesY) return 0.0;
+    return leafDeviation[size_t(y) * size_t(leavesX) + size_t(x)];
+  };
+  for (NodeRecord& n : nodes) {
+    const int32_t size = n.level == 0 ? 2 : 1;  // leaves a side
+    const int32_t x0 = int32_t(n.x) * size, y0 = int32_t(n.y) * size;
+    double inside = 0.0, outside = 0.0;
+    for (int32_t k = 0; k < size; ++k) {
+      for (int32_t j = 0; j < size; ++j) inside = std::max(inside, dev(x0 + j, y0 + k));
+      outside = std::max({outside, dev(x0 - 1, y0 + k), dev(x0 + size, y0 + k), dev(x0 + k, y0 - 1),
+                          dev(x0 + k, y0 + size)});
+    }
+    n.maxSkirtDepth = floatAbove(inside + outside + zStep);
+  }
+}
+
+std::string metadataJson(const DemInfo& info, const BuildOptions& options, const BuildSummary& s,
+                         const MaterialMap& materials, double zStep) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Material& m : materials.materials)
+    list.push_back({{"id", m.id}, {"name", m.name}, {"color", colorHex(m.color)}});
+  nlohmann::json j = {
+      {"generator", "terralod"},
+      {"kind", "vipm"},
+      {"source", sourceMetadata(info)},
+      {"materials", list},
+      {"build",
+       {{"max_error", options.maxError},
+        {"chunk_cells", kLeaf},
+        {"material_rules", options.materialRules == MaterialRules::kOn},
+        {"materials", options.materialsPath.empty()
+                          ? std::string("classification")
+                          : std::filesystem::path(options.materialsPath).filename().string()},
+        {"vertical_scale", options.dem.verticalScale},
+        {"z_step", zStep},
+        {"zstd_level", options.compressionLevel}}},
+      {"stats",
+       {{"vertices", s.vertices},
+        {"triangles", s.triangles},
+        {"collapses", s.collapses},
+        {"filled_voids", s.filledVoids}}},
+  };
+  return j.dump(2);
+}
+
+}  // namespace
+
+Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
+                                      const std::function<void(const std::string&)>& warn) {
+  const auto start = Clock::now();
+  if (Status s = checkOptions(options); !s) return s.error();
+  BuildSummary summary;
+  auto opened = DemReader::open(options.input, options.dem);
+  if (!opened) return opened.error();
+  const DemReader& reader = **opened;
+  const DemInfo& info = reader.info();
+  summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
+  const unsigned threads = options.threads ? options.threads : hardwareThreads();
+  const TreeLayout layout = vipmLayout(info);
+  if (layout.rootsX > 4096 || layout.rootsY > 4096)
+    return makeError(info.path, "is too large for a VIPM tileset (at most 524288 cells a side)");
+  auto writer = TilesetWriter::create(options.output);  // fail on it before any work
+  if (!writer) return writer.error();
+
+  auto heights = readDem(reader, options, progress, summary);
+  if (!heights) return heights.error();
+  summary.loadSeconds = secondsSince(start);
+  auto materials = readMaterials(reader, options, progress);
+  if (!materials) return materials.error();
+  summary.materials = uint32_t(materials->materials.size());
+  warnAboutSource(info, warn);
+
+  const double zStep = vipmTilesetZStep(options.maxError, largestRootRange(*heights, layout));
+  std::vector<NodeRecord> nodes = enumerateNodes(layout);
+  const size_t rootCount = size_t(layout.rootsX) * size_t(layout.rootsY);
+  const size_t leafCount = nodes.size() - rootCount;
+
+  // Stage: the leaves, in parallel.
+  const auto meshStart = Clock::now();
+  VipmLeafParams params;
+  params.zStep = zStep;
+  params.maxError = options.maxError;
+  params.rules = options.materialRules;
+  params.compressionLevel = options.compressionLevel;
+  std::vector<VipmLeaf> leaves(leafCount);
+  progress.begin("vipm chunks", leafCount + rootCount);
+  parallelFor(leafCount, threads, [&](size_t k, unsigned) {
+    const NodeRecord& n = nodes[rootCount + k];
+    const int32_t x0 = int32_t(n.x) * kLeaf, y0 = int32_t(n.y) * kLeaf;
+    leaves[k] = buildVipmLeaf(*heights, *materials, x0, y0, pointsFrom(x0, layout.cellsX, kLeaf),
+                              pointsFrom(y0, layout.cellsY, kLeaf), params);
+    progress.advance(1);
+  });
+
+  // Stage: the roots, from their children's coarsest levels.
+  std::vector<std::vector<uint8_t>> rootBlobs(rootCount);
+  parallelFor(rootCount, threads, [&](size_t r, unsigned) {
+    NodeRecord& n = nodes[r];
+    std::vector<const CoarseMesh*> children;
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
+      children.push_back(&leaves[n.firstChild + c - rootCount].coarsest);
+    const int32_t x0 = int32_t(n.x) * kRoot, y0 = int32_t(n.y) * kRoot;
+    const VipmChunkData root = joinCoarsest(children, x0, y0, pointsFrom(x0, layout.cellsX, kRoot),
+                                            pointsFrom(y0, layout.cellsY, kRoot), zStep);
+    rootBlobs[r] = encodeVipmChunk(root, options.compressionLevel);
+    const auto [lo, hi] = std::minmax_element(root.heights.begin(), root.heights.end());
+    n.meshKind = MeshKind::kVipm;
+    n.minZ = floatBelow(root.zBase + double(*lo) * zStep);
+    n.maxZ = floatAbove(root.zBase + double(*hi) * zStep);
+    n.vertexCount = root.vertexCount();
+    n.triangleCount = root.triangleCount();
+    progress.advance(1);
+  });
+  progress.end();
+
+  // Node fields, flanges, and the blobs in node order.
+  const int32_t leavesX = layout.chunksX(1), leavesY = layout.chunksY(1);
+  std::vector<double> deviation(size_t(leavesX) * size_t(leavesY), 0.0);
+  double largestCoarsest = 0.0;
+  std::vector<double> leafSeconds;
+  for (size_t k = 0; k < leafCount; ++k) {
+    NodeRecord& n = nodes[rootCount + k];
+    const VipmLeaf& leaf = leaves[k];
+    n.meshKind = MeshKind::kVipm;
+    n.minZ = leaf.node.minZ;
+    n.maxZ = leaf.node.maxZ;
+    n.vertexCount = leaf.node.vertexCount;
+    n.triangleCount = leaf.node.triangleCount;
+    deviation[size_t(n.y) * size_t(leavesX) + n.x] = leaf.borderDeviation;
+    largestCoarsest = std::max(largestCoarsest, double(leaf.coarsest.error));
+    summary.collapses += leaf.collapses;
+    leafSeconds.push_back(leaf.seconds);
+  }
+  setFlangeDepths(nodes, deviation, leavesX, leavesY, zStep);
+  double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    NodeRecord& n = nodes[i];
+    const std::vector<uint8_t>& blob = i < rootCount ? rootBlobs[i] : leaves[i - rootCount].blob;
+    auto offset = (*writer)->appendBlob(blob);
+    if (!offset) return offset.error();
+    n.blobOffset = *offset;
+    n.blobBytes = uint32_t(blob.size());
+    n.blobCrc = crc32Of(blob);
+    zMin = std::min(zMin, double(n.minZ));
+    zMax = std::max(zMax, double(n.maxZ));
+    summary.vertices += n.vertexCount;
+    summary.triangles += n.triangleCount;
+  }
+  summary.meshSeconds = secondsSince(meshStart);
+  if (!leafSeconds.empty()) {
+    std::sort(leafSeconds.begin(), leafSeconds.end());
+    summary.chunkSecondsMedian = leafSeconds[leafSeconds.size() / 2];
+    summary.chunkSecondsMax = leafSeconds.back();
+  }
+  summary.levels = 2;
+  summary.chunks = nodes.size();
+
+  TilesetHeader header;
+  header.meshKind = MeshKind::kVipm;
+  header.levelCount = 2;
+  header.leafCells = kVipmLeafCells;
+  header.rootCells = kVipmRootCells;
+  header.rootsX = uint32_t(layout.rootsX);
+  header.rootsY = uint32_t(layout.rootsY);
+  header.sourceColumns = uint32_t(info.columns);
+  header.sourceRows = uint32_t(info.rows);
+  header.spacingX = info.spacingX;
+  header.spacingY = info.spacingY;
+  // At least twice the leaves' error, so that levels stay ordered on flat ground too.
+  header.levelError[0] = 2.0 * std::max(largestCoarsest, options.maxError);
+  header.levelError[1] = options.maxError;
+  header.extentMin = {0.0, 0.0, zMin};
+  header.extentMax = {layout.cellsX * info.spacingX, layout.cellsY * info.spacingY, zMax};
+  header.filledVoids = summary.filledVoids;
+  header.leafError = options.maxError;
+  header.verticalScale = options.dem.verticalScale;
+  if (Status s =
+          (*writer)->finish(header, nodes, metadataJson(info, options, summary, *materials, zStep));
+      !s)
+    return s.error();
+  std::error_code ec;
+  summary.fileBytes = std::filesystem::file_size(options.output, ec);
+  summary.totalSeconds = secondsSince(start);
+  return summary;
+}
+
+}  // namespace terralod

@@ -1,0 +1,224 @@
+#include "terralod/build/vipm_chunks.h"
+
+#include <time.h>
+#include <algorithm>
+
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "terralod/vipm/vipm_storage.h"
+
+namespace terralod {
+namespace {
+
+// CPU time of the calling thread (wall time would count other builds on a shared machine).
+double threadSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+uint16_t findRoot(std::vector<uint16_t>& rep, uint16_t v) {
+  while (rep[v] != v) v = rep[v] = rep[rep[v]];
+  return v;
+}
+
+// The coarsest level of `mesh` (every collapse applied), in DEM grid coordinates.
+CoarseMesh coarsestLevel(const ProgressiveMesh& mesh, const VipmChunkData& stored, int32_t x0,
+                         int32_t y0) {
+  const uint32_t n = mesh.vertexCount(), r = mesh.collapseCount();
+  auto removals = triangleRemovals(mesh);
+  assert(removals.ok());  // the collapser's own order is consistent
+  std::vector<uint16_t> rep(n);
+  std::iota(rep.begin(), rep.end(), uint16_t{0});
+  for (uint32_t j = 0; j < r; ++j) rep[n - 1 - j] = mesh.targets[j];
+  CoarseMesh c;
+  const uint32_t kept = n - r;  // the active vertices [0, kept) keep their indices
+  for (uint32_t v = 0; v < kept; ++v) {
+    c.gridX.push_back(uint32_t(x0) + mesh.points[v] % uint32_t(mesh.width));
+    c.gridY.push_back(uint32_t(y0) + mesh.points[v] / uint32_t(mesh.width));
+    c.heights.push_back(stored.zBase + double(stored.heights[v]) * stored.zStep);
+    c.materials.push_back(stored.materials[v]);
+  }
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (removals.ok() && (*removals)[t] != r) continue;
+    for (uint16_t v : mesh.triangles[t]) c.indices.push_back(findRoot(rep, v));
+  }
+  return c;
+}
+
+// The error of a stored chunk's coarsest level, as a reader unpacks it.
+float coarsestError(const VipmChunkData& stored) {
+  if (stored.errors.empty()) return stored.finestError;
+  const UnpackedChunk u = unpackChunk(stored);
+  return u.mesh.errors.back();
+}
+
+}  // namespace
+
+double vipmTilesetZStep(double maxError, double range) {
+  double step = std::exp2(std::floor(std::log2(std::max(maxError, 1e-6) / 8.0)));
+  while (range / step > 65000.0) step *= 2.0;
+  return step;
+}
+
+float floatBelow(double v) {
+  float f = float(v);
+  if (double(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+float floatAbove(double v) {
+  float f = float(v);
+  if (double(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& source,
+                       const std::vector<double>& stored) {
+  const int32_t w = mesh.width, h = mesh.height;
+  // Sides: south, north (along x), west, east (along y). active[side][pos]: vertex or -1.
+  struct Side {
+    std::vector<int32_t> active;
+    std::vector<double> source;
+  };
+  Side sides[4];
+  for (int s = 0; s < 4; ++s) {
+    const int32_t length = s < 2 ? w : h;
+    sides[s].active.assign(size_t(length), -1);
+    for (int32_t pos = 0; pos < length; ++pos) {
+      const int32_t x = s < 2 ? pos : (s == 2 ? 0 : w - 1);
+      const int32_t y = s < 2 ? (s == 0 ? 0 : h - 1) : pos;
+      sides[s].source.push_back(double(source[size_t(y) * w + x]));
+    }
+  }
+  auto sideAndPos = [&](uint32_t vertex, int s) -> int32_t {
+    const int32_t x = mesh.points[vertex] % w, y = mesh.points[vertex] / w;
+    switch (s) {
+      case 0:
+        return y == 0 ? x : -1;
+      case 1:
+        return y == h - 1 ? x : -1;
+      case 2:
+        return x == 0 ? y : -1;
+      default:
+        return x == w - 1 ? y : -1;
+    }
+  };
+  for (uint32_t v = 0; v < mesh.vertexCount(); ++v)
+    for (int s = 0; s < 4; ++s)
+      if (const int32_t pos = sideAndPos(v, s); pos >= 0) sides[s].active[size_t(pos)] = int32_t(v);
+
+  double deviation = 0.0;
+  auto segment = [&](const Side& side, int32_t a, int32_t b) {
+    const double ha = stored[size_t(side.active[size_t(a)])];
+    const double hb = stored[size_t(side.active[size_t(b)])];
+    for (int32_t pos = a; pos <= b; ++pos) {
+      const double line = b == a ? ha : ha + (hb - ha) * double(pos - a) / double(b - a);
+      deviation = std::max(deviation, std::abs(side.source[size_t(pos)] - line));
+    }
+  };
+  for (const Side& side : sides) {  // the finest level
+    int32_t previous = -1;
+    for (int32_t pos = 0; pos < int32_t(side.active.size()); ++pos) {
+      if (side.active[size_t(pos)] < 0) continue;
+      if (previous >= 0) segment(side, previous, pos);
+      previous = pos;
+    }
+  }
+  // Each collapse of a side vertex (along its side) joins the segments beside it.
+  const uint32_t n = mesh.vertexCount();
+  for (uint32_t j = 0; j < mesh.collapseCount(); ++j) {
+    const uint32_t v = n - 1 - j;
+    for (Side& side : sides) {
+      const int s = int(&side - sides);
+      const int32_t pos = sideAndPos(v, s);
+      if (pos < 0) continue;
+      side.active[size_t(pos)] = -1;
+      int32_t a = pos, b = pos;
+      while (a > 0 && side.active[size_t(a)] < 0) --a;
+      while (b + 1 < int32_t(side.active.size()) && side.active[size_t(b)] < 0) ++b;
+      // Corners never collapse, so both ends exist.
+      if (side.active[size_t(a)] >= 0 && side.active[size_t(b)] >= 0) segment(side, a, b);
+    }
+  }
+  return deviation;
+}
+
+VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
+                       int32_t y0, int32_t width, int32_t height, const VipmLeafParams& params) {
+  const double start = threadSeconds();
+  GridPatch patch;
+  patch.width = width;
+  patch.height = height;
+  patch.heights.reserve(patch.pointCount());
+  patch.materials.reserve(patch.pointCount());
+  for (int32_t y = 0; y < height; ++y)
+    for (int32_t x = 0; x < width; ++x) {
+      patch.heights.push_back(heights(x0 + x, y0 + y));
+      patch.materials.push_back(materials.at(x0 + x, y0 + y));
+    }
+  const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
+  const HeightQuantisation q{std::floor(double(lowest) / params.zStep) * params.zStep,
+                             params.zStep};
+  quantiseVertexHeights(patch, q);
+  const CollapseOrder order = buildCollapseOrder(patch, params.rules);
+  const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, params.maxError);
+  const VipmChunkData stored = packChunk(patch, mesh, q);
+
+  VipmLeaf leaf;
+  leaf.blob = encodeVipmChunk(stored, params.compressionLevel);
+  std::vector<double> vertexHeights;
+  vertexHeights.reserve(stored.vertexCount());
+  for (uint16_t z : stored.heights) vertexHeights.push_back(q.zBase + double(z) * q.zStep);
+  const auto [lo, hi] = std::minmax_element(vertexHeights.begin(), vertexHeights.end());
+  leaf.node.meshKind = MeshKind::kVipm;
+  leaf.node.minZ = floatBelow(*lo);
+  leaf.node.maxZ = floatAbove(*hi);
+  leaf.node.vertexCount = stored.vertexCount();
+  leaf.node.triangleCount = stored.triangleCount();
+  leaf.coarsest = coarsestLevel(mesh, stored, x0, y0);
+  leaf.coarsest.error = coarsestError(stored);
+  leaf.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
+  leaf.collapses = stored.collapseCount();
+  leaf.seconds = threadSeconds() - start;
+  return leaf;
+}
+
+VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                           int32_t width, int32_t height, double zStep) {
+  assert(width >= 2 && height >= 2 && width <= int32_t(kVipmMaxGridPoints) &&
+         height <= int32_t(kVipmMaxGridPoints));
+  VipmChunkData d;
+  d.width = uint8_t(width);
+  d.height = uint8_t(height);
+  d.zStep = zStep;
+  d.errorStep = 1.0f;
+  double lowest = std::numeric_limits<double>::infinity();
+  for (const CoarseMesh* c : children) {
+    d.finestError = std::max(d.finestError, c->error);
+    for (double z : c->heights) lowest = std::min(lowest, z);
+  }
+  d.zBase = std::floor(lowest / zStep) * zStep;
+  std::vector<int32_t> slot(size_t(width) * size_t(height), -1);
+  for (const CoarseMesh* c : children)
+    for (uint32_t v : c->indices) {
+      const int32_t x = int32_t(c->gridX[v]) - x0, y = int32_t(c->gridY[v]) - y0;
+      assert(x >= 0 && y >= 0 && x < width && y < height);
+      const size_t point = size_t(y) * size_t(width) + size_t(x);
+      if (slot[point] < 0) {
+        slot[point] = int32_t(d.points.size());
+        d.points.push_back(uint16_t(point));
+        const double z = (c->heights[v] - d.zBase) / zStep;
+        assert(z == std::round(z) && z >= 0 && z <= 65535);  // children share the zStep
+        d.heights.push_back(uint16_t(z));
+        d.materials.push_back(c->materials[v]);
+      }
+      d.indices.push_back(uint16_t(slot[point]));
+    }
+  return d;
+}
+
+}  // namespace terralod

@@ -1,0 +1,352 @@
+// `build --kind vipm` (docs/format.md "VIPM tilesets"), checked from the file alone against the
+// source: every blob decodes and reconstructs, roots are exactly their children's coarsest
+// levels, node and header fields are as documented, flanges cover every level's border
+// deviation (recomputed here by brute force), and the output does not depend on threads.
+
+#include <gdal_priv.h>
+#include <gdal_utils.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <tuple>
+
+#include "load_heights.h"
+#include "temp_dir.h"
+#include "terralod/build/builder.h"
+#include "terralod/build/vipm_chunks.h"
+#include "terralod/format/tileset_reader.h"
+#include "terralod/raster/synthetic_dem_writer.h"
+#include "terralod/raster/void_fill.h"
+#include "terralod/vipm/vipm_levels.h"
+#include "terralod/vipm/vipm_storage.h"
+
+namespace terralod {
+namespace {
+
+using test::TempDir;
+using test::testData;
+
+std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// A corner as the world sees it: grid point, height, material.
+using Corner = std::tuple<uint32_t, uint32_t, double, uint8_t>;
+using Triangle = std::array<Corner, 3>;
+
+// The triangle with its smallest corner first (the codec may rotate corners).
+Triangle canonical(Triangle t) {
+  while (!(t[0] <= t[1] && t[0] <= t[2])) std::rotate(t.begin(), t.begin() + 1, t.end());
+  return t;
+}
+
+// Cuts a window out of a raster (GDAL's translate), keeping its georeferencing.
+std::string crop(const std::string& source, const std::string& target, int x, int y, int w, int h) {
+  GDALAllRegister();
+  GDALDatasetUniquePtr src(GDALDataset::Open(source.c_str(), GDAL_OF_RASTER));
+  EXPECT_TRUE(src);
+  const std::string args[] = {"-srcwin", std::to_string(x), std::to_string(y), std::to_string(w),
+                              std::to_string(h)};
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  GDALTranslateOptions* options = GDALTranslateOptionsNew(argv.data(), nullptr);
+  GDALClose(GDALTranslate(target.c_str(), src.get(), options, nullptr));
+  GDALTranslateOptionsFree(options);
+  return target;
+}
+
+std::string synth(const TempDir& dir, int64_t columns, int64_t rows) {
+  SyntheticDemOptions o;
+  o.output = dir.file("synth.tif");
+  o.columns = columns;
+  o.rows = rows;
+  o.seed = 7;
+  o.spacing = 10.0;
+  o.threads = 1;
+  NullProgress progress;
+  EXPECT_TRUE(writeSyntheticDem(o, progress).ok());
+  return o.output;
+}
+
+BuildOptions vipmOptions(const std::string& input, const std::string& output) {
+  BuildOptions o;
+  o.input = input;
+  o.output = output;
+  o.kind = ChunkKind::kVipm;
+  o.textures = false;
+  o.threads = 2;
+  return o;
+}
+
+BuildSummary build(const BuildOptions& o) {
+  NullProgress progress;
+  auto s = buildTileset(o, progress, [](const std::string&) {});
+  EXPECT_TRUE(s.ok()) << (s.ok() ? "" : s.error().message);
+  return s.ok() ? *s : BuildSummary{};
+}
+
+Heightfield sourceHeights(const std::string& path) {
+  auto dem = DemReader::open(path, {});
+  EXPECT_TRUE(dem.ok());
+  NullProgress progress;
+  auto h = loadHeights(**dem, progress);
+  EXPECT_TRUE(h.ok());
+  EXPECT_TRUE(fillVoids(*h, path).ok());
+  return std::move(h).value();
+}
+
+struct Chunk {
+  VipmChunkData data;
+  UnpackedChunk unpacked;
+};
+
+// The largest distance between a border point's source height and the border polyline, over
+// every level: recomputed from the stored chunk, each level from scratch.
+double bruteBorderDeviation(const Chunk& c, const Heightfield& h, uint32_t x0, uint32_t y0) {
+  const uint32_t n = c.data.vertexCount(), w = c.data.width, hh = c.data.height;
+  std::vector<uint32_t> border;
+  for (uint32_t v = 0; v < n; ++v) {
+    const uint32_t x = c.data.points[v] % w, y = c.data.points[v] / w;
+    if (x == 0 || y == 0 || x == w - 1 || y == hh - 1) border.push_back(v);
+  }
+  double worst = 0.0;
+  for (uint32_t j = 0; j <= c.data.collapseCount(); ++j) {
+    if (j > 0 && std::find(border.begin(), border.end(), n - j) == border.end()) continue;
+    for (int side = 0; side < 4; ++side) {
+      std::map<uint32_t, double> line;  // position along the side -> stored height
+      for (uint32_t v : border) {
+        if (v >= n - j) continue;
+        const uint32_t x = c.data.points[v] % w, y = c.data.points[v] / w;
+        const bool on = side == 0   ? y == 0
+                        : side == 1 ? y == hh - 1
+                        : side == 2 ? x == 0
+                                    : x == w - 1;
+        if (on) line[side < 2 ? x : y] = c.unpacked.positions[v][2];
+      }
+      for (auto a = line.begin(), b = std::next(a); b != line.end(); ++a, ++b)
+        for (uint32_t p = a->first; p <= b->first; ++p) {
+          const double z = a->second + (b->second - a->second) * double(p - a->first) /
+                                           double(b->first - a->first);
+          const uint32_t x = side < 2 ? p : side == 2 ? 0 : w - 1;
+          const uint32_t y = side < 2 ? (side == 0 ? 0 : hh - 1) : p;
+          worst = std::max(worst, std::abs(double(h(int32_t(x0 + x), int32_t(y0 + y))) - z));
+        }
+    }
+  }
+  return worst;
+}
+
+// Everything docs/format.md "VIPM tilesets" promises, checked on the file.
+void expectValidVipmTileset(const std::string& path, const Heightfield& source, double maxError) {
+  auto opened = TilesetReader::openFile(path);
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  const TilesetReader& t = **opened;
+  const TilesetHeader& hd = t.header();
+  EXPECT_EQ(hd.version, 1u);
+  EXPECT_FALSE(hd.textured());
+  EXPECT_EQ(hd.meshKind, MeshKind::kVipm);
+  EXPECT_EQ(hd.levelCount, 2u);
+  EXPECT_EQ(hd.leafCells, kVipmLeafCells);
+  EXPECT_EQ(hd.rootCells, kVipmRootCells);
+  EXPECT_EQ(hd.levelError[1], maxError);
+  EXPECT_EQ(hd.leafError, maxError);
+  const size_t materialCount = t.metadata().materials.size();
+  EXPECT_GE(materialCount, 1u);
+  EXPECT_NE(t.metadataJson().find("\"kind\": \"vipm\""), std::string::npos);
+  const int32_t cellsX = int32_t(hd.sourceColumns) - 1, cellsY = int32_t(hd.sourceRows) - 1;
+
+  std::vector<Chunk> chunks;
+  for (uint32_t i = 0; i < t.nodes().size(); ++i) {
+    const NodeRecord& n = t.nodes()[i];
+    SCOPED_TRACE("node " + std::to_string(i));
+    auto blob = t.readBlob(i);
+    ASSERT_TRUE(blob.ok()) << blob.error().message;
+    auto data = decodeVipmChunk(*blob, "node");
+    ASSERT_TRUE(data.ok()) << data.error().message;
+    Chunk c{*data, unpackChunk(*data)};
+    auto levels = VipmLevels::reconstruct(c.unpacked.mesh, c.unpacked.materials);
+    ASSERT_TRUE(levels.ok()) << levels.error().message;
+    EXPECT_EQ(n.meshKind, MeshKind::kVipm);
+    EXPECT_EQ(n.skirtTriangleCount, 0u);
+    EXPECT_EQ(n.textureBytes, 0u);
+    EXPECT_EQ(n.vertexCount, c.data.vertexCount());
+    EXPECT_EQ(n.triangleCount, c.data.triangleCount());
+    const int32_t side = hd.chunkCells(n.level);
+    EXPECT_EQ(c.data.width, std::min(side, cellsX - int32_t(n.x) * side) + 1);
+    EXPECT_EQ(c.data.height, std::min(side, cellsY - int32_t(n.y) * side) + 1);
+    double lo = 1e300, hi = -1e300;
+    for (const auto& p : c.unpacked.positions) {
+      lo = std::min(lo, double(p[2]));
+      hi = std::max(hi, double(p[2]));
+    }
+    EXPECT_EQ(n.minZ, floatBelow(lo));
+    EXPECT_EQ(n.maxZ, floatAbove(hi));
+    for (uint8_t m : c.data.materials) EXPECT_LT(m, materialCount);
+    if (n.level == 1) EXPECT_LE(c.data.finestError, maxError);
+    if (n.level == 0) EXPECT_EQ(c.data.collapseCount(), 0u);
+    EXPECT_EQ(c.data.zStep, chunks.empty() ? c.data.zStep : chunks.front().data.zStep);
+    chunks.push_back(std::move(c));
+  }
+
+  // Roots are their children's coarsest levels exactly; levelError[0] doubles the worst.
+  const size_t rootCount = size_t(hd.rootsX) * hd.rootsY;
+  float largestCoarsest = 0.0f;
+  std::map<std::pair<uint32_t, uint32_t>, double> deviation;
+  for (size_t r = 0; r < rootCount; ++r) {
+    const NodeRecord& root = t.nodes()[r];
+    SCOPED_TRACE("root " + std::to_string(r));
+    std::vector<Triangle> joined, drawn;
+    float childError = 0.0f;
+    for (uint32_t c = root.firstChild; c < root.firstChild + std::popcount(root.childMask); ++c) {
+      const NodeRecord& leaf = t.nodes()[c];
+      const Chunk& k = chunks[c];
+      auto levels = VipmLevels::reconstruct(k.unpacked.mesh, k.unpacked.materials);
+      ASSERT_TRUE(levels.ok());
+      levels->setApplied(levels->collapseCount());
+      const auto& whole = levels->whole();
+      const float error =
+          k.unpacked.mesh.errors.empty() ? k.data.finestError : k.unpacked.mesh.errors.back();
+      childError = std::max(childError, error);
+      for (uint32_t i = 0; i < 3 * levels->drawnTriangles(whole); i += 3) {
+        Triangle tri;
+        for (int j = 0; j < 3; ++j) {
+          const uint16_t v = whole.indices[i + j];
+          const auto& p = k.unpacked.positions[v];
+          tri[size_t(j)] = {leaf.x * 64 + uint32_t(p[0]), leaf.y * 64 + uint32_t(p[1]),
+                            k.data.zBase + k.data.heights[v] * k.data.zStep, k.data.materials[v]};
+        }
+        joined.push_back(canonical(tri));
+      }
+      deviation[{leaf.x, leaf.y}] = bruteBorderDeviation(k, source, leaf.x * 64, leaf.y * 64);
+    }
+    const Chunk& k = chunks[r];
+    for (uint32_t i = 0; i < k.data.indices.size(); i += 3) {
+      Triangle tri;
+      for (int j = 0; j < 3; ++j) {
+        const uint16_t v = k.data.indices[i + j];
+        const uint32_t p = k.data.points[v];
+        tri[size_t(j)] = {root.x * 128 + p % k.data.width, root.y * 128 + p / k.data.width,
+                          k.data.zBase + k.data.heights[v] * k.data.zStep, k.data.materials[v]};
+      }
+      drawn.push_back(canonical(tri));
+    }
+    std::sort(joined.begin(), joined.end());
+    std::sort(drawn.begin(), drawn.end());
+    EXPECT_EQ(drawn, joined);
+    EXPECT_EQ(k.data.finestError, childError);
+    largestCoarsest = std::max(largestCoarsest, childError);
+  }
+  EXPECT_EQ(hd.levelError[0], 2.0 * std::max(double(largestCoarsest), maxError));
+
+  // Flanges: own deviation + the worst neighbour's outside + zStep.
+  const double zStep = chunks.front().data.zStep;
+  auto dev = [&](int64_t x, int64_t y) {
+    const auto it = deviation.find({uint32_t(x), uint32_t(y)});
+    return x < 0 || y < 0 || it == deviation.end() ? 0.0 : it->second;
+  };
+  for (const NodeRecord& n : t.nodes()) {
+    const int64_t size = n.level == 0 ? 2 : 1, x0 = n.x * size, y0 = n.y * size;
+    double inside = 0.0, outside = 0.0;
+    for (int64_t a = 0; a < size; ++a) {
+      for (int64_t b = 0; b < size; ++b) inside = std::max(inside, dev(x0 + b, y0 + a));
+      outside = std::max({outside, dev(x0 - 1, y0 + a), dev(x0 + size, y0 + a), dev(x0 + a, y0 - 1),
+                          dev(x0 + a, y0 + size)});
+    }
+    EXPECT_NEAR(n.maxSkirtDepth, inside + outside + zStep, 1e-4 * (1.0 + n.maxSkirtDepth));
+    EXPECT_GE(double(n.maxSkirtDepth), inside + outside + zStep - 1e-9);
+  }
+}
+
+TEST(VipmBuilder, SynthTilesetIsAsDocumented) {
+  TempDir dir;
+  // 299 x 199 cells: leaves and roots clipped at the east and north edges.
+  const std::string dem = synth(dir, 300, 200);
+  const BuildSummary s = build(vipmOptions(dem, dir.file("s.tlod")));
+  EXPECT_EQ(s.chunks, 6u + 20u);
+  EXPECT_EQ(s.materials, 5u);
+  expectValidVipmTileset(dir.file("s.tlod"), sourceHeights(dem), 1.0);
+}
+
+TEST(VipmBuilder, CraterLakeTilesetIsAsDocumented) {
+  TempDir dir;
+  const std::string dem =
+      crop(testData("crater_lake_0513.bt"), dir.file("crater.tif"), 128, 160, 257, 193);
+  BuildOptions o = vipmOptions(dem, dir.file("c.tlod"));
+  o.maxError = 2.0;
+  build(o);
+  expectValidVipmTileset(o.output, sourceHeights(dem), 2.0);
+}
+
+TEST(VipmBuilder, ZionWithLandcoverMaterialsIsAsDocumented) {
+  TempDir dir;
+  const std::string dem =
+      crop(testData("zion_srtm3_utm12_30m.tif"), dir.file("zion.tif"), 500, 600, 193, 193);
+  BuildOptions o = vipmOptions(dem, dir.file("z.tlod"));
+  o.materialsPath = testData("zion_landcover_classes.tif");
+  o.palettePath = testData("zion_landcover_palette.json");
+  const BuildSummary s = build(o);
+  EXPECT_GE(s.materials, 2u);
+  expectValidVipmTileset(o.output, sourceHeights(dem), 1.0);
+  auto t = TilesetReader::openFile(o.output);
+  ASSERT_TRUE(t.ok());
+  const auto& materials = (*t)->metadata().materials;
+  ASSERT_FALSE(materials.empty());
+  EXPECT_EQ(materials.front().id, 1);  // the palette's names and colours
+  EXPECT_EQ(materials.front().name, "vegetation");
+  EXPECT_EQ(materials.front().color, (std::array<uint8_t, 3>{32, 42, 28}));
+  EXPECT_NE((*t)->metadataJson().find("\"materials\": \"zion_landcover_classes.tif\""),
+            std::string::npos);
+}
+
+TEST(VipmBuilder, OutputDoesNotDependOnThreadCount) {
+  TempDir dir;
+  const std::string dem = synth(dir, 200, 140);
+  BuildOptions one = vipmOptions(dem, dir.file("one.tlod"));
+  one.threads = 1;
+  BuildOptions three = vipmOptions(dem, dir.file("three.tlod"));
+  three.threads = 3;
+  build(one);
+  build(three);
+  EXPECT_EQ(readWholeFile(one.output), readWholeFile(three.output));
+}
+
+TEST(VipmBuilder, NoMaterialRulesIsRecordedAndChangesTheMeshes) {
+  TempDir dir;
+  const std::string dem = synth(dir, 130, 130);
+  BuildOptions on = vipmOptions(dem, dir.file("on.tlod"));
+  BuildOptions off = vipmOptions(dem, dir.file("off.tlod"));
+  off.materialRules = MaterialRules::kOff;
+  build(on);
+  build(off);
+  expectValidVipmTileset(off.output, sourceHeights(dem), 1.0);
+  const std::string a = readWholeFile(on.output), b = readWholeFile(off.output);
+  EXPECT_NE(a, b);
+  EXPECT_NE(a.find("\"material_rules\": true"), std::string::npos);
+  EXPECT_NE(b.find("\"material_rules\": false"), std::string::npos);
+}
+
+TEST(VipmBuilder, RefusesOptionsThatDoNotApply) {
+  TempDir dir;
+  const std::string dem = synth(dir, 65, 65);
+  BuildOptions o = vipmOptions(dem, dir.file("x.tlod"));
+  o.textureImage = dem;
+  NullProgress progress;
+  auto s = buildTileset(o, progress, [](const std::string&) {});
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("--texture"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(o.output));
+}
+
+}  // namespace
+}  // namespace terralod

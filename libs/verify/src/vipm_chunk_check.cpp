@@ -1,0 +1,252 @@
+#include "vipm_chunk_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "terralod/core/sample_raster.h"
+#include "terralod/materials/material.h"
+#include "terralod/verify/verifier.h"
+#include "terralod/vipm/vipm_levels.h"
+#include "terralod/vipm/vipm_storage.h"
+
+namespace terralod {
+namespace {
+
+using Triangle = std::array<uint16_t, 3>;
+
+// Problems listed per chunk at most (the count still counts them all).
+constexpr size_t kProblemsPerChunk = 4;
+
+struct Grid {
+  const VipmChunkData& c;
+  int32_t x(uint32_t v) const { return c.points[v] % c.width; }
+  int32_t y(uint32_t v) const { return c.points[v] / c.width; }
+  double z(uint32_t v) const { return c.zBase + double(c.heights[v]) * c.zStep; }
+};
+
+void addProblem(VipmChunkCheck& out, std::string text) {
+  if (out.problems.size() < kProblemsPerChunk) out.problems.push_back(std::move(text));
+}
+
+// The triangles of the level `rename` describes, degenerate ones (removed) left out.
+std::vector<Triangle> levelTriangles(const VipmChunkData& c, const std::vector<uint16_t>& rename) {
+  std::vector<Triangle> out;
+  out.reserve(c.triangleCount());
+  for (size_t k = 0; k + 2 < c.indices.size(); k += 3) {
+    const Triangle t{rename[c.indices[k]], rename[c.indices[k + 1]], rename[c.indices[k + 2]]};
+    if (t[0] != t[1] && t[1] != t[2] && t[0] != t[2]) out.push_back(t);
+  }
+  return out;
+}
+
+// Barycentric weights of grid point (px, py) in triangle t; false when it is degenerate.
+bool weights(const Grid& g, const Triangle& t, double px, double py, std::array<double, 3>& w) {
+  const double ax = g.x(t[0]), ay = g.y(t[0]), bx = g.x(t[1]), by = g.y(t[1]);
+  const double cx = g.x(t[2]), cy = g.y(t[2]);
+  const double area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+  if (area == 0) return false;
+  w[0] = ((bx - px) * (cy - py) - (by - py) * (cx - px)) / area;
+  w[1] = ((cx - px) * (ay - py) - (cy - py) * (ax - px)) / area;
+  w[2] = 1.0 - w[0] - w[1];
+  return true;
+}
+
+// The paper's three material rules for collapsing v onto t in the mesh `triangles`; the
+// first rule broken (1..3), or 0.
+int brokenRule(const Grid& g, const std::vector<Triangle>& triangles, uint16_t v, uint16_t t) {
+  const auto& mat = g.c.materials;
+  if (mat[v] != mat[t]) return 1;
+  auto onBoundary = [&](uint16_t u) {
+    for (const Triangle& tri : triangles)
+      if (tri[0] == u || tri[1] == u || tri[2] == u)
+        for (uint16_t w : tri)
+          if (mat[w] != mat[u]) return true;
+    return false;
+  };
+  if (onBoundary(v) && !onBoundary(t)) return 2;
+  // After the collapse, v's point lies in the triangles of its fan that do not hold t, now
+  // with t in v's place; every corner with a non-zero weight there must be of v's material.
+  for (Triangle tri : triangles) {
+    if (tri[0] != v && tri[1] != v && tri[2] != v) continue;
+    if (tri[0] == t || tri[1] == t || tri[2] == t) continue;
+    for (uint16_t& w : tri)
+      if (w == v) w = t;
+    std::array<double, 3> w{};
+    if (!weights(g, tri, g.x(v), g.y(v), w)) continue;
+    constexpr double kEps = 1e-9;
+    if (w[0] < -kEps || w[1] < -kEps || w[2] < -kEps) continue;
+    for (int k = 0; k < 3; ++k)
+      if (w[k] > kEps && mat[tri[k]] != mat[v]) return 3;
+  }
+  return 0;
+}
+
+// A part's living triangles as sorted corner triples, sorted.
+std::vector<Triangle> canonical(std::span<const uint16_t> indices, uint32_t triangles) {
+  std::vector<Triangle> out(triangles);
+  for (uint32_t k = 0; k < triangles; ++k) {
+    out[k] = {indices[3 * k], indices[3 * k + 1], indices[3 * k + 2]};
+    std::sort(out[k].begin(), out[k].end());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Every material's part draws the whole chunk's triangles with a corner of that material (and
+// no triangle the whole chunk does not), over active vertices only.
+bool partsAgree(const VipmLevels& levels, std::span<const uint8_t> materials) {
+  const VipmPart& whole = levels.whole();
+  const std::vector<Triangle> all = canonical(whole.indices, levels.drawnTriangles(whole));
+  for (const Triangle& t : all)
+    if (t[2] >= levels.activeVertices()) return false;
+  for (const VipmPart& part : levels.parts()) {
+    if (part.material == kWholeChunk) continue;
+    std::vector<Triangle> expected;
+    for (const Triangle& t : all)
+      if (materials[t[0]] == part.material || materials[t[1]] == part.material ||
+          materials[t[2]] == part.material)
+        expected.push_back(t);
+    // A part keeps the triangles that ever had a corner of its material (their weight for it
+    // is zero once none has): within the whole chunk's, and holding all that have one now.
+    const std::vector<Triangle> drawn = canonical(part.indices, levels.drawnTriangles(part));
+    if (!std::includes(all.begin(), all.end(), drawn.begin(), drawn.end()) ||
+        !std::includes(drawn.begin(), drawn.end(), expected.begin(), expected.end()))
+      return false;
+  }
+  return true;
+}
+
+// The border vertices of each side (south, east, north, west), ordered along it.
+std::array<std::vector<uint16_t>, 4> sideVertices(const Grid& g) {
+  std::array<std::vector<uint16_t>, 4> sides;
+  const int32_t w = g.c.width - 1, h = g.c.height - 1;
+  for (uint32_t v = 0; v < g.c.vertexCount(); ++v) {
+    if (g.y(v) == 0) sides[0].push_back(uint16_t(v));
+    if (g.x(v) == w) sides[1].push_back(uint16_t(v));
+    if (g.y(v) == h) sides[2].push_back(uint16_t(v));
+    if (g.x(v) == 0) sides[3].push_back(uint16_t(v));
+  }
+  for (int s = 0; s < 4; ++s)
+    std::sort(sides[s].begin(), sides[s].end(), [&](uint16_t a, uint16_t b) {
+      return (s % 2 == 0) ? g.x(a) < g.x(b) : g.y(a) < g.y(b);
+    });
+  return sides;
+}
+
+// Widens each side's envelope by the border polyline of the vertices active now (< active).
+void widenSides(const Grid& g, const std::array<std::vector<uint16_t>, 4>& sides, uint32_t active,
+                std::array<SideEnvelope, 4>& envelopes) {
+  for (int s = 0; s < 4; ++s) {
+    SideEnvelope& e = envelopes[s];
+    int32_t prevCoord = -1;
+    double prevZ = 0;
+    for (uint16_t v : sides[s]) {
+      if (v >= active) continue;
+      const int32_t coord = (s % 2 == 0) ? g.x(v) : g.y(v);
+      const double z = g.z(v);
+      const int32_t from = prevCoord < 0 ? coord : prevCoord;
+      for (int32_t k = from; k <= coord; ++k) {
+        const double h = k == coord ? z : prevZ + (z - prevZ) * double(k - from) / (coord - from);
+        e.low[size_t(k)] = std::min(e.low[size_t(k)], h);
+        e.high[size_t(k)] = std::max(e.high[size_t(k)], h);
+      }
+      prevCoord = coord;
+      prevZ = z;
+    }
+  }
+}
+
+}  // namespace
+
+VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
+                              const Heightfield& source, const MaterialMap* materials,
+                              MaterialRules promised) {
+  VipmChunkCheck out;
+  const Grid g{c};
+  const uint32_t n = c.vertexCount(), collapses = c.collapseCount();
+  const int32_t w = c.width, h = c.height;
+  auto sourceAt = [&](int32_t x, int32_t y) {
+    return double(source.at(int32_t(x0 + x), int32_t(y0 + y)));
+  };
+
+  if (materials)
+    for (uint32_t v = 0; v < n; ++v)
+      if (c.materials[v] != materials->at(int32_t(x0 + g.x(v)), int32_t(y0 + g.y(v))))
+        ++out.materialMismatches;
+  if (out.materialMismatches)
+    addProblem(out, std::to_string(out.materialMismatches) +
+                        " vertices have another material than the source's");
+
+  for (int s = 0; s < 4; ++s) {
+    const size_t length = size_t(s % 2 == 0 ? w : h);
+    out.sides[s].low.assign(length, std::numeric_limits<double>::infinity());
+    out.sides[s].high.assign(length, -std::numeric_limits<double>::infinity());
+  }
+  const auto sides = sideVertices(g);
+
+  // The reconstruction's parts, compared at the finest, a middle and the coarsest level.
+  auto unpacked = unpackChunk(c);
+  auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
+  if (!levels) addProblem(out, "does not reconstruct: " + levels.error().message);
+  const std::array<uint32_t, 3> partLevels{0, collapses / 2, collapses};
+
+  std::vector<uint16_t> rename(n);
+  for (uint32_t v = 0; v < n; ++v) rename[v] = uint16_t(v);
+  std::vector<double> surface(size_t(w) * h);
+  for (uint32_t j = 0; j <= collapses; ++j) {
+    const std::vector<Triangle> triangles = levelTriangles(c, rename);
+    std::fill(surface.begin(), surface.end(), std::numeric_limits<double>::quiet_NaN());
+    for (const Triangle& t : triangles)
+      rasterizeTriangle(SampleVertex{g.x(t[0]), g.y(t[0]), g.z(t[0])},
+                        SampleVertex{g.x(t[1]), g.y(t[1]), g.z(t[1])},
+                        SampleVertex{g.x(t[2]), g.y(t[2]), g.z(t[2])}, 0, w - 1, 0, h - 1,
+                        [&](int64_t x, int64_t y, double z) { surface[size_t(y * w + x)] = z; });
+    double error = 0, largest = 0;
+    for (int32_t y = 0; y < h; ++y)
+      for (int32_t x = 0; x < w; ++x) {
+        const double z = surface[size_t(y * w + x)];
+        ++out.samples;
+        if (std::isnan(z)) {
+          ++out.uncovered;
+          continue;
+        }
+        error = std::max(error, std::fabs(z - sourceAt(x, y)));
+        largest = std::max(largest, std::fabs(z));
+      }
+    const double recorded = j == 0 ? c.finestError : double(c.errors[j - 1]) * c.errorStep;
+    if (j == 0) out.finestError = error;
+    out.worstMargin = std::min(out.worstMargin, recorded - error);
+    if (error > recorded + kVerifySlack + kVipmFloatSlack * largest)
+      addProblem(out, "level " + std::to_string(j) + ": true error " + std::to_string(error) +
+                          " m > recorded " + std::to_string(recorded) + " m");
+    ++out.levels;
+    widenSides(g, sides, n - j, out.sides);
+    if (levels && std::find(partLevels.begin(), partLevels.end(), j) != partLevels.end()) {
+      levels->setApplied(j);
+      ++out.partLevelsChecked;
+      if (!partsAgree(*levels, unpacked.materials))
+        addProblem(out, "level " + std::to_string(j) +
+                            ": the material parts are not the whole chunk's triangles");
+    }
+    if (j == collapses) {
+      out.coarsestHeights = surface;
+      break;
+    }
+    const uint16_t v = uint16_t(n - 1 - j), t = c.targets[j];
+    ++out.collapsesChecked;
+    if (const int rule = brokenRule(g, triangles, v, t); rule != 0) {
+      ++out.ruleViolations;
+      if (promised == MaterialRules::kOn)
+        addProblem(
+            out, "collapse " + std::to_string(j) + " breaks material rule " + std::to_string(rule));
+    }
+    for (uint16_t& r : rename)
+      if (r == v) r = t;
+  }
+  if (out.uncovered)
+    addProblem(out, std::to_string(out.uncovered) + " samples are not covered at some level");
+  return out;
+}
+
+}  // namespace terralod

@@ -1,0 +1,234 @@
+#include "vipm_verifier.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <unordered_map>
+
+#include "terralod/core/parallel.h"
+#include "terralod/format/chunk_position.h"
+#include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/materials/dem_classification.h"
+#include "terralod/materials/material_raster.h"
+#include "vipm_chunk_check.h"
+
+namespace terralod {
+namespace {
+
+// What the cross-chunk checks need of a checked chunk.
+struct Checked {
+  bool ok = false;
+  int64_t x0 = 0, y0 = 0;
+  int32_t width = 0, height = 0;
+  std::array<SideEnvelope, 4> sides;  // south, east, north, west
+  std::vector<double> coarsest;
+  double lastError = 0;  // recorded error of its coarsest LOD
+  double trueFinest = 0;
+};
+
+// The source's materials as the tileset's metadata says they were made; nullopt when they
+// came from a raster verify was not given.
+Result<std::optional<MaterialMap>> sourceMaterials(const TilesetReader& tileset,
+                                                   const std::string& sourcePath,
+                                                   const VerifyOptions& options) {
+  const std::string& from = tileset.metadata().materialsSource;
+  if (from != "classification" && options.materialsPath.empty())
+    return std::optional<MaterialMap>{};
+  auto dem = DemReader::open(sourcePath, tilesetDemOptions(tileset));
+  if (!dem) return dem.error();
+  auto map = from == "classification"
+                 ? classifyDem(**dem)
+                 : readMaterialRaster(options.materialsPath, **dem, {options.palettePath});
+  if (!map) return map.error();
+  return std::optional<MaterialMap>(std::move(*map));
+}
+
+// Side s's line (the fixed coordinate) and first coordinate along it.
+std::pair<int64_t, int64_t> sideLine(const Checked& c, int s) {
+  switch (s) {
+    case 0:
+      return {c.y0, c.x0};
+    case 1:
+      return {c.x0 + c.width - 1, c.y0};
+    case 2:
+      return {c.y0 + c.height - 1, c.x0};
+    default:
+      return {c.x0, c.y0};
+  }
+}
+
+uint64_t key(uint32_t level, int64_t x, int64_t y) {
+  return (uint64_t(level) << 60) | (uint64_t(x & 0x3FFFFFFF) << 30) | uint64_t(y & 0x3FFFFFFF);
+}
+
+}  // namespace
+
+Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& heights,
+                         const std::string& sourcePath, const VerifyOptions& options,
+                         Progress& progress, VerifyReport& report) {
+  const TilesetHeader& h = tileset.header();
+  const auto& nodes = tileset.nodes();
+  auto materials = sourceMaterials(tileset, sourcePath, options);
+  if (!materials) return materials.error();
+  const MaterialMap* map = *materials ? &**materials : nullptr;
+  const MaterialRules promised =
+      tileset.metadata().materialRules ? MaterialRules::kOn : MaterialRules::kOff;
+
+  VipmVerifyStats stats;
+  stats.rulesPromised = promised == MaterialRules::kOn;
+  stats.materialsFromSource = map != nullptr;
+  stats.worstErrorMargin = std::numeric_limits<double>::infinity();
+  stats.worstFlangeMargin = std::numeric_limits<double>::infinity();
+  std::mutex mutex;
+  auto addFailure = [&](const std::string& text) {
+    std::lock_guard lock(mutex);
+    ++report.failureCount;
+    if (report.failures.size() < options.maxListedFailures) report.failures.push_back(text);
+  };
+  auto name = [&](uint32_t i) {
+    const NodeRecord& n = nodes[i];
+    return tileset.name() + ": chunk " + std::to_string(i) + " (level " + std::to_string(n.level) +
+           ", " + std::to_string(n.x) + "," + std::to_string(n.y) + ")";
+  };
+
+  std::vector<Checked> checked(nodes.size());
+  const unsigned threads = options.threads ? options.threads : hardwareThreads();
+  progress.begin("verifying VIPM chunks", nodes.size());
+  parallelFor(nodes.size(), threads, [&](size_t index, unsigned) {
+    progress.advance();
+    const uint32_t i = uint32_t(index);
+    const NodeRecord& n = nodes[i];
+    auto blob = tileset.readBlob(i);
+    if (!blob) return addFailure(blob.error().message);
+    auto chunk = decodeVipmChunk(*blob, name(i));
+    if (!chunk) return addFailure(chunk.error().message);
+    const auto [x0, y0] = chunkCellOrigin(h, n);
+    const VipmChunkCheck c = checkVipmChunk(*chunk, x0, y0, heights, map, promised);
+    for (const std::string& p : c.problems) addFailure(name(i) + ": " + p);
+    Checked& out = checked[i];
+    out = {true,
+           x0,
+           y0,
+           chunk->width,
+           chunk->height,
+           c.sides,
+           c.coarsestHeights,
+           chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
+                                  : double(chunk->finestError),
+           c.finestError};
+    // The node record.
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    for (uint16_t z : chunk->heights) {
+      lo = std::min(lo, chunk->zBase + z * chunk->zStep);
+      hi = std::max(hi, chunk->zBase + z * chunk->zStep);
+    }
+    if (n.minZ > lo || n.maxZ < hi || n.vertexCount != chunk->vertexCount() ||
+        n.triangleCount != chunk->triangleCount() || n.skirtTriangleCount != 0)
+      addFailure(name(i) + ": the node record does not match its blob");
+    if (n.level == 0 && chunk->collapseCount() != 0)
+      addFailure(name(i) + ": a fallback root has collapses");
+    if (n.level == 1 && chunk->finestError > h.leafError + kVerifySlack)
+      addFailure(name(i) + ": finest LOD's error " + std::to_string(chunk->finestError) +
+                 " m is over --max-error " + std::to_string(h.leafError) + " m");
+    std::lock_guard lock(mutex);
+    stats.lods += c.levels;
+    stats.worstErrorMargin = std::min(stats.worstErrorMargin, c.worstMargin);
+    stats.collapsesChecked += c.collapsesChecked;
+    stats.ruleViolations += c.ruleViolations;
+    stats.materialMismatches += c.materialMismatches;
+    stats.partLevelsChecked += c.partLevelsChecked;
+    LevelCheck& level = report.levels[n.level];
+    level.maxError = std::max(level.maxError, c.finestError);
+    level.samples += uint64_t(chunk->width) * chunk->height;
+    level.uncovered += c.uncovered;
+    level.heightStep = std::max(level.heightStep, chunk->zStep);
+  });
+
+  std::unordered_map<uint64_t, uint32_t> byPlace;
+  for (uint32_t i = 0; i < nodes.size(); ++i)
+    byPlace[key(nodes[i].level, nodes[i].x, nodes[i].y)] = i;
+  auto find = [&](uint32_t level, int64_t x, int64_t y) -> std::optional<uint32_t> {
+    if (x < 0 || y < 0) return std::nullopt;
+    const auto it = byPlace.find(key(level, x, y));
+    return it == byPlace.end() ? std::nullopt : std::optional(it->second);
+  };
+
+  const double slack = kVerifySlack + kVipmFloatSlack * std::max(std::fabs(h.extentMin[2]),
+                                                                 std::fabs(h.extentMax[2]));
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    const NodeRecord& n = nodes[i];
+    const Checked& a = checked[i];
+    if (!a.ok) continue;
+    // A root is its children's coarsest LODs joined; its error bound covers them.
+    if (n.level == 1 && a.lastError > h.levelError[0] / 2 + slack)
+      addFailure(name(i) + ": coarsest LOD's error " + std::to_string(a.lastError) +
+                 " m is over half the roots' level error");
+    if (n.level == 0)
+      for (int q = 0; q < 4; ++q) {
+        const auto child = find(1, 2 * int64_t(n.x) + (q & 1), 2 * int64_t(n.y) + (q >> 1));
+        if (!child || !checked[*child].ok) continue;
+        const Checked& c = checked[*child];
+        double worst = 0;
+        for (int32_t y = 0; y < c.height; ++y)
+          for (int32_t x = 0; x < c.width; ++x) {
+            const int64_t rx = c.x0 - a.x0 + x, ry = c.y0 - a.y0 + y;
+            if (rx >= a.width || ry >= a.height) continue;
+            const double d = std::fabs(a.coarsest[size_t(ry * a.width + rx)] -
+                                       c.coarsest[size_t(y * c.width + x)]);
+            worst = std::max(worst, std::isnan(d) ? std::numeric_limits<double>::infinity() : d);
+            ++stats.fallbackSamples;
+          }
+        stats.fallbackMismatch = std::max(stats.fallbackMismatch, worst);
+        if (worst > slack)
+          addFailure(name(i) + ": differs from child " + std::to_string(*child) +
+                     "'s coarsest LOD by " + std::to_string(worst) + " m");
+      }
+    // Flanges: every chunk that can be drawn beside this one, at any of its LODs.
+    static constexpr int kDx[4] = {0, 1, 0, -1}, kDy[4] = {-1, 0, 1, 0};
+    for (int s = 0; s < 4; ++s) {
+      const int64_t nx = int64_t(n.x) + kDx[s], ny = int64_t(n.y) + kDy[s];
+      std::vector<uint32_t> others;
+      if (auto same = find(n.level, nx, ny)) others.push_back(*same);
+      if (n.level == 1) {
+        if (auto root = find(0, nx >> 1, ny >> 1); root && *root != n.parent)
+          others.push_back(*root);
+      } else {
+        for (int q = 0; q < 4; ++q)
+          if (auto c = find(1, 2 * nx + (q & 1), 2 * ny + (q >> 1))) others.push_back(*c);
+      }
+      const auto [line, start] = sideLine(a, s);
+      for (uint32_t o : others) {
+        const Checked& b = checked[o];
+        if (!b.ok) continue;
+        const int opposite = (s + 2) % 4;
+        const auto [otherLine, otherStart] = sideLine(b, opposite);
+        if (otherLine != line) continue;
+        const SideEnvelope& mine = a.sides[s];
+        const SideEnvelope& theirs = b.sides[opposite];
+        const int64_t from = std::max(start, otherStart);
+        const int64_t to =
+            std::min(start + int64_t(mine.high.size()), otherStart + int64_t(theirs.low.size()));
+        if (from >= to) continue;
+        double gap = 0;
+        for (int64_t k = from; k < to; ++k)
+          gap = std::max(gap, mine.high[size_t(k - start)] - theirs.low[size_t(k - otherStart)]);
+        const double margin = double(n.maxSkirtDepth) - gap;
+        ++stats.flangePairs;
+        report.skirtSamples += uint64_t(to - from);
+        stats.worstFlangeMargin = std::min(stats.worstFlangeMargin, margin);
+        if (margin < -slack)
+          addFailure(name(i) + ": its flange (" + std::to_string(n.maxSkirtDepth) +
+                     " m) does not reach chunk " + std::to_string(o) + " (gap " +
+                     std::to_string(gap) + " m)");
+      }
+    }
+  }
+  report.skirtPairs = stats.flangePairs;
+  report.worstSkirtMargin = stats.worstFlangeMargin;
+  report.vipm = stats;
+  return {};
+}
+
+}  // namespace terralod
