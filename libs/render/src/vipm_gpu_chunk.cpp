@@ -25,7 +25,7 @@ namespace {
 size_t maxFlangeIndices(const Flanges& f) {
   size_t n = 0;
   for (const auto& side : f.sides) n += side.size() > 1 ? (side.size() - 1) * 6 : 0;
-  return n;
+  return n + f.interior.size() * 6;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "vipm_payload.h"
 
 #include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/vipm/grid_patch.h"
 #include "terralod/vipm/vipm_normal_map.h"
 #include "terralod/vipm/vipm_storage.h"
 
@@ -38,7 +39,9 @@ Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
     p.positions.push_back({unpacked.positions[v][0], unpacked.positions[v][1],
                            float(double(data->heights[v]) * data->zStep)});
   p.normals = normalMap(finestGridHeights(unpacked.mesh, p.positions), p.width, p.height, spacing);
-  p.flanges = makeFlanges(unpacked.mesh, flangeSides);
+  // A chunk wider than a leaf is a fallback root: flanges on its children's shared sides too.
+  p.flanges = makeFlanges(unpacked.mesh, flangeSides,
+                          unpacked.mesh.collapseCount() == 0 ? int32_t(kVipmChunkCells) : 0);
   p.materials = std::move(unpacked.materials);
   for (uint16_t top : p.flanges.tops) {
     const auto& t = p.positions[top];

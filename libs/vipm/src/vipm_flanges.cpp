@@ -4,7 +4,7 @@
 
 namespace terralod {
 
-Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask) {
+Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask, int32_t interiorStep) {
   const int32_t w = mesh.width, h = mesh.height;
   Flanges f;
   std::vector<int32_t> flangeOf(mesh.vertexCount(), -1);
@@ -39,6 +39,18 @@ Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask) {
     for (const auto& [position, v] : along) side.push_back(flangeVertex(v));
     f.sides.push_back(std::move(side));
   }
+  if (interiorStep <= 0) return f;
+  auto interiorLine = [&](int32_t c, int32_t size) {
+    return c > 0 && c < size - 1 && c % interiorStep == 0;
+  };
+  for (const auto& tri : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      const uint16_t a = tri[size_t(k)], b = tri[size_t((k + 1) % 3)];
+      const int32_t ax = mesh.points[a] % w, ay = mesh.points[a] / w;
+      const int32_t bx = mesh.points[b] % w, by = mesh.points[b] / w;
+      if ((ax == bx && interiorLine(ax, w)) || (ay == by && interiorLine(ay, h)))
+        f.interior.push_back({flangeVertex(a), flangeVertex(b)});
+    }
   return f;
 }
 
@@ -57,6 +69,12 @@ void flangeIndices(const Flanges& flanges, uint32_t vertexCount, uint32_t active
       }
       previous = k;
     }
+  }
+  for (const auto& [ka, kb] : flanges.interior) {
+    const uint16_t a = flanges.tops[ka], b = flanges.tops[kb];
+    if (a >= activeVertices || b >= activeVertices) continue;
+    const uint16_t a2 = uint16_t(vertexCount + ka), b2 = uint16_t(vertexCount + kb);
+    out.insert(out.end(), {a, b2, b, a, a2, b2});
   }
 }
 

@@ -149,5 +149,27 @@ TEST(VipmFlanges, CloseEveryBorderEdgeOfTheCurrentLevelDownToTheCopies) {
   EXPECT_TRUE(none.empty());
 }
 
+TEST(VipmFlanges, AFallbackRootGetsFlangesUnderItsChildrensSharedSides) {
+  // Two squares side by side on a 129-point grid, sharing the edge on x = 64: each triangle
+  // edge on that line gets a flange (one per side), none elsewhere inside.
+  ProgressiveMesh m;
+  m.width = 129;
+  m.height = 65;
+  for (int32_t y : {0, 64})
+    for (int32_t x : {0, 64, 128}) m.points.push_back(uint16_t(y * 129 + x));
+  m.triangles = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}};
+  const Flanges f = makeFlanges(m, 0, 64);
+  EXPECT_TRUE(f.sides.empty());
+  ASSERT_EQ(f.interior.size(), 2u);
+  std::vector<uint16_t> indices;
+  flangeIndices(f, m.vertexCount(), m.vertexCount(), indices);
+  ASSERT_EQ(indices.size(), 12u);
+  for (size_t i = 0; i < indices.size(); i += 6) {
+    const std::set<uint16_t> tops{indices[i], indices[i + 2]};
+    EXPECT_EQ(tops, (std::set<uint16_t>{1, 4}));
+  }
+  EXPECT_TRUE(makeFlanges(m, 0).interior.empty());
+}
+
 }  // namespace
 }  // namespace terralod

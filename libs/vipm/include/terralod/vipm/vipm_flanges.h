@@ -27,10 +27,17 @@ struct Flanges {
   std::vector<uint16_t> tops;
   /// Per side with a flange: its border vertices in order along it, as indices into `tops`.
   std::vector<std::vector<uint16_t>> sides;
+  /// Edges of the finest level on interior grid lines (pairs of indices into `tops`), each
+  /// with a flange under it whatever the level: see makeFlanges.
+  std::vector<std::array<uint16_t, 2>> interior;
 };
 
-/// The flanges of the sides in `sideMask` (FlangeSide bits).
-Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask);
+/// The flanges of the sides in `sideMask` (FlangeSide bits). With `interiorStep` > 0, also
+/// under every edge of the finest level that lies on an interior grid line x or y = k ·
+/// interiorStep: a fallback root joins its children's coarsest levels, whose shared sides need
+/// not match (T-junctions), so each side's edges there get a flange and close the gap. Meant
+/// for meshes without collapses (their finest level is the only one).
+Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask, int32_t interiorStep = 0);
 
 /// The flange triangles (two per border edge between active vertices, i.e. vertices <
 /// `activeVertices`) for a mesh of `vertexCount` vertices; flange vertex k is vertexCount + k.
