@@ -36,6 +36,14 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
   // renderer draws. Reads the roots.
   ChunkKinds kinds;
   kinds.add(scene->mStaticKind);
+  const auto& nodes = scene->mTileset->nodes();
+  if (std::any_of(nodes.begin(), nodes.end(),
+                  [](const NodeRecord& r) { return r.meshKind == MeshKind::kVipm; })) {
+    auto vipm = VipmChunkKind::create(*scene->mTileset);
+    if (!vipm) return vipm.error();
+    scene->mVipmKind = std::move(vipm).value();
+    kinds.add(*scene->mVipmKind);
+  }
   FrameDriverOptions d;
   d.cacheBytes = scene->mOptions.cacheBytes;
   d.maxInFlight = std::max(2u, 2 * scene->mOptions.loaderThreads);
@@ -69,16 +77,19 @@ TerrainScene::~TerrainScene() {
 }
 
 DrawStats TerrainScene::drawSelection(const View& view, std::span<const SelectedChunk> chunks,
-                                      const TerrainStyle& style) {
+                                      const TerrainStyle& style,
+                                      const SelectionOptions& selection) {
   // Clear and sky; each kind's opaque draws; composited layers and overlays.
   DrawStats stats;
   const FrameContext context = mRenderer.beginFrame(view, style, mTree, stats);
-  TerrainFrame frame{context, mTree, stats};
+  SelectionOptions options = selection;
+  options.drawable = {};
+  TerrainFrame frame{context, mTree, stats, options};
   mRuns.split(mTree, chunks);
-  for (const KindRuns::Run& run : mRuns.runs())
+  for (const KindRuns::Run& run : mRuns.runs()) {
     if (run.kind == MeshKind::kStaticRtin) mStaticKind.addDraws(frame, run.chunks);
-  // Other kinds add their draws here; create() registers none yet (their tilesets are refused
-  // with "no kind registered").
+    if (run.kind == MeshKind::kVipm && mVipmKind) mVipmKind->addDraws(frame, run.chunks);
+  }
   mRenderer.finishFrame(context, mTree, chunks, mStore, stats);
   return stats;
 }
@@ -99,7 +110,8 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   stats.selection = mDriver->lastSelection();
   if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
     return makeError(mTileset->name(), "no chunk can be drawn");
-  stats.draw = drawSelection(view, visibleChunks(view, mDriver->selected(), style, stats), style);
+  stats.draw =
+      drawSelection(view, visibleChunks(view, mDriver->selected(), style, stats), style, options);
   return stats;
 }
 
@@ -110,7 +122,7 @@ FrameStats TerrainScene::renderResident(const View& view, const SelectionOptions
   options.drawable = mDriver->residency().drawable();
   mOtherView.reserve(mTree.nodes().size());
   stats.selection = selectChunks(mTree, view, options, mOtherView);
-  stats.draw = drawSelection(view, visibleChunks(view, mOtherView, style, stats), style);
+  stats.draw = drawSelection(view, visibleChunks(view, mOtherView, style, stats), style, selection);
   return stats;
 }
 
@@ -124,8 +136,8 @@ std::span<const SelectedChunk> TerrainScene::visibleChunks(const View& view,
 }
 
 DrawStats TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,
-                                   const TerrainStyle& style) {
-  return drawSelection(view, chunks, style);
+                                   const TerrainStyle& style, const SelectionOptions& selection) {
+  return drawSelection(view, chunks, style, selection);
 }
 
 }  // namespace terralod

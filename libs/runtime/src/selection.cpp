@@ -21,9 +21,13 @@ double rhoOf(const ChunkTree& tree, const View& view, const ChunkNode& n) {
   return screenSpaceError(view, tree.levelError(n.level), distanceToBox(view.camera.eye, n.box));
 }
 
-float scheduleMorph(const ChunkNode& n, double rho, const SelectionOptions& o) {
+float scheduleMorph(const ChunkTree& tree, const ChunkNode& n, double rho,
+                    const SelectionOptions& o) {
   if (!o.morph || n.level == 0) return 0.0f;  // roots morph to themselves
-  return float(std::clamp(o.tau / rho - 1.0, 0.0, 1.0));
+  // δ_L / (δ_{L−1} − δ_L): exactly 1 where errors halve per level (selection.h).
+  const double own = tree.levelError(n.level), parent = tree.levelError(n.level - 1);
+  const double scale = parent > own ? own / (parent - own) : 1.0;
+  return float(std::clamp((o.tau / rho - 1.0) * scale, 0.0, 1.0));
 }
 
 struct Traversal {
@@ -63,7 +67,7 @@ struct Traversal {
       return;
     }
     if (wantsSplit) ++stats.coarserThanWanted;
-    draw(i, scheduleMorph(n, rho, options));
+    draw(i, scheduleMorph(tree, n, rho, options));
   }
 };
 
@@ -88,7 +92,7 @@ SelectionStats selectChunks(const ChunkTree& tree, const View& view,
 float morphParameter(const ChunkTree& tree, const View& view, const SelectionOptions& options,
                      uint32_t node) {
   const ChunkNode& n = tree.node(node);
-  return scheduleMorph(n, rhoOf(tree, view, n), options);
+  return scheduleMorph(tree, n, rhoOf(tree, view, n), options);
 }
 
 }  // namespace terralod

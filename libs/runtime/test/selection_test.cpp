@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -84,6 +85,40 @@ TEST(Selection, ChildrenStartAsTheirParentAndSplitAtZeroMorph) {
     previous = now;
   }
   EXPECT_GT(splits, 10);
+}
+
+TEST(Selection, MorphRunsOverTheAllowedErrorBetweenLevelsThatDoNotHalve) {
+  // A VIPM-like tree: the root's error is 12 times the leaves'. A leaf's t goes from 0 where
+  // τ·D/K is its own error to 1 where it is the root's, so t = 1 still means "the parent's
+  // error" (and a leaf appears at t = 1 when the root splits).
+  FullTree f(2);
+  f.header.levelError[0] = 24.0;
+  f.header.levelError[1] = 2.0;
+  const ChunkTree tree = f.tree();
+  SelectionOptions o;
+  o.tau = 2.0;
+  std::vector<SelectedChunk> out;
+  int checked = 0, appeared = 0;
+  bool rootDrawn = false;
+  for (double gap = 20000; gap > 1; gap *= 0.999) {
+    const View v = viewFrom({300, -gap, 60}, {300, 512, 40});
+    selectChunks(tree, v, o, out);
+    for (const SelectedChunk& c : out) {
+      const ChunkNode& n = tree.node(c.node);
+      if (n.level == 0) continue;
+      const double allowed = o.tau * distanceToBox(v.camera.eye, n.box) / v.pixelsPerRadian;
+      const double expect = std::clamp((allowed - 2.0) / (24.0 - 2.0), 0.0, 1.0);
+      EXPECT_NEAR(c.morph, expect, 1e-5) << gap;
+      ++checked;
+      if (rootDrawn) {
+        ++appeared;
+        EXPECT_GT(c.morph, 0.995f);
+      }
+    }
+    rootDrawn = out.size() == 1 && out[0].node == 0;
+  }
+  EXPECT_GT(checked, 100);
+  EXPECT_EQ(appeared, 4);
 }
 
 TEST(Selection, MorphedErrorNeverExceedsTau) {

@@ -7,6 +7,7 @@
 #include "terralod/render/frame_context.h"
 #include "terralod/render/terrain_renderer.h"
 #include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
 
 namespace terralod {
 
@@ -14,6 +15,9 @@ struct TerrainFrame {
   const FrameContext& context;
   const ChunkTree& tree;
   DrawStats& stats;  ///< what the kinds drew into the frame, added up
+  /// τ and morphing as the selection used them (kinds that pick their own level of detail,
+  /// e.g. VIPM chunks, follow them); drawable is unused.
+  SelectionOptions selection;
 };
 
 }  // namespace terralod

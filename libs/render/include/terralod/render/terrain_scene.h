@@ -2,7 +2,8 @@
 // A tileset ready to draw: GL glue over the runtime's FrameDriver (which holds the streaming
 // policy: uploads within a budget, selection among the resident chunks, late-split easing,
 // requests, eviction, dispatch), with a loader pool, the chunks on the GPU (GpuChunkStore)
-// and the renderer, registered as the static RTIN chunk kind. One call per frame. What
+// and the renderer, registered as the static RTIN chunk kind and, for tilesets that have them,
+// the VIPM chunk kind (vipm_chunk_kind.h). One call per frame. What
 // `render`, `bench` and the viewer share. Render thread only.
 //
 // A frame never waits for IO unless `complete` is set (single images, golden tests): then it
@@ -22,6 +23,7 @@
 #include "terralod/render/gpu_chunk_store.h"
 #include "terralod/render/static_chunk_kind.h"
 #include "terralod/render/terrain_renderer.h"
+#include "terralod/render/vipm_chunk_kind.h"
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/frame_clock.h"
 #include "terralod/runtime/frame_driver.h"
@@ -83,8 +85,9 @@ class TerrainScene {
 
   /// Draws the given chunks (with their morph parameters) from `view`; chunks not on the GPU
   /// are skipped (counted in DrawStats::missing): for comparing two selections from a camera.
+  /// `selection`: the τ and morphing VIPM chunks pick their levels with.
   DrawStats drawChunks(const View& view, std::span<const SelectedChunk> chunks,
-                       const TerrainStyle& style);
+                       const TerrainStyle& style, const SelectionOptions& selection = {});
 
   const ChunkTree& tree() const { return mTree; }
   const GpuChunkStore& store() const { return mStore; }
@@ -92,7 +95,9 @@ class TerrainScene {
   const Residency& residency() const { return mDriver->residency(); }
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
-  uint64_t gpuBytes() const { return mStore.residentBytes(); }
+  uint64_t gpuBytes() const {
+    return mStore.residentBytes() + (mVipmKind ? mVipmKind->gpuBytes() : 0);
+  }
   /// Memory the resident chunks' occluder grids hold (horizon culling).
   uint64_t occluderBytes() const { return mDriver->occluderBytes(); }
   /// The renderer, for adding composited layers (TerrainRenderer::addLayer).
@@ -104,7 +109,7 @@ class TerrainScene {
   // One frame of `chunks`: the renderer begins it (clear, sky), each kind adds its opaque
   // draws, the renderer finishes it (composited layers, overlays).
   DrawStats drawSelection(const View& view, std::span<const SelectedChunk> chunks,
-                          const TerrainStyle& style);
+                          const TerrainStyle& style, const SelectionOptions& selection);
   // The chunks of `selected` to draw: without those horizon culling finds hidden.
   std::span<const SelectedChunk> visibleChunks(const View& view,
                                                std::span<const SelectedChunk> selected,
@@ -116,6 +121,7 @@ class TerrainScene {
   GpuChunkStore mStore;
   TerrainRenderer mRenderer;
   StaticChunkKind mStaticKind;
+  std::unique_ptr<VipmChunkKind> mVipmKind;  // when the tileset has VIPM chunks
   // Stops (after finishing its job) before the store, which deletes what it left unadopted.
   std::unique_ptr<GlWorker> mGlWorker;
   std::unique_ptr<ThreadPool> mPool;

@@ -22,6 +22,12 @@
 //    children start out as the parent's surface. When a chunk itself splits, ρ = τ and t = 0.
 //    Merges are the same moments in reverse. So no frame shows a pop from selection alone
 //    (up to the height quantisation of the two levels, a few hundredths of a pixel).
+//
+// Levels whose errors do not halve (VIPM tilesets: the fallback roots' error is twice the
+// leaves' coarsest, far above 2 δ(leaf)) use the same schedule in the allowed error
+// θ = τ·D/K = δ_L·τ/ρ: t = clamp((θ − δ_L) / (δ_{L−1} − δ_L), 0, 1), which is the formula above
+// when δ_{L−1} = 2 δ_L (bit for bit). So t = 1 still means "at the parent's error": a VIPM
+// chunk at t = 1 draws its coarsest level (vipm_theta.h), and a late split eases in from it.
 
 #include <cstdint>
 #include <span>

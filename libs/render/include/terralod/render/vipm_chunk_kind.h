@@ -1,0 +1,60 @@
+#pragma once
+// VIPM chunks (MeshKind::kVipm; docs/format.md "VIPM tilesets") as a chunk kind
+// (terralod/runtime/chunk_kind.h, whose thread contract applies). Loader threads decode a blob,
+// reconstruct its index parts (libs/vipm), compute its normal map from the stored heights and
+// its flanges. The render thread uploads it (its own buffers and normal map per chunk) and,
+// each frame, moves every drawn chunk to the level its allowed error θ asks for
+// (vipm_theta.h: τ·D/K with D the selection's box distance, raised while a late split eases in),
+// geomorphs the collapses in the window (none with morphing off: `--no-morph` shows the pops),
+// re-uploads what changed, and draws it by texture splatting (one pass per material).
+//
+// Horizon culling: the kind makes no occluder grids; the driver then uses each chunk's box
+// solid under minZ, which lies under every level it can draw.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/format/tileset_reader.h"
+#include "terralod/render/terrain_frame.h"
+#include "terralod/runtime/chunk_kind.h"
+
+namespace terralod {
+
+class VipmPass;
+class VipmGpuChunk;
+struct VipmDraw;
+
+class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
+ public:
+  /// Compiles the splatting program and makes the materials' detail textures (a GlContext
+  /// must be current). `tileset` must outlive the kind.
+  static Result<std::unique_ptr<VipmChunkKind>> create(const TilesetReader& tileset);
+  ~VipmChunkKind() override;
+
+  MeshKind meshKind() const override { return MeshKind::kVipm; }
+  Result<LoadedChunk> decode(const ChunkBlob& blob) const override;
+  UploadRoom prepare(const ChunkPayload&) override { return UploadRoom::kReady; }
+  uint64_t upload(uint32_t node, const ChunkPayload& payload) override;
+  void release(uint32_t node) override;
+  void addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) override;
+
+  /// The collapses applied now in `node` (for tests); none when it is not uploaded.
+  uint32_t appliedCollapses(uint32_t node) const;
+  /// GPU memory the uploaded chunks take.
+  uint64_t gpuBytes() const { return mGpuBytes; }
+
+ private:
+  VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
+
+  const TilesetReader& mTileset;
+  std::unique_ptr<VipmPass> mPass;
+  std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
+  uint64_t mGpuBytes = 0;
+  std::vector<VipmDraw> mDraws;  // per frame, kept to avoid allocating
+};
+
+}  // namespace terralod

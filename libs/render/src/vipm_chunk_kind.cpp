@@ -1,0 +1,106 @@
+#include "terralod/render/vipm_chunk_kind.h"
+
+#include <vector>
+
+#include "terralod/runtime/view.h"
+#include "terralod/vipm/vipm_theta.h"
+#include "vipm_gpu_chunk.h"
+#include "vipm_pass.h"
+#include "vipm_payload.h"
+
+namespace terralod {
+namespace {
+
+struct Payload final : ChunkPayload {
+  VipmChunkPayload chunk;
+};
+
+// Sides of a node's chunk that meet another chunk (not the data's edge): those get flanges.
+uint8_t flangeSides(const TilesetHeader& h, const NodeRecord& r) {
+  const uint64_t cells = h.chunkCells(r.level);
+  uint8_t sides = 0;
+  if (r.x > 0) sides |= kFlangeWest;
+  if (r.y > 0) sides |= kFlangeSouth;
+  if ((uint64_t(r.x) + 1) * cells < uint64_t(h.sourceColumns) - 1) sides |= kFlangeEast;
+  if ((uint64_t(r.y) + 1) * cells < uint64_t(h.sourceRows) - 1) sides |= kFlangeNorth;
+  return sides;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<VipmChunkKind>> VipmChunkKind::create(const TilesetReader& tileset) {
+  auto pass = VipmPass::create(tileset.metadata().materials);
+  if (!pass) return pass.error();
+  return std::unique_ptr<VipmChunkKind>(
+      new VipmChunkKind(tileset, std::make_unique<VipmPass>(std::move(pass).value())));
+}
+
+VipmChunkKind::VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass)
+    : mTileset(tileset), mPass(std::move(pass)) {}
+
+VipmChunkKind::~VipmChunkKind() = default;
+
+Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
+  const TilesetHeader& h = mTileset.header();
+  const NodeRecord& record = mTileset.nodes()[blob.node];
+  auto decoded =
+      decodeVipmPayload(blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
+                        {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
+  if (!decoded) return decoded.error();
+  auto payload = std::make_unique<Payload>();
+  payload->chunk = std::move(decoded).value();
+  LoadedChunk loaded;
+  loaded.bytes = payload->chunk.bytes();
+  loaded.payload = std::move(payload);
+  return loaded;
+}
+
+uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
+  auto chunk = std::make_unique<VipmGpuChunk>(static_cast<const Payload&>(payload).chunk);
+  const uint64_t bytes = chunk->bytes();
+  mGpuBytes += chunk->gpuBytes();
+  if (auto& slot = mChunks[node]) mGpuBytes -= slot->gpuBytes();
+  mChunks[node] = std::move(chunk);
+  return bytes;
+}
+
+void VipmChunkKind::release(uint32_t node) {
+  auto it = mChunks.find(node);
+  if (it == mChunks.end()) return;
+  mGpuBytes -= it->second->gpuBytes();
+  mChunks.erase(it);
+}
+
+uint32_t VipmChunkKind::appliedCollapses(uint32_t node) const {
+  auto it = mChunks.find(node);
+  return it == mChunks.end() ? 0 : it->second->applied();
+}
+
+void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) {
+  const ChunkTree& tree = frame.tree;
+  const View& view = frame.context.view;
+  const Geomorph geomorph = frame.selection.morph ? Geomorph::kOn : Geomorph::kOff;
+  std::vector<VipmDraw>& draws = mDraws;
+  draws.clear();
+  for (const SelectedChunk& s : chunks) {
+    auto it = mChunks.find(s.node);
+    if (it == mChunks.end()) {
+      ++frame.stats.missing;
+      continue;
+    }
+    ++frame.stats.chunks;
+    const ChunkNode& n = tree.node(s.node);
+    // τ·D/K with D as the selection measures it (screenSpaceError(δ) = δ·K/D).
+    const double distance = distanceToBox(view.camera.eye, n.box);
+    const double perMetre = screenSpaceError(view, 1.0, distance);
+    const double allowance = frame.selection.tau / perMetre;
+    const double own = tree.levelError(n.level);
+    const double parent = n.level > 0 ? tree.levelError(n.level - 1) : own;
+    const double theta = vipmTheta(allowance, s.morph, own, parent);
+    it->second->update(theta, geomorph);
+    draws.push_back({it->second.get(), s.node, s.morph});
+  }
+  mPass->draw(frame.context, tree, draws, frame.stats);
+}
+
+}  // namespace terralod

@@ -1,0 +1,138 @@
+#include "vipm_gpu_chunk.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <utility>
+
+namespace terralod {
+
+GlTexture::~GlTexture() {
+  if (mName) glDeleteTextures(1, &mName);
+}
+GlTexture::GlTexture(GlTexture&& other) noexcept : mName(std::exchange(other.mName, 0)) {}
+GlTexture& GlTexture::operator=(GlTexture&& other) noexcept {
+  if (this != &other) {
+    if (mName) glDeleteTextures(1, &mName);
+    mName = std::exchange(other.mName, 0);
+  }
+  return *this;
+}
+
+namespace {
+
+// Indices of every flange triangle there could be: two per edge of the finest border.
+size_t maxFlangeIndices(const Flanges& f) {
+  size_t n = 0;
+  for (const auto& side : f.sides) n += side.size() > 1 ? (side.size() - 1) * 6 : 0;
+  return n + f.interior.size() * 6;
+}
+
+}  // namespace
+
+VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
+    : mMesh(p.mesh),
+      mLevels(p.levels),
+      mOwn(p.positions),
+      mDrawn(p.positions),
+      mFlanges(p.flanges),
+      mFlangeDepth(p.flangeDepth),
+      mWidth(p.width),
+      mHeight(p.height),
+      mZBase(p.zBase) {
+  glCreateBuffers(3, mBuffers.data());
+  const auto positionBytes = GLsizeiptr(mOwn.size() * sizeof(mOwn[0]));
+  glNamedBufferStorage(mBuffers[0], positionBytes, mOwn.data(), GL_DYNAMIC_STORAGE_BIT);
+  glNamedBufferStorage(mBuffers[1], GLsizeiptr(p.materials.size()), p.materials.data(), 0);
+  // Every part at a fixed place, at its finest level's size; the flanges after them.
+  uint32_t first = 0;
+  for (const VipmPart& part : mLevels.parts()) {
+    mRanges.push_back({part.material, first, 0});
+    first += uint32_t(part.indices.size());
+  }
+  mFlangeFirst = first;
+  const size_t indexCount = size_t(first) + maxFlangeIndices(mFlanges);
+  glNamedBufferStorage(mBuffers[2], GLsizeiptr(std::max<size_t>(indexCount, 1) * 2), nullptr,
+                       GL_DYNAMIC_STORAGE_BIT);
+  for (VipmPart& part : mLevels.parts()) part.dirty = true;
+  GLuint texture = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
+  mNormalMap = GlTexture(texture);
+  glTextureStorage2D(mNormalMap.id(), 1, GL_RG8, mWidth, mHeight);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows of 2 * width bytes
+  glTextureSubImage2D(mNormalMap.id(), 0, 0, 0, mWidth, mHeight, GL_RG, GL_UNSIGNED_BYTE,
+                      p.normals.data());
+  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
+  mGpuBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + p.normals.size();
+  mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes);
+  update(0.0, Geomorph::kOff);
+}
+
+VipmGpuChunk::~VipmGpuChunk() {
+  glDeleteBuffers(3, mBuffers.data());
+}
+
+void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
+  if (count == 0) return;
+  glNamedBufferSubData(mBuffers[0], GLintptr(first * sizeof(mDrawn[0])),
+                       GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
+}
+
+void VipmGpuChunk::update(double theta, Geomorph geomorph) {
+  const uint32_t n = mMesh.vertexCount();
+  const MorphWindow window = morphWindow(mMesh.errors, theta, geomorph);
+  const MorphWindow previous = mWindow;
+  const bool levelChanged = window.applied != mLevels.applied() || !mFlangesValid;
+  mLevels.setApplied(window.applied);
+
+  // Vertices of collapse j sit at n - 1 - j: the windows' vertices are contiguous ranges.
+  // Those that morphed go back to their own positions, then the window morphs.
+  const bool morphed = previous.morphing > previous.applied;
+  const bool morphs = window.morphing > window.applied;
+  for (uint32_t j = previous.applied; j < previous.morphing; ++j)
+    mDrawn[n - 1 - j] = mOwn[n - 1 - j];
+  if (morphs)
+    morphPositions(mMesh, window, theta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
+  mWindow = window;
+  if (morphed || morphs) {
+    uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges
+    for (const MorphWindow& w : {previous, window})
+      if (w.morphing > w.applied) {
+        lo = std::min(lo, n - w.morphing);
+        hi = std::max(hi, n - w.applied);
+      }
+    uploadPositions(lo, hi - lo);
+    // Flange vertices hang below their (possibly moving) tops.
+    for (size_t k = 0; k < mFlanges.tops.size(); ++k) {
+      mDrawn[n + k] = mDrawn[mFlanges.tops[k]];
+      mDrawn[n + k][2] -= mFlangeDepth;
+    }
+    uploadPositions(n, uint32_t(mFlanges.tops.size()));
+  }
+
+  // Parts whose collapse count changed: their living prefix again.
+  auto parts = mLevels.parts();
+  for (size_t i = 0; i < parts.size(); ++i) {
+    VipmPart& part = parts[i];
+    mRanges[i].count = mLevels.drawnTriangles(part) * 3;
+    if (!part.dirty) continue;
+    if (mRanges[i].count)
+      glNamedBufferSubData(mBuffers[2], GLintptr(mRanges[i].firstIndex * 2),
+                           GLsizeiptr(mRanges[i].count * 2), part.indices.data());
+    part.dirty = false;
+  }
+  if (levelChanged) {
+    flangeIndices(mFlanges, n, mLevels.activeVertices(), mFlangeIndices);
+    if (!mFlangeIndices.empty())
+      glNamedBufferSubData(mBuffers[2], GLintptr(mFlangeFirst * 2),
+                           GLsizeiptr(mFlangeIndices.size() * 2), mFlangeIndices.data());
+    mFlangesValid = true;
+  }
+}
+
+}  // namespace terralod

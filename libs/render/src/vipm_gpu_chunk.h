@@ -1,0 +1,86 @@
+#pragma once
+// One VIPM chunk on the GPU, with the CPU state that drives its level of detail: a vertex
+// buffer (positions, re-uploaded over the geomorphing range), a material buffer, one index
+// buffer holding every part at a fixed place plus the flanges of the current border, and its
+// normal map. Render thread only.
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "vipm_payload.h"
+
+namespace terralod {
+
+/// A GL texture name, deleted with its owner.
+class GlTexture {
+ public:
+  GlTexture() = default;
+  explicit GlTexture(uint32_t name) : mName(name) {}
+  ~GlTexture();
+  GlTexture(GlTexture&& other) noexcept;
+  GlTexture& operator=(GlTexture&& other) noexcept;
+  GlTexture(const GlTexture&) = delete;
+  GlTexture& operator=(const GlTexture&) = delete;
+  uint32_t id() const { return mName; }
+
+ private:
+  uint32_t mName = 0;
+};
+
+class VipmGpuChunk {
+ public:
+  /// Makes the GL objects and uploads the chunk at its finest level.
+  explicit VipmGpuChunk(const VipmChunkPayload& payload);
+  ~VipmGpuChunk();
+  VipmGpuChunk(const VipmGpuChunk&) = delete;
+  VipmGpuChunk& operator=(const VipmGpuChunk&) = delete;
+
+  /// Moves to the level for allowed error `theta` (metres): applies or undoes collapses,
+  /// geomorphs the vertices in the window, and uploads what changed.
+  void update(double theta, Geomorph geomorph);
+
+  struct Range {
+    int material = kWholeChunk;
+    uint32_t firstIndex = 0;
+    uint32_t count = 0;  ///< indices drawn now
+  };
+  /// The whole chunk first, then one per material present.
+  const std::vector<Range>& parts() const { return mRanges; }
+  Range flanges() const { return {kWholeChunk, mFlangeFirst, uint32_t(mFlangeIndices.size())}; }
+  /// Collapses applied now.
+  uint32_t applied() const { return mLevels.applied(); }
+  uint32_t vertexBuffer() const { return mBuffers[0]; }
+  uint32_t materialBuffer() const { return mBuffers[1]; }
+  uint32_t indexBuffer() const { return mBuffers[2]; }
+  uint32_t normalMap() const { return mNormalMap.id(); }
+  int32_t width() const { return mWidth; }
+  int32_t height() const { return mHeight; }
+  double zBase() const { return mZBase; }
+  /// GPU bytes plus the CPU state kept for level changes.
+  uint64_t bytes() const { return mBytes; }
+  /// GPU bytes alone.
+  uint64_t gpuBytes() const { return mGpuBytes; }
+
+ private:
+  void uploadPositions(uint32_t first, uint32_t count);
+
+  ProgressiveMesh mMesh;
+  VipmLevels mLevels;
+  std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
+  std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
+  Flanges mFlanges;
+  float mFlangeDepth = 0.0f;
+  MorphWindow mWindow;
+  bool mFlangesValid = false;
+  std::vector<uint16_t> mFlangeIndices;
+  std::vector<Range> mRanges;
+  uint32_t mFlangeFirst = 0;
+  std::array<uint32_t, 3> mBuffers{};  // positions, materials, indices
+  GlTexture mNormalMap;
+  int32_t mWidth = 0, mHeight = 0;
+  double mZBase = 0.0;
+  uint64_t mBytes = 0, mGpuBytes = 0;
+};
+
+}  // namespace terralod

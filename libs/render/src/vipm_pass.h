@@ -1,0 +1,57 @@
+#pragma once
+// Texture splatting of VIPM chunks: a whole-chunk pass (depth, black; flanges coloured), then
+// one pass per material over its index part, depth test EQUAL and additive blending, each
+// vertex weighted one-hot by its material, colour = the material's detail texture (tileable,
+// in world-space coordinates) lit by the chunk's normal map. One program for all passes
+// (invariant positions). Render thread only.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "gl_object.h"
+#include "terralod/core/result.h"
+#include "terralod/format/tileset_metadata.h"
+#include "terralod/render/frame_context.h"
+#include "terralod/render/shader_program.h"
+#include "terralod/render/terrain_renderer.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "vipm_gpu_chunk.h"
+
+namespace terralod {
+
+/// A chunk to draw, already at the frame's level.
+struct VipmDraw {
+  const VipmGpuChunk* chunk = nullptr;
+  uint32_t node = 0;
+  float morph = 0.0f;
+};
+
+/// Detail textures repeat every this many grid cells.
+inline constexpr double kDetailCells = 32.0;
+
+class VipmPass {
+ public:
+  /// Compiles the program and makes every material's detail texture.
+  static Result<VipmPass> create(std::span<const TilesetMaterial> materials);
+
+  using Draw = VipmDraw;
+  /// Draws `draws` (their chunks already at the frame's level) into the frame; adds draw
+  /// calls and triangles (the whole chunk's and, with skirts on, the flanges') to `stats`.
+  void draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,
+            DrawStats& stats);
+
+ private:
+  VipmPass(ShaderProgram program, std::vector<GlTexture> details,
+           std::vector<std::array<float, 3>> colors);
+  void setChunk(const FrameContext& frame, const ChunkTree& tree, const Draw& d) const;
+  uint32_t drawRange(const VipmGpuChunk& chunk, const VipmGpuChunk::Range& range) const;
+
+  ShaderProgram mProgram;
+  GlVertexArray mVertexArray;
+  std::vector<GlTexture> mDetails;            // per material
+  std::vector<std::array<float, 3>> mColors;  // per material, sRGB 0..1
+};
+
+}  // namespace terralod

@@ -1,0 +1,55 @@
+#include "vipm_payload.h"
+
+#include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/vipm/grid_patch.h"
+#include "terralod/vipm/vipm_normal_map.h"
+#include "terralod/vipm/vipm_storage.h"
+
+namespace terralod {
+
+uint64_t VipmChunkPayload::bytes() const {
+  uint64_t b = mesh.points.size() * 2 + mesh.targets.size() * 6 + mesh.triangles.size() * 6;
+  for (const VipmPart& p : levels.parts())
+    b +=
+        p.indices.size() * 2 + p.triangles.size() * 4 + p.moveStart.size() * 4 + p.moves.size() * 2;
+  b += positions.size() * sizeof(positions[0]) + materials.size() + normals.size();
+  b += flanges.tops.size() * 4;
+  return b;
+}
+
+Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
+                                           const std::string& subject,
+                                           std::array<double, 2> spacing, uint8_t flangeSides,
+                                           float flangeDepth) {
+  auto data = decodeVipmChunk(blob, subject);
+  if (!data) return data.error();
+  UnpackedChunk unpacked = unpackChunk(*data);
+  auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
+  if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
+  VipmChunkPayload p;
+  p.levels = std::move(levels).value();
+  p.zBase = data->zBase;
+  p.width = data->width;
+  p.height = data->height;
+  p.flangeDepth = flangeDepth;
+  // Heights above zBase in float keep the stored steps exactly (absolute ones would not).
+  const uint32_t n = data->vertexCount();
+  p.positions.reserve(n);
+  for (uint32_t v = 0; v < n; ++v)
+    p.positions.push_back({unpacked.positions[v][0], unpacked.positions[v][1],
+                           float(double(data->heights[v]) * data->zStep)});
+  p.normals = normalMap(finestGridHeights(unpacked.mesh, p.positions), p.width, p.height, spacing);
+  // A chunk wider than a leaf is a fallback root: flanges on its children's shared sides too.
+  p.flanges = makeFlanges(unpacked.mesh, flangeSides,
+                          unpacked.mesh.collapseCount() == 0 ? int32_t(kVipmChunkCells) : 0);
+  p.materials = std::move(unpacked.materials);
+  for (uint16_t top : p.flanges.tops) {
+    const auto& t = p.positions[top];
+    p.positions.push_back({t[0], t[1], t[2] - flangeDepth});
+    p.materials.push_back(p.materials[top]);
+  }
+  p.mesh = std::move(unpacked.mesh);
+  return p;
+}
+
+}  // namespace terralod

@@ -1,0 +1,102 @@
+#pragma once
+// GLSL of the VIPM chunk passes (vipm_pass.h). One program for every pass, so every pass puts
+// a vertex at exactly the same depth (invariant gl_Position) and the material passes can test
+// depth for equality against the whole-chunk pass.
+
+#include <string>
+
+#include "terrain_shaders.h"
+
+namespace terralod::shaders {
+
+// Vertices: grid x, grid y (cells from the chunk's south-west corner) and metres above the
+// chunk's zBase (geomorphed on the CPU), and the vertex's material index.
+inline constexpr const char* kVipmVertex = R"(#version 450 core
+layout(location = 0) in vec3 aPosition;
+layout(location = 1) in uint aMaterial;
+uniform mat4 uViewProjection;  // eye at the origin
+uniform float uEyeHeight;
+uniform vec3 uOrigin;          // chunk corner relative to the eye (z: zBase - eye z)
+uniform vec2 uSpacing;         // metres per cell
+uniform vec2 uGridSize;        // grid points along x and y (the normal map's texels)
+uniform vec2 uDetailOrigin;    // detail texture coordinate of the chunk's corner
+uniform vec2 uDetailScale;     // detail texture coordinate per cell
+uniform int uMaterial;         // the material pass's material, -1 in the whole-chunk pass
+uniform vec3 uMaterialColors[8];
+invariant gl_Position;
+out vec3 vRelative;
+out float vHeight;
+out vec2 vNormalUv;
+out vec2 vDetailUv;
+out float vWeight;
+out vec3 vMaterialColor;
+void main() {
+  vec3 p = uOrigin + vec3(aPosition.xy * uSpacing, aPosition.z);
+  vRelative = p;
+  vHeight = p.z + uEyeHeight;
+  vNormalUv = (aPosition.xy + 0.5) / uGridSize;  // texel i's centre is on grid point i
+  vDetailUv = uDetailOrigin + aPosition.xy * uDetailScale;
+  vWeight = aMaterial == uint(uMaterial) ? 1.0 : 0.0;  // one-hot: the weights sum to 1
+  vMaterialColor = uMaterialColors[min(aMaterial, 7u)];
+  gl_Position = uViewProjection * vec4(p, 1.0);
+}
+)";
+
+// uPass 0: the whole chunk (depth; black, to which the material passes add), its flanges in
+// the material colours lit as level ground (they show only in cracks); 1: a material's
+// triangles, weighted by the material's share, added; 2: the wireframe overlay.
+inline constexpr const char* kVipmFragment = R"(
+in vec3 vRelative;
+in float vHeight;
+in vec2 vNormalUv;
+in vec2 vDetailUv;
+in float vWeight;
+in vec3 vMaterialColor;
+uniform int uPass;
+uniform int uFlange;
+uniform int uDetailed;        // 0: the material's flat colour instead of its detail texture
+uniform sampler2D uDetail;    // unit 0, sRGB
+uniform sampler2D uNormalMap; // unit 1
+uniform int uColorBy;         // 0 materials, 1 level, 2 morph
+uniform float uLevel;
+uniform float uMorph;
+uniform vec3 uSun;
+uniform vec3 uHaze;
+uniform float uEyeHeight;
+out vec4 fragColor;
+void main() {
+  if (uPass == 2) {
+    fragColor = vec4(0.05, 0.05, 0.05, 1.0);
+    return;
+  }
+  vec3 n = vec3(0.0, 0.0, 1.0);
+  vec3 base;
+  float weight = 1.0;
+  if (uPass == 0) {
+    if (uFlange == 0) {
+      fragColor = vec4(0.0, 0.0, 0.0, 1.0);
+      return;
+    }
+    base = pow(vMaterialColor, vec3(2.2));
+  } else {
+    vec2 xy = texture(uNormalMap, vNormalUv).rg * 2.0 - 1.0;
+    n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
+    base = uDetailed == 1 ? texture(uDetail, vDetailUv).rgb : pow(vMaterialColor, vec3(2.2));
+    weight = vWeight;
+  }
+  if (uColorBy == 1) base = levelColor(uLevel);
+  if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), uMorph);
+  float diffuse = max(dot(n, uSun), 0.0);
+  float sky = 0.30 + 0.20 * n.z;
+  vec3 color = base * (sky + 0.85 * diffuse);
+  float through = transmittance(uEyeHeight, vHeight, length(vRelative));
+  color = color * through + uHaze * (1.0 - through);
+  fragColor = vec4(weight * pow(color, vec3(1.0 / 2.2)), 1.0);
+}
+)";
+
+inline std::string vipmFragment() {
+  return std::string(kLevelPalette) + kAtmosphere + kVipmFragment;
+}
+
+}  // namespace terralod::shaders

@@ -1,0 +1,161 @@
+// VIPM tilesets as `terralod build --kind vipm` writes them (a 257² synthetic DEM, materials
+// from its classification), drawn through EGL: an automatic flight streams them without a hole,
+// and flanges, materials and geomorphing show as they should.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "shared_directory.h"
+#include "terralod/build/builder.h"
+#include "terralod/raster/synthetic_dem_writer.h"
+#include "terralod/render/framebuffer.h"
+#include "terralod/render/gl_context.h"
+#include "terralod/render/terrain_scene.h"
+#include "terralod/runtime/flight.h"
+
+namespace terralod {
+namespace {
+
+using test::SharedDirectory;
+
+// Background pixels below terrain in their column (see vipm_render_test.cpp).
+uint64_t holes(const Image& image, const TerrainStyle& style = {}) {
+  uint64_t n = 0;
+  for (int x = 0; x < image.width; ++x) {
+    bool terrain = false;
+    for (int y = 0; y < image.height; ++y) {
+      const auto p = image.pixel(x, y);
+      const bool background =
+          p[0] == style.background[0] && p[1] == style.background[1] && p[2] == style.background[2];
+      terrain = terrain || !background;
+      n += terrain && background;
+    }
+  }
+  return n;
+}
+
+class VipmTilesetRender : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new SharedDirectory(
+        test::sharedDirectory("vipm-synth-257", test::selfStamp(), [](const std::string& dir) {
+          SyntheticDemOptions synth;
+          synth.output = dir + "/synth.tif";
+          synth.columns = synth.rows = 257;
+          synth.spacing = 30.0;
+          NullProgress progress;
+          if (auto s = writeSyntheticDem(synth, progress); !s) return s.error().message;
+          BuildOptions options;
+          options.input = synth.output;
+          options.output = dir + "/synth.tlod";
+          options.kind = decltype(options.kind)::kVipm;
+          auto built = buildTileset(options, progress, [](const std::string&) {});
+          return built.ok() ? std::string() : built.error().message;
+        }));
+    ASSERT_EQ(sDir->error, "");
+  }
+  static void TearDownTestSuite() { delete sDir; }
+
+  void SetUp() override {
+    auto context = GlContext::createHeadless();
+    ASSERT_TRUE(context.ok()) << context.error().message;
+    mContext = std::move(context).value();
+  }
+  void TearDown() override {
+    mScene.reset();
+    mContext.reset();
+  }
+  void open(bool complete) {
+    auto tileset = TilesetReader::openFile(sDir->file("synth.tlod"));
+    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
+    ASSERT_EQ((*tileset)->header().meshKind, MeshKind::kVipm);
+    SceneOptions options;
+    options.complete = complete;
+    auto scene = TerrainScene::create(std::move(tileset).value(), options);
+    ASSERT_TRUE(scene.ok()) << scene.error().message;
+    mScene = std::move(scene).value();
+  }
+  Image draw(const Camera& camera, const SelectionOptions& selection, TerrainStyle style,
+             FrameStats* stats = nullptr) {
+    auto target = Framebuffer::create(camera.width, camera.height).value();
+    target.bind();
+    style.sky = false;
+    style.haze = 0.0;
+    auto drawn = mScene->renderFrame(makeView(camera).value(), selection, style);
+    EXPECT_TRUE(drawn.ok()) << drawn.error().message;
+    if (stats && drawn.ok()) *stats = *drawn;
+    return target.readPixels();
+  }
+
+  static inline SharedDirectory* sDir = nullptr;
+  std::unique_ptr<GlContext> mContext;
+  std::unique_ptr<TerrainScene> mScene;
+};
+
+TEST_F(VipmTilesetRender, TheLowPassStreamsWithoutAHole) {
+  // Streaming (no waiting for loads): roots first, leaves as they arrive, late splits easing.
+  open(false);
+  const Flight flight = autoFlight(mScene->tree(), 240, 180, 60.0, 0);
+  const std::vector<Camera> cameras = flightCameras(flight);
+  ASSERT_GT(flight.climbStart, 40);
+  uint64_t worst = 0;
+  uint32_t leavesDrawn = 0;
+  // The first frames: the roots, then leaves arriving (the ones that found a root's
+  // T-junctions before roots had interior flanges).
+  for (int i = 0; i < 40; ++i) {
+    FrameStats stats;
+    const uint64_t h = holes(draw(cameras[size_t(i)], {}, {}, &stats));
+    EXPECT_EQ(h, 0u) << "frame " << i;
+    worst = std::max(worst, h);
+    leavesDrawn = std::max(leavesDrawn, stats.draw.chunks);
+    EXPECT_EQ(stats.draw.missing, 0u);
+  }
+  EXPECT_EQ(worst, 0u);
+  EXPECT_GT(leavesDrawn, 4u);
+}
+
+TEST_F(VipmTilesetRender, RootsCloseTheirChildrensSharedSides) {
+  // The roots alone (what streaming draws first) from the low pass's first cameras: a root
+  // joins its children's coarsest levels, whose shared sides need not match.
+  open(true);
+  std::vector<SelectedChunk> roots;
+  for (uint32_t r = 0; r < mScene->tree().rootCount(); ++r) roots.push_back({r, 0.0f});
+  const Flight flight = autoFlight(mScene->tree(), 240, 180, 60.0, 0);
+  const std::vector<Camera> cameras = flightCameras(flight);
+  TerrainStyle style;
+  style.sky = false;
+  for (int i = 0; i < 40; i += 2) {
+    auto target = Framebuffer::create(cameras[size_t(i)].width, cameras[size_t(i)].height).value();
+    target.bind();
+    const DrawStats drawn = mScene->drawChunks(makeView(cameras[size_t(i)]).value(), roots, style);
+    EXPECT_EQ(drawn.missing, 0u);
+    EXPECT_EQ(holes(target.readPixels()), 0u) << "camera " << i;
+  }
+}
+
+TEST_F(VipmTilesetRender, FlangesMaterialsAndGeomorphsShow) {
+  open(true);
+  const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);
+  const Camera c = flightCameras(flight)[size_t(flight.climbStart / 2)];
+  TerrainStyle noSkirts;
+  noSkirts.skirts = false;
+  SelectionOptions noMorph;
+  noMorph.morph = false;
+  const Image with = draw(c, {}, {});
+  const Image without = draw(c, {}, noSkirts);
+  const Image popped = draw(c, noMorph, {});
+  EXPECT_EQ(holes(with), 0u);
+  EXPECT_GT(holes(without), 0u);
+  uint64_t differ = 0;
+  for (size_t i = 0; i < with.rgba.size(); ++i) differ += with.rgba[i] != popped.rgba[i];
+  EXPECT_GT(differ, 100u);
+  // Several materials in view: the pixels' colours, coarsely binned, fall into many bins.
+  std::set<int> bins;
+  for (size_t i = 0; i < with.rgba.size(); i += 4)
+    bins.insert((with.rgba[i] / 32) * 64 + (with.rgba[i + 1] / 32) * 8 + with.rgba[i + 2] / 32);
+  EXPECT_GT(bins.size(), 12u);
+}
+
+}  // namespace
+}  // namespace terralod
