@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 
+#include "headless_scene.h"
 #include "image_compare.h"
 #include "shared_directory.h"
 #include "temp_dir.h"
@@ -47,16 +48,11 @@ class TerrainRender : public ::testing::Test {
   static void TearDownTestSuite() { delete sDir; }
 
   void SetUp() override {
-    auto context = GlContext::createHeadless();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    mContext = std::move(context).value();
-    auto tileset = TilesetReader::openFile(sDir->file("crater.tlod"));
-    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
-    SceneOptions options;
-    options.complete = true;  // every view fully loaded: fixed pictures
-    auto scene = TerrainScene::create(std::move(tileset).value(), options);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    mScene = std::move(scene).value();
+    test::HeadlessScene opened;
+    ASSERT_EQ(test::openHeadlessScene(sDir->file("crater.tlod"), test::Frames::kComplete, opened),
+              "");
+    mContext = std::move(opened.context);
+    mScene = std::move(opened.scene);
   }
   void TearDown() override {
     mScene.reset();

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "headless_scene.h"
 #include "image_compare.h"
 #include "shared_directory.h"
 #include "terralod/build/builder.h"
@@ -37,17 +38,12 @@ class TexturedRender : public ::testing::Test {
   static void TearDownTestSuite() { delete sDir; }
 
   void SetUp() override {
-    auto context = GlContext::createHeadless();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    mContext = std::move(context).value();
-    auto tileset = TilesetReader::openFile(sDir->file("zion.tlod"));
-    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
-    ASSERT_TRUE((*tileset)->header().textured());
-    SceneOptions options;
-    options.complete = true;  // every view fully loaded: fixed pictures
-    auto scene = TerrainScene::create(std::move(tileset).value(), options);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    mScene = std::move(scene).value();
+    test::HeadlessScene opened;
+    ASSERT_EQ(test::openHeadlessScene(sDir->file("zion.tlod"), test::Frames::kComplete, opened),
+              "");
+    mContext = std::move(opened.context);
+    mScene = std::move(opened.scene);
+    ASSERT_TRUE(mScene->tileset().header().textured());
   }
   void TearDown() override {
     mScene.reset();

@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 
+#include "headless_scene.h"
 #include "temp_dir.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
@@ -27,16 +28,11 @@ class VipmRender : public ::testing::Test {
   static void TearDownTestSuite() { delete sDir; }
 
   void SetUp() override {
-    auto context = GlContext::createHeadless();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    mContext = std::move(context).value();
-    auto tileset = TilesetReader::openFile(sDir->file("crater.tlod"));
-    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
-    SceneOptions options;
-    options.complete = true;
-    auto scene = TerrainScene::create(std::move(tileset).value(), options);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    mScene = std::move(scene).value();
+    test::HeadlessScene opened;
+    ASSERT_EQ(test::openHeadlessScene(sDir->file("crater.tlod"), test::Frames::kComplete, opened),
+              "");
+    mContext = std::move(opened.context);
+    mScene = std::move(opened.scene);
   }
   void TearDown() override {
     mScene.reset();

@@ -6,6 +6,7 @@
 
 #include <set>
 
+#include "headless_scene.h"
 #include "shared_directory.h"
 #include "terralod/build/builder.h"
 #include "terralod/raster/synthetic_dem_writer.h"
@@ -57,24 +58,16 @@ class VipmTilesetRender : public ::testing::Test {
   }
   static void TearDownTestSuite() { delete sDir; }
 
-  void SetUp() override {
-    auto context = GlContext::createHeadless();
-    ASSERT_TRUE(context.ok()) << context.error().message;
-    mContext = std::move(context).value();
-  }
   void TearDown() override {
     mScene.reset();
     mContext.reset();
   }
-  void open(bool complete) {
-    auto tileset = TilesetReader::openFile(sDir->file("synth.tlod"));
-    ASSERT_TRUE(tileset.ok()) << tileset.error().message;
-    ASSERT_EQ((*tileset)->header().meshKind, MeshKind::kVipm);
-    SceneOptions options;
-    options.complete = complete;
-    auto scene = TerrainScene::create(std::move(tileset).value(), options);
-    ASSERT_TRUE(scene.ok()) << scene.error().message;
-    mScene = std::move(scene).value();
+  void open(test::Frames frames) {
+    test::HeadlessScene opened;
+    ASSERT_EQ(test::openHeadlessScene(sDir->file("synth.tlod"), frames, opened), "");
+    mContext = std::move(opened.context);
+    mScene = std::move(opened.scene);
+    ASSERT_EQ(mScene->tileset().header().meshKind, MeshKind::kVipm);
   }
   Image draw(const Camera& camera, const SelectionOptions& selection, TerrainStyle style,
              FrameStats* stats = nullptr) {
@@ -95,7 +88,7 @@ class VipmTilesetRender : public ::testing::Test {
 
 TEST_F(VipmTilesetRender, TheLowPassStreamsWithoutAHole) {
   // Streaming (no waiting for loads): roots first, leaves as they arrive, late splits easing.
-  open(false);
+  open(test::Frames::kStreamed);
   const Flight flight = autoFlight(mScene->tree(), 240, 180, 60.0, 0);
   const std::vector<Camera> cameras = flightCameras(flight);
   ASSERT_GT(flight.climbStart, 40);
@@ -118,7 +111,7 @@ TEST_F(VipmTilesetRender, TheLowPassStreamsWithoutAHole) {
 TEST_F(VipmTilesetRender, RootsCloseTheirChildrensSharedSides) {
   // The roots alone (what streaming draws first) from the low pass's first cameras: a root
   // joins its children's coarsest levels, whose shared sides need not match.
-  open(true);
+  open(test::Frames::kComplete);
   std::vector<SelectedChunk> roots;
   for (uint32_t r = 0; r < mScene->tree().rootCount(); ++r) roots.push_back({r, 0.0f});
   const Flight flight = autoFlight(mScene->tree(), 240, 180, 60.0, 0);
@@ -135,7 +128,7 @@ TEST_F(VipmTilesetRender, RootsCloseTheirChildrensSharedSides) {
 }
 
 TEST_F(VipmTilesetRender, FlangesMaterialsAndGeomorphsShow) {
-  open(true);
+  open(test::Frames::kComplete);
   const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);
   const Camera c = flightCameras(flight)[size_t(flight.climbStart / 2)];
   TerrainStyle noSkirts;
