@@ -16,3 +16,10 @@ for version in v1 v2; do
   "$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
   echo "updated $out/gully.tlod and $out/gully.json"
 done
+# VIPM tilesets (mesh kind 2, written as version 1).
+out=tests/data/golden/vipm
+mkdir -p "$out"
+"$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/gully.tlod" \
+  --kind vipm --max-error 0.25 --threads 1
+"$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
+echo "updated $out/gully.tlod and $out/gully.json"

@@ -1,4 +1,5 @@
-// The format is frozen: tilesets written by format versions 1 and 2 must always read, and
+// The format is frozen: tilesets written by format versions 1 and 2 (static RTIN chunks, and
+// VIPM chunks in version 1) must always read, and
 // building their source again must give the same bytes (or scripts/update-golden-tileset.sh
 // was run on purpose and the change reviewed).
 
@@ -8,12 +9,16 @@
 
 #include "cli_runner.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/vipm/vipm_levels.h"
+#include "terralod/vipm/vipm_storage.h"
 
 namespace terralod::test {
 namespace {
 
 const std::string kGolden = testData("golden/v1/gully.tlod");
 const std::string kGoldenV2 = testData("golden/v2/gully.tlod");
+const std::string kGoldenVipm = testData("golden/vipm/gully.tlod");
 
 void expectGoldenReads(const std::string& version) {
   const auto expected =
@@ -72,6 +77,49 @@ TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenV2))
       << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+}
+
+TEST(GoldenTileset, TheVipmTilesetStillReads) {
+  const auto expected = nlohmann::json::parse(readWholeFile(testData("golden/vipm/gully.json")));
+  auto opened = TilesetReader::openFile(kGoldenVipm);
+  ASSERT_TRUE(opened.ok()) << opened.error().message;
+  const TilesetReader& t = **opened;
+  EXPECT_EQ(t.header().version, 1u);
+  EXPECT_EQ(t.header().meshKind, MeshKind::kVipm);
+  EXPECT_EQ(expected["kind"], "vipm");
+  EXPECT_EQ(t.nodes().size(), expected["chunks"].get<size_t>());
+  ASSERT_EQ(t.metadata().materials.size(), expected["materials"].size());
+  for (size_t m = 0; m < t.metadata().materials.size(); ++m) {
+    EXPECT_EQ(t.metadata().materials[m].name, expected["materials"][m]["name"]);
+    EXPECT_EQ(colorHex(t.metadata().materials[m].color), expected["materials"][m]["color"]);
+  }
+  for (uint32_t l = 0; l < t.header().levelCount; ++l)
+    EXPECT_EQ(t.header().levelError[l], expected["level_error"][l].get<double>());
+  uint64_t triangles = 0, vertices = 0, collapses = 0;
+  for (uint32_t i = 0; i < t.nodes().size(); ++i) {
+    auto blob = t.readBlob(i);
+    ASSERT_TRUE(blob.ok()) << blob.error().message;
+    auto chunk = decodeVipmChunk(*blob, "golden chunk " + std::to_string(i));
+    ASSERT_TRUE(chunk.ok()) << chunk.error().message;
+    const UnpackedChunk unpacked = unpackChunk(*chunk);
+    ASSERT_TRUE(VipmLevels::reconstruct(unpacked.mesh, unpacked.materials).ok());
+    triangles += chunk->triangleCount();
+    vertices += chunk->vertexCount();
+    collapses += chunk->collapseCount();
+  }
+  EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
+  EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
+  EXPECT_GT(collapses, 100u);  // leaves are progressive meshes, not single levels
+}
+
+TEST(GoldenTileset, BuildingTheVipmSourceAgainGivesTheSameBytes) {
+  TempDir dir;
+  const RunResult r = runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
+                                   dir.file("again.tlod"), "--kind", "vipm", "--max-error", "0.25",
+                                   "--threads", "2"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenVipm))
+      << "the VIPM builder's output changed; if intended, run scripts/update-golden-tileset.sh";
 }
 
 }  // namespace
