@@ -28,6 +28,7 @@ cut() { dd if="$1" of="$4" bs=64K iflag=skip_bytes,count_bytes skip="$2" count="
 withMode 0 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully"
 withMode 0 "$golden/v2/gully.tlod" "$out/tileset_reader_fuzzer/v2_gully"
 withMode 1 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully_checksums_kept"
+withMode 0 "$golden/vipm/gully.tlod" "$out/tileset_reader_fuzzer/vipm_gully"
 # meshKind is a u32 (header offset 24): 0x101 must be refused, not narrowed to kind 1.
 cp "$golden/v2/gully.tlod" "$work/kind.tlod"
 printf '\x01\x01\x00\x00' | dd of="$work/kind.tlod" bs=1 seek=24 conv=notrunc status=none

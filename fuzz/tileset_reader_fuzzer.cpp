@@ -1,6 +1,6 @@
 // Fuzzes opening a tileset from untrusted bytes: TilesetReader on an in-memory ByteSource
 // (header, node table, metadata), the runtime's ChunkTree over what it accepted, then every
-// chunk's geometry and texture. Input: one mode byte, then the file.
+// chunk's geometry and texture (VIPM chunks: their blobs). Input: one mode byte, then the file.
 //
 // Random bytes almost never carry matching CRC-32s, which would stop every mutation at the
 // first checksum. So unless mode bit 0 is set, the harness first recomputes the checksums the
@@ -16,6 +16,7 @@
 
 #include "terralod/format/byte_source.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/runtime/chunk_tree.h"
 
 namespace {
@@ -94,7 +95,13 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   (void)tree;
   // Chunks are what a renderer reads next; a few hundred keep one input fast.
   const uint32_t chunks = uint32_t(std::min<size_t>(r.nodes().size(), 256));
-  for (uint32_t i = 0; i < chunks; ++i) (void)r.readChunkData(i);
+  for (uint32_t i = 0; i < chunks; ++i) {
+    if (r.nodes()[i].meshKind != terralod::MeshKind::kVipm) {
+      (void)r.readChunkData(i);
+    } else if (auto blob = r.readBlob(i)) {
+      (void)terralod::decodeVipmChunk(*blob, "fuzz chunk");
+    }
+  }
   (void)r.readChunk(chunks);  // geometry alone, of a node that may not exist
   return 0;
 }
