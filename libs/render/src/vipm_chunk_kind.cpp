@@ -28,6 +28,18 @@ uint8_t flangeSides(const TilesetHeader& h, const NodeRecord& r) {
 
 }  // namespace
 
+double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
+                      const SelectedChunk& chunk) {
+  const ChunkNode& n = tree.node(chunk.node);
+  // τ·D/K with D as the selection measures it (screenSpaceError(δ) = δ·K/D).
+  const double distance = distanceToBox(view.camera.eye, n.box);
+  const double perMetre = screenSpaceError(view, 1.0, distance);
+  const double allowance = tau / perMetre;
+  const double own = tree.levelError(n.level);
+  const double parent = n.level > 0 ? tree.levelError(n.level - 1) : own;
+  return vipmTheta(allowance, chunk.morph, own, parent);
+}
+
 Result<std::unique_ptr<VipmChunkKind>> VipmChunkKind::create(const TilesetReader& tileset) {
   auto pass = VipmPass::create(tileset.metadata().materials);
   if (!pass) return pass.error();
@@ -89,14 +101,7 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
       continue;
     }
     ++frame.stats.chunks;
-    const ChunkNode& n = tree.node(s.node);
-    // τ·D/K with D as the selection measures it (screenSpaceError(δ) = δ·K/D).
-    const double distance = distanceToBox(view.camera.eye, n.box);
-    const double perMetre = screenSpaceError(view, 1.0, distance);
-    const double allowance = frame.selection.tau / perMetre;
-    const double own = tree.levelError(n.level);
-    const double parent = n.level > 0 ? tree.levelError(n.level - 1) : own;
-    const double theta = vipmTheta(allowance, s.morph, own, parent);
+    const double theta = vipmDrawnTheta(tree, view, frame.selection.tau, s);
     it->second->update(theta, geomorph);
     draws.push_back({it->second.get(), s.node, s.morph});
   }

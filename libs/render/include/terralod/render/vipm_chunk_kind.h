@@ -21,8 +21,17 @@
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/terrain_frame.h"
 #include "terralod/runtime/chunk_kind.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/view.h"
 
 namespace terralod {
+
+/// θ (metres) the VIPM kind draws `chunk` with in `view` under screen-space bound `tau`:
+/// vipmTheta of τ·D/K, D the selection's eye-to-box distance, and the chunk's morph parameter.
+/// The kind draws with it and the bench (libs/measure) measures what it drew with it.
+double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
+                      const SelectedChunk& chunk);
 
 class VipmPass;
 class VipmGpuChunk;
