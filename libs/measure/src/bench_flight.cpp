@@ -151,6 +151,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.selectUs = frame->selectMicroseconds;
     r.uploadMs = frame->uploadMilliseconds;
     r.triangles = frame->draw.triangles;
+    r.vertices = frame->draw.vertices;
+    result.reconstructMs.insert(result.reconstructMs.end(), frame->reconstructMs.begin(),
+                                frame->reconstructMs.end());
     r.draws = frame->draw.drawCalls;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;

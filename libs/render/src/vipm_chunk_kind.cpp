@@ -1,5 +1,7 @@
 #include "terralod/render/vipm_chunk_kind.h"
 
+#include <chrono>
+#include <utility>
 #include <vector>
 
 #include "terralod/runtime/view.h"
@@ -55,10 +57,17 @@ VipmChunkKind::~VipmChunkKind() = default;
 Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[blob.node];
+  const auto start = std::chrono::steady_clock::now();
   auto decoded =
       decodeVipmPayload(blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
                         {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
   if (!decoded) return decoded.error();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  {
+    std::lock_guard lock(mTimingMutex);
+    mReconstructMs.push_back(ms);
+  }
   auto payload = std::make_unique<Payload>();
   payload->chunk = std::move(decoded).value();
   LoadedChunk loaded;
@@ -81,6 +90,11 @@ void VipmChunkKind::release(uint32_t node) {
   if (it == mChunks.end()) return;
   mGpuBytes -= it->second->gpuBytes();
   mChunks.erase(it);
+}
+
+std::vector<double> VipmChunkKind::takeReconstructMs() {
+  std::lock_guard lock(mTimingMutex);
+  return std::exchange(mReconstructMs, {});
 }
 
 uint32_t VipmChunkKind::appliedCollapses(uint32_t node) const {

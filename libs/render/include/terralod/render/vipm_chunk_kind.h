@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -53,6 +54,9 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
 
   /// The collapses applied now in `node` (for tests); none when it is not uploaded.
   uint32_t appliedCollapses(uint32_t node) const;
+  /// Milliseconds each chunk decoded since the last call took to decode and reconstruct (on
+  /// the loader threads), in no particular order; the list is then emptied.
+  std::vector<double> takeReconstructMs();
   /// GPU memory the uploaded chunks take.
   uint64_t gpuBytes() const { return mGpuBytes; }
 
@@ -64,6 +68,8 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
   uint64_t mGpuBytes = 0;
   std::vector<VipmDraw> mDraws;  // per frame, kept to avoid allocating
+  mutable std::mutex mTimingMutex;
+  mutable std::vector<double> mReconstructMs;  // guarded by mTimingMutex
 };
 
 }  // namespace terralod
