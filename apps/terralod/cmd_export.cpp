@@ -1,4 +1,5 @@
-// terralod export TILESET [--level L] [--texture-size N | --no-texture] -o OUT.obj|OUT.ply|OUT.glb
+// terralod export TILESET [--level L | --error E] [--texture-size N | --no-texture] -o
+// OUT.obj|OUT.ply|OUT.glb
 
 #include <algorithm>
 #include <cmath>
@@ -21,6 +22,7 @@ struct ExportOptions {
   std::string tileset, output;
   std::optional<int64_t> level;        // default: the finest
   std::optional<int64_t> textureSize;  // default: the full resolution, at most kDefaultTexture
+  std::optional<double> error;         // VIPM tilesets: the allowed error (default: finest)
   bool noTexture = false;
 };
 
@@ -42,6 +44,13 @@ int exportLevel(const ExportOptions& options) {
   auto opened = TilesetReader::openPathOrUrl(options.tileset);  // a path or an http(s):// URL
   if (!opened) return fail(opened.error().message);
   const TilesetReader& tileset = **opened;
+  const bool vipm = tileset.header().meshKind == MeshKind::kVipm;
+  if (vipm && options.level)
+    return fail(options.tileset + ": a VIPM tileset has no levels to export; use --error E");
+  if (!vipm && options.error)
+    return fail(options.tileset + ": --error applies to VIPM tilesets only; use --level L");
+  if (options.error && !(std::isfinite(*options.error) && *options.error >= 0.0))
+    return fail("--error " + std::to_string(*options.error) + ": must be 0 or more metres");
   const int64_t levels = tileset.header().levelCount;
   const int64_t level = options.level.value_or(levels - 1);
   if (level < 0 || level >= levels)
@@ -73,7 +82,8 @@ int exportLevel(const ExportOptions& options) {
   }
 
   TerminalProgress progress;
-  auto surface = gatherLevelSurface(tileset, uint32_t(level), progress);
+  auto surface = vipm ? gatherVipmSurface(tileset, options.error.value_or(0.0), progress)
+                      : gatherLevelSurface(tileset, uint32_t(level), progress);
   if (!surface) return fail(surface.error().message);
   if (surface->indices.empty())
     return fail(options.tileset + ": level " + std::to_string(level) + " has no triangles");
@@ -173,6 +183,9 @@ void addExportCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--level", options->level,
                   "Level to export, 0 (roots, coarsest) to levels-1 (default: the finest)")
       ->check(wholeNumber<int64_t>());
+  cmd->add_option("--error", options->error,
+                  "VIPM tilesets: every leaf at the level drawn for this allowed error in metres, "
+                  "without geomorphing (default 0: the finest)");
   auto* size = cmd->add_option("--texture-size", options->textureSize,
                                "Pixels along the longer side of the colour texture (the other in "
                                "proportion), sampled "

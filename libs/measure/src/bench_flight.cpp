@@ -7,6 +7,7 @@
 
 #include "terralod/core/parallel.h"
 #include "terralod/measure/quality_metrics.h"
+#include "terralod/measure/vipm_quality.h"
 #include "terralod/render/framebuffer.h"
 
 namespace terralod {
@@ -40,6 +41,10 @@ class QualityPass {
     const int stride = options.metricStride > 0 ? options.metricStride
                                                 : (side + kExactMetricSide - 1) / kExactMetricSide;
     mMetrics.emplace(scene.tileset(), scene.tree(), source, stride, hardwareThreads());
+    // VIPM chunks are measured as the VIPM kind draws them (holes alike for both kinds).
+    if (scene.tileset().header().meshKind == MeshKind::kVipm)
+      mVipm.emplace(scene.tileset(), scene.tree(), source, stride, hardwareThreads(),
+                    options.selection.morph ? Geomorph::kOn : Geomorph::kOff);
     mHoleStyle = options.style;
     mHoleStyle.sky = false;
   }
@@ -64,19 +69,23 @@ class QualityPass {
       if (before.missing == 0)
         r.imagePop = meanAbsoluteDifference(beforeImage, mPopTarget->readPixels());
     }
-    auto error = mMetrics->maxErrorPixels(view, mCurrent);
+    if (mVipm) mCurrentDrawn = VipmQuality::drawn(mScene.tree(), view, selection.tau, mCurrent);
+    auto error = mVipm ? mVipm->maxErrorPixels(view, mCurrentDrawn)
+                       : mMetrics->maxErrorPixels(view, mCurrent);
     if (!error) return error.error();
     r.errorPx = *error;
     // Pops count between two frames that both had what they wanted; frames drawn coarser
     // while chunks stream in hand over differently (reported apart).
     r.popComplete = i > 0 && !r.coarser && mPreviousComplete;
     if (r.popComplete) {
-      auto pop = mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
+      auto pop = mVipm ? mVipm->maxPopPixels(view, mPreviousDrawn, mCurrentDrawn)
+                       : mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
       if (!pop) return pop.error();
       r.popPx = *pop;
     }
     mPreviousComplete = !r.coarser;
     std::swap(mPrevious, mCurrent);
+    std::swap(mPreviousDrawn, mCurrentDrawn);
 
     auto downView = makeView(lookDownCamera(view));
     if (!downView) return downView.error();
@@ -93,6 +102,8 @@ class QualityPass {
   TerrainScene& mScene;
   const BenchFlightOptions& mOptions;
   std::optional<QualityMetrics> mMetrics;
+  std::optional<VipmQuality> mVipm;
+  std::vector<VipmQuality::Drawn> mPreviousDrawn, mCurrentDrawn;  // VIPM: each chunk's θ
   TerrainStyle mHoleStyle;
   std::vector<SelectedChunk> mPrevious, mCurrent, mPreviousNow;
   bool mPreviousComplete = false;
@@ -140,6 +151,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.selectUs = frame->selectMicroseconds;
     r.uploadMs = frame->uploadMilliseconds;
     r.triangles = frame->draw.triangles;
+    r.vertices = frame->draw.vertices;
+    result.reconstructMs.insert(result.reconstructMs.end(), frame->reconstructMs.begin(),
+                                frame->reconstructMs.end());
     r.draws = frame->draw.drawCalls;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;

@@ -38,6 +38,12 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   j["frame_ms_max"] = percentile(frameMs, 1.0);
   j["triangles_p50"] = percentile(triangles, 0.5);
   j["triangles_max"] = percentile(triangles, 1.0);
+  j["vertices_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.vertices; }), 0.5);
+  // VIPM tilesets: each chunk's decode and reconstruction on its loader thread.
+  if (scene.tileset().header().meshKind == MeshKind::kVipm) {
+    j["reconstruct_ms_p50"] = percentile(flight.reconstructMs, 0.5);
+    j["reconstruct_ms_max"] = percentile(flight.reconstructMs, 1.0);
+  }
   j["draws_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.draws; }), 0.5);
   j["chunks_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.chunks; }), 0.5);
   // Horizon culling: selected chunks (and their triangles) hidden behind nearer terrain.

@@ -80,6 +80,11 @@ Result<LevelSurface> gatherLevelSurface(const TilesetReader& tileset, uint32_t l
     progress.advance();
   }
   progress.end();
+  finishSurface(header, surface);
+  return surface;
+}
+
+void finishSurface(const TilesetHeader& header, LevelSurface& surface) {
   surface.normals = angleWeightedNormals(surface.positions, surface.indices);
   surface.extent = {double(header.sourceColumns - 1) * header.spacingX,
                     double(header.sourceRows - 1) * header.spacingY};
@@ -90,7 +95,6 @@ Result<LevelSurface> gatherLevelSurface(const TilesetReader& tileset, uint32_t l
       uv[size_t(c)] = float(std::clamp(double(p[size_t(c)]) / surface.extent[size_t(c)], 0.0, 1.0));
     surface.texcoords.push_back(uv);
   }
-  return surface;
 }
 
 std::vector<std::array<float, 3>> angleWeightedNormals(

@@ -121,6 +121,7 @@ DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
       d.command = {count, 1u, p.firstIndex, p.baseVertex, 0u};
       mPending.push_back(d);
       stats.triangles += count / 3;
+      stats.vertices += p.firstSkirtVertex;
     }
   }
   std::stable_sort(mPending.begin(), mPending.end(),

@@ -95,6 +95,7 @@ void TerrainRenderer::drawStaticChunks(const FrameContext& frame, const ChunkTre
   stats.missing += prepared.missing;
   stats.drawCommands += prepared.drawCommands;
   stats.triangles += prepared.triangles;
+  stats.vertices += prepared.vertices;
   stats.drawCalls += prepared.drawCalls;
   if (terrain.empty()) return;
   stats.drawCalls += terrain.draw(frame, tree, store, TerrainDrawMode::kSurface);

@@ -108,6 +108,7 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
     stats.easing = update.easing;
   }
   stats.selection = mDriver->lastSelection();
+  if (mVipmKind) stats.reconstructMs = mVipmKind->takeReconstructMs();
   if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
     return makeError(mTileset->name(), "no chunk can be drawn");
   stats.draw =

@@ -1,5 +1,7 @@
 #include "terralod/render/vipm_chunk_kind.h"
 
+#include <chrono>
+#include <utility>
 #include <vector>
 
 #include "terralod/runtime/view.h"
@@ -28,6 +30,18 @@ uint8_t flangeSides(const TilesetHeader& h, const NodeRecord& r) {
 
 }  // namespace
 
+double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
+                      const SelectedChunk& chunk) {
+  const ChunkNode& n = tree.node(chunk.node);
+  // τ·D/K with D as the selection measures it (screenSpaceError(δ) = δ·K/D).
+  const double distance = distanceToBox(view.camera.eye, n.box);
+  const double perMetre = screenSpaceError(view, 1.0, distance);
+  const double allowance = tau / perMetre;
+  const double own = tree.levelError(n.level);
+  const double parent = n.level > 0 ? tree.levelError(n.level - 1) : own;
+  return vipmTheta(allowance, chunk.morph, own, parent);
+}
+
 Result<std::unique_ptr<VipmChunkKind>> VipmChunkKind::create(const TilesetReader& tileset) {
   auto pass = VipmPass::create(tileset.metadata().materials);
   if (!pass) return pass.error();
@@ -43,10 +57,17 @@ VipmChunkKind::~VipmChunkKind() = default;
 Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[blob.node];
+  const auto start = std::chrono::steady_clock::now();
   auto decoded =
       decodeVipmPayload(blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
                         {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
   if (!decoded) return decoded.error();
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  {
+    std::lock_guard lock(mTimingMutex);
+    mReconstructMs.push_back(ms);
+  }
   auto payload = std::make_unique<Payload>();
   payload->chunk = std::move(decoded).value();
   LoadedChunk loaded;
@@ -71,6 +92,11 @@ void VipmChunkKind::release(uint32_t node) {
   mChunks.erase(it);
 }
 
+std::vector<double> VipmChunkKind::takeReconstructMs() {
+  std::lock_guard lock(mTimingMutex);
+  return std::exchange(mReconstructMs, {});
+}
+
 uint32_t VipmChunkKind::appliedCollapses(uint32_t node) const {
   auto it = mChunks.find(node);
   return it == mChunks.end() ? 0 : it->second->applied();
@@ -89,14 +115,7 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
       continue;
     }
     ++frame.stats.chunks;
-    const ChunkNode& n = tree.node(s.node);
-    // τ·D/K with D as the selection measures it (screenSpaceError(δ) = δ·K/D).
-    const double distance = distanceToBox(view.camera.eye, n.box);
-    const double perMetre = screenSpaceError(view, 1.0, distance);
-    const double allowance = frame.selection.tau / perMetre;
-    const double own = tree.levelError(n.level);
-    const double parent = n.level > 0 ? tree.levelError(n.level - 1) : own;
-    const double theta = vipmTheta(allowance, s.morph, own, parent);
+    const double theta = vipmDrawnTheta(tree, view, frame.selection.tau, s);
     it->second->update(theta, geomorph);
     draws.push_back({it->second.get(), s.node, s.morph});
   }

@@ -50,6 +50,8 @@ class VipmGpuChunk {
   Range flanges() const { return {kWholeChunk, mFlangeFirst, uint32_t(mFlangeIndices.size())}; }
   /// Collapses applied now.
   uint32_t applied() const { return mLevels.applied(); }
+  /// Vertices of the mesh active now (flanges left out).
+  uint32_t activeVertices() const { return mLevels.activeVertices(); }
   uint32_t vertexBuffer() const { return mBuffers[0]; }
   uint32_t materialBuffer() const { return mBuffers[1]; }
   uint32_t indexBuffer() const { return mBuffers[2]; }

@@ -140,6 +140,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     glProgramUniform1i(p, at("uFlange"), 0);
     stats.drawCalls += drawRange(*d.chunk, whole);
     stats.triangles += whole.count / 3;
+    stats.vertices += d.chunk->activeVertices();
     if (style.skirts) {
       glProgramUniform1i(p, at("uFlange"), 1);
       stats.drawCalls += drawRange(*d.chunk, d.chunk->flanges());

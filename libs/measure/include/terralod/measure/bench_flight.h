@@ -26,6 +26,7 @@ struct FrameRecord {
   double selectUs = 0;  ///< selection alone
   double uploadMs = 0;  ///< copying chunks to the GPU
   uint64_t triangles = 0;
+  uint64_t vertices = 0;  ///< vertices drawn (DrawStats::vertices)
   uint32_t draws = 0, chunks = 0, uploads = 0, evictions = 0;
   uint32_t culledChunks = 0;     ///< selected but hidden behind nearer terrain: not drawn
   uint64_t culledTriangles = 0;  ///< their triangles (skirts included when drawn)
@@ -53,8 +54,9 @@ struct BenchFlightOptions {
 
 struct BenchFlightResult {
   std::vector<FrameRecord> frames;
-  TexelDensity texels;   ///< over frames that had every wanted chunk resident
-  int metricStride = 0;  ///< every how many source samples the quality figures used
+  TexelDensity texels;                ///< over frames that had every wanted chunk resident
+  int metricStride = 0;               ///< every how many source samples the quality figures used
+  std::vector<double> reconstructMs;  ///< per VIPM chunk decoded: decode and reconstruction, ms
   std::vector<Image> keptImages;
   std::vector<size_t> keptFrameIndices;
 };

@@ -35,6 +35,17 @@ struct LevelSurface {
 Result<LevelSurface> gatherLevelSurface(const TilesetReader& tileset, uint32_t level,
                                         Progress& progress);
 
+/// Fills `surface`'s normals, extent and texture coordinates from its positions and indices.
+void finishSurface(const TilesetHeader& header, LevelSurface& surface);
+
+/// A VIPM tileset's surface (docs/format.md "VIPM tilesets") with every leaf at the level the
+/// VIPM kind draws for an allowed error `error` (metres) without geomorphing: its collapses of
+/// error <= `error` applied (morphWindow). Vertices at the same grid point are welded (a leaf's
+/// border may keep points its neighbour collapsed: T-junctions, as drawn). Fails on the first
+/// unreadable chunk.
+Result<LevelSurface> gatherVipmSurface(const TilesetReader& tileset, double error,
+                                       Progress& progress);
+
 /// Angle-weighted vertex normals of a triangle mesh whose triangles are counter-clockwise seen
 /// from +z: every vertex gets the sum of its triangles' unit normals, each weighted by the
 /// triangle's angle at that vertex, normalised (so the triangulation's shape, not its triangles'

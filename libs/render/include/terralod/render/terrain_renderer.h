@@ -26,6 +26,9 @@ struct DrawStats {
   uint32_t drawCalls = 0;     ///< GL draw calls issued (multi-draws count once)
   uint32_t drawCommands = 0;  ///< indirect commands in them
   uint64_t triangles = 0;     ///< triangles drawn, skirts included when on
+  /// Vertices drawn: a VIPM chunk's active vertices (flanges left out), a static chunk's part
+  /// vertices before its skirt's.
+  uint64_t vertices = 0;
 };
 
 class TerrainRenderer {

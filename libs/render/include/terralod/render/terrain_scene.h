@@ -63,6 +63,9 @@ struct FrameStats {
   /// `selection.coarserThanWanted`, still catching up with what it wants.
   uint32_t easing = 0;
   HorizonCullingStats horizon;  ///< selected chunks not drawn: hidden behind nearer terrain
+  /// VIPM chunks decoded since the last frame: each one's decode and reconstruction time on
+  /// its loader thread, milliseconds.
+  std::vector<double> reconstructMs;
 };
 
 class TerrainScene {

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <unordered_map>
 #include <vector>
@@ -21,8 +22,17 @@
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/terrain_frame.h"
 #include "terralod/runtime/chunk_kind.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/view.h"
 
 namespace terralod {
+
+/// θ (metres) the VIPM kind draws `chunk` with in `view` under screen-space bound `tau`:
+/// vipmTheta of τ·D/K, D the selection's eye-to-box distance, and the chunk's morph parameter.
+/// The kind draws with it and the bench (libs/measure) measures what it drew with it.
+double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
+                      const SelectedChunk& chunk);
 
 class VipmPass;
 class VipmGpuChunk;
@@ -44,6 +54,9 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
 
   /// The collapses applied now in `node` (for tests); none when it is not uploaded.
   uint32_t appliedCollapses(uint32_t node) const;
+  /// Milliseconds each chunk decoded since the last call took to decode and reconstruct (on
+  /// the loader threads), in no particular order; the list is then emptied.
+  std::vector<double> takeReconstructMs();
   /// GPU memory the uploaded chunks take.
   uint64_t gpuBytes() const { return mGpuBytes; }
 
@@ -55,6 +68,8 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
   uint64_t mGpuBytes = 0;
   std::vector<VipmDraw> mDraws;  // per frame, kept to avoid allocating
+  mutable std::mutex mTimingMutex;
+  mutable std::vector<double> mReconstructMs;  // guarded by mTimingMutex
 };
 
 }  // namespace terralod

@@ -1,0 +1,85 @@
+#pragma once
+// The bench's quality figures on VIPM tilesets (docs/format.md "VIPM tilesets"), measured on
+// what the VIPM kind draws: each selected chunk's surface at the θ the kind drew it with
+// (vipmDrawnTheta), i.e. the collapses morphWindow applies and the vertices morphPositions
+// geomorphs (libs/vipm), against the source samples as QualityMetrics measures static chunks:
+//  - error: over every measured source sample in view, |true - drawn height| * K / distance;
+//  - pops: from frame i's camera, frame i-1's drawn surface (each chunk at the θ it was drawn
+//    with then) against frame i's, at every sample in view under both. Chunks drawn alike in
+//    both frames (same node, same collapses, no geomorph or the same θ) are left out. Unlike
+//    static chunks, whose morph is re-evaluated for frame i, a VIPM chunk's level follows its
+//    distance every frame, so this counts what moves between the two frames' pictures: small
+//    steps with geomorphing, whole collapses without (--no-morph).
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/format/tileset_reader.h"
+#include "terralod/raster/heightfield.h"
+#include "terralod/runtime/chunk_tree.h"
+#include "terralod/runtime/selection.h"
+#include "terralod/runtime/view.h"
+#include "terralod/vipm/progressive_mesh.h"
+#include "terralod/vipm/vipm_levels.h"
+
+namespace terralod {
+
+class VipmQuality {
+ public:
+  /// A chunk as drawn in one frame.
+  struct Drawn {
+    uint32_t node = 0;
+    double theta = 0.0;  ///< allowed error, metres
+  };
+  /// `source` is the tileset's source grid; every `stride`-th sample (x and y) is measured.
+  /// `geomorph`: whether the kind geomorphs (SelectionOptions::morph).
+  VipmQuality(const TilesetReader& tileset, const ChunkTree& tree, const Heightfield& source,
+              int stride, unsigned threads, Geomorph geomorph);
+
+  /// The chunks of `selection` with the θ the VIPM kind draws them with in `view`.
+  static std::vector<Drawn> drawn(const ChunkTree& tree, const View& view, double tau,
+                                  std::span<const SelectedChunk> selection);
+
+  /// The largest screen-space error of the drawn surface of `chunks` in `view`, pixels.
+  Result<double> maxErrorPixels(const View& view, std::span<const Drawn> chunks);
+  /// The largest screen-space movement, seen from `view`, between `previous` and `current`.
+  Result<double> maxPopPixels(const View& view, std::span<const Drawn> previous,
+                              std::span<const Drawn> current);
+
+ private:
+  struct Chunk {
+    ProgressiveMesh mesh;
+    VipmLevels levels;
+    std::vector<std::array<float, 3>> own;  // grid x, grid y, metres above zBase
+    double zBase = 0.0;
+    int64_t x0 = 0, y0 = 0, maxX = 0, maxY = 0;  // source samples it covers
+    double truthMin = 0.0, truthMax = 0.0;       // source heights under it
+  };
+  // A drawn triangle: absolute sample coordinates (fractional while geomorphing), metres.
+  struct Triangle {
+    std::array<std::array<double, 3>, 3> v;
+  };
+  // Decodes a chunk once. Not thread-safe.
+  Result<Chunk*> chunk(uint32_t node);
+  // The chunk's surface triangles at θ, as the kind draws them. Not thread-safe.
+  std::vector<Triangle> surface(Chunk& c, double theta);
+  // Calls visit(x, y, drawnHeight) at every measured sample under the triangles that may be in
+  // view (drawn and true heights considered).
+  template <typename Visit>
+  void rasterize(const Chunk& c, std::span<const Triangle> triangles, const View& view,
+                 Visit&& visit) const;
+  bool inView(const View& view, int64_t x, int64_t y, double z) const;
+
+  const TilesetReader& mTileset;
+  const ChunkTree& mTree;
+  const Heightfield& mSource;
+  int mStride;
+  unsigned mThreads;
+  Geomorph mGeomorph;
+  std::unordered_map<uint32_t, Chunk> mChunks;
+};
+
+}  // namespace terralod

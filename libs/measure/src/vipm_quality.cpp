@@ -1,0 +1,252 @@
+#include "terralod/measure/vipm_quality.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+#include "terralod/core/parallel.h"
+#include "terralod/format/chunk_position.h"
+#include "terralod/format/vipm_chunk_codec.h"
+#include "terralod/render/vipm_chunk_kind.h"
+#include "terralod/vipm/vipm_storage.h"
+
+namespace terralod {
+namespace {
+
+uint64_t sampleKey(int64_t x, int64_t y) {
+  return (uint64_t(x) << 32) | uint64_t(y);
+}
+
+// Calls visit(x, y, z) at every integer sample (x, y) inside triangle abc (closed; vertices
+// may be fractional while geomorphing) with x in [minX, maxX], y in [minY, maxY], both
+// multiples of `stride`, and the linearly interpolated height there.
+template <typename Visit>
+void rasterizeReal(const std::array<std::array<double, 3>, 3>& v, int64_t minX, int64_t maxX,
+                   int64_t minY, int64_t maxY, int64_t stride, Visit&& visit) {
+  const auto &a = v[0], &b = v[1], &c = v[2];
+  const double area = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+  if (std::fabs(area) < 1e-12) return;
+  constexpr double kEps = 1e-9;
+  auto firstMultiple = [&](double lo, int64_t clamp) {
+    const int64_t i = std::max(clamp, int64_t(std::ceil(lo - kEps)));
+    return (i + stride - 1) / stride * stride;  // i >= 0
+  };
+  const int64_t y0 = firstMultiple(std::min({a[1], b[1], c[1]}), minY);
+  const int64_t y1 = std::min(maxY, int64_t(std::floor(std::max({a[1], b[1], c[1]}) + kEps)));
+  const int64_t x0 = firstMultiple(std::min({a[0], b[0], c[0]}), minX);
+  const int64_t x1 = std::min(maxX, int64_t(std::floor(std::max({a[0], b[0], c[0]}) + kEps)));
+  for (int64_t y = y0; y <= y1; y += stride)
+    for (int64_t x = x0; x <= x1; x += stride) {
+      const double px = double(x), py = double(y);
+      const double wa = ((b[0] - px) * (c[1] - py) - (b[1] - py) * (c[0] - px)) / area;
+      const double wb = ((c[0] - px) * (a[1] - py) - (c[1] - py) * (a[0] - px)) / area;
+      const double wc = 1.0 - wa - wb;
+      if (wa < -kEps || wb < -kEps || wc < -kEps) continue;
+      visit(x, y, wa * a[2] + wb * b[2] + wc * c[2]);
+    }
+}
+
+// Geomorphing can fold a chunk's surface (a vertex sliding toward its target past an edge):
+// where triangles overlap, the surface is taken to be the highest of them, what a view from
+// above sees.
+void keepHighest(std::unordered_map<uint64_t, double>& heights, uint64_t key, double z) {
+  auto [it, fresh] = heights.emplace(key, z);
+  if (!fresh) it->second = std::max(it->second, z);
+}
+
+}  // namespace
+
+VipmQuality::VipmQuality(const TilesetReader& tileset, const ChunkTree& tree,
+                         const Heightfield& source, int stride, unsigned threads, Geomorph geomorph)
+    : mTileset(tileset),
+      mTree(tree),
+      mSource(source),
+      mStride(std::max(stride, 1)),
+      mThreads(std::max(threads, 1u)),
+      mGeomorph(geomorph) {}
+
+std::vector<VipmQuality::Drawn> VipmQuality::drawn(const ChunkTree& tree, const View& view,
+                                                   double tau,
+                                                   std::span<const SelectedChunk> selection) {
+  std::vector<Drawn> out;
+  out.reserve(selection.size());
+  for (const SelectedChunk& s : selection)
+    out.push_back({s.node, vipmDrawnTheta(tree, view, tau, s)});
+  return out;
+}
+
+Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
+  auto it = mChunks.find(node);
+  if (it != mChunks.end()) return &it->second;
+  const std::string subject = "chunk " + std::to_string(node);
+  auto bytes = mTileset.readNode(node);
+  if (!bytes) return bytes.error();
+  auto data = decodeVipmChunk(bytes->mesh(), subject);
+  if (!data) return data.error();
+  UnpackedChunk unpacked = unpackChunk(*data);
+  auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
+  if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
+  Chunk c;
+  c.levels = std::move(levels).value();
+  c.zBase = data->zBase;
+  // As the kind holds them (vipm_payload.cpp): heights above zBase in float.
+  for (uint32_t v = 0; v < data->vertexCount(); ++v)
+    c.own.push_back({unpacked.positions[v][0], unpacked.positions[v][1],
+                     float(double(data->heights[v]) * data->zStep)});
+  c.mesh = std::move(unpacked.mesh);
+  const TilesetHeader& h = mTileset.header();
+  const NodeRecord& record = mTileset.nodes()[node];
+  const auto [x0, y0] = chunkCellOrigin(h, record);
+  c.x0 = x0;
+  c.y0 = y0;
+  c.maxX = std::min<int64_t>(x0 + h.chunkCells(record.level), mSource.columns() - 1);
+  c.maxY = std::min<int64_t>(y0 + h.chunkCells(record.level), mSource.rows() - 1);
+  c.truthMin = 1e300;
+  c.truthMax = -1e300;
+  for (int64_t y = c.y0; y <= c.maxY; ++y)
+    for (int64_t x = c.x0; x <= c.maxX; ++x) {
+      const double z = mSource(int32_t(x), int32_t(y));
+      c.truthMin = std::min(c.truthMin, z);
+      c.truthMax = std::max(c.truthMax, z);
+    }
+  return &mChunks.emplace(node, std::move(c)).first->second;
+}
+
+std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, double theta) {
+  // What VipmGpuChunk::update draws for θ.
+  const MorphWindow window = morphWindow(c.mesh.errors, theta, mGeomorph);
+  c.levels.setApplied(window.applied);
+  std::vector<std::array<float, 3>> drawn = c.own;
+  if (window.morphing > window.applied) morphPositions(c.mesh, window, theta, c.own, drawn);
+  const VipmPart& whole = c.levels.whole();
+  const uint32_t count = c.levels.drawnTriangles(whole);
+  std::vector<Triangle> out(count);
+  for (uint32_t t = 0; t < count; ++t)
+    for (int j = 0; j < 3; ++j) {
+      const std::array<float, 3>& p = drawn[whole.indices[3 * t + j]];
+      out[t].v[j] = {double(c.x0) + p[0], double(c.y0) + p[1], c.zBase + double(p[2])};
+    }
+  return out;
+}
+
+bool VipmQuality::inView(const View& view, int64_t x, int64_t y, double z) const {
+  const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
+  for (const glm::dvec4& plane : view.planes)
+    if (glm::dot(glm::dvec3(plane), p) + plane.w < 0.0) return false;
+  return true;
+}
+
+template <typename Visit>
+void VipmQuality::rasterize(const Chunk& c, std::span<const Triangle> triangles, const View& view,
+                            Visit&& visit) const {
+  const auto spacing = mTree.spacing();
+  for (const Triangle& t : triangles) {
+    Box box;
+    box.min = {std::min({t.v[0][0], t.v[1][0], t.v[2][0]}) * spacing[0],
+               std::min({t.v[0][1], t.v[1][1], t.v[2][1]}) * spacing[1],
+               std::min({t.v[0][2], t.v[1][2], t.v[2][2], c.truthMin})};
+    box.max = {std::max({t.v[0][0], t.v[1][0], t.v[2][0]}) * spacing[0],
+               std::max({t.v[0][1], t.v[1][1], t.v[2][1]}) * spacing[1],
+               std::max({t.v[0][2], t.v[1][2], t.v[2][2], c.truthMax})};
+    if (!boxInFrustum(view, box)) continue;
+    rasterizeReal(t.v, c.x0, c.maxX, c.y0, c.maxY, mStride, [&](int64_t x, int64_t y, double z) {
+      if (inView(view, x, y, mSource(int32_t(x), int32_t(y)))) visit(x, y, z);
+    });
+  }
+}
+
+Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Drawn> chunks) {
+  // Surfaces on this thread (the chunks' level state is not thread-safe), measured in parallel.
+  std::vector<std::pair<const Chunk*, std::vector<Triangle>>> surfaces;
+  surfaces.reserve(chunks.size());
+  for (const Drawn& d : chunks) {
+    auto c = chunk(d.node);
+    if (!c) return c.error();
+    surfaces.emplace_back(*c, surface(**c, d.theta));
+  }
+  std::atomic<double> found{0.0};
+  const auto spacing = mTree.spacing();
+  parallelFor(surfaces.size(), mThreads, [&](size_t i, unsigned) {
+    double worst = 0.0;
+    rasterize(*surfaces[i].first, surfaces[i].second, view, [&](int64_t x, int64_t y, double z) {
+      const double truth = mSource(int32_t(x), int32_t(y));
+      const glm::dvec3 p{double(x) * spacing[0], double(y) * spacing[1], truth};
+      worst = std::max(
+          worst, screenSpaceError(view, std::fabs(z - truth), glm::length(p - view.camera.eye)));
+    });
+    double seen = found.load(std::memory_order_relaxed);
+    while (worst > seen && !found.compare_exchange_weak(seen, worst)) {
+    }
+  });
+  return found.load();
+}
+
+Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn> previous,
+                                         std::span<const Drawn> current) {
+  // Chunks drawn alike in both frames show the same surface: left out.
+  auto same = [&](const Drawn& a, const Drawn& b) -> Result<bool> {
+    auto c = chunk(a.node);
+    if (!c) return c.error();
+    const MorphWindow wa = morphWindow((*c)->mesh.errors, a.theta, mGeomorph);
+    const MorphWindow wb = morphWindow((*c)->mesh.errors, b.theta, mGeomorph);
+    return wa.applied == wb.applied && wa.morphing == wb.morphing &&
+           (wa.morphing == wa.applied || a.theta == b.theta);
+  };
+  std::unordered_map<uint32_t, double> before;
+  for (const Drawn& d : previous) before.emplace(d.node, d.theta);
+  std::vector<const Drawn*> changed;
+  std::unordered_map<uint32_t, bool> unchanged;
+  for (const Drawn& d : current) {
+    auto it = before.find(d.node);
+    if (it != before.end()) {
+      auto alike = same({d.node, it->second}, d);
+      if (!alike) return alike.error();
+      if (*alike) {
+        unchanged[d.node] = true;
+        continue;
+      }
+    }
+    changed.push_back(&d);
+  }
+  if (changed.empty()) return 0.0;
+  // A chunk drawn in both frames is compared with itself: neighbours at different levels
+  // need not agree on their shared border (flanges hide the gap). A chunk new in this frame
+  // is compared with whatever covered its samples before.
+  std::unordered_map<uint64_t, double> heights;
+  std::unordered_map<uint32_t, std::unordered_map<uint64_t, double>> own;
+  for (const Drawn& d : previous) {
+    if (unchanged.count(d.node)) continue;
+    auto c = chunk(d.node);
+    if (!c) return c.error();
+    const auto triangles = surface(**c, d.theta);
+    const bool kept = std::any_of(changed.begin(), changed.end(),
+                                  [&](const Drawn* k) { return k->node == d.node; });
+    auto& mine = own[d.node];
+    rasterize(**c, triangles, view, [&](int64_t x, int64_t y, double z) {
+      keepHighest(heights, sampleKey(x, y), z);
+      if (kept) keepHighest(mine, sampleKey(x, y), z);
+    });
+  }
+  double worst = 0.0;
+  const auto spacing = mTree.spacing();
+  for (const Drawn* d : changed) {
+    auto c = chunk(d->node);
+    if (!c) return c.error();
+    const auto triangles = surface(**c, d->theta);
+    const auto mine = own.find(d->node);
+    const auto& before = mine != own.end() && !mine->second.empty() ? mine->second : heights;
+    std::unordered_map<uint64_t, double> after;
+    rasterize(**c, triangles, view,
+              [&](int64_t x, int64_t y, double z) { keepHighest(after, sampleKey(x, y), z); });
+    for (const auto& [key, z] : after) {
+      const auto it = before.find(key);
+      if (it == before.end()) continue;
+      const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1], z};
+      worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
+                                               glm::length(p - view.camera.eye)));
+    }
+  }
+  return worst;
+}
+
+}  // namespace terralod

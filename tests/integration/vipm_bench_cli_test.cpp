@@ -1,0 +1,74 @@
+// `terralod bench --source` on a VIPM tileset measures what the VIPM kind draws: error within
+// τ, no holes, pops that grow without geomorphing (`--no-morph`), and the VIPM figures
+// (vertices drawn, decode and reconstruction time per chunk).
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "shared_directory.h"
+
+namespace terralod::test {
+namespace {
+
+class VipmBenchCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    sTileset = new SharedDirectory(
+        sharedDirectory("crater-vipm", programStamp(TERRALOD_CLI), [](const std::string& dir) {
+          const RunResult built = runTerralod(
+              {"build", testData("crater_lake_0513.bt"), "--kind", "vipm", "-o", dir + "/c.tlod"});
+          return built.exitCode == 0 ? std::string() : built.err;
+        }));
+    ASSERT_EQ(sTileset->error, "");
+    // Down towards the south-west rim.
+    std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
+      "frames": 60, "keyframes": [
+        {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
+        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  }
+  static void TearDownTestSuite() {
+    delete sDir;
+    delete sTileset;
+  }
+
+  static nlohmann::json bench(const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {
+        "bench",    sTileset->file("c.tlod"),        "--flight", sDir->file("descend.json"),
+        "--source", testData("crater_lake_0513.bt"), "--json",   sDir->file("b.json")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(readWholeFile(sDir->file("b.json")));
+  }
+
+  static inline TempDir* sDir = nullptr;
+  static inline SharedDirectory* sTileset = nullptr;
+};
+
+TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
+  const auto morphed = bench({});
+  for (const char* key : {"max_error_px", "max_pop_px", "holes_total", "vertices_p50",
+                          "reconstruct_ms_p50", "reconstruct_ms_max"})
+    ASSERT_TRUE(morphed.contains(key)) << key;
+  EXPECT_GT(morphed["max_error_px"].get<double>(), 0.0);
+  EXPECT_LE(morphed["max_error_px"].get<double>(), 2.0);  // τ
+  EXPECT_EQ(morphed["holes_total"], 0);
+  EXPECT_GT(morphed["vertices_p50"].get<double>(), 100.0);
+  EXPECT_LT(morphed["vertices_p50"].get<double>(), morphed["triangles_p50"].get<double>());
+  EXPECT_GT(morphed["reconstruct_ms_p50"].get<double>(), 0.0);
+  EXPECT_GE(morphed["reconstruct_ms_max"].get<double>(),
+            morphed["reconstruct_ms_p50"].get<double>());
+
+  const auto unmorphed = bench({"--no-morph"});
+  EXPECT_LE(unmorphed["max_error_px"].get<double>(), 2.0);
+  EXPECT_GT(unmorphed["max_pop_px"].get<double>(), 0.5);
+  EXPECT_GT(unmorphed["max_pop_px"].get<double>(), morphed["max_pop_px"].get<double>());
+}
+
+}  // namespace
+}  // namespace terralod::test
