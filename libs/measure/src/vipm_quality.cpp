@@ -234,13 +234,13 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     if (!c) return c.error();
     const auto triangles = surface(**c, d->theta);
     const auto mine = own.find(d->node);
-    const auto& before = mine != own.end() && !mine->second.empty() ? mine->second : heights;
+    const auto& earlier = mine != own.end() && !mine->second.empty() ? mine->second : heights;
     std::unordered_map<uint64_t, double> after;
     rasterize(**c, triangles, view,
               [&](int64_t x, int64_t y, double z) { keepHighest(after, sampleKey(x, y), z); });
     for (const auto& [key, z] : after) {
-      const auto it = before.find(key);
-      if (it == before.end()) continue;
+      const auto it = earlier.find(key);
+      if (it == earlier.end()) continue;
       const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1], z};
       worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
                                                glm::length(p - view.camera.eye)));

@@ -93,7 +93,9 @@ TEST_F(VipmQualityTest, CollapsesPopWithoutGeomorphingAndLessWithIt) {
     worstOn = std::max(worstOn, on);
     worstOff = std::max(worstOff, unmorphed.maxPopPixels(current, before, after).value());
     // The same drawn state twice: nothing moves.
-    if (i % 20 == 0) EXPECT_EQ(unmorphed.maxPopPixels(current, after, after).value(), 0.0);
+    if (i % 20 == 0) {
+      EXPECT_EQ(unmorphed.maxPopPixels(current, after, after).value(), 0.0);
+    }
     previous = current;
   }
   EXPECT_GT(worstOff, 0.5);
