@@ -4,7 +4,7 @@
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/measure/export_mesh.h"
 #include "terralod/vipm/vipm_levels.h"
-#include "terralod/vipm/vipm_storage.h"
+#include "terralod/vipm/vipm_blob.h"
 
 namespace terralod {
 
@@ -22,11 +22,11 @@ Result<LevelSurface> gatherVipmSurface(const TilesetReader& tileset, double erro
     const std::string subject = tileset.name() + " chunk " + std::to_string(i);
     auto bytes = tileset.readNode(i);
     if (!bytes) return bytes.error();
-    auto data = decodeVipmChunk(bytes->mesh(), subject);
-    if (!data) return data.error();
-    UnpackedChunk unpacked = unpackChunk(*data);
-    auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
-    if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
+    auto loaded = loadVipmChunk(bytes->mesh(), subject);
+    if (!loaded) return loaded.error();
+    const VipmChunkData& data = loaded->data;
+    const UnpackedChunk& unpacked = loaded->unpacked;
+    VipmLevels* levels = &loaded->levels;
     levels->setApplied(morphWindow(unpacked.mesh.errors, error, Geomorph::kOff).applied);
     const auto [x0, y0] = chunkCellOrigin(header, node);
     const VipmPart& whole = levels->whole();
@@ -34,7 +34,7 @@ Result<LevelSurface> gatherVipmSurface(const TilesetReader& tileset, double erro
       const uint16_t v = whole.indices[k];
       const int64_t x = x0 + int64_t(unpacked.positions[v][0]);
       const int64_t y = y0 + int64_t(unpacked.positions[v][1]);
-      const double z = data->zBase + double(data->heights[v]) * data->zStep;
+      const double z = data.zBase + double(data.heights[v]) * data.zStep;
       auto [it, fresh] =
           welded.try_emplace((uint64_t(x) << 32) | uint64_t(y), uint32_t(surface.positions.size()));
       if (fresh)

@@ -8,7 +8,7 @@
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/render/vipm_chunk_kind.h"
-#include "terralod/vipm/vipm_storage.h"
+#include "terralod/vipm/vipm_blob.h"
 
 namespace terralod {
 namespace {
@@ -81,18 +81,13 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   const std::string subject = "chunk " + std::to_string(node);
   auto bytes = mTileset.readNode(node);
   if (!bytes) return bytes.error();
-  auto data = decodeVipmChunk(bytes->mesh(), subject);
-  if (!data) return data.error();
-  UnpackedChunk unpacked = unpackChunk(*data);
-  auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
-  if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
+  auto loaded = loadVipmChunk(bytes->mesh(), subject);
+  if (!loaded) return loaded.error();
   Chunk c;
-  c.levels = std::move(levels).value();
-  c.zBase = data->zBase;
-  // As the kind holds them (vipm_payload.cpp): heights above zBase in float.
-  for (uint32_t v = 0; v < data->vertexCount(); ++v)
-    c.own.push_back({unpacked.positions[v][0], unpacked.positions[v][1],
-                     float(double(data->heights[v]) * data->zStep)});
+  c.levels = std::move(loaded->levels);
+  c.zBase = loaded->data.zBase;
+  c.own = positionsAboveBase(*loaded);  // as the kind holds them
+  UnpackedChunk& unpacked = loaded->unpacked;
   c.mesh = std::move(unpacked.mesh);
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[node];

@@ -3,7 +3,7 @@
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/vipm/grid_patch.h"
 #include "terralod/vipm/vipm_normal_map.h"
-#include "terralod/vipm/vipm_storage.h"
+#include "terralod/vipm/vipm_blob.h"
 
 namespace terralod {
 
@@ -21,23 +21,17 @@ Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
                                            const std::string& subject,
                                            std::array<double, 2> spacing, uint8_t flangeSides,
                                            float flangeDepth) {
-  auto data = decodeVipmChunk(blob, subject);
-  if (!data) return data.error();
-  UnpackedChunk unpacked = unpackChunk(*data);
-  auto levels = VipmLevels::reconstruct(unpacked.mesh, unpacked.materials);
-  if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
+  auto loaded = loadVipmChunk(blob, subject);
+  if (!loaded) return loaded.error();
+  const VipmChunkData& data = loaded->data;
+  UnpackedChunk& unpacked = loaded->unpacked;
   VipmChunkPayload p;
-  p.levels = std::move(levels).value();
-  p.zBase = data->zBase;
-  p.width = data->width;
-  p.height = data->height;
+  p.zBase = data.zBase;
+  p.width = data.width;
+  p.height = data.height;
   p.flangeDepth = flangeDepth;
-  // Heights above zBase in float keep the stored steps exactly (absolute ones would not).
-  const uint32_t n = data->vertexCount();
-  p.positions.reserve(n);
-  for (uint32_t v = 0; v < n; ++v)
-    p.positions.push_back({unpacked.positions[v][0], unpacked.positions[v][1],
-                           float(double(data->heights[v]) * data->zStep)});
+  p.positions = positionsAboveBase(*loaded);
+  p.levels = std::move(loaded->levels);
   p.normals = normalMap(finestGridHeights(unpacked.mesh, p.positions), p.width, p.height, spacing);
   // A chunk wider than a leaf is a fallback root: flanges on its children's shared sides too.
   p.flanges = makeFlanges(unpacked.mesh, flangeSides,
