@@ -3,8 +3,8 @@
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/measure/export_mesh.h"
-#include "terralod/vipm/vipm_levels.h"
 #include "terralod/vipm/vipm_blob.h"
+#include "terralod/vipm/vipm_levels.h"
 
 namespace terralod {
 

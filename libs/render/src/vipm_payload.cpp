@@ -2,8 +2,8 @@
 
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/vipm/grid_patch.h"
-#include "terralod/vipm/vipm_normal_map.h"
 #include "terralod/vipm/vipm_blob.h"
+#include "terralod/vipm/vipm_normal_map.h"
 
 namespace terralod {
 
