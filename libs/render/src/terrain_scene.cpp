@@ -35,15 +35,16 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
   // The loader pool and the clock are the driver's; the kinds registered are what this
   // renderer draws. Reads the roots.
   ChunkKinds kinds;
-  kinds.add(scene->mStaticKind);
+  scene->mDrawnKinds.push_back(&scene->mStaticKind);
   const auto& nodes = scene->mTileset->nodes();
   if (std::any_of(nodes.begin(), nodes.end(),
                   [](const NodeRecord& r) { return r.meshKind == MeshKind::kVipm; })) {
     auto vipm = VipmChunkKind::create(*scene->mTileset);
     if (!vipm) return vipm.error();
     scene->mVipmKind = std::move(vipm).value();
-    kinds.add(*scene->mVipmKind);
+    scene->mDrawnKinds.push_back(scene->mVipmKind.get());
   }
+  for (DrawnChunkKind<TerrainFrame>* kind : scene->mDrawnKinds) kinds.add(*kind);
   FrameDriverOptions d;
   d.cacheBytes = scene->mOptions.cacheBytes;
   d.maxInFlight = std::max(2u, 2 * scene->mOptions.loaderThreads);
@@ -86,10 +87,9 @@ DrawStats TerrainScene::drawSelection(const View& view, std::span<const Selected
   options.drawable = {};
   TerrainFrame frame{context, mTree, stats, options};
   mRuns.split(mTree, chunks);
-  for (const KindRuns::Run& run : mRuns.runs()) {
-    if (run.kind == MeshKind::kStaticRtin) mStaticKind.addDraws(frame, run.chunks);
-    if (run.kind == MeshKind::kVipm && mVipmKind) mVipmKind->addDraws(frame, run.chunks);
-  }
+  for (const KindRuns::Run& run : mRuns.runs())
+    for (DrawnChunkKind<TerrainFrame>* kind : mDrawnKinds)
+      if (kind->meshKind() == run.kind) kind->addDraws(frame, run.chunks);
   mRenderer.finishFrame(context, mTree, chunks, mStore, stats);
   return stats;
 }

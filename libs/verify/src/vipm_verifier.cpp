@@ -26,7 +26,6 @@ struct Checked {
   std::vector<double> coarsest;
   std::array<std::vector<double>, 4> quarters;  // roots
   double lastError = 0;                         // recorded error of its coarsest LOD
-  double trueFinest = 0;
 };
 
 // The source's materials as the tileset's metadata says they were made; nullopt when they
@@ -106,7 +105,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
     auto chunk = decodeVipmChunk(*blob, name(i));
     if (!chunk) return addFailure(chunk.error().message);
     const auto [x0, y0] = chunkCellOrigin(h, n);
-    const VipmChunkCheck c = checkVipmChunk(*chunk, x0, y0, heights, map, promised);
+    VipmChunkCheck c = checkVipmChunk(*chunk, x0, y0, heights, map, promised);
     for (const std::string& p : c.problems) addFailure(name(i) + ": " + p);
     Checked& out = checked[i];
     out = {true,
@@ -114,12 +113,11 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
            y0,
            chunk->width,
            chunk->height,
-           c.sides,
-           c.coarsestHeights,
-           c.quarters,
+           std::move(c.sides),
+           std::move(c.coarsestHeights),
+           std::move(c.quarters),
            chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
-                                  : double(chunk->finestError),
-           c.finestError};
+                                  : double(chunk->finestError)};
     // The node record.
     double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     for (uint16_t z : chunk->heights) {

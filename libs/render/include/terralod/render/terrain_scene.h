@@ -125,6 +125,8 @@ class TerrainScene {
   TerrainRenderer mRenderer;
   StaticChunkKind mStaticKind;
   std::unique_ptr<VipmChunkKind> mVipmKind;  // when the tileset has VIPM chunks
+  // The registered kinds that draw into the frame, in registration order (drawSelection).
+  std::vector<DrawnChunkKind<TerrainFrame>*> mDrawnKinds;
   // Stops (after finishing its job) before the store, which deletes what it left unadopted.
   std::unique_ptr<GlWorker> mGlWorker;
   std::unique_ptr<ThreadPool> mPool;
