@@ -1,6 +1,7 @@
 // `terralod bench --source` on a VIPM tileset measures what the VIPM kind draws: error within
-// τ, no holes, pops that grow without geomorphing (`--no-morph`), and the VIPM figures
-// (vertices drawn, decode and reconstruction time per chunk).
+// τ, no holes, no pops with geomorphing (the surface still moves between frames: the morph
+// step), pops without (`--no-morph`), and the VIPM figures (vertices drawn, decode and
+// reconstruction time per chunk).
 
 #include <gtest/gtest.h>
 
@@ -52,12 +53,13 @@ class VipmBenchCli : public ::testing::Test {
 
 TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   const auto morphed = bench({});
-  for (const char* key : {"max_error_px", "max_pop_px", "holes_total", "vertices_p50",
-                          "reconstruct_ms_p50", "reconstruct_ms_max"})
+  for (const char* key : {"max_error_px", "max_pop_px", "max_morph_step_px", "holes_total",
+                          "vertices_p50", "reconstruct_ms_p50", "reconstruct_ms_max"})
     ASSERT_TRUE(morphed.contains(key)) << key;
   EXPECT_GT(morphed["max_error_px"].get<double>(), 0.0);
   EXPECT_LE(morphed["max_error_px"].get<double>(), 2.0);  // τ
   EXPECT_EQ(morphed["holes_total"], 0);
+  EXPECT_GT(morphed["max_morph_step_px"].get<double>(), morphed["max_pop_px"].get<double>());
   EXPECT_GT(morphed["vertices_p50"].get<double>(), 100.0);
   EXPECT_LT(morphed["vertices_p50"].get<double>(), morphed["triangles_p50"].get<double>());
   EXPECT_GT(morphed["reconstruct_ms_p50"].get<double>(), 0.0);
@@ -67,7 +69,10 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   const auto unmorphed = bench({"--no-morph"});
   EXPECT_LE(unmorphed["max_error_px"].get<double>(), 2.0);
   EXPECT_GT(unmorphed["max_pop_px"].get<double>(), 0.5);
-  EXPECT_GT(unmorphed["max_pop_px"].get<double>(), morphed["max_pop_px"].get<double>());
+  // What geomorphing leaves: a collapse applied last frame that geomorphs again now (its
+  // vertex a step off its target). This descent is fast (1.5 % of the height a frame), so
+  // the step is not small; the auto flight's 0.5 % leaves about 0.005 px on Crater Lake.
+  EXPECT_LT(morphed["max_pop_px"].get<double>(), unmorphed["max_pop_px"].get<double>() / 4);
 }
 
 }  // namespace

@@ -77,9 +77,18 @@ class QualityPass {
     // Pops count between two frames that both had what they wanted; frames drawn coarser
     // while chunks stream in hand over differently (reported apart).
     r.popComplete = i > 0 && !r.coarser && mPreviousComplete;
-    if (r.popComplete) {
-      auto pop = mVipm ? mVipm->maxPopPixels(view, mPreviousDrawn, mCurrentDrawn)
-                       : mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
+    if (r.popComplete && mVipm) {
+      // Last frame's VIPM states geomorphed for this camera (the pop), and as drawn (the step).
+      const auto previousNow =
+          VipmQuality::geomorphedFor(mScene.tree(), view, selection, mPrevious, mPreviousDrawn);
+      auto pop = mVipm->maxPopPixels(view, previousNow, mCurrentDrawn);
+      if (!pop) return pop.error();
+      r.popPx = *pop;
+      auto step = mVipm->maxPopPixels(view, mPreviousDrawn, mCurrentDrawn);
+      if (!step) return step.error();
+      r.morphStepPx = *step;
+    } else if (r.popComplete) {
+      auto pop = mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
       if (!pop) return pop.error();
       r.popPx = *pop;
     }

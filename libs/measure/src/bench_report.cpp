@@ -203,8 +203,12 @@ std::string reportMarkdown(const BenchFlightResult& flight, const nlohmann::json
   if (quality)
     md << "| max error px (complete frames / all) | " << figure(s, "max_error_px", "%.4g") << " / "
        << figure(s, "max_error_px_all", "%.4g") << " |\n"
-       << "| max pop px | " << figure(s, "max_pop_px", "%.4g") << " |\n"
-       << "| holes total | " << figure(s, "holes_total") << " |\n"
+       << "| max pop px | " << figure(s, "max_pop_px", "%.4g") << " |\n";
+  if (quality && s.contains("max_morph_step_px"))
+    md << "| max morph step px (VIPM: all motion between frames) | "
+       << figure(s, "max_morph_step_px", "%.4g") << " |\n";
+  if (quality)
+    md << "| holes total | " << figure(s, "holes_total") << " |\n"
        << "| image pop mean /255 (average; with frames while streaming) | "
        << figure(s, "image_pop_mean", "%.4g") << " (" << figure(s, "image_pop_mean_avg", "%.4g")
        << "; " << figure(s, "image_pop_mean_all", "%.4g") << ") |\n";

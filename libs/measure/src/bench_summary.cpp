@@ -67,8 +67,8 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
       percentile(column(f, [](const FrameRecord& r) { return r.residentMB; }), 1.0);
   j["cache_mb"] = info.cacheMB;
   uint64_t waiting = 0, coarser = 0, easing = 0, holes = 0, imagePopFrames = 0;
-  double maxError = 0, maxErrorAll = 0, maxPop = 0, uploadMax = 0, imagePopMax = 0,
-         imagePopMaxAll = 0, imagePopSum = 0;
+  double maxError = 0, maxErrorAll = 0, maxPop = 0, maxMorphStep = 0, uploadMax = 0,
+         imagePopMax = 0, imagePopMaxAll = 0, imagePopSum = 0;
   for (const FrameRecord& r : f) {
     waiting += r.waitedOnIo ? 1 : 0;
     coarser += r.coarser ? 1 : 0;
@@ -82,6 +82,7 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
       if (!r.coarser) maxError = std::max(maxError, r.errorPx);
     }
     if (!std::isnan(r.popPx)) maxPop = std::max(maxPop, r.popPx);
+    if (!std::isnan(r.morphStepPx)) maxMorphStep = std::max(maxMorphStep, r.morphStepPx);
     if (!std::isnan(r.imagePop)) {
       imagePopMaxAll = std::max(imagePopMaxAll, r.imagePop);
       if (r.popComplete) {
@@ -106,6 +107,9 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
     j["max_error_px"] = maxError;  // over frames with every wanted chunk resident
     j["max_error_px_all"] = maxErrorAll;
     j["max_pop_px"] = maxPop;
+    // VIPM: everything that moved between consecutive pictures, the geomorph's steady motion
+    // included (max_pop_px leaves that out, as on static tilesets).
+    if (scene.tileset().header().meshKind == MeshKind::kVipm) j["max_morph_step_px"] = maxMorphStep;
     j["holes_total"] = holes;
     // 8-bit units: the largest per-frame mean absolute pixel change from LOD alone, and its
     // average over the frames whose selection changed (both between frames that had what they

@@ -70,8 +70,22 @@ std::vector<VipmQuality::Drawn> VipmQuality::drawn(const ChunkTree& tree, const 
                                                    std::span<const SelectedChunk> selection) {
   std::vector<Drawn> out;
   out.reserve(selection.size());
-  for (const SelectedChunk& s : selection)
-    out.push_back({s.node, vipmDrawnTheta(tree, view, tau, s)});
+  for (const SelectedChunk& s : selection) {
+    const double theta = vipmDrawnTheta(tree, view, tau, s);
+    out.push_back({s.node, theta, theta});
+  }
+  return out;
+}
+
+std::vector<VipmQuality::Drawn> VipmQuality::geomorphedFor(
+    const ChunkTree& tree, const View& view, const SelectionOptions& options,
+    std::span<const SelectedChunk> previousSelection, std::span<const Drawn> previous) {
+  std::vector<Drawn> out(previous.begin(), previous.end());
+  for (size_t k = 0; k < out.size() && k < previousSelection.size(); ++k) {
+    SelectedChunk now = previousSelection[k];
+    now.morph = morphParameter(tree, view, options, now.node);
+    out[k].morphTheta = vipmDrawnTheta(tree, view, options.tau, now);
+  }
   return out;
 }
 
@@ -107,12 +121,12 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   return &mChunks.emplace(node, std::move(c)).first->second;
 }
 
-std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, double theta) {
-  // What VipmGpuChunk::update draws for θ.
-  const MorphWindow window = morphWindow(c.mesh.errors, theta, mGeomorph);
+std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, const Drawn& d) {
+  // What VipmGpuChunk::update draws for θ (the collapses θ chooses, geomorphed at morphTheta).
+  const MorphWindow window = morphWindow(c.mesh.errors, d.theta, mGeomorph);
   c.levels.setApplied(window.applied);
   std::vector<std::array<float, 3>> drawn = c.own;
-  if (window.morphing > window.applied) morphPositions(c.mesh, window, theta, c.own, drawn);
+  if (window.morphing > window.applied) morphPositions(c.mesh, window, d.morphTheta, c.own, drawn);
   const VipmPart& whole = c.levels.whole();
   const uint32_t count = c.levels.drawnTriangles(whole);
   std::vector<Triangle> out(count);
@@ -157,7 +171,7 @@ Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Dra
   for (const Drawn& d : chunks) {
     auto c = chunk(d.node);
     if (!c) return c.error();
-    surfaces.emplace_back(*c, surface(**c, d.theta));
+    surfaces.emplace_back(*c, surface(**c, d));
   }
   std::atomic<double> found{0.0};
   const auto spacing = mTree.spacing();
@@ -185,16 +199,16 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     const MorphWindow wa = morphWindow((*c)->mesh.errors, a.theta, mGeomorph);
     const MorphWindow wb = morphWindow((*c)->mesh.errors, b.theta, mGeomorph);
     return wa.applied == wb.applied && wa.morphing == wb.morphing &&
-           (wa.morphing == wa.applied || a.theta == b.theta);
+           (wa.morphing == wa.applied || a.morphTheta == b.morphTheta);
   };
-  std::unordered_map<uint32_t, double> before;
-  for (const Drawn& d : previous) before.emplace(d.node, d.theta);
+  std::unordered_map<uint32_t, const Drawn*> before;
+  for (const Drawn& d : previous) before.emplace(d.node, &d);
   std::vector<const Drawn*> changed;
   std::unordered_map<uint32_t, bool> unchanged;
   for (const Drawn& d : current) {
     auto it = before.find(d.node);
     if (it != before.end()) {
-      auto alike = same({d.node, it->second}, d);
+      auto alike = same(*it->second, d);
       if (!alike) return alike.error();
       if (*alike) {
         unchanged[d.node] = true;
@@ -213,7 +227,7 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     if (unchanged.count(d.node)) continue;
     auto c = chunk(d.node);
     if (!c) return c.error();
-    const auto triangles = surface(**c, d.theta);
+    const auto triangles = surface(**c, d);
     const bool kept = std::any_of(changed.begin(), changed.end(),
                                   [&](const Drawn* k) { return k->node == d.node; });
     auto& mine = own[d.node];
@@ -227,7 +241,7 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
   for (const Drawn* d : changed) {
     auto c = chunk(d->node);
     if (!c) return c.error();
-    const auto triangles = surface(**c, d->theta);
+    const auto triangles = surface(**c, *d);
     const auto mine = own.find(d->node);
     const auto& earlier = mine != own.end() && !mine->second.empty() ? mine->second : heights;
     std::unordered_map<uint64_t, double> after;

@@ -39,6 +39,7 @@ struct FrameRecord {
   glm::dvec3 eye{0.0};
   double errorPx = NAN;      ///< largest screen-space error over the source samples in view
   double popPx = NAN;        ///< largest change from selection alone since the last frame
+  double morphStepPx = NAN;  ///< VIPM: largest change of the drawn surface since the last frame
   double imagePop = NAN;     ///< mean absolute pixel change from LOD alone (8-bit units)
   bool popComplete = false;  ///< this frame and the last had every wanted chunk (pops count)
   uint64_t holes = 0;        ///< background pixels in the look-down render

@@ -4,12 +4,17 @@
 // (vipmDrawnTheta), i.e. the collapses morphWindow applies and the vertices morphPositions
 // geomorphs (libs/vipm), against the source samples as QualityMetrics measures static chunks:
 //  - error: over every measured source sample in view, |true - drawn height| * K / distance;
-//  - pops: from frame i's camera, frame i-1's drawn surface (each chunk at the θ it was drawn
-//    with then) against frame i's, at every sample in view under both. Chunks drawn alike in
-//    both frames (same node, same collapses, no geomorph or the same θ) are left out. Unlike
-//    static chunks, whose morph is re-evaluated for frame i, a VIPM chunk's level follows its
-//    distance every frame, so this counts what moves between the two frames' pictures: small
-//    steps with geomorphing, whole collapses without (--no-morph).
+//  - pops, as on static tilesets the change caused by the LOD state alone: from frame i's
+//    camera, frame i-1's state (each chunk's applied and geomorphing collapses, chosen by the
+//    θ it was drawn with then) geomorphed for frame i's θ, against frame i's. Geomorphing is
+//    continuous in θ, so what is left is a collapse entering or leaving the geomorph between
+//    the two frames, or a root handing over to its leaves; without geomorphing (--no-morph)
+//    whole collapses show;
+//  - the morph step: the same comparison with frame i-1's state at its own θ, i.e. everything
+//    that moved between the two frames' pictures, the geomorph's steady motion included (it
+//    grows with the camera's speed).
+//  Chunks drawn alike in both (same node, same collapses, no geomorph or the same θ) are left
+//  out.
 
 #include <array>
 #include <cstdint>
@@ -32,7 +37,8 @@ class VipmQuality {
   /// A chunk as drawn in one frame.
   struct Drawn {
     uint32_t node = 0;
-    double theta = 0.0;  ///< allowed error, metres
+    double theta = 0.0;       ///< allowed error that chose its collapses, metres
+    double morphTheta = 0.0;  ///< allowed error its geomorph is evaluated at (usually theta)
   };
   /// `source` is the tileset's source grid; every `stride`-th sample (x and y) is measured.
   /// `geomorph`: whether the kind geomorphs (SelectionOptions::morph).
@@ -43,9 +49,18 @@ class VipmQuality {
   static std::vector<Drawn> drawn(const ChunkTree& tree, const View& view, double tau,
                                   std::span<const SelectedChunk> selection);
 
+  /// Frame i-1's chunks `previous` (selected as `previousSelection`) in the state they were
+  /// drawn in, geomorphed for `view`: morphTheta from their morph parameter re-evaluated for
+  /// `view`, as static chunks are for pops.
+  static std::vector<Drawn> geomorphedFor(const ChunkTree& tree, const View& view,
+                                          const SelectionOptions& options,
+                                          std::span<const SelectedChunk> previousSelection,
+                                          std::span<const Drawn> previous);
+
   /// The largest screen-space error of the drawn surface of `chunks` in `view`, pixels.
   Result<double> maxErrorPixels(const View& view, std::span<const Drawn> chunks);
-  /// The largest screen-space movement, seen from `view`, between `previous` and `current`.
+  /// The largest screen-space movement, seen from `view`, between the surfaces `previous` and
+  /// `current` draw (for pops, `previous` is frame i-1's chunks with morphTheta for `view`).
   Result<double> maxPopPixels(const View& view, std::span<const Drawn> previous,
                               std::span<const Drawn> current);
 
@@ -64,8 +79,8 @@ class VipmQuality {
   };
   // Decodes a chunk once. Not thread-safe.
   Result<Chunk*> chunk(uint32_t node);
-  // The chunk's surface triangles at θ, as the kind draws them. Not thread-safe.
-  std::vector<Triangle> surface(Chunk& c, double theta);
+  // The chunk's surface triangles in state `d`, as the kind draws them. Not thread-safe.
+  std::vector<Triangle> surface(Chunk& c, const Drawn& d);
   // Calls visit(x, y, drawnHeight) at every measured sample under the triangles that may be in
   // view (drawn and true heights considered).
   template <typename Visit>
