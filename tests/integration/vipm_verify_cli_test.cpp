@@ -80,7 +80,8 @@ TEST_F(VipmVerifyCli, NormalMapsThatAreNotTheSourcesOrAreDamagedFail) {
   damageTexture(damaged, 1, 40, {0x5A}, false);
   const RunResult checked = runTerralod({"verify", damaged, "--source", kDem});
   EXPECT_EQ(checked.exitCode, 1);
-  EXPECT_TRUE(has(checked.err, "damaged.tlod chunk 1: invalid texture: checksum mismatch"))
+  EXPECT_TRUE(
+      has(checked.err, "damaged.tlod: chunk 1 (level 1, 0,0): invalid texture: checksum mismatch"))
       << checked.err;
   const RunResult rendered =
       runTerralod({"render", damaged, "-o", mDir.file("r.png"), "--size", "160x120"});
