@@ -35,7 +35,7 @@ printf '\x01\x01\x00\x00' | dd of="$work/kind.tlod" bs=1 seek=24 conv=notrunc st
 withMode 0 "$work/kind.tlod" "$out/tileset_reader_fuzzer/v2_gully_mesh_kind_0x101"
 
 # Chunk blobs (geometry: stored and decompressed) and texture blobs of every node.
-for version in v1 v2; do
+for version in v1 v2 vipm; do
   tlod=$golden/$version/gully.tlod
   table=$(u64 "$tlod" $((0x100)))
   count=$(u64 "$tlod" $((0xF8)))

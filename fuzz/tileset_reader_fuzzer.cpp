@@ -1,6 +1,7 @@
 // Fuzzes opening a tileset from untrusted bytes: TilesetReader on an in-memory ByteSource
 // (header, node table, metadata), the runtime's ChunkTree over what it accepted, then every
-// chunk's geometry and texture (VIPM chunks: their blobs). Input: one mode byte, then the file.
+// chunk's geometry and texture (VIPM chunks: their blobs and normal maps). Input: one mode
+// byte, then the file.
 //
 // Random bytes almost never carry matching CRC-32s, which would stop every mutation at the
 // first checksum. So unless mode bit 0 is set, the harness first recomputes the checksums the
@@ -98,8 +99,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   for (uint32_t i = 0; i < chunks; ++i) {
     if (r.nodes()[i].meshKind != terralod::MeshKind::kVipm) {
       (void)r.readChunkData(i);
-    } else if (auto blob = r.readBlob(i)) {
-      (void)terralod::decodeVipmChunk(*blob, "fuzz chunk");
+    } else if (auto node = r.readNode(i)) {
+      (void)terralod::decodeVipmChunk(node->mesh(), "fuzz chunk");
+      (void)terralod::decodeVipmNormalMap(
+          node->texture(), uint32_t(r.header().chunkCells(r.nodes()[i].level)), "fuzz chunk");
     }
   }
   (void)r.readChunk(chunks);  // geometry alone, of a node that may not exist

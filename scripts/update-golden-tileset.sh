@@ -16,7 +16,7 @@ for version in v1 v2; do
   "$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
   echo "updated $out/gully.tlod and $out/gully.json"
 done
-# VIPM tilesets (mesh kind 2, written as version 1).
+# VIPM tilesets (mesh kind 2, written as version 2: a normal map per node).
 out=tests/data/golden/vipm
 mkdir -p "$out"
 "$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/gully.tlod" \

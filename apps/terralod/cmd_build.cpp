@@ -68,7 +68,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto kind = std::make_shared<std::string>("static");
   cmd->add_option("--kind", *kind,
                   "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
-                  "64-cell chunk with material-aware collapses; untextured)")
+                  "64-cell chunk with material-aware collapses; normal maps, no colour tiles)")
       ->capture_default_str()
       ->check(CLI::IsMember({"static", "vipm"}));
   cmd->add_option("--materials", options->materialsPath,
@@ -103,10 +103,14 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
         if (minTau->count() > 0)
           return fail(
-              "--min-tau does not apply to --kind vipm (it sizes textures; VIPM "
-              "tilesets have none)");
+              "--min-tau does not apply to --kind vipm (its normal maps have one texel per grid "
+              "point)");
+        if (*noTexture)
+          return fail(
+              "--no-texture does not apply to --kind vipm (its chunks are lit by their stored "
+              "normal maps)");
         options->kind = TilesetKind::kVipm;
-        options->textures = false;  // VIPM tilesets are untextured
+        options->textures = false;  // no colour tiles: normal maps only (vipm_builder.h)
         options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
       } else {
         for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},

@@ -60,9 +60,13 @@ int exportLevel(const ExportOptions& options) {
   if (options.textureSize && (*options.textureSize < 1 || *options.textureSize > kMaxTexture))
     return fail("--texture-size " + std::to_string(*options.textureSize) + ": must be 1 to " +
                 std::to_string(kMaxTexture) + " pixels");
-  const bool textured = tileset.header().textured() && !options.noTexture;
-  if (options.textureSize && !tileset.header().textured())
-    warn(options.tileset + ": has no texture (built with --no-texture); --texture-size ignored");
+  // A VIPM tileset's texture blobs hold normal maps only: no colour image to export.
+  const bool hasColor = tileset.header().textured() && !vipm;
+  const bool textured = hasColor && !options.noTexture;
+  if (options.textureSize && !hasColor)
+    warn(options.tileset + (vipm ? ": a VIPM tileset has no colour texture; --texture-size ignored"
+                                 : ": has no texture (built with --no-texture); --texture-size "
+                                   "ignored"));
 
   // Fail on an unwritable output before the work, not after; nothing appears at the output
   // (nor beside it) until the whole mesh and its side files are written.

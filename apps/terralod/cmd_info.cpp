@@ -117,7 +117,12 @@ int printInfo(const std::string& path, bool json) {
               100.0 * double(h.filledVoids) / double(samples));
   std::printf("  tree            %u levels, %u x %u roots of %u cells, leaves of %u cells\n",
               h.levelCount, h.rootsX, h.rootsY, h.rootCells, h.leafCells);
-  if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
+  if (h.textured() && h.meshKind == MeshKind::kVipm) {
+    std::printf(
+        "  textures        normal maps only (BC5, one texel per grid point, from the source "
+        "heights: %u/%u texels a side for roots/leaves)\n",
+        h.rootCells + 1, h.leafCells + 1);
+  } else if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
     const auto& texture = metadata["texture"];
     std::printf("  textures        colour %s, normals from the DEM, sized for tau <= %.2f px\n",
                 texture.value("color", "?").c_str(), h.textureMinTau);
@@ -141,6 +146,8 @@ int printInfo(const std::string& path, bool json) {
                     level.value("color_source_limited", false) ? "*" : "",
                     level.value("normal_size", 0u),
                     level.value("normal_source_limited", false) ? "*" : "");
+      } else if (h.meshKind == MeshKind::kVipm) {
+        std::printf("  %5s/%u*", "-", (h.rootCells >> l) + 1);  // normal maps only
       }
     }
     std::printf("\n");

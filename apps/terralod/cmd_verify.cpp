@@ -13,13 +13,17 @@ void printVipmChecks(const VipmVerifyStats& v) {
   std::printf(
       "  VIPM: %llu LODs, smallest (recorded - true error) %.4f m; %llu collapses, %llu "
       "break a material rule (%s); vertex materials %s: %llu differ; parts agree at %llu "
-      "LODs; roots vs children's coarsest LOD: %llu samples, largest difference %.6f m\n",
+      "LODs; roots vs children's coarsest LOD: %llu samples, largest difference %.6f m; "
+      "normal maps: %llu (%llu texels) within BC5's loss of the source's, largest difference "
+      "%.4f\n",
       (unsigned long long)v.lods, v.worstErrorMargin, (unsigned long long)v.collapsesChecked,
       (unsigned long long)v.ruleViolations,
       v.rulesPromised ? "built with the rules" : "built with --no-material-rules",
       v.materialsFromSource ? "against the source's" : "not checked against the source",
       (unsigned long long)v.materialMismatches, (unsigned long long)v.partLevelsChecked,
-      (unsigned long long)v.fallbackSamples, v.fallbackMismatch);
+      (unsigned long long)v.fallbackSamples, v.fallbackMismatch,
+      (unsigned long long)v.normalMapsChecked, (unsigned long long)v.normalTexels,
+      v.worstNormalDeviation);
 }
 
 }  // namespace

@@ -84,7 +84,8 @@ TEST(GoldenTileset, TheVipmTilesetStillReads) {
   auto opened = TilesetReader::openFile(kGoldenVipm);
   ASSERT_TRUE(opened.ok()) << opened.error().message;
   const TilesetReader& t = **opened;
-  EXPECT_EQ(t.header().version, 1u);
+  EXPECT_EQ(t.header().version, 2u);  // with its normal maps
+  EXPECT_TRUE(t.header().textured());
   EXPECT_EQ(t.header().meshKind, MeshKind::kVipm);
   EXPECT_EQ(expected["kind"], "vipm");
   EXPECT_EQ(t.nodes().size(), expected["chunks"].get<size_t>());
@@ -103,6 +104,11 @@ TEST(GoldenTileset, TheVipmTilesetStillReads) {
     ASSERT_TRUE(chunk.ok()) << chunk.error().message;
     const UnpackedChunk unpacked = unpackChunk(*chunk);
     ASSERT_TRUE(VipmLevels::reconstruct(unpacked.mesh, unpacked.materials).ok());
+    auto node = t.readNode(i);
+    ASSERT_TRUE(node.ok()) << node.error().message;
+    auto normals = decodeVipmNormalMap(
+        node->texture(), uint32_t(t.header().chunkCells(t.nodes()[i].level)), "golden");
+    ASSERT_TRUE(normals.ok()) << normals.error().message;
     triangles += chunk->triangleCount();
     vertices += chunk->vertexCount();
     collapses += chunk->collapseCount();

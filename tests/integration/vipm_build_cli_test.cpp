@@ -70,6 +70,11 @@ TEST_F(VipmBuildCli, WritesAVipmTilesetThatInfoDescribes) {
   const RunResult text = runTerralod({"info", out});
   EXPECT_NE(text.out.find("kind            vipm"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("0: class 3 (id 3, #"), std::string::npos) << text.out;
+  // Normal maps only: version 2, textured, 129/65 texels a side.
+  EXPECT_EQ(j["format_version"], 2);
+  EXPECT_EQ(j["textured"], true);
+  EXPECT_EQ(j["texture_bytes"], j["metadata"]["texture"]["bytes"]);
+  EXPECT_NE(text.out.find("textures        normal maps only (BC5"), std::string::npos) << text.out;
 
   const RunResult statik = runTerralod({"build", kDem, "--no-texture", "-o", mDir.file("s.tlod")});
   ASSERT_EQ(statik.exitCode, 0) << statik.err;
@@ -113,6 +118,10 @@ TEST_F(VipmBuildCli, RefusesBadMaterialsAndOptionsThatDoNotApply) {
       {"min tau with vipm",
        {"build", kDem, "--kind", "vipm", "--min-tau", "1", "-o", out},
        "--min-tau does not apply to --kind vipm"},
+      {"no texture with vipm",
+       {"build", kDem, "--kind", "vipm", "--no-texture", "-o", out},
+       "--no-texture does not apply to --kind vipm (its chunks are lit by their stored normal "
+       "maps)"},
       {"chunk cells with vipm",
        {"build", kDem, "--kind", "vipm", "--chunk-cells", "32", "-o", out},
        "--chunk-cells: VIPM chunks are always 64 cells"},

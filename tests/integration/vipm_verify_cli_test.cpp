@@ -1,10 +1,15 @@
 // `terralod verify` on VIPM tilesets: a tileset `build --kind vipm` wrote passes every check
 // (each LOD's true error, the material rules, parts, fallback roots, flanges); the rules are
 // failures only when the tileset promises them; a source that is not the one it was built
-// from fails.
+// from fails; so does a normal map that is not the source's, and a damaged one is one clear
+// line (verify) or a load failure logged once (render).
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "terralod/format/tileset_reader.h"
 
 #include "cli_expectations.h"
 #include "cli_runner.h"
@@ -34,6 +39,57 @@ TEST_F(VipmVerifyCli, ABuiltTilesetPassesEveryCheck) {
       << verified.out;
   EXPECT_TRUE(has(verified.out, "vertex materials against the source's: 0 differ")) << verified.out;
   EXPECT_TRUE(has(verified.out, "largest difference 0.000000 m")) << verified.out;
+  EXPECT_TRUE(has(verified.out, "normal maps: 5 (")) << verified.out;  // 1 root, 4 leaves
+}
+
+// Overwrites `bytes` at `offset` of node `node`'s texture blob; with `fixCrc` the blob's own
+// checksum is made to match again (so only the texels are wrong).
+void damageTexture(const std::string& path, uint32_t node, size_t offset,
+                   const std::vector<uint8_t>& bytes, bool fixCrc) {
+  auto reader = TilesetReader::openFile(path).value();
+  auto read = reader->readNode(node).value();
+  std::vector<uint8_t> texture(read.texture().begin(), read.texture().end());
+  std::copy(bytes.begin(), bytes.end(), texture.begin() + std::ptrdiff_t(offset));
+  if (fixCrc) {
+    const uint32_t crc = crc32Of(std::span<const uint8_t>(texture).subspan(12));
+    for (int i = 0; i < 4; ++i) texture[8 + size_t(i)] = uint8_t(crc >> (8 * i));
+  }
+  const NodeRecord& n = reader->nodes()[node];
+  std::fstream f(path, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(std::streamoff(n.blobOffset + n.blobBytes));
+  f.write(reinterpret_cast<const char*>(texture.data()), std::streamsize(texture.size()));
+}
+
+TEST_F(VipmVerifyCli, NormalMapsThatAreNotTheSourcesOrAreDamagedFail) {
+  const std::string out = mDir.file("v.tlod");
+  ASSERT_EQ(runTerralod({"build", kDem, "--kind", "vipm", "-o", out}).exitCode, 0);
+  // Leaf 1's first mip 0 block row: both channels' end points swapped to 0 and 255.
+  const std::string wrong = mDir.file("wrong.tlod");
+  std::filesystem::copy_file(out, wrong);
+  std::vector<uint8_t> extremes;
+  for (int b = 0; b < 17 * 2; ++b) extremes.insert(extremes.end(), {0, 255, 0, 0, 0, 0, 0, 0});
+  damageTexture(wrong, 1, 32, extremes, true);
+  const RunResult verified = runTerralod({"verify", wrong, "--source", kDem});
+  EXPECT_EQ(verified.exitCode, 1);
+  EXPECT_TRUE(has(verified.err, "chunk 1 (level 1, 0,0): its normal map's texel ("))
+      << verified.err;
+
+  // Its checksum no longer matching: verify says so, render logs it once and still draws.
+  const std::string damaged = mDir.file("damaged.tlod");
+  std::filesystem::copy_file(out, damaged);
+  damageTexture(damaged, 1, 40, {0x5A}, false);
+  const RunResult checked = runTerralod({"verify", damaged, "--source", kDem});
+  EXPECT_EQ(checked.exitCode, 1);
+  EXPECT_TRUE(
+      has(checked.err, "damaged.tlod: chunk 1 (level 1, 0,0): invalid texture: checksum mismatch"))
+      << checked.err;
+  const RunResult rendered =
+      runTerralod({"render", damaged, "-o", mDir.file("r.png"), "--size", "160x120"});
+  EXPECT_EQ(rendered.exitCode, 0) << rendered.err;
+  size_t lines = 0;
+  for (size_t at = 0; (at = rendered.err.find("invalid texture", at)) != std::string::npos; ++at)
+    ++lines;
+  EXPECT_EQ(lines, 1u) << rendered.err;
 }
 
 TEST_F(VipmVerifyCli, RuleBreaksFailOnlyATilesetBuiltWithTheRules) {

@@ -29,6 +29,9 @@ double secondsSince(Clock::time_point t) {
 }
 
 constexpr int32_t kLeaf = int32_t(kVipmLeafCells), kRoot = int32_t(kVipmRootCells);
+// The header's textureMinTau: the default --min-tau (informative; VIPM normal maps have one
+// texel per grid point whatever τ).
+constexpr double kVipmTextureTau = 2.0;
 
 // A chunk's grid points along one axis: clipped at the data's far edge.
 int32_t pointsFrom(int32_t first, int32_t cells, int32_t side) {
@@ -146,6 +149,7 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
         {"vertical_scale", options.dem.verticalScale},
         {"z_step", zStep},
         {"zstd_level", options.compressionLevel}}},
+      {"texture", {{"layers", "normal"}, {"normals", "source"}, {"bytes", s.textureBytes}}},
       {"stats",
        {{"vertices", s.vertices},
         {"triangles", s.triangles},
@@ -204,12 +208,16 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   params.rules = options.materialRules;
   params.compressionLevel = options.compressionLevel;
   std::vector<VipmLeaf> leaves(leafCount);
+  // Every node's normal map, from the source heights (never from its mesh).
+  std::vector<std::vector<uint8_t>> normalMaps(nodes.size());
   progress.begin("vipm chunks", leafCount + rootCount);
   parallelFor(leafCount, threads, [&](size_t k, unsigned) {
     const NodeRecord& n = nodes[rootCount + k];
     const int32_t x0 = int32_t(n.x) * kLeaf, y0 = int32_t(n.y) * kLeaf;
     leaves[k] = buildVipmLeaf(*heights, *materials, x0, y0, pointsFrom(x0, layout.cellsX, kLeaf),
                               pointsFrom(y0, layout.cellsY, kLeaf), params);
+    normalMaps[rootCount + k] =
+        buildVipmNormalMap(*heights, x0, y0, kLeaf, info.spacingX, info.spacingY);
     progress.advance(1);
   });
 
@@ -224,6 +232,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     const VipmChunkData root = joinCoarsest(children, x0, y0, pointsFrom(x0, layout.cellsX, kRoot),
                                             pointsFrom(y0, layout.cellsY, kRoot), zStep);
     rootBlobs[r] = encodeVipmChunk(root, options.compressionLevel);
+    normalMaps[r] = buildVipmNormalMap(*heights, x0, y0, kRoot, info.spacingX, info.spacingY);
     const auto [lo, hi] = std::minmax_element(root.heights.begin(), root.heights.end());
     n.meshKind = MeshKind::kVipm;
     n.minZ = floatBelow(root.zBase + double(*lo) * zStep);
@@ -262,6 +271,11 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     n.blobOffset = *offset;
     n.blobBytes = uint32_t(blob.size());
     n.blobCrc = crc32Of(blob);
+    // The texture blob right after it (docs/format.md "Version 2: textures").
+    if (auto at = (*writer)->appendBlob(normalMaps[i]); !at) return at.error();
+    n.flags |= kNodeHasTexture;
+    n.textureBytes = uint32_t(normalMaps[i].size());
+    summary.textureBytes += n.textureBytes;
     zMin = std::min(zMin, double(n.minZ));
     zMax = std::max(zMax, double(n.maxZ));
     summary.vertices += n.vertexCount;
@@ -277,6 +291,9 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   summary.chunks = nodes.size();
 
   TilesetHeader header;
+  header.version = 2;  // with texture blobs: the normal maps
+  header.flags |= kTilesetTextured;
+  header.textureMinTau = kVipmTextureTau;
   header.meshKind = MeshKind::kVipm;
   header.levelCount = 2;
   header.leafCells = kVipmLeafCells;

@@ -21,6 +21,7 @@
 #include "temp_dir.h"
 #include "terralod/build/builder.h"
 #include "terralod/build/vipm_chunks.h"
+#include "terralod/format/texture_decode.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/synthetic_dem_writer.h"
 #include "terralod/raster/void_fill.h"
@@ -153,8 +154,8 @@ void expectValidVipmTileset(const std::string& path, const Heightfield& source, 
   ASSERT_TRUE(opened.ok()) << opened.error().message;
   const TilesetReader& t = **opened;
   const TilesetHeader& hd = t.header();
-  EXPECT_EQ(hd.version, 1u);
-  EXPECT_FALSE(hd.textured());
+  EXPECT_EQ(hd.version, 2u);
+  EXPECT_TRUE(hd.textured());  // normal maps only
   EXPECT_EQ(hd.meshKind, MeshKind::kVipm);
   EXPECT_EQ(hd.levelCount, 2u);
   EXPECT_EQ(hd.leafCells, kVipmLeafCells);
@@ -179,7 +180,19 @@ void expectValidVipmTileset(const std::string& path, const Heightfield& source, 
     ASSERT_TRUE(levels.ok()) << levels.error().message;
     EXPECT_EQ(n.meshKind, MeshKind::kVipm);
     EXPECT_EQ(n.skirtTriangleCount, 0u);
-    EXPECT_EQ(n.textureBytes, 0u);
+    EXPECT_EQ(n.flags, kNodeHasTexture);
+    // Its normal map: the source's central differences over the whole (unclipped) square.
+    auto bytes = t.readNode(i);
+    ASSERT_TRUE(bytes.ok()) << bytes.error().message;
+    EXPECT_EQ(n.textureBytes, bytes->texture().size());
+    auto normals = decodeVipmNormalMap(bytes->texture(), uint32_t(hd.chunkCells(n.level)), "node");
+    ASSERT_TRUE(normals.ok()) << normals.error().message;
+    EXPECT_EQ(normals->mips.size(), mipCount(normals->size));
+    EXPECT_TRUE(normals->sourceLimited());
+    EXPECT_EQ(std::vector<uint8_t>(bytes->texture().begin(), bytes->texture().end()),
+              buildVipmNormalMap(source, int32_t(n.x) * hd.chunkCells(n.level),
+                                 int32_t(n.y) * hd.chunkCells(n.level), hd.chunkCells(n.level),
+                                 hd.spacingX, hd.spacingY));
     EXPECT_EQ(n.vertexCount, c.data.vertexCount());
     EXPECT_EQ(n.triangleCount, c.data.triangleCount());
     const int32_t side = hd.chunkCells(n.level);
@@ -271,6 +284,61 @@ void expectValidVipmTileset(const std::string& path, const Heightfield& source, 
     EXPECT_NEAR(n.maxSkirtDepth, inside + outside + zStep, 1e-4 * (1.0 + n.maxSkirtDepth));
     EXPECT_GE(double(n.maxSkirtDepth), inside + outside + zStep - 1e-9);
   }
+}
+
+// Normal maps (decoded from BC5) of a surface, one texel per grid point.
+std::vector<uint8_t> decodedNormals(const Heightfield& h, int32_t x0, int32_t y0, int32_t cells) {
+  auto layer = decodeVipmNormalMap(buildVipmNormalMap(h, x0, y0, cells, 10.0, 20.0),
+                                   uint32_t(cells), "test");
+  EXPECT_TRUE(layer.ok()) << layer.error().message;
+  return layer.ok() ? decodeBc5Rg(layer->mips[0], layer->size) : std::vector<uint8_t>{};
+}
+
+TEST(VipmNormalMap, APlaneGivesItsNormalEverywhereIncludingTheEdges) {
+  // z = 0.5 X - 0.25 Y (X, Y metres) over 10 m x 20 m cells: normal ∝ (-0.5, 0.25, 1).
+  Heightfield h(100, 90);
+  for (int32_t y = 0; y < 90; ++y)
+    for (int32_t x = 0; x < 100; ++x) h(x, y) = float(0.5 * 10 * x - 0.25 * 20 * y);
+  const double len = std::sqrt(0.5 * 0.5 + 0.25 * 0.25 + 1);
+  const double ex = (-0.5 / len + 1) * 0.5 * 255, ey = (0.25 / len + 1) * 0.5 * 255;
+  // Inside the data only: beyond it the nearest samples repeat (flat across the edge).
+  const auto map = decodedNormals(h, 0, 0, 64);
+  ASSERT_EQ(map.size(), size_t(65 * 65 * 2));
+  for (int32_t y = 1; y < 65; ++y)
+    for (int32_t x = 1; x < 65; ++x) {
+      EXPECT_NEAR(map[size_t(y * 65 + x) * 2], ex, 1.0) << x << "," << y;
+      EXPECT_NEAR(map[size_t(y * 65 + x) * 2 + 1], ey, 1.0) << x << "," << y;
+    }
+  // Flat ground faces straight up: x = y = 0 is the middle value.
+  const auto flat = decodedNormals(Heightfield(70, 70, 3.0f), 0, 0, 64);
+  for (uint8_t b : flat) EXPECT_NEAR(b, 127.5, 0.5);
+}
+
+TEST(VipmNormalMap, ARootAndItsChildrenStoreTheSameNormalsWhereTheyMeet) {
+  // From the same full-resolution heights, whatever the meshes: a root's texel on a grid
+  // point is its child's there (the same texels before compression; the same BC5 blocks but
+  // for the children's last row and column, whose blocks hold repeats).
+  const Heightfield h = sourceHeights(testData("crater_lake_0513.bt"));
+  const int32_t bx = 192, by = 128;  // the crater's south-west rim
+  const auto root = decodedNormals(h, bx, by, 128);
+  ASSERT_EQ(root.size(), size_t(129 * 129 * 2));
+  int differing = 0;
+  for (int q = 0; q < 4; ++q) {
+    const int32_t ox = 64 * (q & 1), oy = 64 * (q >> 1);
+    const auto leaf = decodedNormals(h, bx + ox, by + oy, 64);
+    ASSERT_EQ(leaf.size(), size_t(65 * 65 * 2));
+    for (int32_t y = 0; y <= 64; ++y)
+      for (int32_t x = 0; x <= 64; ++x)
+        for (int c = 0; c < 2; ++c) {
+          const int a = leaf[size_t(y * 65 + x) * 2 + size_t(c)];
+          const int b = root[size_t((oy + y) * 129 + ox + x) * 2 + size_t(c)];
+          if (x < 64 && y < 64) EXPECT_EQ(a, b) << q << ": " << x << "," << y;
+          differing += a != b;  // only where the blocks differ (verify bounds those)
+        }
+  }
+  EXPECT_LT(differing, 4 * 129 * 2);
+  // And the leaves do not all store one map: the window is not flat.
+  EXPECT_NE(decodedNormals(h, bx, by, 64), decodedNormals(h, bx + 64, by + 64, 64));
 }
 
 TEST(VipmBuilder, SynthTilesetIsAsDocumented) {

@@ -41,4 +41,32 @@ std::vector<uint8_t> decodeBc1Rgb(std::span<const uint8_t> blocks, uint32_t size
   return out;
 }
 
+std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size) {
+  if (size == 0 || blocks.size() != mipBytes(TextureEncoding::kBc5, size, 0)) return {};
+  const uint32_t across = (size + 3) / 4;
+  std::vector<uint8_t> out(size_t(size) * size * 2);
+  for (uint32_t by = 0; by < across; ++by)
+    for (uint32_t bx = 0; bx < across; ++bx)
+      for (uint32_t ch = 0; ch < 2; ++ch) {  // red's 8 bytes, then green's
+        const uint8_t* b = blocks.data() + (size_t(by) * across + bx) * 16 + ch * 8;
+        const int r0 = b[0], r1 = b[1];
+        std::array<int, 8> palette{r0, r1};
+        for (int k = 1; k < 7; ++k)  // rounded to the nearest, as GPUs return 8-bit values
+          palette[size_t(k + 1)] = r0 > r1  ? ((7 - k) * r0 + k * r1 + 3) / 7
+                                   : k < 5  ? ((5 - k) * r0 + k * r1 + 2) / 5
+                                   : k == 5 ? 0
+                                            : 255;
+        uint64_t bits = 0;
+        for (int k = 0; k < 6; ++k) bits |= uint64_t(b[2 + k]) << (8 * k);
+        for (uint32_t r = 0; r < 4; ++r)
+          for (uint32_t c = 0; c < 4; ++c) {
+            const uint32_t x = bx * 4 + c, y = by * 4 + r;
+            if (x >= size || y >= size) continue;
+            out[(size_t(y) * size + x) * 2 + ch] =
+                uint8_t(palette[(bits >> (3 * (r * 4 + c))) & 7]);
+          }
+      }
+  return out;
+}
+
 }  // namespace terralod

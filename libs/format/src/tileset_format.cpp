@@ -126,6 +126,9 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
   if ((h.flags & ~kTilesetTextured) != 0) return bad("unknown flags");
   if (h.textured() && !(h.textureMinTau > 0 && std::isfinite(h.textureMinTau)))
     return bad("texture τ");
+  // VIPM chunks are lit by stored normal maps only (docs/format.md "VIPM tilesets").
+  if (h.meshKind == MeshKind::kVipm && !h.textured())
+    return bad("a VIPM tileset (mesh kind 2) has no normal maps; rebuild it");
   if (h.levelCount < 1 || h.levelCount > kMaxLevels) return bad("level count out of range");
   if (h.leafCells < 4 || (h.leafCells & (h.leafCells - 1)) != 0) return bad("leaf size");
   if (h.rootCells != (h.leafCells << (h.levelCount - 1)) || h.rootCells > 32768)

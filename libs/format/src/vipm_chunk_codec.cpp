@@ -137,4 +137,19 @@ Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::
   return c;
 }
 
+Result<TextureLayer> decodeVipmNormalMap(std::span<const uint8_t> texture, uint32_t chunkCells,
+                                         const std::string& subject) {
+  if (texture.empty()) return makeError(subject, "invalid texture: a VIPM chunk has no normal map");
+  auto decoded = decodeTexture(texture, subject);
+  if (!decoded) return decoded.error();
+  const uint32_t size = chunkCells + 1;
+  if (decoded->layers.size() != 1 || decoded->layers[0].kind != TextureLayerKind::kNormal ||
+      decoded->layers[0].encoding != TextureEncoding::kBc5 || decoded->layers[0].size != size)
+    return makeError(subject,
+                     "invalid texture: a VIPM chunk's texture must be one BC5 normal "
+                     "layer of " +
+                         std::to_string(size) + " texels");
+  return std::move(decoded->layers[0]);
+}
+
 }  // namespace terralod

@@ -1,4 +1,5 @@
 #include "terralod/format/texture_codec.h"
+#include "terralod/format/vipm_chunk_codec.h"
 
 #include <gtest/gtest.h>
 
@@ -230,6 +231,39 @@ TEST(TextureCodec, RejectsOtherHeaderDamage) {
   EXPECT_EQ(edited(kHeader + 4, 1), "chunk 3/1/2: invalid texture: layer size");  // size 1
   EXPECT_EQ(edited(kHeader + 8, 0),
             "chunk 3/1/2: invalid texture: layer byte count does not match its size");
+}
+
+TEST(VipmNormalMap, OneBc5NormalLayerOfTheChunksGridPointsIsAccepted) {
+  ChunkTexture t;
+  t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 65, 1, 3));
+  auto leaf = decodeVipmNormalMap(encodeTexture(t), 64, "v.tlod chunk 5");
+  ASSERT_TRUE(leaf.ok()) << leaf.error().message;
+  EXPECT_EQ(leaf->size, 65u);
+  EXPECT_EQ(leaf->mips, t.layers[0].mips);
+  const std::string wrong =
+      "v.tlod chunk 5: invalid texture: a VIPM chunk's texture must be one BC5 normal layer of "
+      "129 texels";
+  EXPECT_EQ(decodeVipmNormalMap(encodeTexture(t), 128, "v.tlod chunk 5").error().message, wrong);
+  // A colour layer too, a colour layer alone, a normal layer in BC1: refused.
+  ChunkTexture root;
+  root.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 129, 1, 4));
+  ASSERT_TRUE(decodeVipmNormalMap(encodeTexture(root), 128, "v.tlod chunk 5").ok());
+  ChunkTexture both = root;
+  both.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 129, 0, 5));
+  EXPECT_EQ(decodeVipmNormalMap(encodeTexture(both), 128, "v.tlod chunk 5").error().message, wrong);
+  ChunkTexture colour;
+  colour.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 129, 0, 6));
+  EXPECT_FALSE(decodeVipmNormalMap(encodeTexture(colour), 128, "v.tlod chunk 5").ok());
+  ChunkTexture bc1;
+  bc1.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc1, 129, 0, 7));
+  EXPECT_FALSE(decodeVipmNormalMap(encodeTexture(bc1), 128, "v.tlod chunk 5").ok());
+  // Missing or damaged.
+  EXPECT_EQ(decodeVipmNormalMap({}, 128, "v.tlod chunk 5").error().message,
+            "v.tlod chunk 5: invalid texture: a VIPM chunk has no normal map");
+  std::vector<uint8_t> damaged = encodeTexture(root);
+  damaged[100] ^= 1;
+  EXPECT_EQ(decodeVipmNormalMap(damaged, 128, "v.tlod chunk 5").error().message,
+            "v.tlod chunk 5: invalid texture: checksum mismatch");
 }
 
 }  // namespace

@@ -57,5 +57,31 @@ TEST(DecodeBc1Rgb, WrongByteCountDecodesToNothing) {
   EXPECT_EQ(decodeBc1Rgb(blocks, 5).size(), 75u);
 }
 
+TEST(DecodeBc5Rg, EightAndSixValueModesPerChannel) {
+  // Red: 200 > 100, eight values; indices 0, 1, 2, 7 along the south row. Green: 100 <= 200,
+  // six values then 0 and 255; indices 6, 7, 2, 5 along the south row.
+  const uint8_t block[16] = {200, 100, 0b10001000, 0b00001110, 0, 0, 0, 0,
+                             100, 200, 0b10111110, 0b00001010, 0, 0, 0, 0};
+  const std::vector<uint8_t> rg = decodeBc5Rg(block, 4);
+  ASSERT_EQ(rg.size(), 4u * 4 * 2);
+  // Rounded to the nearest 8-bit value of the palette (GPUs interpolate in floating point).
+  EXPECT_EQ((std::vector<int>{rg[0], rg[2], rg[4], rg[6]}), (std::vector<int>{200, 100, 186, 114}));
+  EXPECT_EQ((std::vector<int>{rg[1], rg[3], rg[5], rg[7]}), (std::vector<int>{0, 255, 120, 180}));
+}
+
+TEST(DecodeBc5Rg, AgreesWithTheTestsReferenceDecoderWithinRounding) {
+  std::mt19937 rng(11);
+  for (uint32_t size : {1u, 3u, 4u, 5u, 65u}) {
+    SCOPED_TRACE(size);
+    std::vector<uint8_t> blocks(mipBytes(TextureEncoding::kBc5, size, 0));
+    for (uint8_t& b : blocks) b = uint8_t(rng());
+    const std::vector<uint8_t> rg = decodeBc5Rg(blocks, size);
+    const std::vector<uint8_t> reference = test::decodeBc5Layer(blocks, size);  // truncates
+    ASSERT_EQ(rg.size(), reference.size());
+    for (size_t i = 0; i < rg.size(); ++i) EXPECT_NEAR(rg[i], reference[i], 1) << i;
+  }
+  EXPECT_TRUE(decodeBc5Rg(std::vector<uint8_t>(16), 5).empty());
+}
+
 }  // namespace
 }  // namespace terralod

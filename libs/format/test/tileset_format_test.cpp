@@ -87,6 +87,19 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_FALSE(parseHeader(std::span(bytes.data(), 100), "d.tlod").ok());
 }
 
+TEST(TilesetHeader, AVipmTilesetMustHaveItsNormalMaps) {
+  TilesetHeader h = sampleHeader();
+  h.meshKind = MeshKind::kVipm;
+  EXPECT_EQ(parseHeader(serializeHeader(h), "v.tlod").error().message,
+            "v.tlod: invalid tileset header: a VIPM tileset (mesh kind 2) has no normal maps; "
+            "rebuild it");
+  h.version = 2;
+  EXPECT_FALSE(parseHeader(serializeHeader(h), "v.tlod").ok());  // version 2, untextured
+  h.flags = kTilesetTextured;
+  h.textureMinTau = 2.0;
+  EXPECT_TRUE(parseHeader(serializeHeader(h), "v.tlod").ok());
+}
+
 TEST(TilesetHeader, RejectsImpossibleValuesEvenWithAValidChecksum) {
   TilesetHeader h = sampleHeader();
   h.levelCount = 40;

@@ -58,9 +58,9 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[blob.node];
   const auto start = std::chrono::steady_clock::now();
-  auto decoded =
-      decodeVipmPayload(blob.bytes.mesh(), blob.tilesetName + " chunk " + std::to_string(blob.node),
-                        {h.spacingX, h.spacingY}, flangeSides(h, record), record.maxSkirtDepth);
+  auto decoded = decodeVipmPayload(
+      blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
+      uint32_t(h.chunkCells(record.level)), flangeSides(h, record), record.maxSkirtDepth);
   if (!decoded) return decoded.error();
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "terralod/render/texture_arrays.h"
+
 namespace terralod {
 
 GlTexture::~GlTexture() {
@@ -55,20 +57,13 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   glNamedBufferStorage(mBuffers[2], GLsizeiptr(std::max<size_t>(indexCount, 1) * 2), nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
   for (VipmPart& part : mLevels.parts()) part.dirty = true;
-  GLuint texture = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &texture);
-  mNormalMap = GlTexture(texture);
-  glTextureStorage2D(mNormalMap.id(), 1, GL_RG8, mWidth, mHeight);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);  // rows of 2 * width bytes
-  glTextureSubImage2D(mNormalMap.id(), 0, 0, 0, mWidth, mHeight, GL_RG, GL_UNSIGNED_BYTE,
-                      p.normals.data());
-  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(mNormalMap.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  // The stored BC5 normal map as it is, with its mips (as the static kind's textures).
+  mNormalMap = GlTexture(uploadLayerTexture(p.normals));
+  mNormalSize = p.normals.size;
+  uint64_t normalBytes = 0;
+  for (const auto& mip : p.normals.mips) normalBytes += mip.size();
   // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
-  mGpuBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + p.normals.size();
+  mGpuBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + normalBytes;
   mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes);
   update(0.0, Geomorph::kOff);
 }

@@ -2,7 +2,7 @@
 // One VIPM chunk on the GPU, with the CPU state that drives its level of detail: a vertex
 // buffer (positions, re-uploaded over the geomorphing range), a material buffer, one index
 // buffer holding every part at a fixed place plus the flanges of the current border, and its
-// normal map. Render thread only.
+// stored normal map (a BC5 texture). Render thread only.
 
 #include <array>
 #include <cstdint>
@@ -56,6 +56,8 @@ class VipmGpuChunk {
   uint32_t materialBuffer() const { return mBuffers[1]; }
   uint32_t indexBuffer() const { return mBuffers[2]; }
   uint32_t normalMap() const { return mNormalMap.id(); }
+  /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
+  uint32_t normalSize() const { return mNormalSize; }
   int32_t width() const { return mWidth; }
   int32_t height() const { return mHeight; }
   double zBase() const { return mZBase; }
@@ -80,6 +82,7 @@ class VipmGpuChunk {
   uint32_t mFlangeFirst = 0;
   std::array<uint32_t, 3> mBuffers{};  // positions, materials, indices
   GlTexture mNormalMap;
+  uint32_t mNormalSize = 0;
   int32_t mWidth = 0, mHeight = 0;
   double mZBase = 0.0;
   uint64_t mBytes = 0, mGpuBytes = 0;

@@ -72,7 +72,8 @@ void VipmPass::setChunk(const FrameContext& frame, const ChunkTree& tree, const 
   const auto spacing = tree.spacing();
   glProgramUniform3f(p, mProgram.uniformLocation("uOrigin"), float(n.box.min[0] - frame.eye.x),
                      float(n.box.min[1] - frame.eye.y), float(c.zBase() - frame.eye.z));
-  glProgramUniform2f(p, mProgram.uniformLocation("uGridSize"), float(c.width()), float(c.height()));
+  glProgramUniform2f(p, mProgram.uniformLocation("uGridSize"), float(c.normalSize()),
+                     float(c.normalSize()));
   // World-space detail coordinates, reduced to one period in double at the chunk's corner.
   std::array<float, 2> origin{};
   for (int k = 0; k < 2; ++k) {

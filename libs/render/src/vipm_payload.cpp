@@ -3,7 +3,6 @@
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/vipm/grid_patch.h"
 #include "terralod/vipm/vipm_blob.h"
-#include "terralod/vipm/vipm_normal_map.h"
 
 namespace terralod {
 
@@ -12,16 +11,18 @@ uint64_t VipmChunkPayload::bytes() const {
   for (const VipmPart& p : levels.parts())
     b +=
         p.indices.size() * 2 + p.triangles.size() * 4 + p.moveStart.size() * 4 + p.moves.size() * 2;
-  b += positions.size() * sizeof(positions[0]) + materials.size() + normals.size();
+  b += positions.size() * sizeof(positions[0]) + materials.size();
+  for (const auto& mip : normals.mips) b += mip.size();
   b += flanges.tops.size() * 4;
   return b;
 }
 
-Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
-                                           const std::string& subject,
-                                           std::array<double, 2> spacing, uint8_t flangeSides,
+Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
+                                           uint32_t chunkCells, uint8_t flangeSides,
                                            float flangeDepth) {
-  auto loaded = loadVipmChunk(blob, subject);
+  auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
+  if (!normals) return normals.error();
+  auto loaded = loadVipmChunk(node.mesh(), subject);
   if (!loaded) return loaded.error();
   const VipmChunkData& data = loaded->data;
   UnpackedChunk& unpacked = loaded->unpacked;
@@ -32,7 +33,7 @@ Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
   p.flangeDepth = flangeDepth;
   p.positions = positionsAboveBase(*loaded);
   p.levels = std::move(loaded->levels);
-  p.normals = normalMap(finestGridHeights(unpacked.mesh, p.positions), p.width, p.height, spacing);
+  p.normals = std::move(normals).value();
   // A chunk wider than a leaf is a fallback root: flanges on its children's shared sides too.
   p.flanges = makeFlanges(unpacked.mesh, flangeSides,
                           unpacked.mesh.collapseCount() == 0 ? int32_t(kVipmChunkCells) : 0);

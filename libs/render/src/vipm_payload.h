@@ -1,7 +1,7 @@
 #pragma once
 // A VIPM chunk as the loader threads decode it (no GL): the stored blob decoded, unpacked and
-// reconstructed into index parts (libs/vipm), its normal map from the stored heights, its
-// flanges, and the vertices as the GPU takes them.
+// reconstructed into index parts (libs/vipm), its stored normal map (BC5, made from the
+// source heights at build time), its flanges, and the vertices as the GPU takes them.
 
 #include <array>
 #include <cstdint>
@@ -10,6 +10,8 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/format/node_bytes.h"
+#include "terralod/format/texture_codec.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/vipm/progressive_mesh.h"
 #include "terralod/vipm/vipm_flanges.h"
@@ -28,16 +30,18 @@ struct VipmChunkPayload final : ChunkPayload {
   float flangeDepth = 0.0f;
   double zBase = 0.0;
   int32_t width = 0, height = 0;  ///< grid points
-  std::vector<uint8_t> normals;   ///< RG8 per grid point (vipm_normal_map.h)
+  /// The node's normal map: chunk cells + 1 texels a side over its unclipped square, texel i
+  /// on grid point i (docs/format.md "VIPM tilesets").
+  TextureLayer normals;
 
   uint64_t bytes() const;
 };
 
-/// Decodes a VIPM blob (`subject` names it in errors) into a payload. `spacing`: metres per
-/// cell; `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres.
-Result<VipmChunkPayload> decodeVipmPayload(std::span<const uint8_t> blob,
-                                           const std::string& subject,
-                                           std::array<double, 2> spacing, uint8_t flangeSides,
+/// Decodes a VIPM node's bytes (its blob and its texture blob; `subject` names it in errors)
+/// into a payload. `chunkCells`: the node's side in cells (its normal map has one more texel);
+/// `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres.
+Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
+                                           uint32_t chunkCells, uint8_t flangeSides,
                                            float flangeDepth);
 
 }  // namespace terralod

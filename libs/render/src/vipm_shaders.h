@@ -18,7 +18,7 @@ uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
 uniform vec3 uOrigin;          // chunk corner relative to the eye (z: zBase - eye z)
 uniform vec2 uSpacing;         // metres per cell
-uniform vec2 uGridSize;        // grid points along x and y (the normal map's texels)
+uniform vec2 uGridSize;        // the normal map's texels a side (chunk cells + 1, unclipped)
 uniform vec2 uDetailOrigin;    // detail texture coordinate of the chunk's corner
 uniform vec2 uDetailScale;     // detail texture coordinate per cell
 uniform int uMaterial;         // the material pass's material, -1 in the whole-chunk pass

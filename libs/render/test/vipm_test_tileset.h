@@ -4,6 +4,7 @@
 // as four 64-cell VIPM leaves under one root. The root is a coarse stand-in for the builder's
 // fallback (every 16th grid point, no collapses); flanges are twice the largest coarsest
 // error deep (a border's deviation from the source is at most its level's error, each side).
+// Every node has its normal map from the window's heights, as the builder makes them.
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "temp_dir.h"
+#include "terralod/build/vipm_chunks.h"
 #include "terralod/format/tileset_writer.h"
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/raster/dem_reader.h"
@@ -33,6 +35,10 @@ inline std::string writeVipmTestTileset(const std::string& path, int32_t x0 = 19
   const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
   auto writer = TilesetWriter::create(path);
   if (!writer) return writer.error().message;
+  Heightfield window(n, n);
+  for (int32_t y = 0; y < n; ++y)
+    for (int32_t x = 0; x < n; ++x) window(x, y) = heights[size_t(y) * n + size_t(x)];
+  const double sx = (*dem)->info().spacingX, sy = (*dem)->info().spacingY;
 
   std::vector<NodeRecord> nodes(5);
   auto append = [&](NodeRecord& r, const VipmChunkData& c) {
@@ -41,6 +47,12 @@ inline std::string writeVipmTestTileset(const std::string& path, int32_t x0 = 19
     r.blobOffset = (*writer)->appendBlob(blob).value();
     r.blobBytes = uint32_t(blob.size());
     r.blobCrc = crc32Of(blob);
+    const int32_t cells = r.level == 0 ? 128 : 64;
+    const std::vector<uint8_t> normals =
+        buildVipmNormalMap(window, int32_t(r.x) * cells, int32_t(r.y) * cells, cells, sx, sy);
+    (*writer)->appendBlob(normals).value();
+    r.flags = kNodeHasTexture;
+    r.textureBytes = uint32_t(normals.size());
     const auto [zlo, zhi] = std::minmax_element(c.heights.begin(), c.heights.end());
     r.minZ = std::nextafter(float(c.zBase + *zlo * c.zStep), -1e30f);
     r.maxZ = std::nextafter(float(c.zBase + *zhi * c.zStep), 1e30f);
@@ -98,14 +110,17 @@ inline std::string writeVipmTestTileset(const std::string& path, int32_t x0 = 19
   append(nodes[0], root);
 
   TilesetHeader h;
+  h.version = 2;
+  h.flags = kTilesetTextured;
+  h.textureMinTau = 2.0;
   h.meshKind = MeshKind::kVipm;
   h.levelCount = 2;
   h.leafCells = 64;
   h.rootCells = 128;
   h.rootsX = h.rootsY = 1;
   h.sourceColumns = h.sourceRows = uint32_t(n);
-  h.spacingX = (*dem)->info().spacingX;
-  h.spacingY = (*dem)->info().spacingY;
+  h.spacingX = sx;
+  h.spacingY = sy;
   h.leafError = 1.0;
   h.levelError[0] = 2 * coarsest;
   h.levelError[1] = 1.0;

@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "terralod/core/sample_raster.h"
+#include "terralod/format/texture_decode.h"
 #include "terralod/format/tileset_format.h"
 #include "terralod/materials/material.h"
 #include "terralod/verify/verifier.h"
@@ -273,6 +275,60 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
   }
   if (out.uncovered)
     addProblem(out, std::to_string(out.uncovered) + " samples are not covered at some level");
+  return out;
+}
+
+NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t y0,
+                                  const Heightfield& source, double spacingX, double spacingY) {
+  NormalMapCheck out;
+  const uint32_t size = layer.size;
+  const std::vector<uint8_t> stored =
+      layer.mips.empty() ? std::vector<uint8_t>{} : decodeBc5Rg(layer.mips[0], size);
+  if (stored.empty()) {
+    out.problem = "its normal map's level 0 does not decode";
+    return out;
+  }
+  // True (n + 1) / 2 per texel and channel, in 8-bit units.
+  std::vector<double> truth(size_t(size) * size * 2);
+  auto h = [&](int64_t x, int64_t y) { return double(source.at(int32_t(x), int32_t(y))); };
+  for (uint32_t j = 0; j < size; ++j)
+    for (uint32_t i = 0; i < size; ++i) {
+      const int64_t gx = x0 + i, gy = y0 + j;
+      const double dx = (h(gx + 1, gy) - h(gx - 1, gy)) / (2.0 * spacingX);
+      const double dy = (h(gx, gy + 1) - h(gx, gy - 1)) / (2.0 * spacingY);
+      const double len = std::sqrt(dx * dx + dy * dy + 1.0);
+      double* t = truth.data() + (size_t(j) * size + i) * 2;
+      t[0] = (-dx / len + 1.0) * 0.5 * 255.0;
+      t[1] = (-dy / len + 1.0) * 0.5 * 255.0;
+    }
+  for (uint32_t by = 0; by < size; by += 4)
+    for (uint32_t bx = 0; bx < size; bx += 4)
+      for (uint32_t ch = 0; ch < 2; ++ch) {
+        double lo = 1e30, hi = -1e30;
+        for (uint32_t j = by; j < std::min(by + 4, size); ++j)
+          for (uint32_t i = bx; i < std::min(bx + 4, size); ++i) {
+            lo = std::min(lo, truth[(size_t(j) * size + i) * 2 + ch]);
+            hi = std::max(hi, truth[(size_t(j) * size + i) * 2 + ch]);
+          }
+        const double tolerance = (hi - lo) / 7.0 + 2.0;
+        for (uint32_t j = by; j < std::min(by + 4, size); ++j)
+          for (uint32_t i = bx; i < std::min(bx + 4, size); ++i) {
+            const size_t k = (size_t(j) * size + i) * 2 + ch;
+            const double off = std::fabs(double(stored[k]) - truth[k]);
+            ++out.texels;
+            out.worst = std::max(out.worst, off * 2.0 / 255.0);
+            if (off > tolerance && out.problem.empty()) {
+              char text[200];
+              std::snprintf(text, sizeof text,
+                            "its normal map's texel (%u, %u) has %c = %.4f, not the source's "
+                            "%.4f (BC5 allows %.4f)",
+                            i, j, ch ? 'y' : 'x', stored[k] * 2.0 / 255.0 - 1.0,
+                            truth[k] * 2.0 / 255.0 - 1.0, tolerance * 2.0 / 255.0);
+              out.problem = text;
+            }
+          }
+      }
+  out.texels /= 2;
   return out;
 }
 

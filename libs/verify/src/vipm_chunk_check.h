@@ -56,4 +56,18 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& chunk, int64_t x0, int64_t y0
                               const Heightfield& source, const MaterialMap* materials,
                               MaterialRules promised);
 
+struct NormalMapCheck {
+  uint64_t texels = 0;  ///< mip 0 texels compared
+  double worst = 0;     ///< largest |stored - true| of a normal's x or y component
+  std::string problem;  ///< the first texel out of tolerance, or ""
+};
+
+/// Checks a VIPM node's stored normal map (decodeVipmNormalMap's layer) whose texel (0, 0) is
+/// grid point (x0, y0): every mip 0 texel, BC5-decoded, against the unit normal of the source
+/// by central differences there (the nearest sample outside the data). The tolerance is what
+/// BC5 can lose: per 4 x 4 block and channel, one step of its 8-value palette ((max - min of
+/// the block's true values) / 7) plus 2/255 for 8-bit rounding, in (n + 1) / 2 units.
+NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t y0,
+                                  const Heightfield& source, double spacingX, double spacingY);
+
 }  // namespace terralod

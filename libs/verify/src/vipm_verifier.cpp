@@ -100,11 +100,20 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
     progress.advance();
     const uint32_t i = uint32_t(index);
     const NodeRecord& n = nodes[i];
-    auto blob = tileset.readBlob(i);
-    if (!blob) return addFailure(blob.error().message);
-    auto chunk = decodeVipmChunk(*blob, name(i));
+    auto bytes = tileset.readNode(i);
+    if (!bytes) return addFailure(bytes.error().message);
+    auto chunk = decodeVipmChunk(bytes->mesh(), name(i));
     if (!chunk) return addFailure(chunk.error().message);
     const auto [x0, y0] = chunkCellOrigin(h, n);
+    // Its normal map: one BC5 layer, the source's central differences (not the mesh's).
+    auto normals = decodeVipmNormalMap(bytes->texture(), uint32_t(h.chunkCells(n.level)), name(i));
+    NormalMapCheck normalCheck;
+    if (!normals)
+      addFailure(normals.error().message);
+    else {
+      normalCheck = checkVipmNormalMap(*normals, x0, y0, heights, h.spacingX, h.spacingY);
+      if (!normalCheck.problem.empty()) addFailure(name(i) + ": " + normalCheck.problem);
+    }
     VipmChunkCheck c = checkVipmChunk(*chunk, x0, y0, heights, map, promised);
     for (const std::string& p : c.problems) addFailure(name(i) + ": " + p);
     Checked& out = checked[i];
@@ -139,6 +148,9 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
     stats.ruleViolations += c.ruleViolations;
     stats.materialMismatches += c.materialMismatches;
     stats.partLevelsChecked += c.partLevelsChecked;
+    stats.normalMapsChecked += normals ? 1 : 0;
+    stats.normalTexels += normalCheck.texels;
+    stats.worstNormalDeviation = std::max(stats.worstNormalDeviation, normalCheck.worst);
     LevelCheck& level = report.levels[n.level];
     level.maxError = std::max(level.maxError, c.finestError);
     level.samples += uint64_t(chunk->width) * chunk->height;

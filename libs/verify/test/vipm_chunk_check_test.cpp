@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "terralod/build/vipm_chunks.h"
 #include "terralod/materials/material.h"
 #include "terralod/vipm/collapse_order.h"
 #include "terralod/vipm/progressive_mesh.h"
@@ -96,6 +97,30 @@ TEST(VipmChunkCheck, ComparesVertexMaterialsWithTheSources) {
   const VipmChunkCheck c = checkVipmChunk(m.chunk, 0, 0, m.source, &map, MaterialRules::kOn);
   EXPECT_EQ(c.materialMismatches, 1u);
   EXPECT_TRUE(mentions(c, "another material"));
+}
+
+// A 65-point window of the rim as one leaf's normal map, as the builder stores it.
+TEST(VipmNormalMapCheck, TheBuildersMapPassesAndAnotherSurfacesFails) {
+  const GridPatch patch = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 65);
+  Heightfield source(65, 65);
+  std::copy(patch.heights.begin(), patch.heights.end(), source.values().begin());
+  auto layer = [&](const Heightfield& h) {
+    return decodeVipmNormalMap(buildVipmNormalMap(h, 0, 0, 64, 10.0, 10.0), 64, "t").value();
+  };
+  const NormalMapCheck good = checkVipmNormalMap(layer(source), 0, 0, source, 10.0, 10.0);
+  EXPECT_EQ(good.problem, "");
+  EXPECT_EQ(good.texels, 65u * 65u);
+  EXPECT_GT(good.worst, 0.0);  // BC5 loses something on a crater rim
+  EXPECT_LT(good.worst, 0.2);
+  // The map of a smoother surface (what a coarse mesh would give), or at other spacings.
+  Heightfield smooth = source;
+  for (int32_t y = 0; y < 65; ++y)
+    for (int32_t x = 0; x < 65; ++x)
+      smooth(x, y) = 0.25f * (source.at(x - 2, y) + source.at(x + 2, y) + source.at(x, y - 2) +
+                              source.at(x, y + 2));
+  EXPECT_NE(checkVipmNormalMap(layer(smooth), 0, 0, source, 10.0, 10.0).problem, "");
+  EXPECT_NE(checkVipmNormalMap(layer(source), 0, 0, source, 10.0, 20.0).problem, "");
+  EXPECT_NE(checkVipmNormalMap(layer(source), 1, 0, source, 10.0, 10.0).problem, "");
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// What the VIPM chunk kind computes without GL: the allowed error θ, the normal map from the
-// stored heights, and the flanges of the current border.
+// What the VIPM chunk kind computes without GL: the allowed error θ and the flanges of the
+// current border (its normal maps are stored: vipm_builder_test.cpp).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -8,7 +8,6 @@
 
 #include "terralod/vipm/vipm_flanges.h"
 #include "terralod/vipm/vipm_levels.h"
-#include "terralod/vipm/vipm_normal_map.h"
 #include "terralod/vipm/vipm_storage.h"
 #include "terralod/vipm/vipm_theta.h"
 #include "vipm_test_patches.h"
@@ -56,40 +55,6 @@ UnpackedChunk storedChunk(int32_t size = 65) {
   const ProgressiveMesh mesh =
       makeProgressiveMesh(patch, buildCollapseOrder(patch, MaterialRules::kOn), 1.0);
   return unpackChunk(packChunk(patch, mesh, q));
-}
-
-TEST(VipmNormalMap, GridHeightsKeepVerticesAndLieOnTheFinestMesh) {
-  const UnpackedChunk c = storedChunk();
-  const auto heights = finestGridHeights(c.mesh, c.positions);
-  ASSERT_EQ(heights.size(), size_t(65 * 65));
-  for (uint32_t v = 0; v < c.mesh.vertexCount(); ++v)
-    EXPECT_EQ(heights[c.mesh.points[v]], c.positions[v][2]);
-  // Every point lies within the heights of the vertices around it (a plane over a triangle).
-  const auto [lo, hi] = std::minmax_element(heights.begin(), heights.end());
-  float vlo = 1e30f, vhi = -1e30f;
-  for (const auto& p : c.positions) vlo = std::min(vlo, p[2]), vhi = std::max(vhi, p[2]);
-  EXPECT_GE(*lo, vlo - 1e-3f);
-  EXPECT_LE(*hi, vhi + 1e-3f);
-  EXPECT_FALSE(std::any_of(heights.begin(), heights.end(), [](float z) { return std::isnan(z); }));
-}
-
-TEST(VipmNormalMap, PlanesGiveTheirNormalEverywhereIncludingTheEdges) {
-  // z = 0.5 X − 0.25 Y (X, Y metres) over 2 m × 4 m cells: normal ∝ (−0.5, 0.25, 1).
-  const int32_t w = 9, h = 7;
-  std::vector<float> heights;
-  for (int32_t y = 0; y < h; ++y)
-    for (int32_t x = 0; x < w; ++x) heights.push_back(float(0.5 * 2 * x - 0.25 * 4 * y));
-  const auto map = normalMap(heights, w, h, {2.0, 4.0});
-  const double len = std::sqrt(0.5 * 0.5 + 0.25 * 0.25 + 1);
-  const int ex = int(std::lround((-0.5 / len + 1) * 0.5 * 255)),
-            ey = int(std::lround((0.25 / len + 1) * 0.5 * 255));
-  for (size_t i = 0; i < map.size(); i += 2) {
-    EXPECT_EQ(map[i], ex) << i;
-    EXPECT_EQ(map[i + 1], ey) << i;
-  }
-  // Flat ground faces straight up: x = y = 0 maps to the middle byte.
-  const auto flat = normalMap(std::vector<float>(size_t(w * h), 3.0f), w, h, {1.0, 1.0});
-  for (uint8_t b : flat) EXPECT_EQ(b, 128);
 }
 
 // The border polyline of side `bit` after `applied` collapses, straight from the mesh: the

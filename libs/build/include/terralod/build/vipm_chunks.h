@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "terralod/format/texture_codec.h"
 #include "terralod/format/tileset_format.h"
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/materials/material.h"
@@ -64,6 +65,15 @@ double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& so
 /// (x0, y0) is the root's south-west grid point, width x height its points (<= 129).
 VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
                            int32_t width, int32_t height, double zStep);
+
+/// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of cells + 1
+/// texels over grid square [x0, x0 + cells]^2, texel (i, j) the central-difference normal of
+/// the source heights at grid point (x0 + i, y0 + j) (points outside the data take the nearest
+/// sample), mips by the default resampling (texture_encoder.h). A root (128 cells) and its
+/// leaves (64) store the same texels where they overlap: their light does not depend on
+/// their meshes. The encoded texture blob.
+std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, int32_t y0,
+                                        int32_t cells, double spacingX, double spacingY);
 
 /// f32 bounds that contain [lo, hi] (rounded outward).
 float floatBelow(double v);

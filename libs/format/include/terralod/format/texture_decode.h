@@ -17,4 +17,10 @@ namespace terralod {
 /// texel (x, y) at [(y * size + x) * 3]. Empty when `blocks` is not exactly the level's bytes.
 std::vector<uint8_t> decodeBc1Rgb(std::span<const uint8_t> blocks, uint32_t size);
 
+/// One mip level of a BC5 layer decoded to RG8 as RGTC2 (unsigned) defines it: per channel two
+/// 8-bit end points, eight values when the first is greater, else six, 0 and 255; texel (x, y)
+/// at [(y * size + x) * 2], row 0 the southern one. Empty when `blocks` is not exactly the
+/// level's bytes.
+std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size);
+
 }  // namespace terralod

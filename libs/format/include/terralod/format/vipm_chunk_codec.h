@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/format/texture_codec.h"
 
 namespace terralod {
 
@@ -43,5 +44,12 @@ std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& chunk, int compression
 /// Decodes and validates a blob (never trusts it); `subject` names it in errors. The
 /// collapse order's consistency with the triangles is checked when it is reconstructed.
 Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::string& subject);
+
+/// The texture blob of a VIPM node (docs/format.md "VIPM tilesets"): exactly one layer, a BC5
+/// normal map of `chunkCells` + 1 texels a side (one texel per grid point of the node's
+/// unclipped square, at leaf spacing), made from the source heights. Decodes and validates it;
+/// `subject` names the chunk in errors ("<subject>: invalid texture: ...").
+Result<TextureLayer> decodeVipmNormalMap(std::span<const uint8_t> texture, uint32_t chunkCells,
+                                         const std::string& subject);
 
 }  // namespace terralod

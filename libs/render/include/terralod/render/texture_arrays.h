@@ -24,6 +24,11 @@
 
 namespace terralod {
 
+/// One layer alone as a 2D texture (not an array), its whole mip chain uploaded, filtered and
+/// clamped as the arrays are: for kinds that bind a texture per chunk (the VIPM kind's normal
+/// maps). Returns the GL name; the caller deletes it.
+uint32_t uploadLayerTexture(const TextureLayer& layer);
+
 struct TextureSlot {
   uint32_t array = 0;  ///< page index (arrayTexture(array) is its GL name)
   uint32_t layer = 0;

@@ -34,11 +34,14 @@ struct VipmVerifyStats {
   bool rulesPromised = true;         ///< the tileset was built with the rules
   bool materialsFromSource = false;  ///< vertex materials compared with the source's
   uint64_t materialMismatches = 0;
-  uint64_t partLevelsChecked = 0;  ///< LODs at which every material's part was compared
-  uint64_t fallbackSamples = 0;    ///< root samples compared with the children's coarsest LOD
-  double fallbackMismatch = 0;     ///< largest difference there
-  uint64_t flangePairs = 0;        ///< chunk pairs checked across a side
-  double worstFlangeMargin = 0;    ///< smallest (flange depth - largest gap), metres
+  uint64_t partLevelsChecked = 0;   ///< LODs at which every material's part was compared
+  uint64_t fallbackSamples = 0;     ///< root samples compared with the children's coarsest LOD
+  double fallbackMismatch = 0;      ///< largest difference there
+  uint64_t flangePairs = 0;         ///< chunk pairs checked across a side
+  double worstFlangeMargin = 0;     ///< smallest (flange depth - largest gap), metres
+  uint64_t normalMapsChecked = 0;   ///< nodes whose normal map was compared with the source
+  uint64_t normalTexels = 0;        ///< texels compared there
+  double worstNormalDeviation = 0;  ///< largest |stored - source| normal component (BC5 loss)
 };
 
 struct LevelCheck {
