@@ -1,4 +1,4 @@
-// terralod classify IMAGE -o CLASSES.tif [--palette PALETTE.json]
+// terralod classify IMAGE -o CLASSES.tif [--palette PALETTE.json] [--sieve PIXELS]
 
 #include <cstdio>
 
@@ -15,6 +15,7 @@ void addClassifyCommand(CLI::App& root, Runner& run) {
       "the palette class of the nearest colour");
   struct Options {
     std::string image, output, palette;
+    ClassifyOptions classify;
   };
   auto options = std::make_shared<Options>();
   cmd->add_option("IMAGE", options->image, "8-bit RGB image GDAL reads (bands 1, 2, 3)")
@@ -25,9 +26,13 @@ void addClassifyCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--palette", options->palette,
                   "JSON palette: {\"classes\": [{\"value\": 1, \"name\": \"forest\", \"color\": "
                   "[34, 90, 40]}, ...]} (default: water, vegetation, soil, rock, snow, shadow)");
+  cmd->add_option("--sieve", options->classify.sievePixels,
+                  "Merge every 8-connected region of fewer pixels than this into its largest "
+                  "neighbour (GDAL's sieve filter; a minimum mapping unit against speckle)")
+      ->check(CLI::Range(0, 1 << 20));
   cmd->footer(
       "Example:\n"
-      "  terralod classify landsat_rgb.tif --palette palette.json -o classes.tif\n");
+      "  terralod classify landsat_rgb.tif --palette palette.json --sieve 16 -o classes.tif\n");
   cmd->callback([&run, options] {
     run = [options] {
       std::vector<Material> palette = defaultImagePalette();
@@ -36,7 +41,7 @@ void addClassifyCommand(CLI::App& root, Runner& run) {
         if (!read) return fail(read.error().message);
         palette = std::move(read).value();
       }
-      auto result = classifyImage(options->image, palette, options->output);
+      auto result = classifyImage(options->image, palette, options->output, options->classify);
       if (!result) return fail(result.error().message);
       std::printf("terralod: wrote %s: %dx%d pixels,", options->output.c_str(), result->columns,
                   result->rows);

@@ -3,6 +3,7 @@
 #include <cpl_string.h>
 #include <cpl_vsi.h>
 #include <gdal.h>
+#include <gdal_alg.h>
 
 #include <atomic>
 #include <filesystem>
@@ -42,7 +43,8 @@ std::vector<Material> defaultImagePalette() {
 
 Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
                                           const std::vector<Material>& palette,
-                                          const std::string& outputPath) {
+                                          const std::string& outputPath,
+                                          const ClassifyOptions& options) {
   gdal::ensureRegistered();
   gdal::QuietErrors quiet;
   if (palette.empty()) return makeError(imagePath, "the palette has no classes");
@@ -77,15 +79,11 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   // Opened first: an output that cannot be written fails before any work.
   auto file = AtomicFile::create(outputPath);
   if (!file) return file.error();
-  MemoryFile memory{memoryPath()};
-  CPLStringList createOptions;
-  createOptions.SetNameValue("COMPRESS", "DEFLATE");
-  createOptions.SetNameValue("ZLEVEL", "9");
-  createOptions.SetNameValue("TILED", "YES");
+  // Classified into memory (the sieve reads and rewrites it), then copied into a GeoTIFF.
   GDALDriverH gtiff = GDALGetDriverByName("GTiff");
-  if (!gtiff) return makeError(outputPath, "GDAL has no GeoTIFF driver");
-  Dataset out(
-      GDALCreate(gtiff, memory.path.c_str(), columns, rows, 1, GDT_Byte, createOptions.List()));
+  GDALDriverH mem = GDALGetDriverByName("MEM");
+  if (!gtiff || !mem) return makeError(outputPath, "GDAL has no GeoTIFF or MEM driver");
+  Dataset out(GDALCreate(mem, "", columns, rows, 1, GDT_Byte, nullptr));
   if (!out) return makeError(outputPath, "cannot create: " + gdal::lastErrorMessage());
   double gt[6];
   if (GDALGetGeoTransform(image.get(), gt) == CE_None) GDALSetGeoTransform(out.get(), gt);
@@ -142,14 +140,39 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
         nearest = uint8_t(best);
       }
       classes[i] = palette[nearest].id;
-      ++result.counts[nearest];
     }
     if (GDALRasterIO(band, GF_Write, 0, row0, columns, h, classes.data(), columns, h, GDT_Byte, 0,
                      0) != CE_None)
       return makeError(outputPath, "write failed: " + gdal::lastErrorMessage());
   }
+  if (options.sievePixels > 1 &&
+      GDALSieveFilter(band, hasMask ? GDALGetMaskBand(band) : nullptr, band, options.sievePixels,
+                      8, nullptr, nullptr, nullptr) != CE_None)
+    return makeError(imagePath, "sieve failed: " + gdal::lastErrorMessage());
+
+  // Counted after the sieve: what the file holds.
+  std::vector<int> indexOf(256, -1);
+  for (size_t k = 0; k < palette.size(); ++k) indexOf[palette[k].id] = int(k);
+  for (int32_t row0 = 0; row0 < rows; row0 += kStripRows) {
+    const int32_t h = std::min(kStripRows, rows - row0);
+    if (GDALRasterIO(band, GF_Read, 0, row0, columns, h, classes.data(), columns, h, GDT_Byte, 0,
+                     0) != CE_None)
+      return makeError(outputPath, "write failed: " + gdal::lastErrorMessage());
+    for (size_t i = 0; i < size_t(columns) * size_t(h); ++i)
+      if (const int k = indexOf[classes[i]]; k >= 0 && !(hasMask && classes[i] == kMaskedValue))
+        ++result.counts[size_t(k)];
+  }
+
+  MemoryFile memory{memoryPath()};
+  CPLStringList createOptions;
+  createOptions.SetNameValue("COMPRESS", "DEFLATE");
+  createOptions.SetNameValue("ZLEVEL", "9");
+  createOptions.SetNameValue("TILED", "YES");
   CPLErrorReset();
-  GDALClose(out.release());  // flushes the compressed tiles
+  Dataset copy(GDALCreateCopy(gtiff, memory.path.c_str(), out.get(), FALSE, createOptions.List(),
+                              nullptr, nullptr));
+  if (!copy) return makeError(outputPath, "cannot create: " + gdal::lastErrorMessage());
+  GDALClose(copy.release());  // flushes the compressed tiles
   if (CPLGetLastErrorType() == CE_Failure)
     return makeError(outputPath, "write failed: " + gdal::lastErrorMessage());
 

@@ -4,6 +4,7 @@
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -81,6 +82,60 @@ TEST(ClassifyImage, NearestPaletteColourWithGeoreferencingColourTableAndNames) {
 
   // The committed tests/data file is exactly what the command makes from the committed inputs.
   EXPECT_EQ(readBands(test::testData("zion_landcover_classes.tif"), 1), classes);
+}
+
+// Sizes of the 8-connected regions of equal values in a w x h raster.
+std::vector<size_t> regionSizes(const std::vector<uint8_t>& v, int w, int h) {
+  std::vector<uint8_t> seen(v.size(), 0);
+  std::vector<size_t> sizes, stack;
+  for (size_t start = 0; start < v.size(); ++start) {
+    if (seen[start]) continue;
+    size_t size = 0;
+    seen[start] = 1;
+    stack.push_back(start);
+    while (!stack.empty()) {
+      const size_t i = stack.back();
+      stack.pop_back();
+      ++size;
+      const int x = int(i % size_t(w)), y = int(i / size_t(w));
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int nx = x + dx, ny = y + dy;
+          if (nx < 0 || ny < 0 || nx >= w || ny >= h) continue;
+          const size_t j = size_t(ny) * size_t(w) + size_t(nx);
+          if (!seen[j] && v[j] == v[start]) {
+            seen[j] = 1;
+            stack.push_back(j);
+          }
+        }
+    }
+    sizes.push_back(size);
+  }
+  return sizes;
+}
+
+TEST(ClassifyImage, TheSieveLeavesNoRegionSmallerThanItsThreshold) {
+  test::TempDir dir;
+  auto palette = readPalette(kPalette);
+  ASSERT_TRUE(palette.ok()) << palette.error().message;
+  ClassifyOptions options;
+  options.sievePixels = 16;
+  auto sieved = classifyImage(kImage, *palette, dir.file("sieved.tif"), options);
+  ASSERT_TRUE(sieved.ok()) << sieved.error().message;
+  auto raw = classifyImage(kImage, *palette, dir.file("raw.tif"));
+  ASSERT_TRUE(raw.ok()) << raw.error().message;
+  auto small = [](const std::vector<size_t>& sizes) {
+    return std::count_if(sizes.begin(), sizes.end(), [](size_t n) { return n < 16; });
+  };
+  // Per-pixel classes are speckled; the sieve merges every speck into a neighbour.
+  EXPECT_GT(small(regionSizes(readBands(dir.file("raw.tif"), 1), 1128, 1428)), 1000);
+  const std::vector<uint8_t> classes = readBands(dir.file("sieved.tif"), 1);
+  EXPECT_EQ(small(regionSizes(classes, 1128, 1428)), 0);
+  // The counts are the file's.
+  for (size_t k = 0; k < palette->size(); ++k)
+    EXPECT_EQ(sieved->counts[k],
+              uint64_t(std::count(classes.begin(), classes.end(), (*palette)[k].id)))
+        << k;
 }
 
 TEST(ClassifyImage, BadInputWritesNothing) {
