@@ -146,8 +146,8 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
       return makeError(outputPath, "write failed: " + gdal::lastErrorMessage());
   }
   if (options.sievePixels > 1 &&
-      GDALSieveFilter(band, hasMask ? GDALGetMaskBand(band) : nullptr, band, options.sievePixels,
-                      8, nullptr, nullptr, nullptr) != CE_None)
+      GDALSieveFilter(band, hasMask ? GDALGetMaskBand(band) : nullptr, band, options.sievePixels, 8,
+                      nullptr, nullptr, nullptr) != CE_None)
     return makeError(imagePath, "sieve failed: " + gdal::lastErrorMessage());
 
   // Counted after the sieve: what the file holds.
