@@ -157,7 +157,7 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
     const int32_t h = std::min(kStripRows, rows - row0);
     if (GDALRasterIO(band, GF_Read, 0, row0, columns, h, classes.data(), columns, h, GDT_Byte, 0,
                      0) != CE_None)
-      return makeError(outputPath, "write failed: " + gdal::lastErrorMessage());
+      return makeError(outputPath, "reading the classes back failed: " + gdal::lastErrorMessage());
     for (size_t i = 0; i < size_t(columns) * size_t(h); ++i)
       if (const int k = indexOf[classes[i]]; k >= 0 && !(hasMask && classes[i] == kMaskedValue))
         ++result.counts[size_t(k)];
