@@ -92,6 +92,8 @@ int runBench(const BenchCommand& b) {
                 j["max_error_px"].get<double>(), j["max_pop_px"].get<double>(),
                 (unsigned long long)j["holes_total"].get<uint64_t>(),
                 j["image_pop_mean"].get<double>());
+  if (j.contains("material_pop_px"))
+    std::printf("; material pop %.0f px", j["material_pop_px"].get<double>());
   std::printf("\nterralod: wrote %s\n", b.jsonPath.c_str());
   if (!b.reportDir.empty()) std::printf("terralod: wrote %s/report.md\n", b.reportDir.c_str());
   return 0;

@@ -71,6 +71,7 @@ TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {
   EXPECT_GT(j["image_pop_frames"].get<int>(), 0);
   EXPECT_LT(j["image_pop_mean"].get<double>(), 0.5);
   EXPECT_TRUE(j.contains("upload_ms_max"));
+  EXPECT_FALSE(j.contains("material_pop_px"));  // VIPM tilesets only
 }
 
 TEST(BenchTexels, NoTexelCoversMoreThanOnePixelAtTheTexturesTau) {

@@ -1,7 +1,7 @@
 // `terralod bench --source` on a VIPM tileset measures what the VIPM kind draws: error within
 // τ, no holes, no pops with geomorphing (the surface still moves between frames: the morph
 // step), pops without (`--no-morph`), and the VIPM figures (vertices drawn, decode and
-// reconstruction time per chunk).
+// reconstruction time per chunk, material pops).
 
 #include <gtest/gtest.h>
 
@@ -25,16 +25,35 @@ class VipmBenchCli : public ::testing::Test {
           return built.exitCode == 0 ? std::string() : built.err;
         }));
     ASSERT_EQ(sTileset->error, "");
+    sNoRules = new SharedDirectory(sharedDirectory(
+        "crater-vipm-no-rules", programStamp(TERRALOD_CLI), [](const std::string& dir) {
+          const RunResult built =
+              runTerralod({"build", testData("crater_lake_0513.bt"), "--kind", "vipm",
+                           "--no-material-rules", "-o", dir + "/c.tlod"});
+          return built.exitCode == 0 ? std::string() : built.err;
+        }));
+    ASSERT_EQ(sNoRules->error, "");
     // Down towards the south-west rim.
     std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
       "frames": 60, "keyframes": [
         {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
         {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
         {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+    // The last stretch of the descent, few frames, small (material pops need no source).
+    std::ofstream(sDir->file("short.json")) << R"({"fov_deg": 60, "size": [160, 120],
+      "frames": 12, "keyframes": [
+        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+    // Hovering: the same camera every frame, so the LOD never changes.
+    std::ofstream(sDir->file("hover.json")) << R"({"fov_deg": 60, "size": [160, 120],
+      "frames": 6, "keyframes": [
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
   }
   static void TearDownTestSuite() {
     delete sDir;
     delete sTileset;
+    delete sNoRules;
   }
 
   static nlohmann::json bench(const std::vector<std::string>& extra) {
@@ -47,14 +66,29 @@ class VipmBenchCli : public ::testing::Test {
     return nlohmann::json::parse(readWholeFile(sDir->file("b.json")));
   }
 
+  // Material pops: a flight without --source.
+  static nlohmann::json materials(const SharedDirectory& tileset, const std::string& flight,
+                                  const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"bench",    tileset.file("c.tlod"),
+                                     "--flight", sDir->file(flight),
+                                     "--json",   sDir->file("m.json")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(readWholeFile(sDir->file("m.json")));
+  }
+
   static inline TempDir* sDir = nullptr;
   static inline SharedDirectory* sTileset = nullptr;
+  static inline SharedDirectory* sNoRules = nullptr;
 };
 
 TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   const auto morphed = bench({});
-  for (const char* key : {"max_error_px", "max_pop_px", "max_morph_step_px", "holes_total",
-                          "vertices_p50", "reconstruct_ms_p50", "reconstruct_ms_max"})
+  for (const char* key :
+       {"max_error_px", "max_pop_px", "max_morph_step_px", "holes_total", "vertices_p50",
+        "reconstruct_ms_p50", "reconstruct_ms_max", "material_pop_px", "material_pop_px_p99",
+        "material_pop_px_mean", "material_pop_frames"})
     ASSERT_TRUE(morphed.contains(key)) << key;
   EXPECT_GT(morphed["max_error_px"].get<double>(), 0.0);
   EXPECT_LE(morphed["max_error_px"].get<double>(), 2.0);  // τ
@@ -73,6 +107,20 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   // vertex a step off its target). This descent is fast (1.5 % of the height a frame), so
   // the step is not small; the auto flight's 0.5 % leaves about 0.005 px on Crater Lake.
   EXPECT_LT(morphed["max_pop_px"].get<double>(), unmorphed["max_pop_px"].get<double>() / 4);
+}
+
+TEST_F(VipmBenchCli, CountsPixelsWhoseMaterialChangesWithTheLevel) {
+  // Without the rules and without geomorphing, collapses move material boundaries at once.
+  const auto popping = materials(*sNoRules, "short.json", {"--no-morph"});
+  ASSERT_TRUE(popping.contains("material_pop_px"));
+  EXPECT_GT(popping["material_pop_frames"].get<double>(), 5.0);
+  EXPECT_GT(popping["material_pop_px"].get<double>(), 0.0);
+  EXPECT_GE(popping["material_pop_px"].get<double>(), popping["material_pop_px_p99"].get<double>());
+  EXPECT_LE(popping["material_pop_px"].get<double>(), 160.0 * 120.0);
+  // The same camera every frame: the level never changes, no pixel changes material.
+  const auto hovering = materials(*sNoRules, "hover.json", {"--no-morph"});
+  EXPECT_GT(hovering["material_pop_frames"].get<double>(), 3.0);
+  EXPECT_EQ(hovering["material_pop_px"].get<double>(), 0.0);
 }
 
 }  // namespace

@@ -119,6 +119,51 @@ class QualityPass {
   std::optional<Framebuffer> mPopTarget, mLookDown;
 };
 
+// Material pops on VIPM tilesets: from each frame's camera, the last frame's drawn state
+// (every chunk at the θ it was drawn with then) and this frame's, as material-ID images
+// (TerrainScene::drawVipmMaterials); the pixels whose material differs.
+class MaterialPops {
+ public:
+  MaterialPops(TerrainScene& scene, const BenchFlightOptions& options)
+      : mScene(scene), mOptions(options) {}
+
+  Status measure(size_t i, const View& view, FrameRecord& r) {
+    mCurrent.clear();
+    for (const SelectedChunk& s : mScene.selected())
+      mCurrent.push_back(
+          {s.node, vipmDrawnTheta(mScene.tree(), view, mOptions.selection.tau, s)});
+    // Between two frames that both had what they wanted, as max_pop_px.
+    const bool complete = i > 0 && !r.coarser && mPreviousComplete;
+    if (complete) {
+      if (Status s = bindFramebufferOfSize(mTarget, view.camera.width, view.camera.height); !s)
+        return s;
+      const DrawStats before =
+          mScene.drawVipmMaterials(view, mPrevious, mOptions.style, mOptions.selection);
+      const Image beforeImage = mTarget->readPixels();
+      mScene.drawVipmMaterials(view, mCurrent, mOptions.style, mOptions.selection);
+      const Image afterImage = mTarget->readPixels();
+      // (Skipped when last frame's chunks have been evicted since.)
+      if (before.missing == 0) {
+        uint64_t changed = 0;
+        for (size_t k = 0; k < beforeImage.rgba.size(); k += 4)
+          changed += vipmMaterialOfPixel(beforeImage.rgba[k]) !=
+                     vipmMaterialOfPixel(afterImage.rgba[k]);
+        r.materialPopPx = double(changed);
+      }
+    }
+    mPreviousComplete = !r.coarser;
+    std::swap(mPrevious, mCurrent);
+    return {};
+  }
+
+ private:
+  TerrainScene& mScene;
+  const BenchFlightOptions& mOptions;
+  std::vector<VipmChunkAt> mPrevious, mCurrent;
+  bool mPreviousComplete = false;
+  std::optional<Framebuffer> mTarget;
+};
+
 }  // namespace
 
 double percentile(std::vector<double> values, double p) {
@@ -142,6 +187,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
   auto frameError = [](size_t i, const Error& e) {
     return Error{"frame " + std::to_string(i) + ": " + e.message};
   };
+
+  std::optional<MaterialPops> materialPops;
+  if (scene.tileset().header().meshKind == MeshKind::kVipm) materialPops.emplace(scene, options);
 
   std::optional<Framebuffer> target;
   size_t nextKept = 0;
@@ -187,6 +235,8 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
       addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), result.texels);
     if (quality)
       if (Status s = quality->measure(i, *view, r); !s) return frameError(i, s.error());
+    if (materialPops)
+      if (Status s = materialPops->measure(i, *view, r); !s) return frameError(i, s.error());
     result.frames.push_back(r);
     progress.advance();
   }

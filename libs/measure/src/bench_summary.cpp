@@ -43,6 +43,18 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   if (scene.tileset().header().meshKind == MeshKind::kVipm) {
     j["reconstruct_ms_p50"] = percentile(flight.reconstructMs, 0.5);
     j["reconstruct_ms_max"] = percentile(flight.reconstructMs, 1.0);
+    // Pixels whose material changed from LOD alone between two frames that had what they
+    // wanted (both drawn from the later camera): the most, the 99th percentile and the mean
+    // over those frames.
+    std::vector<double> materialPops;
+    for (const FrameRecord& r : f)
+      if (!std::isnan(r.materialPopPx)) materialPops.push_back(r.materialPopPx);
+    double sum = 0.0;
+    for (double v : materialPops) sum += v;
+    j["material_pop_px"] = percentile(materialPops, 1.0);
+    j["material_pop_px_p99"] = percentile(materialPops, 0.99);
+    j["material_pop_px_mean"] = materialPops.empty() ? 0.0 : sum / double(materialPops.size());
+    j["material_pop_frames"] = materialPops.size();
   }
   j["draws_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.draws; }), 0.5);
   j["chunks_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.chunks; }), 0.5);

@@ -1,5 +1,7 @@
 #include "terralod/render/terrain_scene.h"
 
+#include <epoxy/gl.h>
+
 #include <algorithm>
 
 namespace terralod {
@@ -139,6 +141,31 @@ std::span<const SelectedChunk> TerrainScene::visibleChunks(const View& view,
 DrawStats TerrainScene::drawChunks(const View& view, std::span<const SelectedChunk> chunks,
                                    const TerrainStyle& style, const SelectionOptions& selection) {
   return drawSelection(view, chunks, style, selection);
+}
+
+DrawStats TerrainScene::drawVipmMaterials(const View& view, std::span<const VipmChunkAt> chunks,
+                                          const TerrainStyle& style,
+                                          const SelectionOptions& selection) {
+  DrawStats stats;
+  if (!mVipmKind) {
+    stats.missing = uint32_t(chunks.size());
+    return stats;
+  }
+  // Black (material code 0) where nothing is drawn; no sky, overlays or layers.
+  TerrainStyle ids;
+  ids.skirts = style.skirts;
+  ids.sky = false;
+  ids.haze = 0.0;
+  ids.textures = false;
+  ids.background = {0, 0, 0};
+  const FrameContext context = mRenderer.beginFrame(view, ids, mTree, stats);
+  SelectionOptions options = selection;
+  options.drawable = {};
+  TerrainFrame frame{context, mTree, stats, options};
+  mVipmKind->addMaterialIdDraws(frame, chunks);
+  glDisable(GL_DEPTH_TEST);
+  glBindVertexArray(0);
+  return stats;
 }
 
 }  // namespace terralod

@@ -122,4 +122,21 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
   mPass->draw(frame.context, tree, draws, frame.stats);
 }
 
+void VipmChunkKind::addMaterialIdDraws(TerrainFrame& frame, std::span<const VipmChunkAt> chunks) {
+  const Geomorph geomorph = frame.selection.morph ? Geomorph::kOn : Geomorph::kOff;
+  std::vector<VipmDraw>& draws = mDraws;
+  draws.clear();
+  for (const VipmChunkAt& c : chunks) {
+    auto it = mChunks.find(c.node);
+    if (it == mChunks.end()) {
+      ++frame.stats.missing;
+      continue;
+    }
+    ++frame.stats.chunks;
+    it->second->update(c.theta, geomorph);
+    draws.push_back({it->second.get(), c.node, 0.0f});
+  }
+  mPass->draw(frame.context, frame.tree, draws, frame.stats, VipmImage::kMaterialIds);
+}
+
 }  // namespace terralod

@@ -98,7 +98,7 @@ uint32_t VipmPass::drawRange(const VipmGpuChunk&, const VipmGpuChunk::Range& ran
 }
 
 void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,
-                    DrawStats& stats) {
+                    DrawStats& stats, VipmImage image) {
   if (draws.empty()) return;
   const TerrainStyle& style = frame.style;
   const GLuint p = mProgram.id();
@@ -122,6 +122,8 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glProgramUniform1i(p, at("uDetailed"), style.textures ? 1 : 0);
   glProgramUniform1i(p, at("uDetail"), 0);
   glProgramUniform1i(p, at("uNormalMap"), 1);
+  const bool ids = image == VipmImage::kMaterialIds;
+  glProgramUniform1i(p, at("uMaterialIds"), ids ? 1 : 0);
   if (!mColors.empty())
     glProgramUniform3fv(p, at("uMaterialColors"), GLsizei(mColors.size()), mColors[0].data());
   mProgram.use();
@@ -154,6 +156,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glDepthFunc(GL_EQUAL);
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE);
+  if (ids) glBlendEquation(GL_MAX);  // the largest weight's code wins
   glProgramUniform1i(p, at("uPass"), 1);
   glProgramUniform1i(p, at("uFlange"), 0);
   for (size_t m = 0; m < mDetails.size(); ++m) {
@@ -166,10 +169,11 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
           stats.drawCalls += drawRange(*d.chunk, r);
         }
   }
+  glBlendEquation(GL_FUNC_ADD);
   glDisable(GL_BLEND);
   glDepthMask(GL_TRUE);
 
-  if (style.wireframe) {
+  if (style.wireframe && !ids) {
     glProgramUniform1i(p, at("uPass"), 2);
     glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
     glEnable(GL_POLYGON_OFFSET_LINE);

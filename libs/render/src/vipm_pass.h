@@ -28,6 +28,11 @@ struct VipmDraw {
   float morph = 0.0f;
 };
 
+/// What a VipmPass draws: the splatted picture, or a material-ID image (bench's material
+/// pops): each pixel's red channel holds the material with the largest weight there, as
+/// vipmMaterialOfPixel (vipm_chunk_kind.h) reads it; 0 where nothing was drawn.
+enum class VipmImage : uint8_t { kColour, kMaterialIds };
+
 /// Detail textures repeat every this many grid cells.
 inline constexpr double kDetailCells = 32.0;
 
@@ -39,8 +44,9 @@ class VipmPass {
   using Draw = VipmDraw;
   /// Draws `draws` (their chunks already at the frame's level) into the frame; adds draw
   /// calls and triangles (the whole chunk's and, with skirts on, the flanges') to `stats`.
+  /// kMaterialIds leaves out the wireframe (the frame should be cleared to black, no sky).
   void draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,
-            DrawStats& stats);
+            DrawStats& stats, VipmImage image = VipmImage::kColour);
 
  private:
   VipmPass(ShaderProgram program, std::vector<GlTexture> details,

@@ -30,6 +30,7 @@ out vec2 vNormalUv;
 out vec2 vDetailUv;
 out float vWeight;
 out vec3 vMaterialColor;
+flat out uint vMaterialId;
 void main() {
   vec3 p = uOrigin + vec3(aPosition.xy * uSpacing, aPosition.z);
   vRelative = p;
@@ -38,6 +39,7 @@ void main() {
   vDetailUv = uDetailOrigin + aPosition.xy * uDetailScale;
   vWeight = aMaterial == uint(uMaterial) ? 1.0 : 0.0;  // one-hot: the weights sum to 1
   vMaterialColor = uMaterialColors[min(aMaterial, 7u)];
+  vMaterialId = min(aMaterial, 7u);
   gl_Position = uViewProjection * vec4(p, 1.0);
 }
 )";
@@ -45,6 +47,10 @@ void main() {
 // uPass 0: the whole chunk (depth; black, to which the material passes add), its flanges in
 // the material colours lit as level ground (they show only in cracks); 1: a material's
 // triangles, weighted by the material's share, added; 2: the wireframe overlay.
+// uMaterialIds 1: a material-ID image instead (VipmImage::kMaterialIds): red holds
+// (floor(weight * 31) * 8 + material) / 255, under GL_MAX blending in the material passes, so
+// the material with the largest weight wins (ties: the higher index); the whole chunk writes 0
+// (as the background), its flanges their provoking vertex's material at weight 1.
 inline constexpr const char* kVipmFragment = R"(
 in vec3 vRelative;
 in float vHeight;
@@ -52,7 +58,10 @@ in vec2 vNormalUv;
 in vec2 vDetailUv;
 in float vWeight;
 in vec3 vMaterialColor;
+flat in uint vMaterialId;
 uniform int uPass;
+uniform int uMaterialIds;
+uniform int uMaterial;
 uniform int uFlange;
 uniform int uDetailed;        // 0: the material's flat colour instead of its detail texture
 uniform sampler2D uDetail;    // unit 0, sRGB
@@ -67,6 +76,12 @@ out vec4 fragColor;
 void main() {
   if (uPass == 2) {
     fragColor = vec4(0.05, 0.05, 0.05, 1.0);
+    return;
+  }
+  if (uMaterialIds == 1) {
+    uint code = uint(floor(clamp(vWeight, 0.0, 1.0) * 31.0)) * 8u + uint(uMaterial);
+    if (uPass == 0) code = uFlange == 1 ? 248u + vMaterialId : 0u;
+    fragColor = vec4(float(code) / 255.0, 0.0, 0.0, 1.0);
     return;
   }
   vec3 n = vec3(0.0, 0.0, 1.0);

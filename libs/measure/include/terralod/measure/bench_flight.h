@@ -1,7 +1,8 @@
 #pragma once
 // bench's flight: renders every camera headless through the streaming scene, as an application
 // would (frames never wait for data), and records each frame's figures. With a source raster it
-// also measures the drawn surface against it (error, pops, holes, image pops).
+// also measures the drawn surface against it (error, pops, holes, image pops). On VIPM
+// tilesets it counts material pops (FrameRecord::materialPopPx), which need no source.
 
 #include <cmath>
 #include <cstdint>
@@ -43,6 +44,10 @@ struct FrameRecord {
   double imagePop = NAN;     ///< mean absolute pixel change from LOD alone (8-bit units)
   bool popComplete = false;  ///< this frame and the last had every wanted chunk (pops count)
   uint64_t holes = 0;        ///< background pixels in the look-down render
+  /// VIPM tilesets: pixels whose material (the largest splat weight's; no terrain counts as
+  /// one) differs between the last frame's drawn state and this one's, both drawn from this
+  /// frame's camera. Measured (without a source too) where `popComplete` holds.
+  double materialPopPx = NAN;
 };
 
 struct BenchFlightOptions {

@@ -92,6 +92,14 @@ class TerrainScene {
   DrawStats drawChunks(const View& view, std::span<const SelectedChunk> chunks,
                        const TerrainStyle& style, const SelectionOptions& selection = {});
 
+  /// VIPM tilesets: draws `chunks`, each at its own allowed error (geomorphed as `selection`
+  /// says), from `view` into the bound framebuffer as a material-ID image
+  /// (VipmChunkKind::addMaterialIdDraws; skirts as `style` says, nothing else of it): for
+  /// comparing the materials two frames showed from one camera. Chunks not on the GPU are
+  /// skipped (DrawStats::missing); on a tileset without VIPM chunks every chunk is missing.
+  DrawStats drawVipmMaterials(const View& view, std::span<const VipmChunkAt> chunks,
+                              const TerrainStyle& style, const SelectionOptions& selection);
+
   const ChunkTree& tree() const { return mTree; }
   const GpuChunkStore& store() const { return mStore; }
   const TilesetReader& tileset() const { return *mTileset; }

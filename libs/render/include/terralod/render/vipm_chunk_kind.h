@@ -34,6 +34,20 @@ namespace terralod {
 double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
                       const SelectedChunk& chunk);
 
+/// A VIPM chunk drawn at a given allowed error θ (metres), e.g. as it was drawn in an earlier
+/// frame: bench's material pops draw two frames' states from one camera.
+struct VipmChunkAt {
+  uint32_t node = 0;
+  double theta = 0.0;
+};
+
+/// The material of a pixel of a material-ID image (VipmChunkKind::addMaterialIdDraws): the
+/// material index with the largest splat weight there, or -1 where no terrain was drawn.
+/// `red`: the pixel's red channel.
+inline int vipmMaterialOfPixel(uint8_t red) {
+  return red < 8 ? -1 : int(red & 7u);
+}
+
 class VipmPass;
 class VipmGpuChunk;
 struct VipmDraw;
@@ -51,6 +65,12 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   uint64_t upload(uint32_t node, const ChunkPayload& payload) override;
   void release(uint32_t node) override;
   void addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) override;
+
+  /// Draws `chunks`, each at its own θ (geomorphed as frame.selection.morph says), into the
+  /// frame as a material-ID image (vipmMaterialOfPixel reads it; the frame should be cleared
+  /// to black without sky). Chunks not uploaded are counted in frame.stats.missing. Leaves
+  /// the chunks at those levels: the next addDraws moves them again.
+  void addMaterialIdDraws(TerrainFrame& frame, std::span<const VipmChunkAt> chunks);
 
   /// The collapses applied now in `node` (for tests); none when it is not uploaded.
   uint32_t appliedCollapses(uint32_t node) const;
