@@ -130,8 +130,7 @@ class MaterialPops {
   Status measure(size_t i, const View& view, FrameRecord& r) {
     mCurrent.clear();
     for (const SelectedChunk& s : mScene.selected())
-      mCurrent.push_back(
-          {s.node, vipmDrawnTheta(mScene.tree(), view, mOptions.selection.tau, s)});
+      mCurrent.push_back({s.node, vipmDrawnTheta(mScene.tree(), view, mOptions.selection.tau, s)});
     // Between two frames that both had what they wanted, as max_pop_px.
     const bool complete = i > 0 && !r.coarser && mPreviousComplete;
     if (complete) {
@@ -146,8 +145,8 @@ class MaterialPops {
       if (before.missing == 0) {
         uint64_t changed = 0;
         for (size_t k = 0; k < beforeImage.rgba.size(); k += 4)
-          changed += vipmMaterialOfPixel(beforeImage.rgba[k]) !=
-                     vipmMaterialOfPixel(afterImage.rgba[k]);
+          changed +=
+              vipmMaterialOfPixel(beforeImage.rgba[k]) != vipmMaterialOfPixel(afterImage.rgba[k]);
         r.materialPopPx = double(changed);
       }
     }
