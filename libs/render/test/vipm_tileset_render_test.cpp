@@ -150,5 +150,48 @@ TEST_F(VipmTilesetRender, FlangesMaterialsAndGeomorphsShow) {
   EXPECT_GT(bins.size(), 12u);
 }
 
+TEST_F(VipmTilesetRender, MaterialIdImagesCoverTheTerrainWithItsMaterials) {
+  open(test::Frames::kComplete);
+  const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);
+  const Camera c = flightCameras(flight)[size_t(flight.climbStart / 2)];
+  const View view = makeView(c).value();
+  SelectionOptions noMorph;
+  noMorph.morph = false;
+  TerrainStyle style;
+  const Image colour = draw(c, noMorph, style);
+  std::vector<VipmChunkAt> chunks, coarser;
+  for (const SelectedChunk& s : mScene->selected()) {
+    const double theta = vipmDrawnTheta(mScene->tree(), view, noMorph.tau, s);
+    chunks.push_back({s.node, theta});
+    coarser.push_back({s.node, theta * 8.0});
+  }
+  auto target = Framebuffer::create(c.width, c.height).value();
+  target.bind();
+  EXPECT_EQ(mScene->drawVipmMaterials(view, chunks, style, noMorph).missing, 0u);
+  const Image ids = target.readPixels();
+  mScene->drawVipmMaterials(view, coarser, style, noMorph);
+  const Image coarse = target.readPixels();
+  mScene->drawVipmMaterials(view, chunks, style, noMorph);
+  const Image again = target.readPixels();
+  EXPECT_EQ(ids.rgba, again.rgba);  // the state drawn, not the history
+
+  // Terrain where the colour image has terrain, several materials, and a coarser level
+  // moves some boundaries.
+  uint64_t coverageDiffers = 0, materialDiffers = 0;
+  std::set<int> materials;
+  for (size_t i = 0; i < ids.rgba.size(); i += 4) {
+    const int m = vipmMaterialOfPixel(ids.rgba[i]);
+    const bool background = colour.rgba[i] == style.background[0] &&
+                            colour.rgba[i + 1] == style.background[1] &&
+                            colour.rgba[i + 2] == style.background[2];
+    coverageDiffers += (m < 0) != background;
+    materialDiffers += m != vipmMaterialOfPixel(coarse.rgba[i]);
+    if (m >= 0) materials.insert(m);
+  }
+  EXPECT_EQ(coverageDiffers, 0u);
+  EXPECT_GE(materials.size(), 2u);
+  EXPECT_GT(materialDiffers, 0u);
+}
+
 }  // namespace
 }  // namespace terralod
