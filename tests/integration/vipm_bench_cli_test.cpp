@@ -90,7 +90,7 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   for (const char* key :
        {"max_error_px", "max_pop_px", "max_morph_step_px", "holes_total", "vertices_p50",
         "reconstruct_ms_p50", "reconstruct_ms_max", "material_pop_px", "material_pop_px_p99",
-        "material_pop_px_mean", "material_pop_frames"})
+        "material_pop_px_mean", "material_pop_frames", "material_morph_step_px"})
     ASSERT_TRUE(morphed.contains(key)) << key;
   EXPECT_GT(morphed["max_error_px"].get<double>(), 0.0);
   EXPECT_LE(morphed["max_error_px"].get<double>(), 2.0);  // τ

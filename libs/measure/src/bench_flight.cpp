@@ -119,48 +119,67 @@ class QualityPass {
   std::optional<Framebuffer> mPopTarget, mLookDown;
 };
 
-// Material pops on VIPM tilesets: from each frame's camera, the last frame's drawn state
-// (every chunk at the θ it was drawn with then) and this frame's, as material-ID images
-// (TerrainScene::drawVipmMaterials); the pixels whose material differs.
+// Material pops on VIPM tilesets, as material-ID images (TerrainScene::drawVipmMaterials)
+// from each frame's camera: the pixels whose material differs between this frame's state and
+// the last frame's, the latter geomorphed for this frame (the collapses its θ chose, their
+// geomorph re-evaluated for this camera, as VipmQuality::geomorphedFor does for max_pop_px:
+// the pop) and as it was drawn (the morph step).
 class MaterialPops {
  public:
   MaterialPops(TerrainScene& scene, const BenchFlightOptions& options)
       : mScene(scene), mOptions(options) {}
 
   Status measure(size_t i, const View& view, FrameRecord& r) {
+    const SelectionOptions& selection = mOptions.selection;
+    const ChunkTree& tree = mScene.tree();
+    mSelection = mScene.selected();
     mCurrent.clear();
-    for (const SelectedChunk& s : mScene.selected())
-      mCurrent.push_back({s.node, vipmDrawnTheta(mScene.tree(), view, mOptions.selection.tau, s)});
+    for (const SelectedChunk& s : mSelection) {
+      const double theta = vipmDrawnTheta(tree, view, selection.tau, s);
+      mCurrent.push_back({s.node, theta, theta});
+    }
     // Between two frames that both had what they wanted, as max_pop_px.
-    const bool complete = i > 0 && !r.coarser && mPreviousComplete;
-    if (complete) {
+    if (i > 0 && !r.coarser && mPreviousComplete) {
+      mPreviousNow = mPrevious;
+      for (size_t k = 0; k < mPreviousNow.size(); ++k) {
+        SelectedChunk now = mPreviousSelection[k];
+        now.morph = morphParameter(tree, view, selection, now.node);
+        mPreviousNow[k].morphTheta = vipmDrawnTheta(tree, view, selection.tau, now);
+      }
       if (Status s = bindFramebufferOfSize(mTarget, view.camera.width, view.camera.height); !s)
         return s;
-      const DrawStats before =
-          mScene.drawVipmMaterials(view, mPrevious, mOptions.style, mOptions.selection);
-      const Image beforeImage = mTarget->readPixels();
-      mScene.drawVipmMaterials(view, mCurrent, mOptions.style, mOptions.selection);
-      const Image afterImage = mTarget->readPixels();
+      auto draw = [&](std::span<const VipmChunkAt> chunks, Image& image) {
+        const DrawStats stats = mScene.drawVipmMaterials(view, chunks, mOptions.style, selection);
+        image = mTarget->readPixels();
+        return stats.missing == 0;
+      };
       // (Skipped when last frame's chunks have been evicted since.)
-      if (before.missing == 0) {
-        uint64_t changed = 0;
-        for (size_t k = 0; k < beforeImage.rgba.size(); k += 4)
-          changed +=
-              vipmMaterialOfPixel(beforeImage.rgba[k]) != vipmMaterialOfPixel(afterImage.rgba[k]);
-        r.materialPopPx = double(changed);
+      if (draw(mPreviousNow, mPop) && draw(mPrevious, mStep) && draw(mCurrent, mNow)) {
+        r.materialPopPx = double(changedMaterials(mPop, mNow));
+        r.materialMorphStepPx = double(changedMaterials(mStep, mNow));
       }
     }
     mPreviousComplete = !r.coarser;
     std::swap(mPrevious, mCurrent);
+    std::swap(mPreviousSelection, mSelection);
     return {};
   }
 
  private:
+  static uint64_t changedMaterials(const Image& a, const Image& b) {
+    uint64_t changed = 0;
+    for (size_t k = 0; k < a.rgba.size(); k += 4)
+      changed += vipmMaterialOfPixel(a.rgba[k]) != vipmMaterialOfPixel(b.rgba[k]);
+    return changed;
+  }
+
   TerrainScene& mScene;
   const BenchFlightOptions& mOptions;
-  std::vector<VipmChunkAt> mPrevious, mCurrent;
+  std::vector<SelectedChunk> mSelection, mPreviousSelection;
+  std::vector<VipmChunkAt> mPrevious, mCurrent, mPreviousNow;
   bool mPreviousComplete = false;
   std::optional<Framebuffer> mTarget;
+  Image mPop, mStep, mNow;
 };
 
 }  // namespace

@@ -133,7 +133,7 @@ void VipmChunkKind::addMaterialIdDraws(TerrainFrame& frame, std::span<const Vipm
       continue;
     }
     ++frame.stats.chunks;
-    it->second->update(c.theta, geomorph);
+    it->second->update(c.theta, c.morphTheta, geomorph);
     draws.push_back({it->second.get(), c.node, 0.0f});
   }
   mPass->draw(frame.context, frame.tree, draws, frame.stats, VipmImage::kMaterialIds);

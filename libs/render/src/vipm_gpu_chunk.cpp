@@ -78,7 +78,7 @@ void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
                        GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
 }
 
-void VipmGpuChunk::update(double theta, Geomorph geomorph) {
+void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   const uint32_t n = mMesh.vertexCount();
   const MorphWindow window = morphWindow(mMesh.errors, theta, geomorph);
   const MorphWindow previous = mWindow;
@@ -92,7 +92,7 @@ void VipmGpuChunk::update(double theta, Geomorph geomorph) {
   for (uint32_t j = previous.applied; j < previous.morphing; ++j)
     mDrawn[n - 1 - j] = mOwn[n - 1 - j];
   if (morphs)
-    morphPositions(mMesh, window, theta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
+    morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
   mWindow = window;
   if (morphed || morphs) {
     uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges

@@ -38,7 +38,10 @@ class VipmGpuChunk {
 
   /// Moves to the level for allowed error `theta` (metres): applies or undoes collapses,
   /// geomorphs the vertices in the window, and uploads what changed.
-  void update(double theta, Geomorph geomorph);
+  void update(double theta, Geomorph geomorph) { update(theta, theta, geomorph); }
+  /// The collapses `theta` chooses, geomorphed as `morphTheta` says (bench: an earlier frame's
+  /// level geomorphed for this frame).
+  void update(double theta, double morphTheta, Geomorph geomorph);
 
   struct Range {
     int material = kWholeChunk;

@@ -45,9 +45,12 @@ struct FrameRecord {
   bool popComplete = false;  ///< this frame and the last had every wanted chunk (pops count)
   uint64_t holes = 0;        ///< background pixels in the look-down render
   /// VIPM tilesets: pixels whose material (the largest splat weight's; no terrain counts as
-  /// one) differs between the last frame's drawn state and this one's, both drawn from this
-  /// frame's camera. Measured (without a source too) where `popComplete` holds.
+  /// one) differs between the last frame's LOD state, geomorphed for this frame, and this
+  /// one's, both drawn from this frame's camera. Measured (without a source too) where
+  /// `popComplete` holds.
   double materialPopPx = NAN;
+  /// The same with the last frame's state as it was drawn (its own geomorph).
+  double materialMorphStepPx = NAN;
 };
 
 struct BenchFlightOptions {

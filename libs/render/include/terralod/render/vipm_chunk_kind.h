@@ -34,11 +34,12 @@ namespace terralod {
 double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
                       const SelectedChunk& chunk);
 
-/// A VIPM chunk drawn at a given allowed error θ (metres), e.g. as it was drawn in an earlier
+/// A VIPM chunk drawn at given allowed errors (metres), e.g. as it was drawn in an earlier
 /// frame: bench's material pops draw two frames' states from one camera.
 struct VipmChunkAt {
   uint32_t node = 0;
-  double theta = 0.0;
+  double theta = 0.0;       ///< chooses the applied and geomorphing collapses
+  double morphTheta = 0.0;  ///< where the geomorph stands (as drawn: theta)
 };
 
 /// The material of a pixel of a material-ID image (VipmChunkKind::addMaterialIdDraws): the
@@ -66,10 +67,10 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   void release(uint32_t node) override;
   void addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) override;
 
-  /// Draws `chunks`, each at its own θ (geomorphed as frame.selection.morph says), into the
-  /// frame as a material-ID image (vipmMaterialOfPixel reads it; the frame should be cleared
-  /// to black without sky). Chunks not uploaded are counted in frame.stats.missing. Leaves
-  /// the chunks at those levels: the next addDraws moves them again.
+  /// Draws `chunks`, each at its own θ (geomorphed at its morphTheta when frame.selection.morph
+  /// is on), into the frame as a material-ID image (vipmMaterialOfPixel reads it; the frame
+  /// should be cleared to black without sky). Chunks not uploaded are counted in
+  /// frame.stats.missing. Leaves the chunks at those levels: the next addDraws moves them.
   void addMaterialIdDraws(TerrainFrame& frame, std::span<const VipmChunkAt> chunks);
 
   /// The collapses applied now in `node` (for tests); none when it is not uploaded.
