@@ -207,6 +207,10 @@ std::string reportMarkdown(const BenchFlightResult& flight, const nlohmann::json
   if (quality && s.contains("max_morph_step_px"))
     md << "| max morph step px (VIPM: all motion between frames) | "
        << figure(s, "max_morph_step_px", "%.4g") << " |\n";
+  if (s.contains("material_pop_px"))
+    md << "| material pop px max / p99 (VIPM; morph step) | " << figure(s, "material_pop_px")
+       << " / " << figure(s, "material_pop_px_p99") << " (" << figure(s, "material_morph_step_px")
+       << ") |\n";
   if (quality)
     md << "| holes total | " << figure(s, "holes_total") << " |\n"
        << "| image pop mean /255 (average; with frames while streaming) | "
