@@ -39,7 +39,7 @@ class VipmBenchCli : public ::testing::Test {
         {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
         {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
         {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
-    // The last stretch of the descent, few frames, small (material pops need no source),
+    // The last stretch of the descent, few frames, small,
     // after hovering while the chunks stream in.
     std::ofstream(sDir->file("short.json")) << R"({"fov_deg": 60, "size": [160, 120],
       "frames": 24, "keyframes": [
@@ -68,12 +68,12 @@ class VipmBenchCli : public ::testing::Test {
     return nlohmann::json::parse(readWholeFile(sDir->file("b.json")));
   }
 
-  // Material pops: a flight without --source.
+  // Material pops (quality figures: with --source).
   static nlohmann::json materials(const SharedDirectory& tileset, const std::string& flight,
                                   const std::vector<std::string>& extra) {
-    std::vector<std::string> args = {"bench",    tileset.file("c.tlod"),
-                                     "--flight", sDir->file(flight),
-                                     "--json",   sDir->file("m.json")};
+    std::vector<std::string> args = {
+        "bench",    tileset.file("c.tlod"),          "--flight", sDir->file(flight),
+        "--source", testData("crater_lake_0513.bt"), "--json",   sDir->file("m.json")};
     args.insert(args.end(), extra.begin(), extra.end());
     const RunResult r = runTerralod(args);
     EXPECT_EQ(r.exitCode, 0) << r.err;

@@ -207,7 +207,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
   };
 
   std::optional<MaterialPops> materialPops;
-  if (scene.tileset().header().meshKind == MeshKind::kVipm) materialPops.emplace(scene, options);
+  // A quality figure like the others (three more pictures a frame): with a source only.
+  if (options.source && scene.tileset().header().meshKind == MeshKind::kVipm)
+    materialPops.emplace(scene, options);
 
   std::optional<Framebuffer> target;
   size_t nextKept = 0;

@@ -43,9 +43,12 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   if (scene.tileset().header().meshKind == MeshKind::kVipm) {
     j["reconstruct_ms_p50"] = percentile(flight.reconstructMs, 0.5);
     j["reconstruct_ms_max"] = percentile(flight.reconstructMs, 1.0);
-    // Pixels whose material changed from the LOD state alone between two frames that had what
-    // they wanted (both drawn from the later camera, last frame's state geomorphed for it, as
-    // max_pop_px): the most, the 99th percentile and the mean over those frames.
+  }
+  // Quality figures (with --source) on VIPM tilesets: pixels whose material changed from the
+  // LOD state alone between two frames that had what they wanted (both drawn from the later
+  // camera, last frame's state geomorphed for it, as max_pop_px): the most, the 99th
+  // percentile and the mean over those frames.
+  if (options.source && scene.tileset().header().meshKind == MeshKind::kVipm) {
     std::vector<double> materialPops;
     double materialStep = 0.0;
     for (const FrameRecord& r : f) {
