@@ -69,10 +69,12 @@ Candidate bestCollapse(const PatchMesh& mesh, uint16_t v, std::vector<uint16_t>&
 
 }  // namespace
 
-CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules) {
+CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules,
+                                 const CollapseStart& start) {
   CollapseOrder order;
-  order.gridTriangles = gridTriangulation(patch.width, patch.height);
-  PatchMesh mesh(patch, rules);
+  order.gridTriangles =
+      start.triangles.empty() ? gridTriangulation(patch.width, patch.height) : start.triangles;
+  PatchMesh mesh(patch, rules, order.gridTriangles, start.seamX, start.seamY);
   const uint32_t n = patch.pointCount();
   std::vector<Candidate> best(n);
   std::vector<uint32_t> stamp(n, 0);
@@ -95,6 +97,12 @@ CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules) {
   double running = 0.0;
   for (uint32_t v = 0; v < n; ++v)
     running = std::max(running, std::abs(double(patch.heights[v]) - patch.vertexHeight(v)));
+  // A given start is coarser than the grid: its own error is where the order starts.
+  if (!start.triangles.empty()) {
+    for (const auto& t : start.triangles)
+      running = std::max(running, triangleError(patch, t[0], t[1], t[2]));
+    order.startError = roundUp(running);
+  }
   while (!heap.empty()) {
     const Entry e = heap.top();
     heap.pop();

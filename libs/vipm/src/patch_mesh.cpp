@@ -25,7 +25,7 @@ int64_t ceilDiv(int64_t a, int64_t b) {
   return -floorDiv(-a, b);
 }
 
-enum Side { kWest = 1, kEast = 2, kSouth = 4, kNorth = 8 };
+enum Side { kWest = 1, kEast = 2, kSouth = 4, kNorth = 8, kSeamX = 16, kSeamY = 32 };
 
 }  // namespace
 
@@ -72,8 +72,9 @@ double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t 
   return worst;
 }
 
-PatchMesh::PatchMesh(const GridPatch& patch, MaterialRules rules)
-    : mPatch(patch), mRules(rules), mTriangles(gridTriangulation(patch.width, patch.height)) {
+PatchMesh::PatchMesh(const GridPatch& patch, MaterialRules rules,
+                     std::vector<std::array<uint16_t, 3>> triangles, int32_t seamX, int32_t seamY)
+    : mPatch(patch), mRules(rules), mSeamX(seamX), mSeamY(seamY), mTriangles(std::move(triangles)) {
   mIncident.resize(patch.pointCount());
   mMark.assign(patch.pointCount(), 0);
   mMark2.assign(patch.pointCount(), 0);
@@ -85,7 +86,8 @@ PatchMesh::PatchMesh(const GridPatch& patch, MaterialRules rules)
 int PatchMesh::sides(uint16_t v) const {
   const int32_t x = mPatch.xOf(v), y = mPatch.yOf(v);
   return (x == 0 ? kWest : 0) | (x == mPatch.width - 1 ? kEast : 0) | (y == 0 ? kSouth : 0) |
-         (y == mPatch.height - 1 ? kNorth : 0);
+         (y == mPatch.height - 1 ? kNorth : 0) | (x == mSeamX ? kSeamX : 0) |
+         (y == mSeamY ? kSeamY : 0);
 }
 
 void PatchMesh::neighbours(uint16_t v, std::vector<uint16_t>& out) const {

@@ -22,7 +22,13 @@ double triangleError(const GridPatch& patch, uint16_t a, uint16_t b, uint16_t c,
 
 class PatchMesh {
  public:
-  PatchMesh(const GridPatch& patch, MaterialRules rules);
+  /// The full grid triangulation of `patch`.
+  PatchMesh(const GridPatch& patch, MaterialRules rules)
+      : PatchMesh(patch, rules, gridTriangulation(patch.width, patch.height)) {}
+  /// The mesh of `triangles` over `patch`'s points; vertices on x = seamX or y = seamY (-1:
+  /// none) move only along those lines, as vertices on a side do.
+  PatchMesh(const GridPatch& patch, MaterialRules rules,
+            std::vector<std::array<uint16_t, 3>> triangles, int32_t seamX = -1, int32_t seamY = -1);
 
   /// The error of collapsing v onto u (the largest distance of the samples under the new
   /// triangles), or infinity when the collapse is not allowed or its error exceeds `limit`.
@@ -46,6 +52,7 @@ class PatchMesh {
 
   const GridPatch& mPatch;
   MaterialRules mRules;
+  int32_t mSeamX, mSeamY;
   std::vector<std::array<uint16_t, 3>> mTriangles;
   std::vector<std::vector<uint32_t>> mIncident;  // per point, its alive triangles
   struct KnownError {

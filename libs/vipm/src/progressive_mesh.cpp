@@ -31,14 +31,17 @@ ProgressiveMesh makeProgressiveMesh(const GridPatch& patch, const CollapseOrder&
   for (uint32_t v = 0; v < n; ++v)
     quantisation =
         std::max(quantisation, std::abs(double(patch.heights[v]) - patch.vertexHeight(v)));
-  mesh.finestError = applied > 0 ? all[applied - 1].error : float(quantisation);
+  mesh.finestError =
+      applied > 0 ? all[applied - 1].error : std::max(float(quantisation), order.startError);
 
-  // Vertex order: never removed (by point id), then the runtime collapses' vertices, last
-  // removed first.
-  std::vector<uint8_t> removed(n, 0);
+  // Vertex order: never removed (by point id; points of the start's triangles only), then the
+  // runtime collapses' vertices, last removed first.
+  std::vector<uint8_t> used(n, 0), removed(n, 0);
+  for (const auto& tri : order.gridTriangles)
+    for (uint16_t v : tri) used[v] = 1;
   for (const Collapse& c : all) removed[c.vertex] = 1;
   for (uint32_t v = 0; v < n; ++v)
-    if (!removed[v]) mesh.points.push_back(uint16_t(v));
+    if (used[v] && !removed[v]) mesh.points.push_back(uint16_t(v));
   for (size_t k = all.size(); k-- > applied;) mesh.points.push_back(all[k].vertex);
   std::vector<uint16_t> index(n, UINT16_MAX);
   for (uint32_t i = 0; i < mesh.points.size(); ++i) index[mesh.points[i]] = uint16_t(i);

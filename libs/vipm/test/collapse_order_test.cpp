@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "patch_mesh.h"
+#include "terralod/vipm/progressive_mesh.h"
 #include "vipm_test_patches.h"
 
 namespace terralod {
@@ -139,6 +140,65 @@ TEST_P(RealChunk, ErrorsBoundTheSurfaceAndTheBorderHolds) {
 
 INSTANTIATE_TEST_SUITE_P(Rules, RealChunk,
                          ::testing::Values(MaterialRules::kOn, MaterialRules::kOff));
+
+// An order can start from a given mesh (a fallback root's children's coarsest levels joined,
+// the first step to the far field): only its vertices collapse, the errors start at its own,
+// still bound the surface, and vertices on the seams move along them.
+TEST(CollapseOrder, StartsFromAGivenMeshAndKeepsSeamVerticesOnTheirSeams) {
+  const GridPatch p = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 33);
+  const CollapseOrder first = buildCollapseOrder(p, MaterialRules::kOn);
+  size_t applied = 0;  // the first order's level at 2 m
+  while (applied < first.collapses.size() && first.collapses[applied].error <= 2.0f) ++applied;
+  ASSERT_GT(applied, 100u);
+  CollapseStart start;
+  start.triangles = meshAfter(first, applied, p.pointCount());
+  start.seamX = 16;
+  start.seamY = 16;
+  std::vector<uint8_t> used(p.pointCount(), 0);
+  for (const Tri& t : start.triangles)
+    for (uint16_t v : t) used[v] = 1;
+  const CollapseOrder order = buildCollapseOrder(p, MaterialRules::kOff, start);
+  ASSERT_GT(order.collapses.size(), 50u);
+  EXPECT_GT(order.startError, 0.0f);
+  // (Up to rounding: the error is measured from another corner of each triangle.)
+  EXPECT_LE(order.startError, first.collapses[applied - 1].error * (1.0f + 1e-6f));
+  std::vector<uint8_t> removed(p.pointCount(), 0);
+  float previous = order.startError;
+  for (const Collapse& c : order.collapses) {
+    EXPECT_TRUE(used[c.vertex] && used[c.target]) << "a point outside the start moved";
+    EXPECT_FALSE(removed[c.vertex]);
+    removed[c.vertex] = 1;
+    EXPECT_GE(c.error, previous);
+    previous = c.error;
+    const int32_t vx = p.xOf(c.vertex), vy = p.yOf(c.vertex);
+    const int32_t ux = p.xOf(c.target), uy = p.yOf(c.target);
+    const bool onX = vx == 0 || vx == 16 || vx == p.width - 1;
+    const bool onY = vy == 0 || vy == 16 || vy == p.height - 1;
+    EXPECT_FALSE(onX && onY) << "a corner or a seam's end moved: " << vx << "," << vy;
+    if (onX) {
+      EXPECT_EQ(ux, vx);
+    }
+    if (onY) {
+      EXPECT_EQ(uy, vy);
+    }
+  }
+  for (size_t k : {size_t(0), order.collapses.size() / 2, order.collapses.size()}) {
+    std::vector<uint16_t> to = test::unrenamed(p.pointCount());
+    for (size_t j = 0; j < k; ++j) to[order.collapses[j].vertex] = order.collapses[j].target;
+    const auto tris = test::renamed(start.triangles, to);
+    int64_t total = 0;
+    for (const Tri& t : tris) total += area2(p, t);
+    EXPECT_EQ(total, 2 * int64_t(p.width - 1) * (p.height - 1)) << "after " << k;
+    const Oracle o = bruteForce(p, tris);
+    const double recorded = k == 0 ? order.startError : order.collapses[k - 1].error;
+    EXPECT_LE(o.error, recorded + 1e-6) << "after " << k << " collapses";
+  }
+  // The progressive mesh holds the start's vertices only, and starts at its error.
+  const ProgressiveMesh mesh = makeProgressiveMesh(p, order, 0.0);
+  EXPECT_EQ(mesh.vertexCount(), uint32_t(std::count(used.begin(), used.end(), 1)));
+  EXPECT_EQ(mesh.finestError, order.startError);
+  EXPECT_TRUE(triangleRemovals(mesh).ok());
+}
 
 // The three material rules hold for every collapse with them, and the first fails without
 // them (so the test can tell).

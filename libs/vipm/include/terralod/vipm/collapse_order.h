@@ -43,17 +43,34 @@ struct Collapse {
 };
 
 struct CollapseOrder {
-  /// The full grid triangulation the order starts from: two triangles per cell, the cell's
-  /// diagonal alternating in a checkerboard ((x + y) even: south-west to north-east),
-  /// counter-clockwise seen from above.
+  /// The triangulation the order starts from: unless CollapseStart gives one, the full grid's,
+  /// two triangles per cell, the cell's diagonal alternating in a checkerboard ((x + y) even:
+  /// south-west to north-east), counter-clockwise seen from above.
   std::vector<std::array<uint16_t, 3>> gridTriangles;
   std::vector<Collapse> collapses;
+  /// A given start's own error (metres, rounded up); 0 for the full grid.
+  float startError = 0.0f;
 };
 
 /// The grid triangulation described above.
 std::vector<std::array<uint16_t, 3>> gridTriangulation(int32_t width, int32_t height);
 
-/// Greedy collapse order of `patch` until no collapse is allowed. Pure and deterministic.
-CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules);
+/// Where an order starts, for meshes that are not a leaf's full grid (the first step to the
+/// far field, docs/architecture.md Known gaps: a fallback root simplified further, starting
+/// from its children's coarsest levels joined).
+struct CollapseStart {
+  /// The mesh to start from: triangles over patch points, counter-clockwise seen from above,
+  /// a manifold whose only open edges lie on the patch's sides or seams. Empty: the full grid
+  /// triangulation. Points no triangle uses are not part of the mesh.
+  std::vector<std::array<uint16_t, 3>> triangles;
+  /// Lines inside the patch (x = seamX, y = seamY; -1: none) whose vertices move only along
+  /// them, as a side's do; where a seam meets a side or the other seam the vertex is locked.
+  int32_t seamX = -1, seamY = -1;
+};
+
+/// Greedy collapse order of `patch` until no collapse is allowed, from `start`. Pure and
+/// deterministic. The errors start at the starting mesh's own error.
+CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules,
+                                 const CollapseStart& start = {});
 
 }  // namespace terralod
