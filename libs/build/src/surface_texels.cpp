@@ -212,20 +212,8 @@ void BlockTexels::findWater() {
 }
 
 TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
-  TexelTile tile(uint32_t(cells + 1), 3);
-  const float ix = float(0.5 / mOptions.spacingX), iy = float(0.5 / mOptions.spacingY);
-  for (int32_t j = 0; j <= cells; ++j)
-    for (int32_t i = 0; i <= cells; ++i) {
-      const int32_t gx = x0 + i, gy = y0 + j;
-      const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * ix;
-      const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * iy;
-      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-      float* n = tile.at(uint32_t(i), uint32_t(j));
-      n[0] = -dx * inv;
-      n[1] = -dy * inv;
-      n[2] = inv;
-    }
-  return tile;
+  return centralDifferenceNormals(x0, y0, cells, mOptions.spacingX, mOptions.spacingY,
+                                  [this](int32_t gx, int32_t gy) { return height(gx, gy); });
 }
 
 void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {

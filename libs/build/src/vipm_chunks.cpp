@@ -225,20 +225,10 @@ VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32
 
 std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, int32_t y0,
                                         int32_t cells, double spacingX, double spacingY) {
-  // As BlockTexels::normals computes a static tileset's (surface_texels.h).
-  TexelTile tile(uint32_t(cells + 1), 3);
-  const float ix = float(0.5 / spacingX), iy = float(0.5 / spacingY);
-  for (int32_t j = 0; j <= cells; ++j)
-    for (int32_t i = 0; i <= cells; ++i) {
-      const int32_t gx = x0 + i, gy = y0 + j;
-      const float dx = (heights.at(gx + 1, gy) - heights.at(gx - 1, gy)) * ix;
-      const float dy = (heights.at(gx, gy + 1) - heights.at(gx, gy - 1)) * iy;
-      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-      float* n = tile.at(uint32_t(i), uint32_t(j));
-      n[0] = -dx * inv;
-      n[1] = -dy * inv;
-      n[2] = inv;
-    }
+  // As a static tileset's normal layers are made (BlockTexels::normals).
+  const TexelTile tile =
+      centralDifferenceNormals(x0, y0, cells, spacingX, spacingY,
+                               [&](int32_t gx, int32_t gy) { return heights.at(gx, gy); });
   ChunkTexture texture;
   texture.layers.push_back(encodeNormalLayer(tile, kTextureSourceLimited));
   return encodeTexture(texture);

@@ -8,6 +8,7 @@
 // still agree after any resampling (mips, parents): no seams, at any level, at any mip.
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,6 +28,29 @@ struct TexelTile {
     return values.data() + (size_t(y) * size + x) * channels;
   }
 };
+
+/// Unit normals (x, y, z) by central differences, one texel per grid point of the `cells`-cell
+/// square whose south-west grid point is (x0, y0); `height(gx, gy)` gives the heights one
+/// point beyond the square too (clamped at the data's edge). Static tilesets' normal layers
+/// (BlockTexels) and VIPM tilesets' normal maps are made by it.
+template <typename Height>
+TexelTile centralDifferenceNormals(int32_t x0, int32_t y0, int32_t cells, double spacingX,
+                                   double spacingY, Height&& height) {
+  TexelTile tile(uint32_t(cells + 1), 3);
+  const float ix = float(0.5 / spacingX), iy = float(0.5 / spacingY);
+  for (int32_t j = 0; j <= cells; ++j)
+    for (int32_t i = 0; i <= cells; ++i) {
+      const int32_t gx = x0 + i, gy = y0 + j;
+      const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * ix;
+      const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * iy;
+      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
+      float* n = tile.at(uint32_t(i), uint32_t(j));
+      n[0] = -dx * inv;
+      n[1] = -dy * inv;
+      n[2] = inv;
+    }
+  return tile;
+}
 
 /// Where resampled texels go: edge-aligned (texel k at k / (size - 1) of the side: tiles,
 /// parents), or where the GPU samples mip level texels (texel k at (k + 0.5) * from / size -
