@@ -87,6 +87,7 @@ class QualityPass {
       auto step = mVipm->maxPopPixels(view, mPreviousDrawn, mCurrentDrawn);
       if (!step) return step.error();
       r.morphStepPx = *step;
+      if (Status s = materialPops(view, previousNow, r); !s) return s;
     } else if (r.popComplete) {
       auto pop = mMetrics->maxPopPixels(view, selection, mPrevious, mCurrent);
       if (!pop) return pop.error();
@@ -108,64 +109,30 @@ class QualityPass {
   }
 
  private:
-  TerrainScene& mScene;
-  const BenchFlightOptions& mOptions;
-  std::optional<QualityMetrics> mMetrics;
-  std::optional<VipmQuality> mVipm;
-  std::vector<VipmQuality::Drawn> mPreviousDrawn, mCurrentDrawn;  // VIPM: each chunk's θ
-  TerrainStyle mHoleStyle;
-  std::vector<SelectedChunk> mPrevious, mCurrent, mPreviousNow;
-  bool mPreviousComplete = false;
-  std::optional<Framebuffer> mPopTarget, mLookDown;
-};
-
-// Material pops on VIPM tilesets, as material-ID images (TerrainScene::drawVipmMaterials)
-// from each frame's camera: the pixels whose material differs between this frame's state and
-// the last frame's, the latter geomorphed for this frame (the collapses its θ chose, their
-// geomorph re-evaluated for this camera, as VipmQuality::geomorphedFor does for max_pop_px:
-// the pop) and as it was drawn (the morph step).
-class MaterialPops {
- public:
-  MaterialPops(TerrainScene& scene, const BenchFlightOptions& options)
-      : mScene(scene), mOptions(options) {}
-
-  Status measure(size_t i, const View& view, FrameRecord& r) {
-    const SelectionOptions& selection = mOptions.selection;
-    const ChunkTree& tree = mScene.tree();
-    mSelection = mScene.selected();
-    mCurrent.clear();
-    for (const SelectedChunk& s : mSelection) {
-      const double theta = vipmDrawnTheta(tree, view, selection.tau, s);
-      mCurrent.push_back({s.node, theta, theta});
+  // Material pops on VIPM tilesets, as material-ID images (TerrainScene::drawVipmMaterials)
+  // from this frame's camera: the pixels whose material differs between this frame's state
+  // and the last frame's, the latter geomorphed for this frame (`previousNow`, as for
+  // max_pop_px: the pop) and as it was drawn (the morph step).
+  Status materialPops(const View& view, std::span<const VipmQuality::Drawn> previousNow,
+                      FrameRecord& r) {
+    if (Status s = bindFramebufferOfSize(mMaterialTarget, view.camera.width, view.camera.height);
+        !s)
+      return s;
+    auto draw = [&](std::span<const VipmChunkAt> chunks, Image& image) {
+      const DrawStats stats =
+          mScene.drawVipmMaterials(view, chunks, mOptions.style, mOptions.selection);
+      image = mMaterialTarget->readPixels();
+      return stats.missing == 0;
+    };
+    // (Skipped when last frame's chunks have been evicted since.)
+    if (draw(previousNow, mMaterialPop) && draw(mPreviousDrawn, mMaterialStep) &&
+        draw(mCurrentDrawn, mMaterialNow)) {
+      r.materialPopPx = double(changedMaterials(mMaterialPop, mMaterialNow));
+      r.materialMorphStepPx = double(changedMaterials(mMaterialStep, mMaterialNow));
     }
-    // Between two frames that both had what they wanted, as max_pop_px.
-    if (i > 0 && !r.coarser && mPreviousComplete) {
-      mPreviousNow = mPrevious;
-      for (size_t k = 0; k < mPreviousNow.size(); ++k) {
-        SelectedChunk now = mPreviousSelection[k];
-        now.morph = morphParameter(tree, view, selection, now.node);
-        mPreviousNow[k].morphTheta = vipmDrawnTheta(tree, view, selection.tau, now);
-      }
-      if (Status s = bindFramebufferOfSize(mTarget, view.camera.width, view.camera.height); !s)
-        return s;
-      auto draw = [&](std::span<const VipmChunkAt> chunks, Image& image) {
-        const DrawStats stats = mScene.drawVipmMaterials(view, chunks, mOptions.style, selection);
-        image = mTarget->readPixels();
-        return stats.missing == 0;
-      };
-      // (Skipped when last frame's chunks have been evicted since.)
-      if (draw(mPreviousNow, mPop) && draw(mPrevious, mStep) && draw(mCurrent, mNow)) {
-        r.materialPopPx = double(changedMaterials(mPop, mNow));
-        r.materialMorphStepPx = double(changedMaterials(mStep, mNow));
-      }
-    }
-    mPreviousComplete = !r.coarser;
-    std::swap(mPrevious, mCurrent);
-    std::swap(mPreviousSelection, mSelection);
     return {};
   }
 
- private:
   static uint64_t changedMaterials(const Image& a, const Image& b) {
     uint64_t changed = 0;
     for (size_t k = 0; k < a.rgba.size(); k += 4)
@@ -175,11 +142,14 @@ class MaterialPops {
 
   TerrainScene& mScene;
   const BenchFlightOptions& mOptions;
-  std::vector<SelectedChunk> mSelection, mPreviousSelection;
-  std::vector<VipmChunkAt> mPrevious, mCurrent, mPreviousNow;
+  std::optional<QualityMetrics> mMetrics;
+  std::optional<VipmQuality> mVipm;
+  std::vector<VipmQuality::Drawn> mPreviousDrawn, mCurrentDrawn;  // VIPM: each chunk's θ
+  TerrainStyle mHoleStyle;
+  std::vector<SelectedChunk> mPrevious, mCurrent, mPreviousNow;
   bool mPreviousComplete = false;
-  std::optional<Framebuffer> mTarget;
-  Image mPop, mStep, mNow;
+  std::optional<Framebuffer> mPopTarget, mLookDown, mMaterialTarget;
+  Image mMaterialPop, mMaterialStep, mMaterialNow;
 };
 
 }  // namespace
@@ -205,11 +175,6 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
   auto frameError = [](size_t i, const Error& e) {
     return Error{"frame " + std::to_string(i) + ": " + e.message};
   };
-
-  std::optional<MaterialPops> materialPops;
-  // A quality figure like the others (three more pictures a frame): with a source only.
-  if (options.source && scene.tileset().header().meshKind == MeshKind::kVipm)
-    materialPops.emplace(scene, options);
 
   std::optional<Framebuffer> target;
   size_t nextKept = 0;
@@ -255,8 +220,6 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
       addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), result.texels);
     if (quality)
       if (Status s = quality->measure(i, *view, r); !s) return frameError(i, s.error());
-    if (materialPops)
-      if (Status s = materialPops->measure(i, *view, r); !s) return frameError(i, s.error());
     result.frames.push_back(r);
     progress.advance();
   }

@@ -1,8 +1,8 @@
 #pragma once
 // bench's flight: renders every camera headless through the streaming scene, as an application
 // would (frames never wait for data), and records each frame's figures. With a source raster it
-// also measures the drawn surface against it (error, pops, holes, image pops). On VIPM
-// tilesets it counts material pops (FrameRecord::materialPopPx), which need no source.
+// also measures the drawn surface against it (error, pops, holes, image pops; on VIPM
+// tilesets material pops too, FrameRecord::materialPopPx, which do not read the source).
 
 #include <cmath>
 #include <cstdint>
@@ -46,8 +46,8 @@ struct FrameRecord {
   uint64_t holes = 0;        ///< background pixels in the look-down render
   /// VIPM tilesets: pixels whose material (the largest splat weight's; no terrain counts as
   /// one) differs between the last frame's LOD state, geomorphed for this frame, and this
-  /// one's, both drawn from this frame's camera. Measured (without a source too) where
-  /// `popComplete` holds.
+  /// one's, both drawn from this frame's camera. Measured with a source, where `popComplete`
+  /// holds.
   double materialPopPx = NAN;
   /// The same with the last frame's state as it was drawn (its own geomorph).
   double materialMorphStepPx = NAN;

@@ -24,6 +24,7 @@
 
 #include "terralod/format/tileset_reader.h"
 #include "terralod/raster/heightfield.h"
+#include "terralod/render/vipm_chunk_kind.h"
 #include "terralod/runtime/chunk_tree.h"
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/view.h"
@@ -35,11 +36,7 @@ namespace terralod {
 class VipmQuality {
  public:
   /// A chunk as drawn in one frame.
-  struct Drawn {
-    uint32_t node = 0;
-    double theta = 0.0;       ///< allowed error that chose its collapses, metres
-    double morphTheta = 0.0;  ///< allowed error its geomorph is evaluated at (usually theta)
-  };
+  using Drawn = VipmChunkAt;  ///< node, θ that chose its collapses, θ of its geomorph
   /// `source` is the tileset's source grid; every `stride`-th sample (x and y) is measured.
   /// `geomorph`: whether the kind geomorphs (SelectionOptions::morph).
   VipmQuality(const TilesetReader& tileset, const ChunkTree& tree, const Heightfield& source,
