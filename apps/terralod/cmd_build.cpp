@@ -81,6 +81,13 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto noRules = std::make_shared<bool>(false);
   cmd->add_flag("--no-material-rules", *noRules,
                 "vipm: collapse without the material rules (shows what they buy)");
+  auto blotError = cmd->add_option(
+      "--blot-error", options->blotError,
+      "vipm: leaves simplify with the material rules up to this error (metres, at least "
+      "--max-error); beyond twice it the 128-cell roots draw instead, simplified without the "
+      "rules (blot chunks: far fewer triangles far away, at the price of material pops there). "
+      "Default: leaves simplify as far as the rules allow");
+  blotError->check(positiveNumber());
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -112,10 +119,13 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         options->kind = TilesetKind::kVipm;
         options->textures = false;  // no colour tiles: normal maps only (vipm_builder.h)
         options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
+        if (options->blotError > 0 && options->blotError < options->maxError)
+          return fail("--blot-error must be at least --max-error");
       } else {
         for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},
                                    std::pair{!options->palettePath.empty(), "--palette"},
-                                   std::pair{*noRules, "--no-material-rules"}})
+                                   std::pair{*noRules, "--no-material-rules"},
+                                   std::pair{options->blotError > 0, "--blot-error"}})
           if (given) return fail(std::string(name) + " applies to --kind vipm only");
       }
       if (!options->palettePath.empty() && options->materialsPath.empty())

@@ -13,7 +13,7 @@ void printVipmChecks(const VipmVerifyStats& v) {
   std::printf(
       "  VIPM: %llu LODs, smallest (recorded - true error) %.4f m; %llu collapses, %llu "
       "break a material rule (%s); vertex materials %s: %llu differ; parts agree at %llu "
-      "LODs; roots vs children's coarsest LOD: %llu samples, largest difference %.6f m; "
+      "LODs; roots' finest LOD vs children's coarsest: %llu samples, largest difference %.6f m; "
       "normal maps: %llu (%llu texels) within BC5's loss of the source's, largest difference "
       "%.4f\n",
       (unsigned long long)v.lods, v.worstErrorMargin, (unsigned long long)v.collapsesChecked,

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "terralod/format/tileset_reader.h"
+#include "terralod/format/vipm_chunk_codec.h"
 
 #include "cli_expectations.h"
 #include "cli_runner.h"
@@ -40,6 +41,26 @@ TEST_F(VipmVerifyCli, ABuiltTilesetPassesEveryCheck) {
   EXPECT_TRUE(has(verified.out, "vertex materials against the source's: 0 differ")) << verified.out;
   EXPECT_TRUE(has(verified.out, "largest difference 0.000000 m")) << verified.out;
   EXPECT_TRUE(has(verified.out, "normal maps: 5 (")) << verified.out;  // 1 root, 4 leaves
+}
+
+// --blot-error: leaves stop at it, the root takes over at twice it and simplifies further
+// without the rules; verify checks the root's LODs (not against the rules), its first
+// collapse against the roots' level error, and its flanges over its children's shared sides.
+TEST_F(VipmVerifyCli, BlotRootsPassEveryCheck) {
+  const std::string out = mDir.file("b.tlod");
+  const RunResult built = runTerralod(
+      {"build", kDem, "--kind", "vipm", "--blot-error", "2", "--threads", "2", "-o", out});
+  ASSERT_EQ(built.exitCode, 0) << built.err;
+  auto reader = TilesetReader::openFile(out).value();
+  EXPECT_LE(reader->header().levelError[0], 4.0);
+  auto root = decodeVipmChunk(reader->readBlob(0).value(), "root").value();
+  EXPECT_GT(root.collapseCount(), 100u);  // a blot chunk
+  EXPECT_GE(double(root.errors.front()) * root.errorStep, reader->header().levelError[0]);
+  const RunResult verified = runTerralod({"verify", out, "--source", kDem, "--threads", "2"});
+  EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
+  EXPECT_TRUE(has(verified.out, "verify: OK")) << verified.out;
+  EXPECT_TRUE(has(verified.out, ", 0 break a material rule (built with the rules)"))
+      << verified.out;
 }
 
 // Overwrites `bytes` at `offset` of node `node`'s texture blob; with `fixCrc` the blob's own

@@ -106,26 +106,64 @@ double largestRootRange(const Heightfield& h, const TreeLayout& layout) {
   return largest;
 }
 
-// maxSkirtDepth of every node (docs/format.md "Node fields").
-void setFlangeDepths(std::vector<NodeRecord>& nodes, const std::vector<double>& leafDeviation,
-                     int32_t leavesX, int32_t leavesY, double zStep) {
-  auto dev = [&](int32_t x, int32_t y) {
+// A built chunk's mesh fields into its node record.
+void takeMeshFields(NodeRecord& n, const NodeRecord& built) {
+  n.meshKind = built.meshKind;
+  n.minZ = built.minZ;
+  n.maxZ = built.maxZ;
+  n.vertexCount = built.vertexCount;
+  n.triangleCount = built.triangleCount;
+}
+
+// How far each drawn chunk's border strays from the source samples, over all its levels.
+struct Deviations {
+  int32_t leavesX = 0, leavesY = 0, rootsX = 0, rootsY = 0;
+  std::vector<double> leaf, root, rootSeams;
+
+  double leafAt(int32_t x, int32_t y) const {
     if (x < 0 || y < 0 || x >= leavesX || y >= leavesY) return 0.0;
-    return leafDeviation[size_t(y) * size_t(leavesX) + size_t(x)];
-  };
+    return leaf[size_t(y) * size_t(leavesX) + size_t(x)];
+  }
+  double rootAt(int32_t x, int32_t y) const {
+    if (x < 0 || y < 0 || x >= rootsX || y >= rootsY) return 0.0;
+    return root[size_t(y) * size_t(rootsX) + size_t(x)];
+  }
+  // A root and its leaves.
+  double familyAt(int32_t x, int32_t y) const {
+    double d = rootAt(x, y);
+    for (int32_t k = 0; k < 4; ++k) d = std::max(d, leafAt(2 * x + (k & 1), 2 * y + (k >> 1)));
+    return d;
+  }
+};
+
+// maxSkirtDepth of every node (docs/format.md "Node fields"): two borders drawn side by side
+// are at most their deviations apart, so a flange as deep as its own deviation plus the
+// largest of any chunk that can be drawn beside it closes the gap.
+void setFlangeDepths(std::vector<NodeRecord>& nodes, const Deviations& d, double zStep) {
+  static constexpr int32_t kDx[4] = {1, -1, 0, 0}, kDy[4] = {0, 0, 1, -1};
   for (NodeRecord& n : nodes) {
-    const int32_t size = n.level == 0 ? 2 : 1;  // leaves a side
-    const int32_t x0 = int32_t(n.x) * size, y0 = int32_t(n.y) * size;
-    double inside = 0.0, outside = 0.0;
-    for (int32_t k = 0; k < size; ++k) {
-      for (int32_t j = 0; j < size; ++j) inside = std::max(inside, dev(x0 + j, y0 + k));
-      outside = std::max({outside, dev(x0 - 1, y0 + k), dev(x0 + size, y0 + k), dev(x0 + k, y0 - 1),
-                          dev(x0 + k, y0 + size)});
+    if (n.level == 0) continue;
+    const int32_t x = int32_t(n.x), y = int32_t(n.y);
+    double outside = 0.0;
+    for (int k = 0; k < 4; ++k) {
+      const int32_t nx = x + kDx[k], ny = y + kDy[k];
+      outside = std::max(outside, d.leafAt(nx, ny));
+      if ((nx >> 1) != (x >> 1) || (ny >> 1) != (y >> 1))  // another root's
+        outside = std::max(outside, d.rootAt(nx >> 1, ny >> 1));
     }
-    // A root also covers the seams between its children, which need not simplify their
-    // shared sides alike (T-junctions): there a gap is at most twice the inside deviation.
-    if (n.level == 0) outside = std::max(outside, inside);
-    n.maxSkirtDepth = floatAbove(inside + outside + zStep);
+    n.maxSkirtDepth = floatAbove(d.leafAt(x, y) + outside + zStep);
+  }
+  for (NodeRecord& n : nodes) {
+    if (n.level != 0) continue;
+    const int32_t x = int32_t(n.x), y = int32_t(n.y);
+    double outside = 0.0;
+    for (int k = 0; k < 4; ++k) outside = std::max(outside, d.familyAt(x + kDx[k], y + kDy[k]));
+    // Its children's shared sides: each side's polyline is within the seam deviation.
+    const double seams = 2.0 * d.rootSeams[size_t(y) * size_t(d.rootsX) + size_t(x)];
+    double depth = std::max(d.rootAt(x, y) + outside, seams) + zStep;
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
+      depth = std::max(depth, double(nodes[n.firstChild + c].maxSkirtDepth));
+    n.maxSkirtDepth = floatAbove(depth);
   }
 }
 
@@ -143,6 +181,8 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
        {{"max_error", options.maxError},
         {"chunk_cells", kLeaf},
         {"material_rules", options.materialRules == MaterialRules::kOn},
+        {"blot_error",
+         options.blotError > 0 ? nlohmann::json(options.blotError) : nlohmann::json()},
         {"materials", options.materialsPath.empty()
                           ? std::string("classification")
                           : std::filesystem::path(options.materialsPath).filename().string()},
@@ -206,6 +246,8 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   params.zStep = zStep;
   params.maxError = options.maxError;
   params.rules = options.materialRules;
+  params.coarsestError =
+      options.blotError > 0 ? options.blotError : std::numeric_limits<double>::infinity();
   params.compressionLevel = options.compressionLevel;
   std::vector<VipmLeaf> leaves(leafCount);
   // Every node's normal map, from the source heights (never from its mesh).
@@ -221,51 +263,61 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     progress.advance(1);
   });
 
-  // Stage: the roots, from their children's coarsest levels.
-  std::vector<std::vector<uint8_t>> rootBlobs(rootCount);
-  parallelFor(rootCount, threads, [&](size_t r, unsigned) {
-    NodeRecord& n = nodes[r];
-    std::vector<const CoarseMesh*> children;
-    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
-      children.push_back(&leaves[n.firstChild + c - rootCount].coarsest);
-    const int32_t x0 = int32_t(n.x) * kRoot, y0 = int32_t(n.y) * kRoot;
-    const VipmChunkData root = joinCoarsest(children, x0, y0, pointsFrom(x0, layout.cellsX, kRoot),
-                                            pointsFrom(y0, layout.cellsY, kRoot), zStep);
-    rootBlobs[r] = encodeVipmChunk(root, options.compressionLevel);
-    normalMaps[r] = buildVipmNormalMap(*heights, x0, y0, kRoot, info.spacingX, info.spacingY);
-    const auto [lo, hi] = std::minmax_element(root.heights.begin(), root.heights.end());
-    n.meshKind = MeshKind::kVipm;
-    n.minZ = floatBelow(root.zBase + double(*lo) * zStep);
-    n.maxZ = floatAbove(root.zBase + double(*hi) * zStep);
-    n.vertexCount = root.vertexCount();
-    n.triangleCount = root.triangleCount();
-    progress.advance(1);
-  });
-  progress.end();
-
-  // Node fields, flanges, and the blobs in node order.
-  const int32_t leavesX = layout.chunksX(1), leavesY = layout.chunksY(1);
-  std::vector<double> deviation(size_t(leavesX) * size_t(leavesY), 0.0);
+  // The leaves' node fields, and the roots' level error: at least twice every leaf's
+  // coarsest error, so that a leaf draws its coarsest level where its root takes over (and
+  // levels stay ordered on flat ground too).
+  Deviations deviations;
+  deviations.leavesX = layout.chunksX(1);
+  deviations.leavesY = layout.chunksY(1);
+  deviations.rootsX = layout.rootsX;
+  deviations.rootsY = layout.rootsY;
+  deviations.leaf.assign(size_t(deviations.leavesX) * size_t(deviations.leavesY), 0.0);
+  deviations.root.assign(rootCount, 0.0);
+  deviations.rootSeams.assign(rootCount, 0.0);
   double largestCoarsest = 0.0;
   std::vector<double> leafSeconds;
   for (size_t k = 0; k < leafCount; ++k) {
     NodeRecord& n = nodes[rootCount + k];
     const VipmLeaf& leaf = leaves[k];
-    n.meshKind = MeshKind::kVipm;
-    n.minZ = leaf.node.minZ;
-    n.maxZ = leaf.node.maxZ;
-    n.vertexCount = leaf.node.vertexCount;
-    n.triangleCount = leaf.node.triangleCount;
-    deviation[size_t(n.y) * size_t(leavesX) + n.x] = leaf.borderDeviation;
+    takeMeshFields(n, leaf.node);
+    deviations.leaf[size_t(n.y) * size_t(deviations.leavesX) + n.x] = leaf.borderDeviation;
     largestCoarsest = std::max(largestCoarsest, double(leaf.coarsest.error));
     summary.collapses += leaf.collapses;
     leafSeconds.push_back(leaf.seconds);
   }
-  setFlangeDepths(nodes, deviation, leavesX, leavesY, zStep);
+  const double rootLevelError = 2.0 * std::max(largestCoarsest, options.maxError);
+
+  // Stage: the roots, blot chunks from their children's coarsest levels.
+  std::vector<VipmRoot> roots(rootCount);
+  parallelFor(rootCount, threads, [&](size_t r, unsigned) {
+    const NodeRecord& n = nodes[r];
+    std::vector<const CoarseMesh*> children;
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
+      children.push_back(&leaves[n.firstChild + c - rootCount].coarsest);
+    const int32_t x0 = int32_t(n.x) * kRoot, y0 = int32_t(n.y) * kRoot;
+    roots[r] = buildVipmRoot(
+        *heights, *materials, children, x0, y0, pointsFrom(x0, layout.cellsX, kRoot),
+        pointsFrom(y0, layout.cellsY, kRoot), zStep, rootLevelError, options.compressionLevel);
+    normalMaps[r] = buildVipmNormalMap(*heights, x0, y0, kRoot, info.spacingX, info.spacingY);
+    progress.advance(1);
+  });
+  progress.end();
+  for (size_t r = 0; r < rootCount; ++r) {
+    NodeRecord& n = nodes[r];
+    const VipmRoot& root = roots[r];
+    takeMeshFields(n, root.node);
+    const size_t at = size_t(n.y) * size_t(layout.rootsX) + n.x;
+    deviations.root[at] = root.borderDeviation;
+    deviations.rootSeams[at] = root.seamDeviation;
+    summary.collapses += root.collapses;
+  }
+  setFlangeDepths(nodes, deviations, zStep);
+
+  // The blobs in node order.
   double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
   for (size_t i = 0; i < nodes.size(); ++i) {
     NodeRecord& n = nodes[i];
-    const std::vector<uint8_t>& blob = i < rootCount ? rootBlobs[i] : leaves[i - rootCount].blob;
+    const std::vector<uint8_t>& blob = i < rootCount ? roots[i].blob : leaves[i - rootCount].blob;
     auto offset = (*writer)->appendBlob(blob);
     if (!offset) return offset.error();
     n.blobOffset = *offset;
@@ -304,8 +356,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   header.sourceRows = uint32_t(info.rows);
   header.spacingX = info.spacingX;
   header.spacingY = info.spacingY;
-  // At least twice the leaves' error, so that levels stay ordered on flat ground too.
-  header.levelError[0] = 2.0 * std::max(largestCoarsest, options.maxError);
+  header.levelError[0] = rootLevelError;
   header.levelError[1] = options.maxError;
   header.extentMin = {0.0, 0.0, zMin};
   header.extentMax = {layout.cellsX * info.spacingX, layout.cellsY * info.spacingY, zMax};

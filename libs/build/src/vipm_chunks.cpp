@@ -15,6 +15,8 @@
 namespace terralod {
 namespace {
 
+constexpr int32_t kLeaf = int32_t(kVipmLeafCells);
+
 // CPU time of the calling thread (wall time would count other builds on a shared machine).
 double threadSeconds() {
   timespec t{};
@@ -49,6 +51,37 @@ CoarseMesh coarsestLevel(const ProgressiveMesh& mesh, const VipmChunkData& store
     for (uint16_t v : mesh.triangles[t]) c.indices.push_back(findRoot(rep, v));
   }
   return c;
+}
+
+// The source's heights and materials over a chunk's points.
+GridPatch sourcePatch(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
+                      int32_t y0, int32_t width, int32_t height) {
+  GridPatch patch;
+  patch.width = width;
+  patch.height = height;
+  patch.heights.reserve(patch.pointCount());
+  patch.materials.reserve(patch.pointCount());
+  for (int32_t y = 0; y < height; ++y)
+    for (int32_t x = 0; x < width; ++x) {
+      patch.heights.push_back(heights(x0 + x, y0 + y));
+      patch.materials.push_back(materials.at(x0 + x, y0 + y));
+    }
+  return patch;
+}
+
+// A stored chunk's node fields (meshKind, minZ, maxZ, counts) and its vertices' heights.
+NodeRecord storedNode(const VipmChunkData& stored, std::vector<double>& vertexHeights) {
+  vertexHeights.clear();
+  for (uint16_t z : stored.heights)
+    vertexHeights.push_back(stored.zBase + double(z) * stored.zStep);
+  const auto [lo, hi] = std::minmax_element(vertexHeights.begin(), vertexHeights.end());
+  NodeRecord node;
+  node.meshKind = MeshKind::kVipm;
+  node.minZ = floatBelow(*lo);
+  node.maxZ = floatAbove(*hi);
+  node.vertexCount = stored.vertexCount();
+  node.triangleCount = stored.triangleCount();
+  return node;
 }
 
 // The error of a stored chunk's coarsest level, as a reader unpacks it.
@@ -152,35 +185,21 @@ double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& so
 VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
                        int32_t y0, int32_t width, int32_t height, const VipmLeafParams& params) {
   const double start = threadSeconds();
-  GridPatch patch;
-  patch.width = width;
-  patch.height = height;
-  patch.heights.reserve(patch.pointCount());
-  patch.materials.reserve(patch.pointCount());
-  for (int32_t y = 0; y < height; ++y)
-    for (int32_t x = 0; x < width; ++x) {
-      patch.heights.push_back(heights(x0 + x, y0 + y));
-      patch.materials.push_back(materials.at(x0 + x, y0 + y));
-    }
+  GridPatch patch = sourcePatch(heights, materials, x0, y0, width, height);
   const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
   const HeightQuantisation q{std::floor(double(lowest) / params.zStep) * params.zStep,
                              params.zStep};
   quantiseVertexHeights(patch, q);
-  const CollapseOrder order = buildCollapseOrder(patch, params.rules);
+  CollapseOrder order = buildCollapseOrder(patch, params.rules);
+  while (!order.collapses.empty() && double(order.collapses.back().error) > params.coarsestError)
+    order.collapses.pop_back();
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, params.maxError);
   const VipmChunkData stored = packChunk(patch, mesh, q);
 
   VipmLeaf leaf;
   leaf.blob = encodeVipmChunk(stored, params.compressionLevel);
   std::vector<double> vertexHeights;
-  vertexHeights.reserve(stored.vertexCount());
-  for (uint16_t z : stored.heights) vertexHeights.push_back(q.zBase + double(z) * q.zStep);
-  const auto [lo, hi] = std::minmax_element(vertexHeights.begin(), vertexHeights.end());
-  leaf.node.meshKind = MeshKind::kVipm;
-  leaf.node.minZ = floatBelow(*lo);
-  leaf.node.maxZ = floatAbove(*hi);
-  leaf.node.vertexCount = stored.vertexCount();
-  leaf.node.triangleCount = stored.triangleCount();
+  leaf.node = storedNode(stored, vertexHeights);
   leaf.coarsest = coarsestLevel(mesh, stored, x0, y0);
   leaf.coarsest.error = coarsestError(stored);
   leaf.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
@@ -221,6 +240,45 @@ VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32
       d.indices.push_back(uint16_t(slot[point]));
     }
   return d;
+}
+
+VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
+                       const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                       int32_t width, int32_t height, double zStep, double levelError,
+                       int compressionLevel) {
+  const double start = threadSeconds();
+  const VipmChunkData joined = joinCoarsest(children, x0, y0, width, height, zStep);
+  GridPatch patch = sourcePatch(heights, materials, x0, y0, width, height);
+  // The children's stored heights are round(h / zStep) zStep on the tileset's step; a base
+  // on that step at or below every sample keeps them (and bounds every point's rounding).
+  const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
+  const HeightQuantisation q{std::floor(double(lowest) / zStep) * zStep, zStep};
+  quantiseVertexHeights(patch, q);
+  CollapseStart from;
+  for (size_t i = 0; i + 2 < joined.indices.size(); i += 3)
+    from.triangles.push_back({joined.points[joined.indices[i]],
+                              joined.points[joined.indices[i + 1]],
+                              joined.points[joined.indices[i + 2]]});
+  for (size_t v = 0; v < joined.points.size(); ++v)
+    assert(patch.vertexHeight(joined.points[v]) ==
+           float(joined.zBase + double(joined.heights[v]) * zStep));
+  from.seamX = width > kLeaf + 1 ? kLeaf : -1;
+  from.seamY = height > kLeaf + 1 ? kLeaf : -1;
+  CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
+  const float levelFloor = floatAbove(levelError);
+  for (Collapse& c : order.collapses) c.error = std::max(c.error, levelFloor);
+  const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
+  const VipmChunkData stored = packChunk(patch, mesh, q);
+
+  VipmRoot root;
+  root.blob = encodeVipmChunk(stored, compressionLevel);
+  std::vector<double> vertexHeights;
+  root.node = storedNode(stored, vertexHeights);
+  root.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
+  root.seamDeviation = coarsestError(stored);
+  root.collapses = stored.collapseCount();
+  root.seconds = threadSeconds() - start;
+  return root;
 }
 
 std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, int32_t y0,

@@ -21,17 +21,6 @@ GlTexture& GlTexture::operator=(GlTexture&& other) noexcept {
   return *this;
 }
 
-namespace {
-
-// Indices of every flange triangle there could be: two per edge of the finest border.
-size_t maxFlangeIndices(const Flanges& f) {
-  size_t n = 0;
-  for (const auto& side : f.sides) n += side.size() > 1 ? (side.size() - 1) * 6 : 0;
-  return n + f.interior.size() * 6;
-}
-
-}  // namespace
-
 VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
     : mMesh(p.mesh),
       mLevels(p.levels),
@@ -42,10 +31,23 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
       mWidth(p.width),
       mHeight(p.height),
       mZBase(p.zBase) {
-  glCreateBuffers(3, mBuffers.data());
+  glCreateBuffers(GLsizei(mBuffers.size()), mBuffers.data());
   const auto positionBytes = GLsizeiptr(mOwn.size() * sizeof(mOwn[0]));
   glNamedBufferStorage(mBuffers[0], positionBytes, mOwn.data(), GL_DYNAMIC_STORAGE_BIT);
-  glNamedBufferStorage(mBuffers[1], GLsizeiptr(p.materials.size()), p.materials.data(), 0);
+  // Materials: each vertex's own and the one it fades to (flange copies: their top's).
+  const uint32_t n = mMesh.vertexCount();
+  std::vector<uint8_t> materials(p.materials.size() * 2);
+  for (size_t v = 0; v < p.materials.size(); ++v)
+    materials[2 * v] = materials[2 * v + 1] = p.materials[v];
+  if (p.fade == MaterialFade::kToTarget)
+    for (uint32_t j = 0; j < mMesh.collapseCount(); ++j)
+      materials[2 * size_t(n - 1 - j) + 1] = p.materials[mMesh.targets[j]];
+  for (size_t k = 0; k < mFlanges.tops.size(); ++k)
+    materials[2 * (n + k) + 1] = materials[2 * size_t(mFlanges.tops[k]) + 1];
+  glNamedBufferStorage(mBuffers[1], GLsizeiptr(materials.size()), materials.data(), 0);
+  mMaterialMorph.assign(mOwn.size(), 0.0f);
+  const auto morphBytes = GLsizeiptr(mMaterialMorph.size() * sizeof(float));
+  glNamedBufferStorage(mBuffers[3], morphBytes, mMaterialMorph.data(), GL_DYNAMIC_STORAGE_BIT);
   // Every part at a fixed place, at its finest level's size; the flanges after them.
   uint32_t first = 0;
   for (const VipmPart& part : mLevels.parts()) {
@@ -63,19 +65,33 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   uint64_t normalBytes = 0;
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
   // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
-  mGpuBytes = uint64_t(positionBytes) + p.materials.size() + indexCount * 2 + normalBytes;
+  mGpuBytes = uint64_t(positionBytes) + materials.size() + uint64_t(morphBytes) + indexCount * 2 +
+              normalBytes;
   mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes);
   update(0.0, Geomorph::kOff);
 }
 
 VipmGpuChunk::~VipmGpuChunk() {
-  glDeleteBuffers(3, mBuffers.data());
+  glDeleteBuffers(GLsizei(mBuffers.size()), mBuffers.data());
 }
 
 void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
   if (count == 0) return;
   glNamedBufferSubData(mBuffers[0], GLintptr(first * sizeof(mDrawn[0])),
                        GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
+  glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(float)),
+                       GLsizeiptr(count * sizeof(float)), mMaterialMorph.data() + first);
+}
+
+void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow& window,
+                                  double morphTheta) {
+  const uint32_t n = mMesh.vertexCount();
+  for (uint32_t j = previous.applied; j < previous.morphing; ++j) mMaterialMorph[n - 1 - j] = 0;
+  for (uint32_t j = window.applied; j < window.morphing; ++j)  // as morphPositions' t
+    mMaterialMorph[n - 1 - j] =
+        float(std::clamp(morphTheta / double(mMesh.errors[j]) - 1.0, 0.0, 1.0));
+  for (size_t k = 0; k < mFlanges.tops.size(); ++k)
+    mMaterialMorph[n + k] = mMaterialMorph[mFlanges.tops[k]];
 }
 
 void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
@@ -93,6 +109,7 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     mDrawn[n - 1 - j] = mOwn[n - 1 - j];
   if (morphs)
     morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
+  if (morphed || morphs) morphMaterials(previous, window, morphTheta);
   mWindow = window;
   if (morphed || morphs) {
     uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges
@@ -122,7 +139,10 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     part.dirty = false;
   }
   if (levelChanged) {
-    flangeIndices(mFlanges, n, mLevels.activeVertices(), mFlangeIndices);
+    const VipmPart& whole = mLevels.whole();
+    flangeIndices(mFlanges, n, mLevels.activeVertices(),
+                  std::span(whole.indices).first(size_t(mLevels.drawnTriangles(whole)) * 3),
+                  mFlangeIndices);
     if (!mFlangeIndices.empty())
       glNamedBufferSubData(mBuffers[2], GLintptr(mFlangeFirst * 2),
                            GLsizeiptr(mFlangeIndices.size() * 2), mFlangeIndices.data());

@@ -56,8 +56,13 @@ class VipmGpuChunk {
   /// Vertices of the mesh active now (flanges left out).
   uint32_t activeVertices() const { return mLevels.activeVertices(); }
   uint32_t vertexBuffer() const { return mBuffers[0]; }
+  /// Per vertex: its material and its collapse target's (its own when it never collapses).
   uint32_t materialBuffer() const { return mBuffers[1]; }
   uint32_t indexBuffer() const { return mBuffers[2]; }
+  /// Per vertex: how far its material has morphed toward its target's (float, 0..1), with
+  /// its position: a blot root's collapses join different materials, so a corner's material
+  /// changes only by fading.
+  uint32_t materialMorphBuffer() const { return mBuffers[3]; }
   uint32_t normalMap() const { return mNormalMap.id(); }
   /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
   uint32_t normalSize() const { return mNormalSize; }
@@ -71,11 +76,14 @@ class VipmGpuChunk {
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
+  // Sets the material morph of the window's vertices (0 outside it), flange copies too.
+  void morphMaterials(const MorphWindow& previous, const MorphWindow& window, double morphTheta);
 
   ProgressiveMesh mMesh;
   VipmLevels mLevels;
   std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
   std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
+  std::vector<float> mMaterialMorph;         // per vertex (flanges too), as drawn now
   Flanges mFlanges;
   float mFlangeDepth = 0.0f;
   MorphWindow mWindow;
@@ -83,7 +91,7 @@ class VipmGpuChunk {
   std::vector<uint16_t> mFlangeIndices;
   std::vector<Range> mRanges;
   uint32_t mFlangeFirst = 0;
-  std::array<uint32_t, 3> mBuffers{};  // positions, materials, indices
+  std::array<uint32_t, 4> mBuffers{};  // positions, materials, indices, material morphs
   GlTexture mNormalMap;
   uint32_t mNormalSize = 0;
   int32_t mWidth = 0, mHeight = 0;

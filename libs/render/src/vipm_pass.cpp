@@ -58,11 +58,12 @@ VipmPass::VipmPass(ShaderProgram program, std::vector<GlTexture> details,
       mColors(std::move(colors)) {
   const GLuint vao = mVertexArray.id();
   glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribIFormat(vao, 1, 1, GL_UNSIGNED_BYTE, 0);
-  glVertexArrayAttribBinding(vao, 0, 0);
-  glVertexArrayAttribBinding(vao, 1, 1);
-  glEnableVertexArrayAttrib(vao, 0);
-  glEnableVertexArrayAttrib(vao, 1);
+  glVertexArrayAttribIFormat(vao, 1, 2, GL_UNSIGNED_BYTE, 0);
+  glVertexArrayAttribFormat(vao, 2, 1, GL_FLOAT, GL_FALSE, 0);
+  for (GLuint a = 0; a < 3; ++a) {
+    glVertexArrayAttribBinding(vao, a, a);
+    glEnableVertexArrayAttrib(vao, a);
+  }
 }
 
 void VipmPass::setChunk(const FrameContext& frame, const ChunkTree& tree, const Draw& d) const {
@@ -85,7 +86,8 @@ void VipmPass::setChunk(const FrameContext& frame, const ChunkTree& tree, const 
   glProgramUniform1f(p, mProgram.uniformLocation("uLevel"), float(n.level));
   glProgramUniform1f(p, mProgram.uniformLocation("uMorph"), d.morph);
   glVertexArrayVertexBuffer(mVertexArray.id(), 0, c.vertexBuffer(), 0, 12);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 1);
+  glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 2);
+  glVertexArrayVertexBuffer(mVertexArray.id(), 2, c.materialMorphBuffer(), 0, 4);
   glVertexArrayElementBuffer(mVertexArray.id(), c.indexBuffer());
   glBindTextureUnit(1, c.normalMap());
 }

@@ -34,9 +34,11 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
   p.positions = positionsAboveBase(*loaded);
   p.levels = std::move(loaded->levels);
   p.normals = std::move(normals).value();
-  // A chunk wider than a leaf is a fallback root: flanges on its children's shared sides too.
-  p.flanges = makeFlanges(unpacked.mesh, flangeSides,
-                          unpacked.mesh.collapseCount() == 0 ? int32_t(kVipmChunkCells) : 0);
+  // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
+  // collapses (without the rules) fade materials.
+  const bool root = chunkCells > uint32_t(kVipmChunkCells);
+  p.flanges = makeFlanges(unpacked.mesh, flangeSides, root ? int32_t(kVipmChunkCells) : 0);
+  p.fade = root ? MaterialFade::kToTarget : MaterialFade::kKeep;
   p.materials = std::move(unpacked.materials);
   for (uint16_t top : p.flanges.tops) {
     const auto& t = p.positions[top];

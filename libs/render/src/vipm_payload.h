@@ -19,6 +19,11 @@
 
 namespace terralod {
 
+/// Whether a collapse's vertex fades its material into its target's while it geomorphs.
+/// Leaves keep theirs (the rules make a collapse join vertices of one material; without them
+/// the boundaries jump, which is what --no-material-rules shows); blot roots fade.
+enum class MaterialFade : uint8_t { kKeep, kToTarget };
+
 struct VipmChunkPayload final : ChunkPayload {
   ProgressiveMesh mesh;  ///< collapse targets and errors, for the geomorph
   VipmLevels levels;     ///< at the finest level
@@ -26,6 +31,7 @@ struct VipmChunkPayload final : ChunkPayload {
   /// a flange vertex lies flangeDepth below its top).
   std::vector<std::array<float, 3>> positions;
   std::vector<uint8_t> materials;  ///< per vertex, then per flange vertex (its top's)
+  MaterialFade fade = MaterialFade::kKeep;
   Flanges flanges;
   float flangeDepth = 0.0f;
   double zBase = 0.0;

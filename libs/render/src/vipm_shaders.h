@@ -10,10 +10,12 @@
 namespace terralod::shaders {
 
 // Vertices: grid x, grid y (cells from the chunk's south-west corner) and metres above the
-// chunk's zBase (geomorphed on the CPU), and the vertex's material index.
+// chunk's zBase (geomorphed on the CPU); the vertex's material index and its collapse
+// target's, and how far its material has morphed toward the target's (with its position).
 inline constexpr const char* kVipmVertex = R"(#version 450 core
 layout(location = 0) in vec3 aPosition;
-layout(location = 1) in uint aMaterial;
+layout(location = 1) in uvec2 aMaterial;
+layout(location = 2) in float aMaterialMorph;
 uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
 uniform vec3 uOrigin;          // chunk corner relative to the eye (z: zBase - eye z)
@@ -37,9 +39,11 @@ void main() {
   vHeight = p.z + uEyeHeight;
   vNormalUv = (aPosition.xy + 0.5) / uGridSize;  // texel i's centre is on grid point i
   vDetailUv = uDetailOrigin + aPosition.xy * uDetailScale;
-  vWeight = aMaterial == uint(uMaterial) ? 1.0 : 0.0;  // one-hot: the weights sum to 1
-  vMaterialColor = uMaterialColors[min(aMaterial, 7u)];
-  vMaterialId = min(aMaterial, 7u);
+  // One-hot, or two while the vertex geomorphs: the weights sum to 1.
+  vWeight = (aMaterial.x == uint(uMaterial) ? 1.0 - aMaterialMorph : 0.0) +
+            (aMaterial.y == uint(uMaterial) ? aMaterialMorph : 0.0);
+  vMaterialColor = uMaterialColors[min(aMaterial.x, 7u)];
+  vMaterialId = min(aMaterial.x, 7u);
   gl_Position = uViewProjection * vec4(p, 1.0);
 }
 )";

@@ -185,6 +185,55 @@ std::array<std::vector<double>, 4> quarterSurfaces(const Grid& g,
   return out;
 }
 
+// The two sides' polylines on a root's interior lines x or y = 64 (the children's shared
+// sides), widened level by level: per line, per side (west or south of it: 0), per grid point
+// along it, the lowest and highest height.
+struct SeamEnvelopes {
+  std::array<std::array<SideEnvelope, 2>, 2> lines;  // [x = 64, y = 64][side]
+  std::array<bool, 2> present{false, false};
+
+  SeamEnvelopes(const Grid& g) {
+    const int32_t c = int32_t(kVipmLeafCells);
+    present = {g.c.width - 1 > c, g.c.height - 1 > c};
+    for (int l = 0; l < 2; ++l)
+      for (SideEnvelope& e : lines[l]) {
+        const size_t length = size_t(l == 0 ? g.c.height : g.c.width);
+        e.low.assign(length, std::numeric_limits<double>::infinity());
+        e.high.assign(length, -std::numeric_limits<double>::infinity());
+      }
+  }
+
+  void widen(const Grid& g, const std::vector<Triangle>& triangles) {
+    const int32_t c = int32_t(kVipmLeafCells);
+    for (const Triangle& t : triangles)
+      for (int k = 0; k < 3; ++k) {
+        const uint16_t a = t[k], b = t[(k + 1) % 3], o = t[(k + 2) % 3];
+        for (int l = 0; l < 2; ++l) {
+          auto across = [&](uint16_t v) { return l == 0 ? g.x(v) : g.y(v); };
+          auto along = [&](uint16_t v) { return l == 0 ? g.y(v) : g.x(v); };
+          if (!present[l] || across(a) != c || across(b) != c) continue;
+          SideEnvelope& e = lines[l][across(o) < c ? 0 : 1];
+          const int32_t pa = along(a), pb = along(b);
+          for (int32_t p = std::min(pa, pb); p <= std::max(pa, pb); ++p) {
+            const double z = g.z(a) + (g.z(b) - g.z(a)) * double(p - pa) / double(pb - pa);
+            e.low[size_t(p)] = std::min(e.low[size_t(p)], z);
+            e.high[size_t(p)] = std::max(e.high[size_t(p)], z);
+          }
+        }
+      }
+  }
+
+  double gap() const {
+    double worst = 0;
+    for (const auto& line : lines)
+      for (size_t p = 0; p < line[0].low.size(); ++p)
+        if (std::isfinite(line[0].low[p]) && std::isfinite(line[1].low[p]))
+          worst =
+              std::max({worst, line[0].high[p] - line[1].low[p], line[1].high[p] - line[0].low[p]});
+    return worst;
+  }
+};
+
 }  // namespace
 
 VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
@@ -219,6 +268,9 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
   if (!levels) addProblem(out, "does not reconstruct: " + levels.error().message);
   const std::array<uint32_t, 3> partLevels{0, collapses / 2, collapses};
 
+  const bool root = w > kLeafPoints || h > kLeafPoints;
+  SeamEnvelopes seams(g);
+
   std::vector<uint16_t> rename(n);
   for (uint32_t v = 0; v < n; ++v) rename[v] = uint16_t(v);
   std::vector<double> surface(size_t(w) * h);
@@ -250,6 +302,11 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
                           " m > recorded " + std::to_string(recorded) + " m");
     ++out.levels;
     widenSides(g, sides, n - j, out.sides);
+    if (root) seams.widen(g, triangles);
+    if (j == 0) {
+      out.finestHeights = surface;
+      if (root) out.quarters = quarterSurfaces(g, triangles);
+    }
     if (levels && std::find(partLevels.begin(), partLevels.end(), j) != partLevels.end()) {
       levels->setApplied(j);
       ++out.partLevelsChecked;
@@ -259,7 +316,6 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
     }
     if (j == collapses) {
       out.coarsestHeights = surface;
-      if (w > kLeafPoints || h > kLeafPoints) out.quarters = quarterSurfaces(g, triangles);
       break;
     }
     const uint16_t v = uint16_t(n - 1 - j), t = c.targets[j];
@@ -275,6 +331,7 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
   }
   if (out.uncovered)
     addProblem(out, std::to_string(out.uncovered) + " samples are not covered at some level");
+  out.seamGap = seams.gap();
   return out;
 }
 

@@ -34,13 +34,16 @@ struct VipmChunkCheck {
   uint64_t materialMismatches = 0;  ///< vertices whose material is not the source's
   uint64_t partLevelsChecked = 0;   ///< levels at which the parts were compared
   std::array<SideEnvelope, 4> sides;
-  /// The coarsest level's height at every grid point of the chunk (y * width + x).
-  std::vector<double> coarsestHeights;
-  /// Fallback roots (wider than a leaf): the coarsest level of each 64-cell quarter, SW, SE,
-  /// NW, NE (65 x 65 grid points each, NaN where none of its triangles reach), drawn from
-  /// the triangles inside that quarter only: its children's meshes joined side by side, whose
-  /// shared sides need not match (flanges close them, as between leaves).
+  /// The finest and the coarsest level's height at every grid point (y * width + x).
+  std::vector<double> finestHeights, coarsestHeights;
+  /// Roots (wider than a leaf): the finest level of each 64-cell quarter, SW, SE, NW, NE (65 x
+  /// 65 grid points each, NaN where none of its triangles reach), drawn from the triangles
+  /// inside that quarter only: its children's meshes joined side by side, whose shared sides
+  /// need not match (flanges close them, as between leaves).
   std::array<std::vector<double>, 4> quarters;
+  /// Roots: the largest vertical gap, at any level and grid point, between the two sides'
+  /// polylines on the children's shared lines (x or y = 64), which its flanges must close.
+  double seamGap = 0;
   std::vector<std::string> problems;  ///< what is wrong, one line each (without the chunk name)
 };
 
@@ -51,7 +54,8 @@ inline constexpr double kVipmFloatSlack = 1e-6;
 /// Checks `chunk` whose south-west grid point is (x0, y0) in `source`. `materials`: the
 /// source's material map, or null when it cannot be had (the rules are then checked against
 /// the stored vertex materials only). Collapses breaking a material rule are counted always,
-/// and are problems when the tileset promises the rules.
+/// and are problems when `promised` is kOn (a leaf of a tileset built with the rules; roots
+/// are simplified without them).
 VipmChunkCheck checkVipmChunk(const VipmChunkData& chunk, int64_t x0, int64_t y0,
                               const Heightfield& source, const MaterialMap* materials,
                               MaterialRules promised);

@@ -23,8 +23,8 @@ struct Checked {
   int64_t x0 = 0, y0 = 0;
   int32_t width = 0, height = 0;
   std::array<SideEnvelope, 4> sides;  // south, east, north, west
-  std::vector<double> coarsest;
-  std::array<std::vector<double>, 4> quarters;  // roots
+  std::vector<double> finest, coarsest;
+  std::array<std::vector<double>, 4> quarters;  // roots: their finest LOD's
   double lastError = 0;                         // recorded error of its coarsest LOD
 };
 
@@ -114,7 +114,9 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
       normalCheck = checkVipmNormalMap(*normals, x0, y0, heights, h.spacingX, h.spacingY);
       if (!normalCheck.problem.empty()) addFailure(name(i) + ": " + normalCheck.problem);
     }
-    VipmChunkCheck c = checkVipmChunk(*chunk, x0, y0, heights, map, promised);
+    // Roots are blot chunks: simplified without the material rules.
+    VipmChunkCheck c =
+        checkVipmChunk(*chunk, x0, y0, heights, map, n.level == 0 ? MaterialRules::kOff : promised);
     for (const std::string& p : c.problems) addFailure(name(i) + ": " + p);
     Checked& out = checked[i];
     out = {true,
@@ -123,6 +125,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
            chunk->width,
            chunk->height,
            std::move(c.sides),
+           std::move(c.finestHeights),
            std::move(c.coarsestHeights),
            std::move(c.quarters),
            chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
@@ -136,18 +139,29 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
     if (n.minZ > lo || n.maxZ < hi || n.vertexCount != chunk->vertexCount() ||
         n.triangleCount != chunk->triangleCount() || n.skirtTriangleCount != 0)
       addFailure(name(i) + ": the node record does not match its blob");
-    if (n.level == 0 && chunk->collapseCount() != 0)
-      addFailure(name(i) + ": a fallback root has collapses");
+    // A root draws its children's coarsest LODs until its allowance passes its level error.
+    if (n.level == 0 && chunk->collapseCount() != 0 &&
+        double(chunk->errors.front()) * chunk->errorStep < h.levelError[0])
+      addFailure(name(i) + ": its first collapse's error is below the roots' level error " +
+                 std::to_string(h.levelError[0]) + " m");
+    if (n.level == 0 && c.seamGap > double(n.maxSkirtDepth) + kVerifySlack)
+      addFailure(name(i) + ": its flanges (" + std::to_string(n.maxSkirtDepth) +
+                 " m) do not close the gap between its children's sides (" +
+                 std::to_string(c.seamGap) + " m)");
     if (n.level == 1 && chunk->finestError > h.leafError + kVerifySlack)
       addFailure(name(i) + ": finest LOD's error " + std::to_string(chunk->finestError) +
                  " m is over --max-error " + std::to_string(h.leafError) + " m");
     std::lock_guard lock(mutex);
     stats.lods += c.levels;
     stats.worstErrorMargin = std::min(stats.worstErrorMargin, c.worstMargin);
-    stats.collapsesChecked += c.collapsesChecked;
-    stats.ruleViolations += c.ruleViolations;
+    if (n.level != 0) {  // the material rules apply to leaves
+      stats.collapsesChecked += c.collapsesChecked;
+      stats.ruleViolations += c.ruleViolations;
+    }
     stats.materialMismatches += c.materialMismatches;
     stats.partLevelsChecked += c.partLevelsChecked;
+    if (n.level == 0 && c.seamGap > 0)
+      stats.worstFlangeMargin = std::min(stats.worstFlangeMargin, n.maxSkirtDepth - c.seamGap);
     stats.normalMapsChecked += normals ? 1 : 0;
     stats.normalTexels += normalCheck.texels;
     stats.worstNormalDeviation = std::max(stats.worstNormalDeviation, normalCheck.worst);
@@ -173,7 +187,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
     const NodeRecord& n = nodes[i];
     const Checked& a = checked[i];
     if (!a.ok) continue;
-    // A root is its children's coarsest LODs joined; its error bound covers them.
+    // A root's finest LOD is its children's coarsest LODs joined; its error bound covers them.
     if (n.level == 1 && a.lastError > h.levelError[0] / 2 + slack)
       addFailure(name(i) + ": coarsest LOD's error " + std::to_string(a.lastError) +
                  " m is over half the roots' level error");
@@ -184,7 +198,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
         const Checked& c = checked[*child];
         // A root no wider than a leaf has one child, drawn whole.
         const bool whole = a.quarters[size_t(q)].empty();
-        const std::vector<double>& quarter = whole ? a.coarsest : a.quarters[size_t(q)];
+        const std::vector<double>& quarter = whole ? a.finest : a.quarters[size_t(q)];
         const int32_t stride = whole ? a.width : int32_t(kVipmLeafCells + 1);
         if (nodes[*child].maxSkirtDepth > n.maxSkirtDepth)
           addFailure(name(i) + ": its flanges are shallower than child " + std::to_string(*child) +

@@ -3,6 +3,26 @@
 #include <algorithm>
 
 namespace terralod {
+namespace {
+
+// Two flange triangles per edge of `living` on an interior line.
+void appendInteriorFlanges(const Flanges& flanges, uint32_t vertexCount,
+                           std::span<const uint16_t> living, std::vector<uint16_t>& out) {
+  auto onOneLine = [&](uint16_t a, uint16_t b) {
+    const Flanges::OnLine &p = flanges.interior[a], &q = flanges.interior[b];
+    return (p.lineX >= 0 && p.lineX == q.lineX) || (p.lineY >= 0 && p.lineY == q.lineY);
+  };
+  for (size_t i = 0; i + 2 < living.size(); i += 3)
+    for (size_t k = 0; k < 3; ++k) {
+      const uint16_t a = living[i + k], b = living[i + (k + 1) % 3];
+      if (!onOneLine(a, b)) continue;
+      const uint16_t a2 = uint16_t(vertexCount + uint32_t(flanges.interior[a].flange)),
+                     b2 = uint16_t(vertexCount + uint32_t(flanges.interior[b].flange));
+      out.insert(out.end(), {a, b2, b, a, a2, b2});
+    }
+}
+
+}  // namespace
 
 Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask, int32_t interiorStep) {
   const int32_t w = mesh.width, h = mesh.height;
@@ -41,21 +61,33 @@ Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask, int32_t inter
   }
   if (interiorStep <= 0) return f;
   auto interiorLine = [&](int32_t c, int32_t size) {
-    return c > 0 && c < size - 1 && c % interiorStep == 0;
+    return c > 0 && c < size - 1 && c % interiorStep == 0 ? int16_t(c) : int16_t(-1);
   };
-  for (const auto& tri : mesh.triangles)
-    for (int k = 0; k < 3; ++k) {
-      const uint16_t a = tri[size_t(k)], b = tri[size_t((k + 1) % 3)];
-      const int32_t ax = mesh.points[a] % w, ay = mesh.points[a] / w;
-      const int32_t bx = mesh.points[b] % w, by = mesh.points[b] / w;
-      if ((ax == bx && interiorLine(ax, w)) || (ay == by && interiorLine(ay, h)))
-        f.interior.push_back({flangeVertex(a), flangeVertex(b)});
+  f.interior.resize(mesh.vertexCount());
+  bool any = false;
+  for (uint32_t v = 0; v < mesh.vertexCount(); ++v) {
+    Flanges::OnLine& on = f.interior[v];
+    on.lineX = interiorLine(mesh.points[v] % w, w);
+    on.lineY = interiorLine(mesh.points[v] / w, h);
+    if (on.lineX >= 0 || on.lineY >= 0) {
+      on.flange = flangeVertex(uint16_t(v));
+      any = true;
     }
+  }
+  if (!any) {
+    f.interior.clear();
+    return f;
+  }
+  std::vector<uint16_t> finest;
+  for (const auto& tri : mesh.triangles) finest.insert(finest.end(), tri.begin(), tri.end());
+  std::vector<uint16_t> indices;
+  appendInteriorFlanges(f, mesh.vertexCount(), finest, indices);
+  f.interiorEdgesMax = uint32_t(indices.size() / 6);
   return f;
 }
 
 void flangeIndices(const Flanges& flanges, uint32_t vertexCount, uint32_t activeVertices,
-                   std::vector<uint16_t>& out) {
+                   std::span<const uint16_t> living, std::vector<uint16_t>& out) {
   out.clear();
   for (const std::vector<uint16_t>& side : flanges.sides) {
     int32_t previous = -1;  // the last active vertex along the side, as a flange index
@@ -70,12 +102,13 @@ void flangeIndices(const Flanges& flanges, uint32_t vertexCount, uint32_t active
       previous = k;
     }
   }
-  for (const auto& [ka, kb] : flanges.interior) {
-    const uint16_t a = flanges.tops[ka], b = flanges.tops[kb];
-    if (a >= activeVertices || b >= activeVertices) continue;
-    const uint16_t a2 = uint16_t(vertexCount + ka), b2 = uint16_t(vertexCount + kb);
-    out.insert(out.end(), {a, b2, b, a, a2, b2});
-  }
+  if (!flanges.interior.empty()) appendInteriorFlanges(flanges, vertexCount, living, out);
+}
+
+size_t maxFlangeIndices(const Flanges& f) {
+  size_t n = 0;
+  for (const auto& side : f.sides) n += side.size() > 1 ? (side.size() - 1) * 6 : 0;
+  return n + size_t(f.interiorEdgesMax) * 6;
 }
 
 }  // namespace terralod

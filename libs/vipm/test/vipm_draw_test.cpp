@@ -90,7 +90,7 @@ TEST(VipmFlanges, CloseEveryBorderEdgeOfTheCurrentLevelDownToTheCopies) {
   auto north = [](int32_t, int32_t y, int32_t w) { return y == w - 1; };
   for (uint32_t applied : {0u, c.mesh.collapseCount() / 2, c.mesh.collapseCount()}) {
     std::vector<uint16_t> indices;
-    flangeIndices(f, n, n - applied, indices);
+    flangeIndices(f, n, n - applied, {}, indices);
     ASSERT_EQ(indices.size() % 6, 0u);
     // Each pair of triangles spans one border edge (a, b) and the copies a', b' below it.
     std::set<std::pair<uint16_t, uint16_t>> spanned;
@@ -110,28 +110,52 @@ TEST(VipmFlanges, CloseEveryBorderEdgeOfTheCurrentLevelDownToTheCopies) {
   }
   // No sides, no flanges.
   std::vector<uint16_t> none;
-  flangeIndices(makeFlanges(c.mesh, 0), n, n, none);
+  flangeIndices(makeFlanges(c.mesh, 0), n, n, {}, none);
   EXPECT_TRUE(none.empty());
 }
 
-TEST(VipmFlanges, AFallbackRootGetsFlangesUnderItsChildrensSharedSides) {
-  // Two squares side by side on a 129-point grid, sharing the edge on x = 64: each triangle
-  // edge on that line gets a flange (one per side), none elsewhere inside.
+// The flange edges on interior lines, as sets of top vertices.
+std::multiset<std::set<uint16_t>> interiorEdgeTops(const std::vector<uint16_t>& indices) {
+  std::multiset<std::set<uint16_t>> out;
+  for (size_t i = 0; i < indices.size(); i += 6) out.insert({indices[i], indices[i + 2]});
+  return out;
+}
+
+std::vector<uint16_t> flat(const std::vector<std::array<uint16_t, 3>>& triangles) {
+  std::vector<uint16_t> out;
+  for (const auto& t : triangles) out.insert(out.end(), t.begin(), t.end());
+  return out;
+}
+
+TEST(VipmFlanges, ARootGetsFlangesUnderItsChildrensSharedSidesAtEveryLevel) {
+  // Two squares side by side on a 129-point grid, sharing the line x = 64. The west one also
+  // has vertex 6 at (64, 32) on it (a T-junction for the east one), which collapse 0 moves
+  // onto vertex 1 along the line. Each triangle edge on the line gets a flange (one per side),
+  // none elsewhere inside, and the flanges follow the level drawn.
   ProgressiveMesh m;
   m.width = 129;
   m.height = 65;
   for (int32_t y : {0, 64})
     for (int32_t x : {0, 64, 128}) m.points.push_back(uint16_t(y * 129 + x));
-  m.triangles = {{0, 1, 4}, {0, 4, 3}, {1, 2, 5}, {1, 5, 4}};
+  m.points.push_back(uint16_t(32 * 129 + 64));
+  m.targets = {1};
+  m.errors = {1.0f};
+  m.triangles = {{0, 6, 3}, {6, 4, 3}, {1, 2, 5}, {1, 5, 4}, {0, 1, 6}};
   const Flanges f = makeFlanges(m, 0, 64);
   EXPECT_TRUE(f.sides.empty());
-  ASSERT_EQ(f.interior.size(), 2u);
+  EXPECT_EQ(f.interiorEdgesMax, 3u);
+  EXPECT_EQ(maxFlangeIndices(f), 18u);
   std::vector<uint16_t> indices;
-  flangeIndices(f, m.vertexCount(), m.vertexCount(), indices);
-  ASSERT_EQ(indices.size(), 12u);
-  for (size_t i = 0; i < indices.size(); i += 6) {
-    const std::set<uint16_t> tops{indices[i], indices[i + 2]};
-    EXPECT_EQ(tops, (std::set<uint16_t>{1, 4}));
+  flangeIndices(f, m.vertexCount(), m.vertexCount(), flat(m.triangles), indices);
+  using Tops = std::multiset<std::set<uint16_t>>;
+  EXPECT_EQ(interiorEdgeTops(indices), (Tops{{1, 6}, {6, 4}, {1, 4}}));
+  // Collapse 0 applied: vertex 6 is vertex 1, its triangle (0, 1, 6) gone.
+  const std::vector<std::array<uint16_t, 3>> coarser = {{0, 1, 3}, {1, 4, 3}, {1, 2, 5}, {1, 5, 4}};
+  flangeIndices(f, m.vertexCount(), m.vertexCount() - 1, flat(coarser), indices);
+  EXPECT_EQ(interiorEdgeTops(indices), (Tops{{1, 4}, {1, 4}}));
+  for (size_t i = 0; i < indices.size(); i += 6) {  // hanging from the copies of its own tops
+    EXPECT_EQ(f.tops[indices[i + 1] - m.vertexCount()], indices[i + 2]);
+    EXPECT_EQ(f.tops[indices[i + 4] - m.vertexCount()], indices[i]);
   }
   EXPECT_TRUE(makeFlanges(m, 0).interior.empty());
 }

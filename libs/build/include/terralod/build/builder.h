@@ -46,6 +46,10 @@ struct BuildOptions {
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
   MaterialRules materialRules = MaterialRules::kOn;
+  /// Leaves simplify (with the rules) up to this error in metres; the roots take over at
+  /// twice it as blot chunks (simplified further without the rules). 0: leaves simplify as
+  /// far as the rules allow, and the roots take over at twice the largest error that reaches.
+  double blotError = 0.0;
 };
 
 struct BuildSummary {

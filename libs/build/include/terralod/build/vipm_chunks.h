@@ -4,6 +4,7 @@
 // Pure functions of their inputs (deterministic), used by buildVipmTileset.
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "terralod/format/texture_codec.h"
@@ -46,6 +47,8 @@ struct VipmLeaf {
 struct VipmLeafParams {
   double zStep = 1.0;
   double maxError = 1.0;
+  /// The coarsest level's error at most: collapses above it are left to the root.
+  double coarsestError = std::numeric_limits<double>::infinity();
   MaterialRules rules = MaterialRules::kOn;
   int compressionLevel = 19;
 };
@@ -60,11 +63,37 @@ VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials,
 double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& source,
                        const std::vector<double>& stored);
 
-/// A root's fallback chunk: the children's coarsest meshes joined on the root's grid (points
-/// deduplicated, first use first), collapseCount 0, finestError the largest child error.
+/// The children's coarsest meshes joined on the root's grid (points deduplicated, first use
+/// first), collapseCount 0, finestError the largest child error: a root's finest level.
 /// (x0, y0) is the root's south-west grid point, width x height its points (<= 129).
 VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
                            int32_t width, int32_t height, double zStep);
+
+/// What building one root gives: a "blot" chunk (the paper's far chunks), its children's
+/// coarsest levels joined and then simplified further without the material rules.
+struct VipmRoot {
+  std::vector<uint8_t> blob;
+  NodeRecord node;  ///< as VipmLeaf's
+  /// As VipmLeaf's, over the root's outer sides.
+  double borderDeviation = 0.0;
+  /// A bound on the vertical distance between the source samples on the children's shared
+  /// sides (x or y = 64) and either side's polyline there, at every level: its coarsest
+  /// level's error (errors are measured over closed triangles, seams included).
+  double seamDeviation = 0.0;
+  uint32_t collapses = 0;
+  double seconds = 0.0;
+};
+
+/// Builds the root whose south-west grid point is (x0, y0), `width` x `height` points (<=
+/// 129), from its children's coarsest levels. Its finest level is those levels joined
+/// (joinCoarsest); its collapses move vertices on the children's shared sides only along
+/// them (the centre and the sides' ends stay), and their errors are at least `levelError`
+/// (the roots' level error), so a root draws its children's coarsest levels until its own
+/// allowance passes the level error, and its first collapses geomorph in from there.
+VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
+                       const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                       int32_t width, int32_t height, double zStep, double levelError,
+                       int compressionLevel);
 
 /// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of cells + 1
 /// texels over grid square [x0, x0 + cells]^2, texel (i, j) the central-difference normal of

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "terralod/vipm/progressive_mesh.h"
@@ -27,21 +28,32 @@ struct Flanges {
   std::vector<uint16_t> tops;
   /// Per side with a flange: its border vertices in order along it, as indices into `tops`.
   std::vector<std::vector<uint16_t>> sides;
-  /// Edges of the finest level on interior grid lines (pairs of indices into `tops`), each
-  /// with a flange under it whatever the level: see makeFlanges.
-  std::vector<std::array<uint16_t, 2>> interior;
+  /// Interior grid lines (see makeFlanges): per vertex, its flange (an index into `tops`)
+  /// and the lines it lies on (x, y; -1: none), or empty when the chunk has no such lines.
+  struct OnLine {
+    int32_t flange = -1;
+    int16_t lineX = -1, lineY = -1;
+  };
+  std::vector<OnLine> interior;
+  /// The most interior flange edges a level has: its finest level's (collapses along a line
+  /// only ever join its edges).
+  uint32_t interiorEdgesMax = 0;
 };
 
 /// The flanges of the sides in `sideMask` (FlangeSide bits). With `interiorStep` > 0, also
-/// under every edge of the finest level that lies on an interior grid line x or y = k ·
-/// interiorStep: a fallback root joins its children's coarsest levels, whose shared sides need
-/// not match (T-junctions), so each side's edges there get a flange and close the gap. Meant
-/// for meshes without collapses (their finest level is the only one).
+/// under every edge of the drawn level that lies on an interior grid line x or y = k ·
+/// interiorStep: a root joins its children's coarsest levels, whose shared sides need not
+/// match (T-junctions), and simplifies each side's vertices along those lines only, so each
+/// side's edges there get a flange and close the gap at every level.
 Flanges makeFlanges(const ProgressiveMesh& mesh, uint8_t sideMask, int32_t interiorStep = 0);
 
-/// The flange triangles (two per border edge between active vertices, i.e. vertices <
-/// `activeVertices`) for a mesh of `vertexCount` vertices; flange vertex k is vertexCount + k.
+/// The flange triangles for a mesh of `vertexCount` vertices (flange vertex k is vertexCount +
+/// k): two per border edge between active vertices (vertices < `activeVertices`), and two per
+/// edge on an interior line of the triangles drawn now, `living` (the whole chunk's indices).
 void flangeIndices(const Flanges& flanges, uint32_t vertexCount, uint32_t activeVertices,
-                   std::vector<uint16_t>& out);
+                   std::span<const uint16_t> living, std::vector<uint16_t>& out);
+
+/// The most flange indices flangeIndices gives at any level.
+size_t maxFlangeIndices(const Flanges& flanges);
 
 }  // namespace terralod
