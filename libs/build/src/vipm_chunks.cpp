@@ -275,7 +275,8 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   std::vector<double> vertexHeights;
   root.node = storedNode(stored, vertexHeights);
   root.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
-  root.seamDeviation = coarsestError(stored);
+  const bool seams = from.seamX >= 0 || from.seamY >= 0;
+  root.seamDeviation = seams ? coarsestError(stored) : 0.0;
   root.collapses = stored.collapseCount();
   root.seconds = threadSeconds() - start;
   return root;

@@ -26,6 +26,7 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
       mLevels(p.levels),
       mOwn(p.positions),
       mDrawn(p.positions),
+      mFade(p.fade),
       mFlanges(p.flanges),
       mFlangeDepth(p.flangeDepth),
       mWidth(p.width),
@@ -79,8 +80,9 @@ void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
   if (count == 0) return;
   glNamedBufferSubData(mBuffers[0], GLintptr(first * sizeof(mDrawn[0])),
                        GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
-  glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(float)),
-                       GLsizeiptr(count * sizeof(float)), mMaterialMorph.data() + first);
+  if (mFade == MaterialFade::kToTarget)
+    glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(float)),
+                         GLsizeiptr(count * sizeof(float)), mMaterialMorph.data() + first);
 }
 
 void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow& window,
@@ -109,7 +111,8 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     mDrawn[n - 1 - j] = mOwn[n - 1 - j];
   if (morphs)
     morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
-  if (morphed || morphs) morphMaterials(previous, window, morphTheta);
+  if ((morphed || morphs) && mFade == MaterialFade::kToTarget)
+    morphMaterials(previous, window, morphTheta);
   mWindow = window;
   if (morphed || morphs) {
     uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges

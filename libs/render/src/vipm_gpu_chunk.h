@@ -84,6 +84,7 @@ class VipmGpuChunk {
   std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
   std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
   std::vector<float> mMaterialMorph;         // per vertex (flanges too), as drawn now
+  MaterialFade mFade = MaterialFade::kKeep;  // kKeep: mMaterialMorph stays 0
   Flanges mFlanges;
   float mFlangeDepth = 0.0f;
   MorphWindow mWindow;

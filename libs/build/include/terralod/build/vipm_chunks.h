@@ -78,7 +78,8 @@ struct VipmRoot {
   double borderDeviation = 0.0;
   /// A bound on the vertical distance between the source samples on the children's shared
   /// sides (x or y = 64) and either side's polyline there, at every level: its coarsest
-  /// level's error (errors are measured over closed triangles, seams included).
+  /// level's error (errors are measured over closed triangles, seams included); 0 for a root
+  /// no wider and no taller than a leaf (no shared sides).
   double seamDeviation = 0.0;
   uint32_t collapses = 0;
   double seconds = 0.0;
