@@ -54,6 +54,16 @@ void keepHighest(std::unordered_map<uint64_t, double>& heights, uint64_t key, do
   if (!fresh) it->second = std::max(it->second, z);
 }
 
+// Whether `a` and `b` are the same node or one is an ancestor of the other.
+bool sameBranch(const ChunkTree& tree, uint32_t a, uint32_t b) {
+  auto isAncestorOrSelf = [&](uint32_t up, uint32_t n) {
+    for (; n != kNoNode; n = tree.node(n).parent)
+      if (n == up) return true;
+    return false;
+  };
+  return isAncestorOrSelf(a, b) || isAncestorOrSelf(b, a);
+}
+
 }  // namespace
 
 VipmQuality::VipmQuality(const TilesetReader& tileset, const ChunkTree& tree,
@@ -218,23 +228,19 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     changed.push_back(&d);
   }
   if (changed.empty()) return 0.0;
-  // A chunk drawn in both frames is compared with itself: neighbours at different levels
-  // need not agree on their shared border (flanges hide the gap). A chunk new in this frame
-  // is compared with whatever covered its samples before.
-  std::unordered_map<uint64_t, double> heights;
-  std::unordered_map<uint32_t, std::unordered_map<uint64_t, double>> own;
+  // Each changed chunk is compared with what covered its samples before from the same place
+  // in the tree: itself, or the ancestor or descendants it replaced. A neighbour's border is
+  // left out: chunks at different levels need not agree on a shared border (flanges hide the
+  // gap), so the neighbour's height there is not what this chunk's samples showed.
+  std::unordered_map<uint32_t, std::unordered_map<uint64_t, double>> earlierSurfaces;
   for (const Drawn& d : previous) {
     if (unchanged.count(d.node)) continue;
     auto c = chunk(d.node);
     if (!c) return c.error();
     const auto triangles = surface(**c, d);
-    const bool kept = std::any_of(changed.begin(), changed.end(),
-                                  [&](const Drawn* k) { return k->node == d.node; });
-    auto& mine = own[d.node];
-    rasterize(**c, triangles, view, [&](int64_t x, int64_t y, double z) {
-      keepHighest(heights, sampleKey(x, y), z);
-      if (kept) keepHighest(mine, sampleKey(x, y), z);
-    });
+    auto& mine = earlierSurfaces[d.node];
+    rasterize(**c, triangles, view,
+              [&](int64_t x, int64_t y, double z) { keepHighest(mine, sampleKey(x, y), z); });
   }
   double worst = 0.0;
   const auto spacing = mTree.spacing();
@@ -242,8 +248,11 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     auto c = chunk(d->node);
     if (!c) return c.error();
     const auto triangles = surface(**c, *d);
-    const auto mine = own.find(d->node);
-    const auto& earlier = mine != own.end() && !mine->second.empty() ? mine->second : heights;
+    std::unordered_map<uint64_t, double> earlier;
+    for (const auto& [node, samples] : earlierSurfaces) {
+      if (!sameBranch(mTree, node, d->node)) continue;
+      for (const auto& [key, z] : samples) keepHighest(earlier, key, z);
+    }
     std::unordered_map<uint64_t, double> after;
     rasterize(**c, triangles, view,
               [&](int64_t x, int64_t y, double z) { keepHighest(after, sampleKey(x, y), z); });

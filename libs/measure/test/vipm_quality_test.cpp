@@ -10,6 +10,7 @@
 #include "temp_dir.h"
 #include "terralod/build/builder.h"
 #include "terralod/verify/verifier.h"
+#include "terralod/vipm/vipm_blob.h"
 
 namespace terralod {
 namespace {
@@ -111,6 +112,51 @@ TEST_F(VipmQualityTest, CollapsesPopWithoutGeomorphingAndNotWithIt) {
   EXPECT_LT(worstOn, 0.1) << worstOn << " vs " << worstOff;
   // The surface does move between the frames while it geomorphs.
   EXPECT_GT(worstStep, 10 * worstOn) << worstStep << " vs " << worstOn;
+}
+
+TEST_F(VipmQualityTest, AMergeIsComparedWithWhatItReplacedNotWithItsNeighbours) {
+  // A root takes over from its children at the roots' level error: its finest level is its
+  // children's coarsest, so nothing moves. Its neighbour, a root drawn near its coarsest level
+  // and geomorphing, drew their shared border differently (flanges hide that); it is not what
+  // the root replaced.
+  const auto& nodes = mTileset->nodes();
+  uint32_t west = kNoNode, east = kNoNode;
+  for (uint32_t a = 0; a < mTree->rootCount() && east == kNoNode; ++a)
+    for (uint32_t b = 0; b < mTree->rootCount(); ++b)
+      if (nodes[b].y == nodes[a].y && nodes[b].x == nodes[a].x + 1 &&
+          mTree->node(a).childCount == 4) {
+        west = a;
+        east = b;
+        break;
+      }
+  ASSERT_NE(east, kNoNode);
+  auto eastBlob = mTileset->readNode(east);
+  ASSERT_TRUE(eastBlob.ok());
+  auto eastChunk = loadVipmChunk(eastBlob->mesh(), "east");
+  ASSERT_TRUE(eastChunk.ok()) << eastChunk.error().message;
+  ASSERT_FALSE(eastChunk->unpacked.mesh.errors.empty());
+  // Its last collapse geomorphs at θ = 1.5 × its error, and moves on a very little this frame.
+  const double coarse = 1.5 * eastChunk->unpacked.mesh.errors.back();
+  const double merge = mTree->levelError(0);
+  std::vector<VipmQuality::Drawn> before{{east, coarse, coarse}}, after{{east, coarse, coarse}};
+  after[0].morphTheta *= 1.0 + 1e-9;
+  after.push_back({west, merge, merge});
+  const ChunkNode& n = mTree->node(west);
+  for (uint32_t c = n.firstChild; c < n.firstChild + n.childCount; ++c)
+    before.push_back({c, merge, merge});
+
+  const Box& box = mTree->node(west).box;
+  Camera camera;
+  camera.width = 320;
+  camera.height = 240;
+  camera.eye = {box.max[0], box.min[1] - 500.0, box.max[2] + 1500.0};
+  camera.target = {box.max[0], 0.5 * (box.min[1] + box.max[1]), box.min[2]};
+  const View v = makeView(camera).value();
+  VipmQuality quality(*mTileset, *mTree, *mSource, 1, 2, Geomorph::kOn);
+  EXPECT_LT(quality.maxPopPixels(v, before, after).value(), 0.01);
+  // The root at its coarsest level instead: the merge does show.
+  after[1].theta = after[1].morphTheta = 1e9;
+  EXPECT_GT(quality.maxPopPixels(v, before, after).value(), 0.5);
 }
 
 }  // namespace
