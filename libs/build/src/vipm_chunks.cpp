@@ -265,8 +265,17 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   from.seamX = width > kLeaf + 1 ? kLeaf : -1;
   from.seamY = height > kLeaf + 1 ? kLeaf : -1;
   CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
-  const float levelFloor = floatAbove(levelError);
-  for (Collapse& c : order.collapses) c.error = std::max(c.error, levelFloor);
+  // Every collapse waits for the root to take over (θ >= levelError). Those that could come
+  // sooner are spread over [levelError, 2 levelError] in their order, so they geomorph a few
+  // at a time rather than all together.
+  const size_t early =
+      size_t(std::count_if(order.collapses.begin(), order.collapses.end(),
+                           [&](const Collapse& c) { return c.error < 2.0 * levelError; }));
+  for (size_t j = 0; j < order.collapses.size(); ++j) {
+    const double spread = j < early ? double(j + 1) / double(early) : 0.0;
+    Collapse& c = order.collapses[j];
+    c.error = std::max(c.error, floatAbove(levelError * (1.0 + spread)));
+  }
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
   const VipmChunkData stored = packChunk(patch, mesh, q);
 

@@ -90,8 +90,7 @@ void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow
   const uint32_t n = mMesh.vertexCount();
   for (uint32_t j = previous.applied; j < previous.morphing; ++j) mMaterialMorph[n - 1 - j] = 0;
   for (uint32_t j = window.applied; j < window.morphing; ++j)  // as morphPositions' t
-    mMaterialMorph[n - 1 - j] =
-        float(std::clamp(morphTheta / double(mMesh.errors[j]) - 1.0, 0.0, 1.0));
+    mMaterialMorph[n - 1 - j] = morphProgress(morphTheta, double(mMesh.errors[j]));
   for (size_t k = 0; k < mFlanges.tops.size(); ++k)
     mMaterialMorph[n + k] = mMaterialMorph[mFlanges.tops[k]];
 }

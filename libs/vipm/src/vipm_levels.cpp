@@ -134,7 +134,7 @@ void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, doub
     const uint32_t uCollapse = n - 1 - u;  // the collapse that removes u, if any
     const bool uMorphs = uCollapse >= window.applied && uCollapse < window.morphing;
     const std::array<float, 3>& to = uMorphs ? drawn[u] : own[u];
-    const float t = float(std::clamp(theta / double(mesh.errors[j]) - 1.0, 0.0, 1.0));
+    const float t = morphProgress(theta, double(mesh.errors[j]));
     for (int k = 0; k < 3; ++k) drawn[v][k] = own[v][k] + t * (to[k] - own[v][k]);
   }
 }

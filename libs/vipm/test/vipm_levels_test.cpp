@@ -116,6 +116,24 @@ TEST(MorphWindow, SpansAFactorTwoOfErrorAndIsASharpCutWithoutMorphing) {
   EXPECT_EQ(w.morphing, 5u);
 }
 
+TEST(MorphProgress, StartsAndStopsAtRest) {
+  const double e = 10.0;
+  EXPECT_EQ(morphProgress(e, e), 0.0f);
+  EXPECT_EQ(morphProgress(0.5 * e, e), 0.0f);
+  EXPECT_EQ(morphProgress(2.0 * e, e), 1.0f);
+  EXPECT_EQ(morphProgress(3.0 * e, e), 1.0f);
+  EXPECT_FLOAT_EQ(morphProgress(1.5 * e, e), 0.5f);
+  // A step of 0.1 % in θ just after the start, or just before the end, moves a vertex by
+  // about 3e-6 of its way (a linear ramp: 1e-3).
+  EXPECT_LT(morphProgress(1.001 * e, e), 1e-5f);
+  EXPECT_GT(morphProgress(1.999 * e, e), 1.0f - 1e-5f);
+  float previous = 0.0f;
+  for (double theta = e; theta <= 2.0 * e; theta += 0.01 * e) {
+    EXPECT_GE(morphProgress(theta, e), previous);
+    previous = morphProgress(theta, e);
+  }
+}
+
 TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
   const Built b = build(1.0);
   const ProgressiveMesh& m = b.mesh;

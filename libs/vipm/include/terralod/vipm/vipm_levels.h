@@ -16,9 +16,10 @@
 // part sees the same level regardless of the previous state). Geomorphing (morphWindow,
 // morphPositions) spreads each collapse over a factor two of distance: collapse j starts
 // moving its vertex toward its target when the allowed error reaches errors[j] and is applied
-// (the vertex sits on its target) when it reaches 2 errors[j]. The drawn mesh is then always
-// between two levels whose errors are at most the allowed error.
+// (the vertex sits on its target) when it reaches 2 errors[j], eased in and out. The drawn mesh is
+// then always between two levels whose errors are at most the allowed error.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <span>
@@ -83,11 +84,18 @@ struct MorphWindow {
 enum class Geomorph : uint8_t { kOn, kOff };
 MorphWindow morphWindow(std::span<const float> errors, double theta, Geomorph geomorph);
 
+/// How far collapse j of error `error` has geomorphed at `theta`: 0 until theta reaches the
+/// error, 1 from twice the error, eased in and out between (smoothstep of theta / error - 1),
+/// so a vertex starts and stops sliding gently rather than at once.
+inline float morphProgress(double theta, double error) {
+  const double x = std::clamp(theta / error - 1.0, 0.0, 1.0);
+  return float(x * x * (3.0 - 2.0 * x));
+}
+
 /// Positions of the morphing vertices: for each collapse j in [window.applied,
 /// window.morphing), from the last to the first, vertex N - 1 - j is at
-/// lerp(own, drawn position of targets[j], t) with t = theta / errors[j] - 1 (0 when the
-/// error is just reached, 1 when the collapse is applied). Writes `drawn` of the morphing
-/// vertices only; `own` holds every vertex's own position.
+/// lerp(own, drawn position of targets[j], morphProgress(theta, errors[j])). Writes `drawn`
+/// of the morphing vertices only; `own` holds every vertex's own position.
 void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,
                     std::span<const std::array<float, 3>> own,
                     std::span<std::array<float, 3>> drawn);
