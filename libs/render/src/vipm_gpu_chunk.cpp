@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "terralod/render/texture_arrays.h"
@@ -35,20 +36,19 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   glCreateBuffers(GLsizei(mBuffers.size()), mBuffers.data());
   const auto positionBytes = GLsizeiptr(mOwn.size() * sizeof(mOwn[0]));
   glNamedBufferStorage(mBuffers[0], positionBytes, mOwn.data(), GL_DYNAMIC_STORAGE_BIT);
-  // Materials: each vertex's own and the one it fades to (flange copies: their top's).
-  const uint32_t n = mMesh.vertexCount();
-  std::vector<uint8_t> materials(p.materials.size() * 2);
-  for (size_t v = 0; v < p.materials.size(); ++v)
-    materials[2 * v] = materials[2 * v + 1] = p.materials[v];
-  if (p.fade == MaterialFade::kToTarget)
-    for (uint32_t j = 0; j < mMesh.collapseCount(); ++j)
-      materials[2 * size_t(n - 1 - j) + 1] = p.materials[mMesh.targets[j]];
-  for (size_t k = 0; k < mFlanges.tops.size(); ++k)
-    materials[2 * (n + k) + 1] = materials[2 * size_t(mFlanges.tops[k]) + 1];
-  glNamedBufferStorage(mBuffers[1], GLsizeiptr(materials.size()), materials.data(), 0);
-  mMaterialMorph.assign(mOwn.size(), 0.0f);
-  const auto morphBytes = GLsizeiptr(mMaterialMorph.size() * sizeof(float));
-  glNamedBufferStorage(mBuffers[3], morphBytes, mMaterialMorph.data(), GL_DYNAMIC_STORAGE_BIT);
+  // Materials: each vertex's own (flange copies: their top's), and its weights.
+  mMaterials = p.materials;
+  glNamedBufferStorage(mBuffers[1], GLsizeiptr(mMaterials.size()), mMaterials.data(), 0);
+  mWeightBytes.resize(mMaterials.size());
+  for (size_t v = 0; v < mMaterials.size(); ++v) {
+    mWeightBytes[v].fill(0);
+    mWeightBytes[v][mMaterials[v] % kMaxMaterials] = 255;
+  }
+  if (mFade == MaterialFade::kToTarget)
+    for (uint32_t v = 0; v < mMesh.vertexCount(); ++v) mWeights.push_back(ownWeights(v));
+  const auto weightBytes = GLsizeiptr(mWeightBytes.size() * sizeof(mWeightBytes[0]));
+  glNamedBufferStorage(mBuffers[3], weightBytes, mWeightBytes.data(),
+                       mFade == MaterialFade::kToTarget ? GL_DYNAMIC_STORAGE_BIT : 0);
   // Every part at a fixed place, at its finest level's size; the flanges after them.
   uint32_t first = 0;
   for (const VipmPart& part : mLevels.parts()) {
@@ -66,9 +66,10 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   uint64_t normalBytes = 0;
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
   // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
-  mGpuBytes = uint64_t(positionBytes) + materials.size() + uint64_t(morphBytes) + indexCount * 2 +
+  mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +
               normalBytes;
-  mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes);
+  mBytes =
+      mGpuBytes + p.bytes() + uint64_t(positionBytes) + mWeights.size() * sizeof(MaterialWeights);
   update(0.0, Geomorph::kOff);
 }
 
@@ -81,18 +82,30 @@ void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
   glNamedBufferSubData(mBuffers[0], GLintptr(first * sizeof(mDrawn[0])),
                        GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
   if (mFade == MaterialFade::kToTarget)
-    glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(float)),
-                         GLsizeiptr(count * sizeof(float)), mMaterialMorph.data() + first);
+    glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(mWeightBytes[0])),
+                         GLsizeiptr(count * sizeof(mWeightBytes[0])), mWeightBytes.data() + first);
+}
+
+MaterialWeights VipmGpuChunk::ownWeights(uint32_t v) const {
+  MaterialWeights w{};
+  w[mMaterials[v] % kMaxMaterials] = 1.0f;
+  return w;
 }
 
 void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow& window,
                                   double morphTheta) {
   const uint32_t n = mMesh.vertexCount();
-  for (uint32_t j = previous.applied; j < previous.morphing; ++j) mMaterialMorph[n - 1 - j] = 0;
-  for (uint32_t j = window.applied; j < window.morphing; ++j)  // as morphPositions' t
-    mMaterialMorph[n - 1 - j] = morphProgress(morphTheta, double(mMesh.errors[j]));
+  for (uint32_t j = previous.applied; j < previous.morphing; ++j)
+    mWeights[n - 1 - j] = ownWeights(n - 1 - j);
+  morphMaterialWeights(mMesh, window, morphTheta, std::span(mMaterials).first(n), mWeights);
+  for (const MorphWindow& w : {previous, window})
+    for (uint32_t j = w.applied; j < w.morphing; ++j) {
+      const uint32_t v = n - 1 - j;
+      for (int m = 0; m < kMaxMaterials; ++m)
+        mWeightBytes[v][size_t(m)] = uint8_t(std::lround(255.0f * mWeights[v][size_t(m)]));
+    }
   for (size_t k = 0; k < mFlanges.tops.size(); ++k)
-    mMaterialMorph[n + k] = mMaterialMorph[mFlanges.tops[k]];
+    mWeightBytes[n + k] = mWeightBytes[mFlanges.tops[k]];
 }
 
 void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {

@@ -56,13 +56,14 @@ class VipmGpuChunk {
   /// Vertices of the mesh active now (flanges left out).
   uint32_t activeVertices() const { return mLevels.activeVertices(); }
   uint32_t vertexBuffer() const { return mBuffers[0]; }
-  /// Per vertex: its material and its collapse target's (its own when it never collapses).
+  /// Per vertex: its own material (one byte).
   uint32_t materialBuffer() const { return mBuffers[1]; }
   uint32_t indexBuffer() const { return mBuffers[2]; }
-  /// Per vertex: how far its material has morphed toward its target's (float, 0..1), with
-  /// its position: a blot root's collapses join different materials, so a corner's material
-  /// changes only by fading.
-  uint32_t materialMorphBuffer() const { return mBuffers[3]; }
+  /// Per vertex: its splat weights as drawn now, one unsigned normalised byte per material
+  /// (8 bytes). Its own material alone, except while a blot root's vertex geomorphs: a root's
+  /// collapses join different materials, so a corner's material changes only by fading
+  /// (morphMaterialWeights).
+  uint32_t weightBuffer() const { return mBuffers[3]; }
   uint32_t normalMap() const { return mNormalMap.id(); }
   /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
   uint32_t normalSize() const { return mNormalSize; }
@@ -76,15 +77,20 @@ class VipmGpuChunk {
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
-  // Sets the material morph of the window's vertices (0 outside it), flange copies too.
+  // Sets the weights of the window's vertices (their own material alone outside it), flange
+  // copies too.
   void morphMaterials(const MorphWindow& previous, const MorphWindow& window, double morphTheta);
+  // Own material alone.
+  MaterialWeights ownWeights(uint32_t v) const;
 
   ProgressiveMesh mMesh;
   VipmLevels mLevels;
   std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
   std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
-  std::vector<float> mMaterialMorph;         // per vertex (flanges too), as drawn now
-  MaterialFade mFade = MaterialFade::kKeep;  // kKeep: mMaterialMorph stays 0
+  std::vector<uint8_t> mMaterials;           // own, per vertex (flanges too)
+  std::vector<MaterialWeights> mWeights;     // per mesh vertex as drawn now (kToTarget only)
+  std::vector<std::array<uint8_t, kMaxMaterials>> mWeightBytes;  // as uploaded (flanges too)
+  MaterialFade mFade = MaterialFade::kKeep;  // kKeep: every vertex its own material alone
   Flanges mFlanges;
   float mFlangeDepth = 0.0f;
   MorphWindow mWindow;
@@ -92,7 +98,7 @@ class VipmGpuChunk {
   std::vector<uint16_t> mFlangeIndices;
   std::vector<Range> mRanges;
   uint32_t mFlangeFirst = 0;
-  std::array<uint32_t, 4> mBuffers{};  // positions, materials, indices, material morphs
+  std::array<uint32_t, 4> mBuffers{};  // positions, materials, indices, weights
   GlTexture mNormalMap;
   uint32_t mNormalSize = 0;
   int32_t mWidth = 0, mHeight = 0;

@@ -2,6 +2,7 @@
 
 #include <epoxy/gl.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/type_ptr.hpp>
 #include <numbers>
@@ -58,10 +59,12 @@ VipmPass::VipmPass(ShaderProgram program, std::vector<GlTexture> details,
       mColors(std::move(colors)) {
   const GLuint vao = mVertexArray.id();
   glVertexArrayAttribFormat(vao, 0, 3, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribIFormat(vao, 1, 2, GL_UNSIGNED_BYTE, 0);
-  glVertexArrayAttribFormat(vao, 2, 1, GL_FLOAT, GL_FALSE, 0);
-  for (GLuint a = 0; a < 3; ++a) {
-    glVertexArrayAttribBinding(vao, a, a);
+  glVertexArrayAttribIFormat(vao, 1, 1, GL_UNSIGNED_BYTE, 0);
+  // The weights of materials 0-3 and 4-7: two attributes from one 8-byte vertex.
+  glVertexArrayAttribFormat(vao, 2, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
+  glVertexArrayAttribFormat(vao, 3, 4, GL_UNSIGNED_BYTE, GL_TRUE, 4);
+  for (GLuint a = 0; a < 4; ++a) {
+    glVertexArrayAttribBinding(vao, a, std::min(a, 2u));
     glEnableVertexArrayAttrib(vao, a);
   }
 }
@@ -86,8 +89,8 @@ void VipmPass::setChunk(const FrameContext& frame, const ChunkTree& tree, const 
   glProgramUniform1f(p, mProgram.uniformLocation("uLevel"), float(n.level));
   glProgramUniform1f(p, mProgram.uniformLocation("uMorph"), d.morph);
   glVertexArrayVertexBuffer(mVertexArray.id(), 0, c.vertexBuffer(), 0, 12);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 2);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 2, c.materialMorphBuffer(), 0, 4);
+  glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 1);
+  glVertexArrayVertexBuffer(mVertexArray.id(), 2, c.weightBuffer(), 0, 8);
   glVertexArrayElementBuffer(mVertexArray.id(), c.indexBuffer());
   glBindTextureUnit(1, c.normalMap());
 }

@@ -22,7 +22,11 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
                                            float flangeDepth) {
   auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
   if (!normals) return normals.error();
-  auto loaded = loadVipmChunk(node.mesh(), subject);
+  // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
+  // collapses (without the rules) fade materials.
+  const bool root = chunkCells > uint32_t(kVipmChunkCells);
+  const MaterialFade fade = root ? MaterialFade::kToTarget : MaterialFade::kKeep;
+  auto loaded = loadVipmChunk(node.mesh(), subject, fade);
   if (!loaded) return loaded.error();
   const VipmChunkData& data = loaded->data;
   UnpackedChunk& unpacked = loaded->unpacked;
@@ -34,11 +38,8 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
   p.positions = positionsAboveBase(*loaded);
   p.levels = std::move(loaded->levels);
   p.normals = std::move(normals).value();
-  // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
-  // collapses (without the rules) fade materials.
-  const bool root = chunkCells > uint32_t(kVipmChunkCells);
   p.flanges = makeFlanges(unpacked.mesh, flangeSides, root ? int32_t(kVipmChunkCells) : 0);
-  p.fade = root ? MaterialFade::kToTarget : MaterialFade::kKeep;
+  p.fade = fade;
   p.materials = std::move(unpacked.materials);
   for (uint16_t top : p.flanges.tops) {
     const auto& t = p.positions[top];

@@ -19,11 +19,6 @@
 
 namespace terralod {
 
-/// Whether a collapse's vertex fades its material into its target's while it geomorphs.
-/// Leaves keep theirs (the rules make a collapse join vertices of one material; without them
-/// the boundaries jump, which is what --no-material-rules shows); blot roots fade.
-enum class MaterialFade : uint8_t { kKeep, kToTarget };
-
 struct VipmChunkPayload final : ChunkPayload {
   ProgressiveMesh mesh;  ///< collapse targets and errors, for the geomorph
   VipmLevels levels;     ///< at the finest level

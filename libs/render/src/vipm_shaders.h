@@ -10,12 +10,14 @@
 namespace terralod::shaders {
 
 // Vertices: grid x, grid y (cells from the chunk's south-west corner) and metres above the
-// chunk's zBase (geomorphed on the CPU); the vertex's material index and its collapse
-// target's, and how far its material has morphed toward the target's (with its position).
+// chunk's zBase (geomorphed on the CPU); the vertex's own material index, and its splat
+// weights as drawn (one-hot, or fading with its position in a blot root), materials 0-3 and
+// 4-7.
 inline constexpr const char* kVipmVertex = R"(#version 450 core
 layout(location = 0) in vec3 aPosition;
-layout(location = 1) in uvec2 aMaterial;
-layout(location = 2) in float aMaterialMorph;
+layout(location = 1) in uint aMaterial;
+layout(location = 2) in vec4 aWeights0;
+layout(location = 3) in vec4 aWeights1;
 uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
 uniform vec3 uOrigin;          // chunk corner relative to the eye (z: zBase - eye z)
@@ -39,11 +41,10 @@ void main() {
   vHeight = p.z + uEyeHeight;
   vNormalUv = (aPosition.xy + 0.5) / uGridSize;  // texel i's centre is on grid point i
   vDetailUv = uDetailOrigin + aPosition.xy * uDetailScale;
-  // One-hot, or two while the vertex geomorphs: the weights sum to 1.
-  vWeight = (aMaterial.x == uint(uMaterial) ? 1.0 - aMaterialMorph : 0.0) +
-            (aMaterial.y == uint(uMaterial) ? aMaterialMorph : 0.0);
-  vMaterialColor = uMaterialColors[min(aMaterial.x, 7u)];
-  vMaterialId = min(aMaterial.x, 7u);
+  // The weights sum to 1 (to the bytes' rounding).
+  vWeight = uMaterial < 0 ? 0.0 : uMaterial < 4 ? aWeights0[uMaterial] : aWeights1[uMaterial - 4];
+  vMaterialColor = uMaterialColors[min(aMaterial, 7u)];
+  vMaterialId = min(aMaterial, 7u);
   gl_Position = uViewProjection * vec4(p, 1.0);
 }
 )";

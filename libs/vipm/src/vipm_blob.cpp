@@ -2,13 +2,14 @@
 
 namespace terralod {
 
-Result<LoadedVipmChunk> loadVipmChunk(std::span<const uint8_t> blob, const std::string& subject) {
+Result<LoadedVipmChunk> loadVipmChunk(std::span<const uint8_t> blob, const std::string& subject,
+                                      MaterialFade fade) {
   auto data = decodeVipmChunk(blob, subject);
   if (!data) return data.error();
   LoadedVipmChunk out;
   out.data = std::move(data).value();
   out.unpacked = unpackChunk(out.data);
-  auto levels = VipmLevels::reconstruct(out.unpacked.mesh, out.unpacked.materials);
+  auto levels = VipmLevels::reconstruct(out.unpacked.mesh, out.unpacked.materials, fade);
   if (!levels) return makeError(subject, "corrupt VIPM chunk: " + levels.error().message);
   out.levels = std::move(levels).value();
   return out;

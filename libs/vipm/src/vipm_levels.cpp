@@ -8,7 +8,8 @@
 namespace terralod {
 
 Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
-                                           std::span<const uint8_t> vertexMaterials) {
+                                           std::span<const uint8_t> vertexMaterials,
+                                           MaterialFade fade) {
   const uint32_t n = mesh.vertexCount(), r = mesh.collapseCount();
   const uint32_t triangleCount = uint32_t(mesh.triangles.size());
   if (vertexMaterials.size() != n) return Error{"material count differs from vertex count"};
@@ -34,6 +35,18 @@ Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
       [&](uint32_t j, uint32_t) { ++deaths[j]; });
   if (!s) return s.error();
   while (current < r) wholeMoveStart[++current] = uint32_t(wholeMoves.size());
+  if (fade == MaterialFade::kToTarget) {
+    // A vertex can show any material along its chain of targets (vertex n - 1 - j collapses
+    // onto targets[j], an earlier vertex, which the replay checked).
+    std::vector<uint8_t> chain(n);
+    for (uint32_t v = 0; v < n; ++v) {
+      chain[v] = uint8_t(1u << vertexMaterials[v]);
+      if (v >= n - r) chain[v] |= chain[mesh.targets[n - 1 - v]];
+    }
+    for (uint32_t t = 0; t < triangleCount; ++t)
+      for (uint16_t v : mesh.triangles[t])
+        if (v < n) mask[t] |= chain[v];
+  }
 
   VipmLevels levels;
   levels.mVertexCount = n;
@@ -136,6 +149,19 @@ void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, doub
     const std::array<float, 3>& to = uMorphs ? drawn[u] : own[u];
     const float t = morphProgress(theta, double(mesh.errors[j]));
     for (int k = 0; k < 3; ++k) drawn[v][k] = own[v][k] + t * (to[k] - own[v][k]);
+  }
+}
+
+void morphMaterialWeights(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,
+                          std::span<const uint8_t> materials, std::span<MaterialWeights> weights) {
+  const uint32_t n = mesh.vertexCount();
+  for (uint32_t j = window.morphing; j-- > window.applied;) {
+    const uint32_t v = n - 1 - j;
+    const MaterialWeights& to = weights[mesh.targets[j]];  // its own, or drawn: set already
+    const float t = morphProgress(theta, double(mesh.errors[j]));
+    MaterialWeights& w = weights[v];
+    for (int m = 0; m < kMaxMaterials; ++m)
+      w[size_t(m)] = (1.0f - t) * (materials[v] == m ? 1.0f : 0.0f) + t * to[size_t(m)];
   }
 }
 

@@ -171,5 +171,84 @@ TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
   EXPECT_GT(worstOff, 2.0);
 }
 
+TEST(MorphMaterialWeights, FollowTargetsThatFadeThemselvesAndEveryPartDrawsThem) {
+  // Without the rules (as a blot root is built) collapses join different materials, and a
+  // target is often geomorphing itself.
+  const Built b = build(1.0, MaterialRules::kOff);
+  const ProgressiveMesh& m = b.mesh;
+  const uint32_t n = m.vertexCount();
+  auto levels = VipmLevels::reconstruct(m, b.materials, MaterialFade::kToTarget);
+  ASSERT_TRUE(levels.ok()) << levels.error().message;
+  auto own = [&](uint32_t v) {
+    MaterialWeights w{};
+    w[b.materials[v]] = 1.0f;
+    return w;
+  };
+  // The weights drawn at each vertex, resolved through the applied collapses; `chains` false:
+  // each vertex fades to its target's own material instead.
+  auto drawnAt = [&](double theta, bool chains) {
+    const MorphWindow w = morphWindow(m.errors, theta, Geomorph::kOn);
+    std::vector<MaterialWeights> weights(n);
+    for (uint32_t v = 0; v < n; ++v) weights[v] = own(v);
+    if (chains) {
+      morphMaterialWeights(m, w, theta, b.materials, weights);
+    } else {
+      for (uint32_t j = w.applied; j < w.morphing; ++j)
+        for (int k = 0; k < kMaxMaterials; ++k) {
+          const float t = morphProgress(theta, m.errors[j]);
+          weights[n - 1 - j][k] = (1 - t) * own(n - 1 - j)[k] + t * own(m.targets[j])[k];
+        }
+    }
+    std::vector<MaterialWeights> out(n);
+    for (uint32_t v = 0; v < n; ++v) {
+      uint32_t x = v;
+      while (x >= n - w.applied) x = m.targets[n - 1 - x];
+      out[v] = weights[x];
+    }
+    return std::pair{w, out};
+  };
+  double worstChains = 0, worstOwn = 0, worstSum = 0;
+  int missing = 0, fading = 0;
+  auto prevChains = drawnAt(1.0, true).second, prevOwn = drawnAt(1.0, false).second;
+  for (double theta = 1.0; theta < 60.0; theta *= 1.002) {
+    const auto [window, chains] = drawnAt(theta, true);
+    const auto own2 = drawnAt(theta, false).second;
+    for (uint32_t v = 0; v < n; ++v) {
+      float sum = 0;
+      for (int k = 0; k < kMaxMaterials; ++k) {
+        worstChains = std::max(worstChains, double(std::abs(chains[v][k] - prevChains[v][k])));
+        worstOwn = std::max(worstOwn, double(std::abs(own2[v][k] - prevOwn[v][k])));
+        sum += chains[v][k];
+      }
+      worstSum = std::max(worstSum, double(std::abs(sum - 1.0f)));
+    }
+    // Every living triangle with a corner weighing a material is in that material's part.
+    levels->setApplied(window.applied);
+    const VipmPart& whole = levels->whole();
+    for (const VipmPart& part : levels->parts()) {
+      if (part.material == kWholeChunk) continue;
+      std::set<Tri> inPart;
+      for (uint32_t t = 0; t < levels->drawnTriangles(part); ++t)
+        inPart.insert({part.indices[3 * t], part.indices[3 * t + 1], part.indices[3 * t + 2]});
+      for (uint32_t t = 0; t < levels->drawnTriangles(whole); ++t) {
+        const Tri tri{whole.indices[3 * t], whole.indices[3 * t + 1], whole.indices[3 * t + 2]};
+        bool weighs = false;
+        for (uint16_t v : tri) weighs |= chains[v][size_t(part.material)] > 0.0f;
+        if (!weighs) continue;
+        fading += b.materials[tri[0]] != part.material && b.materials[tri[1]] != part.material &&
+                  b.materials[tri[2]] != part.material;
+        missing += !inPart.count(tri);
+      }
+    }
+    prevChains = chains;
+    prevOwn = own2;
+  }
+  EXPECT_LT(worstSum, 1e-5);
+  EXPECT_EQ(missing, 0);
+  EXPECT_GT(fading, 0);  // some triangles draw a material none of their corners owns
+  EXPECT_LT(worstChains, 0.05);
+  EXPECT_GT(worstOwn, 0.3) << "no target fades itself: the test shows nothing";
+}
+
 }  // namespace
 }  // namespace terralod

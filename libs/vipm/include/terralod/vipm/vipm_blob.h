@@ -22,8 +22,9 @@ struct LoadedVipmChunk {
 };
 
 /// Fails with "<subject>: corrupt VIPM chunk: <problem>" when the blob does not decode or its
-/// collapses do not replay.
-Result<LoadedVipmChunk> loadVipmChunk(std::span<const uint8_t> blob, const std::string& subject);
+/// collapses do not replay. `fade`: as VipmLevels::reconstruct.
+Result<LoadedVipmChunk> loadVipmChunk(std::span<const uint8_t> blob, const std::string& subject,
+                                      MaterialFade fade = MaterialFade::kKeep);
 
 /// Per vertex: grid x, grid y and the height above data.zBase, as the renderer holds them
 /// (single precision keeps the stored steps exactly above the base; absolute heights would not).

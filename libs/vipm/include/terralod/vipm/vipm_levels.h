@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/materials/material.h"
 #include "terralod/vipm/progressive_mesh.h"
 
 namespace terralod {
@@ -41,12 +42,20 @@ struct VipmPart {
   bool dirty = true;                ///< indices changed since the flag was last cleared
 };
 
+/// Whether a collapse's vertex fades its material into its target's while it geomorphs.
+/// Leaves keep theirs (the rules make a collapse keep the materials where they are; without
+/// them the boundaries jump, which is what --no-material-rules shows); blot roots fade.
+enum class MaterialFade : uint8_t { kKeep, kToTarget };
+
 class VipmLevels {
  public:
   /// Reconstructs the parts of `mesh`, whose vertices have materials `vertexMaterials` (one
-  /// per vertex, < 8), at its finest level. Fails if the mesh is inconsistent.
+  /// per vertex, < 8), at its finest level. Fails if the mesh is inconsistent. With
+  /// kToTarget a material's part also holds the triangles with a corner that can fade into it
+  /// (the materials along the corner's chain of collapse targets).
   static Result<VipmLevels> reconstruct(const ProgressiveMesh& mesh,
-                                        std::span<const uint8_t> vertexMaterials);
+                                        std::span<const uint8_t> vertexMaterials,
+                                        MaterialFade fade = MaterialFade::kKeep);
 
   uint32_t collapseCount() const { return uint32_t(mTargets.size()); }
   uint32_t vertexCount() const { return mVertexCount; }
@@ -99,5 +108,17 @@ inline float morphProgress(double theta, double error) {
 void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,
                     std::span<const std::array<float, 3>> own,
                     std::span<std::array<float, 3>> drawn);
+
+/// Splat weights per vertex, one per material.
+using MaterialWeights = std::array<float, kMaxMaterials>;
+
+/// Materials of the morphing vertices as they fade with their positions: for each collapse j
+/// in [window.applied, window.morphing), from the last to the first, vertex N - 1 - j weighs
+/// lerp(its own material alone, the drawn weights of targets[j], morphProgress(theta,
+/// errors[j])), so a vertex whose target is itself fading follows it and meets exactly what
+/// its target shows when it is applied. Writes `weights` of the morphing vertices only; every
+/// other vertex must hold its own material alone.
+void morphMaterialWeights(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,
+                          std::span<const uint8_t> materials, std::span<MaterialWeights> weights);
 
 }  // namespace terralod
