@@ -36,6 +36,18 @@ CLI::Validator positiveNumber() {
       "", "");
 }
 
+CLI::Validator positiveNumberOr(const std::string& word) {
+  return CLI::Validator(
+      [word](std::string& text) -> std::string {
+        if (text == word) return {};
+        const auto value = parseNumber(text);
+        if (!value || !(*value > 0))
+          return "must be a number greater than 0 or " + word + " (got " + text + ")";
+        return {};
+      },
+      "", "");
+}
+
 CLI::Validator nonNegativeNumber() {
   return CLI::Validator(
       [](std::string& text) -> std::string {

@@ -15,6 +15,8 @@ namespace terralod::cli {
 
 /// A finite number greater than 0.
 CLI::Validator positiveNumber();
+/// A finite number greater than 0, or the word `word` (e.g. "off").
+CLI::Validator positiveNumberOr(const std::string& word);
 /// A finite number, 0 or more.
 CLI::Validator nonNegativeNumber();
 /// A finite number from lo to hi (inclusive).

@@ -81,13 +81,15 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto noRules = std::make_shared<bool>(false);
   cmd->add_flag("--no-material-rules", *noRules,
                 "vipm: collapse without the material rules (shows what they buy)");
-  auto blotError = cmd->add_option(
-      "--blot-error", options->blotError,
-      "vipm: leaves simplify with the material rules up to this error (metres, at least "
-      "--max-error); beyond twice it the 128-cell roots draw instead, simplified without the "
-      "rules (blot chunks: far fewer triangles far away, at the price of material pops there). "
-      "Default: leaves simplify as far as the rules allow");
-  blotError->check(positiveNumber());
+  auto blotError = std::make_shared<std::string>();
+  cmd->add_option(
+         "--blot-error", *blotError,
+         "vipm: leaves simplify with the material rules up to this error (metres, at least "
+         "--max-error); beyond twice it the 128-cell roots draw instead, simplified further "
+         "without the rules, their materials fading as they geomorph (blot chunks: far fewer "
+         "triangles far away). Default: 4 x --max-error; off: leaves simplify as far as the "
+         "rules allow")
+      ->check(positiveNumberOr("off"));
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -100,8 +102,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build dem.tif --kind vipm --materials classes.tif -o dem.tlod\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
-  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
-    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau,
+                 blotError] {
+    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
@@ -119,13 +122,18 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         options->kind = TilesetKind::kVipm;
         options->textures = false;  // no colour tiles: normal maps only (vipm_builder.h)
         options->materialRules = *noRules ? MaterialRules::kOff : MaterialRules::kOn;
-        if (options->blotError > 0 && options->blotError < options->maxError)
+        if (*blotError == "off") {
+          options->blotError = BlotError::off();
+        } else if (!blotError->empty()) {
+          options->blotError = BlotError::metres(std::stod(*blotError));  // checked
+        }
+        if (options->blotError.leafError(options->maxError) < options->maxError)
           return fail("--blot-error must be at least --max-error");
       } else {
         for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},
                                    std::pair{!options->palettePath.empty(), "--palette"},
                                    std::pair{*noRules, "--no-material-rules"},
-                                   std::pair{options->blotError > 0, "--blot-error"}})
+                                   std::pair{!blotError->empty(), "--blot-error"}})
           if (given) return fail(std::string(name) + " applies to --kind vipm only");
       }
       if (!options->palettePath.empty() && options->materialsPath.empty())

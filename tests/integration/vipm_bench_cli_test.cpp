@@ -39,13 +39,12 @@ class VipmBenchCli : public ::testing::Test {
         {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
         {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
         {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
-    // The last stretch of the descent, few frames, small,
-    // after hovering while the chunks stream in.
-    std::ofstream(sDir->file("short.json")) << R"({"fov_deg": 60, "size": [160, 120],
+    // Low over the south-west rim, coming down: leaves draw near, roots further away.
+    std::ofstream(sDir->file("low.json")) << R"({"fov_deg": 60, "size": [160, 120],
       "frames": 24, "keyframes": [
-        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
-        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
-        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
+        {"eye": [5400, 3500, 2350], "target": [7500, 8000, 1900]}]})";
     // Hovering: the same camera every frame, so the LOD never changes.
     std::ofstream(sDir->file("hover.json")) << R"({"fov_deg": 60, "size": [160, 120],
       "frames": 16, "keyframes": [
@@ -112,17 +111,23 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
 }
 
 TEST_F(VipmBenchCli, CountsPixelsWhoseMaterialChangesWithTheLevel) {
-  // Without the rules and without geomorphing, collapses move material boundaries at once.
-  const auto popping = materials(*sNoRules, "short.json", {"--no-morph"});
+  // Low over the rim, where leaves draw. Without the rules, a collapse's vertex keeps its own
+  // material until the collapse is applied: boundaries jump even while geomorphing.
+  const auto popping = materials(*sNoRules, "low.json", {});
   ASSERT_TRUE(popping.contains("material_pop_px"));
   EXPECT_GE(popping["material_pop_frames"].get<double>(), 5.0);
   EXPECT_GT(popping["material_pop_px"].get<double>(), 20.0);
   EXPECT_GE(popping["material_pop_px"].get<double>(), popping["material_pop_px_p99"].get<double>());
   EXPECT_LE(popping["material_pop_px"].get<double>(), 160.0 * 120.0);
-  // With the rules, boundaries stay put: far fewer pixels change material.
-  const auto kept = materials(*sTileset, "short.json", {"--no-morph"});
+  // With the rules, boundaries stay put (and the blot roots fade theirs): far fewer pixels
+  // change material.
+  const auto kept = materials(*sTileset, "low.json", {});
   EXPECT_GE(kept["material_pop_frames"].get<double>(), 5.0);
   EXPECT_LT(kept["material_pop_px"].get<double>() * 5.0, popping["material_pop_px"].get<double>());
+  // Without geomorphing the roots' collapses (no rules) change materials at once.
+  const auto unmorphed = materials(*sTileset, "low.json", {"--no-morph"});
+  EXPECT_GT(unmorphed["material_pop_px"].get<double>(),
+            5.0 * kept["material_pop_px"].get<double>());
   // The same camera every frame: the level never changes, no pixel changes material.
   const auto hovering = materials(*sNoRules, "hover.json", {"--no-morph"});
   EXPECT_GE(hovering["material_pop_frames"].get<double>(), 5.0);

@@ -67,6 +67,10 @@ TEST_F(VipmBuildCli, WritesAVipmTilesetThatInfoDescribes) {
   EXPECT_EQ(j["materials"][0]["color"].get<std::string>().size(), 7u);
   EXPECT_EQ(j["metadata"]["build"]["materials"], "classes.tif");
   EXPECT_EQ(j["metadata"]["build"]["material_rules"], true);
+  // Blot roots by default: leaves stop at 4 × --max-error (1 m), roots take over at twice
+  // their largest last error.
+  EXPECT_EQ(j["metadata"]["build"]["blot_error"], 4.0);
+  EXPECT_LE(j["level_error"][0].get<double>(), 8.0 + 1e-4);
   const RunResult text = runTerralod({"info", out});
   EXPECT_NE(text.out.find("kind            vipm"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("0: class 3 (id 3, #"), std::string::npos) << text.out;
@@ -75,6 +79,14 @@ TEST_F(VipmBuildCli, WritesAVipmTilesetThatInfoDescribes) {
   EXPECT_EQ(j["textured"], true);
   EXPECT_EQ(j["texture_bytes"], j["metadata"]["texture"]["bytes"]);
   EXPECT_NE(text.out.find("textures        normal maps only (BC5"), std::string::npos) << text.out;
+
+  // --blot-error off: leaves simplify as far as the rules allow, roots take over beyond.
+  const RunResult off = runTerralod({"build", kDem, "--kind", "vipm", "--blot-error", "off",
+                                     "--threads", "2", "-o", mDir.file("off.tlod")});
+  ASSERT_EQ(off.exitCode, 0) << off.err;
+  const auto o = nlohmann::json::parse(runTerralod({"info", mDir.file("off.tlod"), "--json"}).out);
+  EXPECT_TRUE(o["metadata"]["build"]["blot_error"].is_null());
+  EXPECT_GT(o["level_error"][0].get<double>(), 8.0);
 
   const RunResult statik = runTerralod({"build", kDem, "--no-texture", "-o", mDir.file("s.tlod")});
   ASSERT_EQ(statik.exitCode, 0) << statik.err;
@@ -112,6 +124,9 @@ TEST_F(VipmBuildCli, RefusesBadMaterialsAndOptionsThatDoNotApply) {
       {"blot error with static",
        {"build", kDem, "--blot-error", "4", "-o", out},
        "--blot-error applies to --kind vipm only"},
+      {"blot error neither metres nor off",
+       {"build", kDem, "--kind", "vipm", "--blot-error", "far", "-o", out},
+       "--blot-error: must be a number greater than 0 or off (got far)"},
       {"blot error below max error",
        {"build", kDem, "--kind", "vipm", "--max-error", "2", "--blot-error", "1", "-o", out},
        "--blot-error must be at least --max-error"},

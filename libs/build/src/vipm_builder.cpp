@@ -45,6 +45,8 @@ Status checkOptions(const BuildOptions& options) {
     return Error{"--chunk-cells: VIPM chunks are always " + std::to_string(kLeaf) + " cells"};
   if (!options.palettePath.empty() && options.materialsPath.empty())
     return Error{"--palette names the classes of --materials, which is missing"};
+  if (options.blotError.leafError(options.maxError) < options.maxError)
+    return Error{"--blot-error must be at least --max-error"};
   return {};
 }
 
@@ -172,6 +174,7 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
   nlohmann::json list = nlohmann::json::array();
   for (const Material& m : materials.materials)
     list.push_back({{"id", m.id}, {"name", m.name}, {"color", colorHex(m.color)}});
+  const double blotMetres = options.blotError.leafError(options.maxError);
   nlohmann::json j = {
       {"generator", "terralod"},
       {"kind", "vipm"},
@@ -181,8 +184,7 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
        {{"max_error", options.maxError},
         {"chunk_cells", kLeaf},
         {"material_rules", options.materialRules == MaterialRules::kOn},
-        {"blot_error",
-         options.blotError > 0 ? nlohmann::json(options.blotError) : nlohmann::json()},
+        {"blot_error", std::isfinite(blotMetres) ? nlohmann::json(blotMetres) : nlohmann::json()},
         {"materials", options.materialsPath.empty()
                           ? std::string("classification")
                           : std::filesystem::path(options.materialsPath).filename().string()},
@@ -200,6 +202,18 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
 }
 
 }  // namespace
+
+double BlotError::leafError(double maxError) const {
+  switch (mode) {
+    case Mode::kTimesMaxError:
+      return value * maxError;
+    case Mode::kMetres:
+      return value;
+    case Mode::kOff:
+      break;
+  }
+  return std::numeric_limits<double>::infinity();
+}
 
 Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
                                       const std::function<void(const std::string&)>& warn) {
@@ -246,8 +260,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   params.zStep = zStep;
   params.maxError = options.maxError;
   params.rules = options.materialRules;
-  params.coarsestError =
-      options.blotError > 0 ? options.blotError : std::numeric_limits<double>::infinity();
+  params.coarsestError = options.blotError.leafError(options.maxError);
   params.compressionLevel = options.compressionLevel;
   std::vector<VipmLeaf> leaves(leafCount);
   // Every node's normal map, from the source heights (never from its mesh).

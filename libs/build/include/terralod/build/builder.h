@@ -27,6 +27,24 @@ enum class TilesetKind : uint8_t {
   kVipm,    ///< progressive meshes per 64-cell chunk under fallback roots (mesh kind 2)
 };
 
+/// VIPM only: where the leaves stop simplifying (with the material rules) and the 128-cell
+/// roots take over, at twice it, as blot chunks (simplified further without the rules).
+struct BlotError {
+  enum class Mode : uint8_t {
+    kTimesMaxError,  ///< `value` × the build's --max-error (the default: 4×)
+    kMetres,         ///< `value` metres
+    kOff,            ///< leaves simplify as far as the rules allow; roots take over at twice
+                     ///< the largest error that reaches
+  };
+  Mode mode = Mode::kTimesMaxError;
+  double value = 4.0;
+
+  static BlotError metres(double m) { return {Mode::kMetres, m}; }
+  static BlotError off() { return {Mode::kOff, 0.0}; }
+  /// The leaves' last error in metres for a build at `maxError`; infinity when off.
+  double leafError(double maxError) const;
+};
+
 struct BuildOptions {
   std::string input;
   std::string output;
@@ -46,10 +64,7 @@ struct BuildOptions {
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
   MaterialRules materialRules = MaterialRules::kOn;
-  /// Leaves simplify (with the rules) up to this error in metres; the roots take over at
-  /// twice it as blot chunks (simplified further without the rules). 0: leaves simplify as
-  /// far as the rules allow, and the roots take over at twice the largest error that reaches.
-  double blotError = 0.0;
+  BlotError blotError;
 };
 
 struct BuildSummary {
