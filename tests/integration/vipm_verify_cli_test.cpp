@@ -14,6 +14,7 @@
 
 #include "cli_expectations.h"
 #include "cli_runner.h"
+#include "damaged_files.h"
 
 namespace terralod::test {
 namespace {
@@ -61,6 +62,15 @@ TEST_F(VipmVerifyCli, BlotRootsPassEveryCheck) {
   EXPECT_TRUE(has(verified.out, "verify: OK")) << verified.out;
   EXPECT_TRUE(has(verified.out, ", 0 break a material rule (built with the rules)"))
       << verified.out;
+
+  // The root's flanges made too shallow for the gap between its children's sides.
+  const std::string shallow = mDir.file("shallow.tlod");
+  writeEditedTileset(
+      out, shallow, [](TilesetHeader&, std::vector<NodeRecord>& n) { n[0].maxSkirtDepth = 0.01f; });
+  const RunResult caught = runTerralod({"verify", shallow, "--source", kDem, "--threads", "2"});
+  EXPECT_EQ(caught.exitCode, 1) << caught.out << caught.err;
+  EXPECT_TRUE(has(caught.err + caught.out, "do not close the gap between its children's sides"))
+      << caught.out << caught.err;
 }
 
 // Overwrites `bytes` at `offset` of node `node`'s texture blob; with `fixCrc` the blob's own
