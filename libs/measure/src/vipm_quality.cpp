@@ -247,21 +247,26 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
   for (const Drawn* d : changed) {
     auto c = chunk(d->node);
     if (!c) return c.error();
+    std::vector<const std::unordered_map<uint64_t, double>*> earlier;
+    for (const auto& [node, samples] : earlierSurfaces)
+      if (sameBranch(mTree, node, d->node)) earlier.push_back(&samples);
+    if (earlier.empty()) continue;  // newly in view: nothing it replaced
     const auto triangles = surface(**c, *d);
-    std::unordered_map<uint64_t, double> earlier;
-    for (const auto& [node, samples] : earlierSurfaces) {
-      if (!sameBranch(mTree, node, d->node)) continue;
-      for (const auto& [key, z] : samples) keepHighest(earlier, key, z);
-    }
     std::unordered_map<uint64_t, double> after;
     rasterize(**c, triangles, view,
               [&](int64_t x, int64_t y, double z) { keepHighest(after, sampleKey(x, y), z); });
     for (const auto& [key, z] : after) {
-      const auto it = earlier.find(key);
-      if (it == earlier.end()) continue;
+      bool covered = false;
+      double highest = 0.0;  // of the replaced chunks' surfaces there
+      for (const auto* samples : earlier)
+        if (const auto it = samples->find(key); it != samples->end()) {
+          highest = covered ? std::max(highest, it->second) : it->second;
+          covered = true;
+        }
+      if (!covered) continue;
       const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1], z};
-      worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
-                                               glm::length(p - view.camera.eye)));
+      worst = std::max(
+          worst, screenSpaceError(view, std::fabs(z - highest), glm::length(p - view.camera.eye)));
     }
   }
   return worst;

@@ -49,6 +49,10 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   const auto weightBytes = GLsizeiptr(mWeightBytes.size() * sizeof(mWeightBytes[0]));
   glNamedBufferStorage(mBuffers[3], weightBytes, mWeightBytes.data(),
                        mFade == MaterialFade::kToTarget ? GL_DYNAMIC_STORAGE_BIT : 0);
+  if (mFade == MaterialFade::kKeep) {  // never changes: no CPU copies needed
+    mMaterials = {};
+    mWeightBytes = {};
+  }
   // Every part at a fixed place, at its finest level's size; the flanges after them.
   uint32_t first = 0;
   for (const VipmPart& part : mLevels.parts()) {
@@ -68,8 +72,8 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
   mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +
               normalBytes;
-  mBytes =
-      mGpuBytes + p.bytes() + uint64_t(positionBytes) + mWeights.size() * sizeof(MaterialWeights);
+  mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes) + mMaterials.size() +
+           mWeightBytes.size() * sizeof(mWeightBytes[0]) + mWeights.size() * sizeof(mWeights[0]);
   update(0.0, Geomorph::kOff);
 }
 
@@ -93,17 +97,14 @@ MaterialWeights VipmGpuChunk::ownWeights(uint32_t v) const {
 }
 
 void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow& window,
-                                  double morphTheta) {
+                                  double morphTheta, uint32_t first, uint32_t end) {
   const uint32_t n = mMesh.vertexCount();
   for (uint32_t j = previous.applied; j < previous.morphing; ++j)
     mWeights[n - 1 - j] = ownWeights(n - 1 - j);
   morphMaterialWeights(mMesh, window, morphTheta, std::span(mMaterials).first(n), mWeights);
-  for (const MorphWindow& w : {previous, window})
-    for (uint32_t j = w.applied; j < w.morphing; ++j) {
-      const uint32_t v = n - 1 - j;
-      for (int m = 0; m < kMaxMaterials; ++m)
-        mWeightBytes[v][size_t(m)] = uint8_t(std::lround(255.0f * mWeights[v][size_t(m)]));
-    }
+  for (uint32_t v = first; v < end; ++v)
+    for (int m = 0; m < kMaxMaterials; ++m)
+      mWeightBytes[v][size_t(m)] = uint8_t(std::lround(255.0f * mWeights[v][size_t(m)]));
   for (size_t k = 0; k < mFlanges.tops.size(); ++k)
     mWeightBytes[n + k] = mWeightBytes[mFlanges.tops[k]];
 }
@@ -123,8 +124,6 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     mDrawn[n - 1 - j] = mOwn[n - 1 - j];
   if (morphs)
     morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
-  if ((morphed || morphs) && mFade == MaterialFade::kToTarget)
-    morphMaterials(previous, window, morphTheta);
   mWindow = window;
   if (morphed || morphs) {
     uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges
@@ -133,6 +132,7 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
         lo = std::min(lo, n - w.morphing);
         hi = std::max(hi, n - w.applied);
       }
+    if (mFade == MaterialFade::kToTarget) morphMaterials(previous, window, morphTheta, lo, hi);
     uploadPositions(lo, hi - lo);
     // Flange vertices hang below their (possibly moving) tops.
     for (size_t k = 0; k < mFlanges.tops.size(); ++k) {

@@ -77,9 +77,10 @@ class VipmGpuChunk {
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
-  // Sets the weights of the window's vertices (their own material alone outside it), flange
-  // copies too.
-  void morphMaterials(const MorphWindow& previous, const MorphWindow& window, double morphTheta);
+  // Sets the weights of the window's vertices (their own material alone outside it) and the
+  // bytes uploaded of vertices [first, end) (both windows') and of the flange copies.
+  void morphMaterials(const MorphWindow& previous, const MorphWindow& window, double morphTheta,
+                      uint32_t first, uint32_t end);
   // Own material alone.
   MaterialWeights ownWeights(uint32_t v) const;
 
@@ -87,8 +88,9 @@ class VipmGpuChunk {
   VipmLevels mLevels;
   std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
   std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
-  std::vector<uint8_t> mMaterials;           // own, per vertex (flanges too)
-  std::vector<MaterialWeights> mWeights;     // per mesh vertex as drawn now (kToTarget only)
+  // kToTarget only (kKeep uploads them once and keeps no copy):
+  std::vector<uint8_t> mMaterials;                               // own, per vertex (flanges too)
+  std::vector<MaterialWeights> mWeights;                         // per mesh vertex as drawn now
   std::vector<std::array<uint8_t, kMaxMaterials>> mWeightBytes;  // as uploaded (flanges too)
   MaterialFade mFade = MaterialFade::kKeep;  // kKeep: every vertex its own material alone
   Flanges mFlanges;

@@ -24,7 +24,7 @@ enum class Streaming {
 /// What kind of chunks a build writes (docs/format.md).
 enum class TilesetKind : uint8_t {
   kStatic,  ///< the chunked LOD tree of static RTIN meshes (mesh kind 1)
-  kVipm,    ///< progressive meshes per 64-cell chunk under fallback roots (mesh kind 2)
+  kVipm,    ///< progressive meshes per 64-cell chunk under blot roots (mesh kind 2)
 };
 
 /// VIPM only: where the leaves stop simplifying (with the material rules) and the 128-cell
