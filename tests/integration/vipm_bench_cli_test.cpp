@@ -33,6 +33,23 @@ class VipmBenchCli : public ::testing::Test {
           return built.exitCode == 0 ? std::string() : built.err;
         }));
     ASSERT_EQ(sNoRules->error, "");
+    // Leaves as far as the rules allow (no blot roots, which are built without the rules in
+    // both): what the rules do to material boundaries, alone.
+    for (const auto& [shared, rules] :
+         {std::pair{&sLeaves, "rules"}, std::pair{&sLeavesNoRules, "no-rules"}}) {
+      *shared = new SharedDirectory(sharedDirectory(
+          std::string("crater-vipm-leaves-") + rules, programStamp(TERRALOD_CLI),
+          [rules](const std::string& dir) {
+            std::vector<std::string> args = {"build",        testData("crater_lake_0513.bt"),
+                                             "--kind",       "vipm",
+                                             "--blot-error", "off",
+                                             "-o",           dir + "/c.tlod"};
+            if (std::string(rules) == "no-rules") args.push_back("--no-material-rules");
+            const RunResult built = runTerralod(args);
+            return built.exitCode == 0 ? std::string() : built.err;
+          }));
+      ASSERT_EQ((*shared)->error, "");
+    }
     // Down towards the south-west rim.
     std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
       "frames": 60, "keyframes": [
@@ -55,6 +72,8 @@ class VipmBenchCli : public ::testing::Test {
     delete sDir;
     delete sTileset;
     delete sNoRules;
+    delete sLeaves;
+    delete sLeavesNoRules;
   }
 
   static nlohmann::json bench(const std::vector<std::string>& extra) {
@@ -82,6 +101,8 @@ class VipmBenchCli : public ::testing::Test {
   static inline TempDir* sDir = nullptr;
   static inline SharedDirectory* sTileset = nullptr;
   static inline SharedDirectory* sNoRules = nullptr;
+  static inline SharedDirectory* sLeaves = nullptr;
+  static inline SharedDirectory* sLeavesNoRules = nullptr;
 };
 
 TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
@@ -111,23 +132,25 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
 }
 
 TEST_F(VipmBenchCli, CountsPixelsWhoseMaterialChangesWithTheLevel) {
-  // Low over the rim, where leaves draw. Without the rules, a collapse's vertex keeps its own
-  // material until the collapse is applied: boundaries jump even while geomorphing.
-  const auto popping = materials(*sNoRules, "low.json", {});
+  // Leaves only, coming down. Without the rules, a collapse's vertex keeps its own material
+  // until the collapse is applied: boundaries jump even while geomorphing.
+  const auto popping = materials(*sLeavesNoRules, "descend.json", {});
   ASSERT_TRUE(popping.contains("material_pop_px"));
   EXPECT_GE(popping["material_pop_frames"].get<double>(), 5.0);
-  EXPECT_GT(popping["material_pop_px"].get<double>(), 20.0);
+  EXPECT_GT(popping["material_pop_px"].get<double>(), 100.0);
   EXPECT_GE(popping["material_pop_px"].get<double>(), popping["material_pop_px_p99"].get<double>());
-  EXPECT_LE(popping["material_pop_px"].get<double>(), 160.0 * 120.0);
-  // With the rules, boundaries stay put (and the blot roots fade theirs): far fewer pixels
-  // change material.
-  const auto kept = materials(*sTileset, "low.json", {});
+  EXPECT_LE(popping["material_pop_px"].get<double>(), 320.0 * 240.0);
+  // With the rules, boundaries stay put: far fewer pixels change material.
+  const auto kept = materials(*sLeaves, "descend.json", {});
   EXPECT_GE(kept["material_pop_frames"].get<double>(), 5.0);
-  EXPECT_LT(kept["material_pop_px"].get<double>() * 5.0, popping["material_pop_px"].get<double>());
-  // Without geomorphing the roots' collapses (no rules) change materials at once.
+  EXPECT_LT(kept["material_pop_px"].get<double>() * 20.0, popping["material_pop_px"].get<double>());
+  // Low over the rim with the blot roots further away: they are built without the rules, and
+  // fade their materials as they geomorph; without geomorphing they change them at once.
+  const auto fading = materials(*sTileset, "low.json", {});
   const auto unmorphed = materials(*sTileset, "low.json", {"--no-morph"});
+  EXPECT_GE(fading["material_pop_frames"].get<double>(), 5.0);
   EXPECT_GT(unmorphed["material_pop_px"].get<double>(),
-            5.0 * kept["material_pop_px"].get<double>());
+            5.0 * fading["material_pop_px"].get<double>());
   // The same camera every frame: the level never changes, no pixel changes material.
   const auto hovering = materials(*sNoRules, "hover.json", {"--no-morph"});
   EXPECT_GE(hovering["material_pop_frames"].get<double>(), 5.0);

@@ -190,7 +190,9 @@ VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials,
   const HeightQuantisation q{std::floor(double(lowest) / params.zStep) * params.zStep,
                              params.zStep};
   quantiseVertexHeights(patch, q);
-  CollapseOrder order = buildCollapseOrder(patch, params.rules);
+  CollapseStart from;
+  from.bakedError = floatBelow(params.maxError);
+  CollapseOrder order = buildCollapseOrder(patch, params.rules, from);
   while (!order.collapses.empty() && double(order.collapses.back().error) > params.coarsestError)
     order.collapses.pop_back();
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, params.maxError);
@@ -264,18 +266,9 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
            float(joined.zBase + double(joined.heights[v]) * zStep));
   from.seamX = width > kLeaf + 1 ? kLeaf : -1;
   from.seamY = height > kLeaf + 1 ? kLeaf : -1;
+  // Every collapse waits for the root to take over (θ >= levelError).
+  from.errorFloor = floatAbove(levelError);
   CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
-  // Every collapse waits for the root to take over (θ >= levelError). Those that could come
-  // sooner are spread over [levelError, 2 levelError] in their order, so they geomorph a few
-  // at a time rather than all together.
-  const size_t early =
-      size_t(std::count_if(order.collapses.begin(), order.collapses.end(),
-                           [&](const Collapse& c) { return c.error < 2.0 * levelError; }));
-  for (size_t j = 0; j < order.collapses.size(); ++j) {
-    const double spread = j < early ? double(j + 1) / double(early) : 0.0;
-    Collapse& c = order.collapses[j];
-    c.error = std::max(c.error, floatAbove(levelError * (1.0 + spread)));
-  }
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
   const VipmChunkData stored = packChunk(patch, mesh, q);
 

@@ -46,12 +46,32 @@ void rasterizeReal(const std::array<std::array<double, 3>, 3>& v, int64_t minX, 
     }
 }
 
-// Geomorphing can fold a chunk's surface (a vertex sliding toward its target past an edge):
-// where triangles overlap, the surface is taken to be the highest of them, what a view from
-// above sees.
-void keepHighest(std::unordered_map<uint64_t, double>& heights, uint64_t key, double z) {
-  auto [it, fresh] = heights.emplace(key, z);
-  if (!fresh) it->second = std::max(it->second, z);
+// The heights a surface shows at one sample: the lowest and highest of its layers there (two
+// where a seam is drawn from both sides, e.g. a root's children's sides that do not match,
+// or where a surface folds; one elsewhere).
+struct Layers {
+  double low = 0.0, high = 0.0;
+};
+using SampleLayers = std::unordered_map<uint64_t, Layers>;
+
+void keepLayer(SampleLayers& layers, uint64_t key, double z) {
+  auto [it, fresh] = layers.emplace(key, Layers{z, z});
+  if (!fresh) {
+    it->second.low = std::min(it->second.low, z);
+    it->second.high = std::max(it->second.high, z);
+  }
+}
+
+// The layers of several surfaces at `key` (false if none covers it).
+bool layersAt(std::span<const SampleLayers* const> surfaces, uint64_t key, Layers& out) {
+  bool covered = false;
+  for (const SampleLayers* samples : surfaces)
+    if (const auto it = samples->find(key); it != samples->end()) {
+      out = covered ? Layers{std::min(out.low, it->second.low), std::max(out.high, it->second.high)}
+                    : it->second;
+      covered = true;
+    }
+  return covered;
 }
 
 // Whether `a` and `b` are the same node or one is an ancestor of the other.
@@ -228,45 +248,52 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     changed.push_back(&d);
   }
   if (changed.empty()) return 0.0;
-  // Each changed chunk is compared with what covered its samples before from the same place
-  // in the tree: itself, or the ancestor or descendants it replaced. A neighbour's border is
-  // left out: chunks at different levels need not agree on a shared border (flanges hide the
-  // gap), so the neighbour's height there is not what this chunk's samples showed.
-  std::unordered_map<uint32_t, std::unordered_map<uint64_t, double>> earlierSurfaces;
-  for (const Drawn& d : previous) {
-    if (unchanged.count(d.node)) continue;
+  // Each changed chunk's samples are compared between what covered them before and now from
+  // the same place in the tree: before, the chunks on its branch (itself, or the ancestor or
+  // descendants it replaced); now, the chunks on those chunks' branches (it and its siblings
+  // where a parent split). A neighbour's border is left out: chunks at different levels need
+  // not agree on a shared border (flanges hide the gap), so the neighbour's height there is
+  // not what this chunk's samples showed. A seam drawn from both sides inside one branch (a
+  // root's children's sides, which need not match) has two layers before and after: the
+  // lowest and the highest are compared.
+  auto layersOf = [&](std::unordered_map<uint32_t, SampleLayers>& cache,
+                      const Drawn& d) -> Result<const SampleLayers*> {
+    if (const auto it = cache.find(d.node); it != cache.end()) return &it->second;
     auto c = chunk(d.node);
     if (!c) return c.error();
     const auto triangles = surface(**c, d);
-    auto& mine = earlierSurfaces[d.node];
+    SampleLayers& mine = cache[d.node];
     rasterize(**c, triangles, view,
-              [&](int64_t x, int64_t y, double z) { keepHighest(mine, sampleKey(x, y), z); });
-  }
+              [&](int64_t x, int64_t y, double z) { keepLayer(mine, sampleKey(x, y), z); });
+    return &mine;
+  };
+  std::unordered_map<uint32_t, SampleLayers> earlierSurfaces, laterSurfaces;
   double worst = 0.0;
   const auto spacing = mTree.spacing();
   for (const Drawn* d : changed) {
-    auto c = chunk(d->node);
-    if (!c) return c.error();
-    std::vector<const std::unordered_map<uint64_t, double>*> earlier;
-    for (const auto& [node, samples] : earlierSurfaces)
-      if (sameBranch(mTree, node, d->node)) earlier.push_back(&samples);
-    if (earlier.empty()) continue;  // newly in view: nothing it replaced
-    const auto triangles = surface(**c, *d);
-    std::unordered_map<uint64_t, double> after;
-    rasterize(**c, triangles, view,
-              [&](int64_t x, int64_t y, double z) { keepHighest(after, sampleKey(x, y), z); });
-    for (const auto& [key, z] : after) {
-      bool covered = false;
-      double highest = 0.0;  // of the replaced chunks' surfaces there
-      for (const auto* samples : earlier)
-        if (const auto it = samples->find(key); it != samples->end()) {
-          highest = covered ? std::max(highest, it->second) : it->second;
-          covered = true;
-        }
-      if (!covered) continue;
-      const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1], z};
-      worst = std::max(
-          worst, screenSpaceError(view, std::fabs(z - highest), glm::length(p - view.camera.eye)));
+    std::vector<const SampleLayers*> then, now;
+    for (const Drawn& e : previous) {
+      if (unchanged.count(e.node) || !sameBranch(mTree, e.node, d->node)) continue;
+      auto layers = layersOf(earlierSurfaces, e);
+      if (!layers) return layers.error();
+      then.push_back(*layers);
+      for (const Drawn& n : current) {
+        if (!sameBranch(mTree, n.node, e.node)) continue;
+        auto later = layersOf(laterSurfaces, n);
+        if (!later) return later.error();
+        if (std::find(now.begin(), now.end(), *later) == now.end()) now.push_back(*later);
+      }
+    }
+    if (then.empty()) continue;  // newly in view: nothing it replaced
+    auto mine = layersOf(laterSurfaces, *d);
+    if (!mine) return mine.error();
+    for (const auto& [key, unused] : **mine) {
+      Layers was, is;
+      if (!layersAt(then, key, was) || !layersAt(now, key, is)) continue;
+      const double moved = std::max(std::fabs(is.low - was.low), std::fabs(is.high - was.high));
+      const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1],
+                         is.high};
+      worst = std::max(worst, screenSpaceError(view, moved, glm::length(p - view.camera.eye)));
     }
   }
   return worst;

@@ -162,7 +162,7 @@ TEST_F(VipmRender, FartherChunksDrawFewerTriangles) {
 }
 
 TEST_F(VipmRender, GeomorphingOffShowsOtherGeometry) {
-  // With morphing the vertices of collapses within a factor two of the allowed error are
+  // With morphing the vertices of collapses within kMorphSpan of the allowed error are
   // between their levels; without it (--no-morph) they sit on one.
   SelectionOptions noMorph;
   noMorph.morph = false;

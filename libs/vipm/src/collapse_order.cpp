@@ -52,7 +52,9 @@ struct Entry {
   }
 };
 
-Candidate bestCollapse(const PatchMesh& mesh, uint16_t v, std::vector<uint16_t>& scratch) {
+// The best collapse of v; its error at least `floor` (the geomorph spacing's hold on v).
+Candidate bestCollapse(const PatchMesh& mesh, uint16_t v, double floor,
+                       std::vector<uint16_t>& scratch) {
   Candidate best;
   scratch.clear();
   mesh.neighbours(v, scratch);
@@ -64,6 +66,7 @@ Candidate bestCollapse(const PatchMesh& mesh, uint16_t v, std::vector<uint16_t>&
       if (e == 0.0) break;  // nothing beats it
     }
   }
+  best.error = std::max(best.error, floor);
   return best;
 }
 
@@ -83,10 +86,18 @@ CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules,
   // comes out of the queue and goes back in with its new error. A vertex with no allowed
   // collapse is not queued, so it is re-evaluated at once.
   std::vector<uint8_t> stale(n, 0), queued(n, 0);
+  // Per vertex, the error its collapse may not come below (the geomorph spacing). A floor is
+  // spread over [floor, kMorphSpan floor) by vertex (Fibonacci hashing), so that a root's
+  // first collapses do not all start sliding at the same allowed error.
+  std::vector<double> held(n, 0.0);
+  for (uint32_t v = 0; v < n; ++v) {
+    const double spread = double(uint32_t(v * 2654435769u)) / 4294967296.0;
+    held[v] = double(start.errorFloor) * std::pow(kMorphSpan, spread);
+  }
   std::priority_queue<Entry> heap;
   std::vector<uint16_t> scratch, ring;
   auto evaluate = [&](uint16_t v) {
-    best[v] = bestCollapse(mesh, v, scratch);
+    best[v] = bestCollapse(mesh, v, held[v], scratch);
     ++stamp[v];
     stale[v] = 0;
     queued[v] = std::isfinite(best[v].error);
@@ -112,11 +123,19 @@ CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules,
       continue;
     }
     const uint16_t v = e.vertex, u = best[v].target;
+    running = std::max(running, e.error);
+    const float recorded = roundUp(running);
+    if (start.spacing == GeomorphSpacing::kOn && recorded > start.bakedError) {
+      // v's fan (u included) waits until this collapse has finished sliding.
+      ring.clear();
+      mesh.neighbours(v, ring);
+      const double until = double(roundUp(kMorphSpan * double(recorded)));
+      for (uint16_t w : ring) held[w] = std::max(held[w], until);
+    }
     mesh.collapse(v, u);
     ++stamp[v];
     queued[v] = 0;
-    running = std::max(running, e.error);
-    order.collapses.push_back({v, u, roundUp(running)});
+    order.collapses.push_back({v, u, recorded});
     ring.clear();
     mesh.neighbours(u, ring);
     ring.push_back(u);

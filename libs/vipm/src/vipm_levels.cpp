@@ -135,7 +135,7 @@ MorphWindow morphWindow(std::span<const float> errors, double theta, Geomorph ge
     const uint32_t n = collapsesWithin(errors, theta);
     return {n, n};
   }
-  return {collapsesWithin(errors, theta / 2), collapsesWithin(errors, theta)};
+  return {collapsesWithin(errors, theta / kMorphSpan), collapsesWithin(errors, theta)};
 }
 
 void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,

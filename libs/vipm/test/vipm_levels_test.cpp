@@ -20,10 +20,15 @@ struct Built {
   std::vector<uint8_t> materials;  // per vertex
 };
 
-Built build(double maxError, MaterialRules rules = MaterialRules::kOn) {
+Built build(double maxError, MaterialRules rules = MaterialRules::kOn,
+            GeomorphSpacing spacing = GeomorphSpacing::kOn,
+            const std::string& dem = "crater_lake_0513.bt", int32_t x0 = 192, int32_t y0 = 192) {
   Built b;
-  b.patch = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 65);
-  b.mesh = makeProgressiveMesh(b.patch, buildCollapseOrder(b.patch, rules), maxError);
+  b.patch = test::demPatch(dem, x0, y0, 1900, 2050, 65);
+  CollapseStart start;
+  start.bakedError = float(maxError);
+  start.spacing = spacing;
+  b.mesh = makeProgressiveMesh(b.patch, buildCollapseOrder(b.patch, rules, start), maxError);
   for (uint16_t p : b.mesh.points) b.materials.push_back(b.patch.materials[p]);
   return b;
 }
@@ -106,10 +111,14 @@ TEST(VipmLevels, RefusesAnInconsistentMesh) {
   EXPECT_FALSE(VipmLevels::reconstruct(broken, b.materials).ok());
 }
 
-TEST(MorphWindow, SpansAFactorTwoOfErrorAndIsASharpCutWithoutMorphing) {
+TEST(MorphWindow, SpansTheMorphSpanAndIsASharpCutWithoutMorphing) {
   const std::vector<float> errors{1, 1, 2, 3, 4, 6, 8, 12};
-  auto w = morphWindow(errors, 4.0, Geomorph::kOn);
-  EXPECT_EQ(w.applied, 3u);   // errors <= 2
+  ASSERT_EQ(kMorphSpan, 1.25);
+  auto w = morphWindow(errors, 8.0, Geomorph::kOn);
+  EXPECT_EQ(w.applied, 6u);   // errors <= 6.4
+  EXPECT_EQ(w.morphing, 7u);  // errors <= 8
+  w = morphWindow(errors, 4.0, Geomorph::kOn);
+  EXPECT_EQ(w.applied, 4u);   // errors <= 3.2
   EXPECT_EQ(w.morphing, 5u);  // errors <= 4
   w = morphWindow(errors, 4.0, Geomorph::kOff);
   EXPECT_EQ(w.applied, 5u);
@@ -117,18 +126,18 @@ TEST(MorphWindow, SpansAFactorTwoOfErrorAndIsASharpCutWithoutMorphing) {
 }
 
 TEST(MorphProgress, StartsAndStopsAtRest) {
-  const double e = 10.0;
+  const double e = 10.0, s = kMorphSpan;
   EXPECT_EQ(morphProgress(e, e), 0.0f);
   EXPECT_EQ(morphProgress(0.5 * e, e), 0.0f);
-  EXPECT_EQ(morphProgress(2.0 * e, e), 1.0f);
+  EXPECT_EQ(morphProgress(s * e, e), 1.0f);
   EXPECT_EQ(morphProgress(3.0 * e, e), 1.0f);
-  EXPECT_FLOAT_EQ(morphProgress(1.5 * e, e), 0.5f);
-  // A step of 0.1 % in θ just after the start, or just before the end, moves a vertex by
-  // about 3e-6 of its way (a linear ramp: 1e-3).
-  EXPECT_LT(morphProgress(1.001 * e, e), 1e-5f);
-  EXPECT_GT(morphProgress(1.999 * e, e), 1.0f - 1e-5f);
+  EXPECT_FLOAT_EQ(morphProgress(0.5 * (1.0 + s) * e, e), 0.5f);
+  // A step of 0.1 % of the span just after the start, or just before the end, moves a vertex
+  // by about 3e-6 of its way (a linear ramp: 1e-3).
+  EXPECT_LT(morphProgress((1.0 + 0.001 * (s - 1.0)) * e, e), 1e-5f);
+  EXPECT_GT(morphProgress((s - 0.001 * (s - 1.0)) * e, e), 1.0f - 1e-5f);
   float previous = 0.0f;
-  for (double theta = e; theta <= 2.0 * e; theta += 0.01 * e) {
+  for (double theta = e; theta <= s * e; theta += 0.01 * e) {
     EXPECT_GE(morphProgress(theta, e), previous);
     previous = morphProgress(theta, e);
   }
@@ -153,11 +162,11 @@ TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
     }
     return out;
   };
-  // Sweeping theta finely, every vertex's drawn position changes little between steps with
-  // morphing, and jumps somewhere without it.
+  // Sweeping theta finely (0.02 % steps, 0.1 % of a morph span), every vertex's drawn
+  // position changes little between steps with morphing, and jumps somewhere without it.
   double worstOn = 0, worstOff = 0;
   auto prevOn = drawnAt(1.0, Geomorph::kOn), prevOff = drawnAt(1.0, Geomorph::kOff);
-  for (double theta = 1.0; theta < 40.0; theta *= 1.001) {
+  for (double theta = 1.0; theta < 40.0; theta *= 1.0002) {
     const auto on = drawnAt(theta, Geomorph::kOn), off = drawnAt(theta, Geomorph::kOff);
     for (uint32_t v = 0; v < m.vertexCount(); ++v)
       for (int k = 0; k < 3; ++k) {
@@ -171,10 +180,52 @@ TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
   EXPECT_GT(worstOff, 2.0);
 }
 
+// Geomorphed surfaces of a patch on a canyon wall (Zion) over a sweep of θ: the number of
+// triangles turned over seen from above.
+int foldedTriangles(const Built& b) {
+  const ProgressiveMesh& m = b.mesh;
+  auto levels = VipmLevels::reconstruct(m, b.materials);
+  EXPECT_TRUE(levels.ok());
+  if (!levels.ok()) return -1;
+  std::vector<std::array<float, 3>> own;
+  for (uint16_t p : m.points)
+    own.push_back({float(b.patch.xOf(p)), float(b.patch.yOf(p)), b.patch.heights[p]});
+  int folded = 0;
+  for (double theta = 1.0; theta < 4.0 * m.errors.back(); theta *= 1.01) {
+    const MorphWindow w = morphWindow(m.errors, theta, Geomorph::kOn);
+    std::vector<std::array<float, 3>> drawn = own;
+    morphPositions(m, w, theta, own, drawn);
+    levels->setApplied(w.applied);
+    const VipmPart& whole = levels->whole();
+    for (uint32_t t = 0; t < levels->drawnTriangles(whole); ++t) {
+      const auto& a = drawn[whole.indices[3 * t]];
+      const auto& c1 = drawn[whole.indices[3 * t + 1]];
+      const auto& c2 = drawn[whole.indices[3 * t + 2]];
+      const double area = (double(c1[0]) - a[0]) * (double(c2[1]) - a[1]) -
+                          (double(c1[1]) - a[1]) * (double(c2[0]) - a[0]);
+      folded += area < -1e-4;
+    }
+  }
+  return folded;
+}
+
+TEST(MorphPositions, CollapsesThatTouchNeverSlideTogetherSoTheSurfaceNeverFolds) {
+  // Where a root folded on Zion's canyon walls before the spacing (collapse_order.h).
+  for (const MaterialRules rules : {MaterialRules::kOn, MaterialRules::kOff}) {
+    const Built spaced =
+        build(1.0, rules, GeomorphSpacing::kOn, "zion_srtm3_utm12_30m.tif", 526, 560);
+    const Built unspaced =
+        build(1.0, rules, GeomorphSpacing::kOff, "zion_srtm3_utm12_30m.tif", 526, 560);
+    EXPECT_EQ(foldedTriangles(spaced), 0);
+    EXPECT_GT(foldedTriangles(unspaced), 0) << "nothing folds here: the test shows nothing";
+  }
+}
+
 TEST(MorphMaterialWeights, FollowTargetsThatFadeThemselvesAndEveryPartDrawsThem) {
-  // Without the rules (as a blot root is built) collapses join different materials, and a
-  // target is often geomorphing itself.
-  const Built b = build(1.0, MaterialRules::kOff);
+  // Without the rules (as a blot root is built) collapses join different materials. With the
+  // geomorph spacing off a target is often geomorphing itself (with it, never: the weights
+  // must still follow chains in any mesh a tileset may hold).
+  const Built b = build(1.0, MaterialRules::kOff, GeomorphSpacing::kOff);
   const ProgressiveMesh& m = b.mesh;
   const uint32_t n = m.vertexCount();
   auto levels = VipmLevels::reconstruct(m, b.materials, MaterialFade::kToTarget);

@@ -21,6 +21,15 @@
 // after the collapse, made monotone along the order (the running maximum). The next collapse
 // is the allowed one whose new triangles lie closest to the samples they cover; ties go to the
 // lower vertex id, so the order is deterministic.
+//
+// Geomorph spacing: at run time collapse j slides its vertex while the allowed error is in
+// [errors[j], kMorphSpan errors[j]] (vipm_levels.h). Two collapses that slide at once and
+// share a triangle can fold the surface mid-slide (triangles overlap) even though each alone
+// slides inside its own fan. So a collapse made at run time holds back every vertex of its
+// fan: their own collapses get an error of at least kMorphSpan times its error (a recorded
+// error above the measured one, which keeps the bound), and the greedy order takes others
+// first. Then no two sliding collapses touch, and every slide stays inside a fan that does not
+// change while it slides.
 
 #include <array>
 #include <cstdint>
@@ -29,6 +38,12 @@
 #include "terralod/vipm/grid_patch.h"
 
 namespace terralod {
+
+/// A runtime collapse geomorphs while the allowed error goes from its error to kMorphSpan
+/// times it. Short, because the spacing holds a collapse's neighbours back by this factor
+/// (a factor two made Crater Lake's and Zion's climbs draw 1.5-3x the triangles), long enough
+/// to take about 45 frames of the auto flight's 0.5 % steps.
+inline constexpr double kMorphSpan = 1.25;
 
 enum class MaterialRules : uint8_t {
   kOn,  ///< the three rules above
@@ -55,9 +70,12 @@ struct CollapseOrder {
 /// The grid triangulation described above.
 std::vector<std::array<uint16_t, 3>> gridTriangulation(int32_t width, int32_t height);
 
-/// Where an order starts, for meshes that are not a leaf's full grid (the first step to the
-/// far field, docs/architecture.md Known gaps: a fallback root simplified further, starting
-/// from its children's coarsest levels joined).
+/// Whether collapses that touch are kept from geomorphing together (see above). kOff only
+/// shows what the spacing buys: surfaces that fold mid-slide.
+enum class GeomorphSpacing : uint8_t { kOn, kOff };
+
+/// Where an order starts (for meshes that are not a leaf's full grid: a root simplified
+/// further, starting from its children's coarsest levels joined) and what holds it back.
 struct CollapseStart {
   /// The mesh to start from: triangles over patch points, counter-clockwise seen from above,
   /// a manifold whose only open edges lie on the patch's sides or seams. Empty: the full grid
@@ -66,6 +84,14 @@ struct CollapseStart {
   /// Lines inside the patch (x = seamX, y = seamY; -1: none) whose vertices move only along
   /// them, as a side's do; where a seam meets a side or the other seam the vertex is locked.
   int32_t seamX = -1, seamY = -1;
+  /// No collapse has an error below this (metres): a root's collapses wait for its level.
+  /// Each vertex's floor is spread over [errorFloor, kMorphSpan errorFloor), so that they do
+  /// not all start geomorphing at once.
+  float errorFloor = 0.0f;
+  /// Collapses with an error up to this are applied at build time (makeProgressiveMesh's
+  /// maxError): they never geomorph, so they hold no neighbour back.
+  float bakedError = 0.0f;
+  GeomorphSpacing spacing = GeomorphSpacing::kOn;
 };
 
 /// Greedy collapse order of `patch` until no collapse is allowed, from `start`. Pure and

@@ -14,10 +14,12 @@
 //
 // Choosing a level: collapses whose error is at most e are applied (the lower bound, so every
 // part sees the same level regardless of the previous state). Geomorphing (morphWindow,
-// morphPositions) spreads each collapse over a factor two of distance: collapse j starts
-// moving its vertex toward its target when the allowed error reaches errors[j] and is applied
-// (the vertex sits on its target) when it reaches 2 errors[j], eased in and out. The drawn mesh is
-// then always between two levels whose errors are at most the allowed error.
+// morphPositions) spreads each collapse over a factor kMorphSpan (1.25) of distance:
+// collapse j starts moving its vertex toward its target when the allowed error reaches
+// errors[j] and is applied (the vertex sits on its target) when it reaches kMorphSpan
+// errors[j], eased in and out. The drawn mesh is then always between two levels whose errors
+// are at most the allowed error, and collapses that touch never slide together (the builder
+// spaces them, collapse_order.h).
 
 #include <algorithm>
 #include <array>
@@ -94,11 +96,13 @@ enum class Geomorph : uint8_t { kOn, kOff };
 MorphWindow morphWindow(std::span<const float> errors, double theta, Geomorph geomorph);
 
 /// How far collapse j of error `error` has geomorphed at `theta`: 0 until theta reaches the
-/// error, 1 from twice the error, eased in and out between (smoothstep of theta / error - 1),
+/// error, 1 from kMorphSpan times the error, eased in and out between (smootherstep of
+/// x = (theta / error - 1) / (kMorphSpan - 1): speed and acceleration 0 at both ends, so a
+/// frame that crosses an end moves the vertex by about 10 x^3 of its way, not 3 x^2),
 /// so a vertex starts and stops sliding gently rather than at once.
 inline float morphProgress(double theta, double error) {
-  const double x = std::clamp(theta / error - 1.0, 0.0, 1.0);
-  return float(x * x * (3.0 - 2.0 * x));
+  const double x = std::clamp((theta / error - 1.0) / (kMorphSpan - 1.0), 0.0, 1.0);
+  return float(x * x * x * (x * (6.0 * x - 15.0) + 10.0));
 }
 
 /// Positions of the morphing vertices: for each collapse j in [window.applied,
