@@ -88,11 +88,10 @@ TEST_F(VipmQualityTest, CollapsesPopWithoutGeomorphingAndNotWithIt) {
   double worstOn = 0.0, worstOff = 0.0, worstStep = 0.0;
   SelectionOptions options;
   options.tau = 2.0;
-  // A descent in 10 m steps: chunks' θ shrink by more than half, so collapses are undone along
-  // the way (a root's collapses are spaced a factor two apart where they touch).
+  // A descent in 3 m steps: chunks' θ shrink, collapses are undone along the way.
   View previous = view(0.3, 0.1, 800.0);
   for (int i = 1; i <= 60; ++i) {
-    const View current = view(0.3, 0.1, 800.0 - 10.0 * i);
+    const View current = view(0.3, 0.1, 800.0 - 3.0 * i);
     std::vector<SelectedChunk> selection;
     selectChunks(*mTree, previous, options, selection);
     const auto before = VipmQuality::drawn(*mTree, previous, options.tau, selection);

@@ -133,7 +133,7 @@ TEST(MorphProgress, StartsAndStopsAtRest) {
   EXPECT_EQ(morphProgress(3.0 * e, e), 1.0f);
   EXPECT_FLOAT_EQ(morphProgress(0.5 * (1.0 + s) * e, e), 0.5f);
   // A step of 0.1 % of the span just after the start, or just before the end, moves a vertex
-  // by about 3e-6 of its way (a linear ramp: 1e-3).
+  // by about 1e-8 of its way (smoothstep: 3e-6; a linear ramp: 1e-3).
   EXPECT_LT(morphProgress((1.0 + 0.001 * (s - 1.0)) * e, e), 1e-5f);
   EXPECT_GT(morphProgress((s - 0.001 * (s - 1.0)) * e, e), 1.0f - 1e-5f);
   float previous = 0.0f;
