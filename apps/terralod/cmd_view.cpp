@@ -63,8 +63,8 @@ struct KeyEdges {
 struct Knobs {
   float tau = 2.0f;
   bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
-  bool boxes = false;
-  int colorBy = 0;  // relief, level, morph
+  bool boxes = false, fans = false;  // fans: VIPM borders stitched by fans, not flanges
+  int colorBy = 0;                   // relief, level, morph
 };
 
 FlyInput readInput(GLFWwindow* w, double& lastX, double& lastY, bool& dragging) {
@@ -136,6 +136,7 @@ int runView(const ViewCommand& v) {
   knobs.boxes = v.options.chunkBoxes;
   knobs.textures = !v.options.noTextures;
   knobs.colorBy = int(baseStyle->colorBy);
+  knobs.fans = baseStyle->stitch == VipmStitch::kFans;
   FlyCamera fly(start->front());
   double fov = v.options.fovDegrees;
   std::vector<float> frameTimes(kFrameHistory, 0.0f);
@@ -199,6 +200,7 @@ int runView(const ViewCommand& v) {
     selection.morph = knobs.morph;
     TerrainStyle style = *baseStyle;
     style.skirts = knobs.skirts;
+    style.stitch = knobs.fans ? VipmStitch::kFans : VipmStitch::kFlanges;
     style.wireframe = knobs.wireframe;
     style.chunkBoxes = knobs.boxes;
     style.textures = knobs.textures;
@@ -235,6 +237,8 @@ int runView(const ViewCommand& v) {
     ImGui::Checkbox("textures", &knobs.textures);
     ImGui::SameLine();
     ImGui::Checkbox("chunk boxes", &knobs.boxes);
+    ImGui::SameLine();
+    ImGui::Checkbox("fans", &knobs.fans);
     ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();

@@ -32,7 +32,14 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--chunk-boxes", o.chunkBoxes,
              "Outline every drawn chunk's bounding box, coloured by its level");
   c.add_flag("--no-morph", o.noMorph, "Draw every chunk unmorphed (shows the pops morphing hides)");
-  c.add_flag("--no-skirts", o.noSkirts, "Leave out the skirts (shows the cracks they hide)");
+  c.add_flag("--no-skirts", o.noSkirts,
+             "Leave out the skirts, and VIPM chunks' flanges or fans (shows the cracks they hide)");
+  c.add_option("--stitch", o.stitch,
+               "How VIPM chunks close their borders: flanges (hanging below every border) or fans "
+               "(border triangles replaced by fans onto both sides' vertices: the same edges on "
+               "both sides, nothing below the surface)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"flanges", "fans"}));
   c.add_flag_callback(
       "--no-horizon-culling", [&o] { o.horizonCulling = HorizonCulling::kOff; },
       "Draw every selected chunk, also those nearer terrain hides (culling them never changes "
@@ -95,6 +102,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.wireframe = o.wireframe;
   style.chunkBoxes = o.chunkBoxes;
   style.skirts = !o.noSkirts;
+  style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;
   style.textures = !o.noTextures;
   if (!o.sun.empty()) {
     if (o.sun.size() != 2 || !std::isfinite(o.sun[0]) || !std::isfinite(o.sun[1]) ||

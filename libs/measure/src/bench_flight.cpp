@@ -196,6 +196,9 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.vertices = frame->draw.vertices;
     result.reconstructMs.insert(result.reconstructMs.end(), frame->reconstructMs.begin(),
                                 frame->reconstructMs.end());
+    result.fanChangeMs.insert(result.fanChangeMs.end(), frame->fanChangeMs.begin(),
+                              frame->fanChangeMs.end());
+    r.fanMs = frame->fanFrameMs;
     r.draws = frame->draw.drawCalls;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;

@@ -43,6 +43,18 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   if (scene.tileset().header().meshKind == MeshKind::kVipm) {
     j["reconstruct_ms_p50"] = percentile(flight.reconstructMs, 0.5);
     j["reconstruct_ms_max"] = percentile(flight.reconstructMs, 1.0);
+    // Fan stitching (--stitch fans): per chunk whose fans changed, and per frame.
+    j["stitch"] = style.stitch == VipmStitch::kFans ? "fans" : "flanges";
+    if (style.stitch == VipmStitch::kFans && style.skirts) {
+      std::vector<double> fanFrame;
+      for (const FrameRecord& r : f)
+        if (!std::isnan(r.fanMs)) fanFrame.push_back(r.fanMs);
+      j["fan_changes"] = flight.fanChangeMs.size();
+      j["fan_change_ms_p50"] = percentile(flight.fanChangeMs, 0.5);
+      j["fan_change_ms_max"] = percentile(flight.fanChangeMs, 1.0);
+      j["fan_frame_ms_p50"] = percentile(fanFrame, 0.5);
+      j["fan_frame_ms_max"] = percentile(fanFrame, 1.0);
+    }
   }
   // Quality figures (with --source) on VIPM tilesets: pixels whose material changed from the
   // LOD state alone between two frames that had what they wanted (both drawn from the later

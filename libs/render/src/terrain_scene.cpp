@@ -3,6 +3,7 @@
 #include <epoxy/gl.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace terralod {
 
@@ -113,8 +114,14 @@ Result<FrameStats> TerrainScene::renderFrame(const View& view, const SelectionOp
   if (mVipmKind) stats.reconstructMs = mVipmKind->takeReconstructMs();
   if (stats.selection.undrawableRoots > 0 && stats.selection.selected == 0)
     return makeError(mTileset->name(), "no chunk can be drawn");
+  if (mVipmKind) mVipmKind->takeFanTimings();  // other views' (bench's look-down images)
   stats.draw =
       drawSelection(view, visibleChunks(view, mDriver->selected(), style, stats), style, options);
+  if (mVipmKind)
+    for (VipmChunkKind::FanTiming& t : mVipmKind->takeFanTimings()) {
+      stats.fanFrameMs = std::isnan(stats.fanFrameMs) ? t.totalMs : stats.fanFrameMs + t.totalMs;
+      stats.fanChangeMs.insert(stats.fanChangeMs.end(), t.changedMs.begin(), t.changedMs.end());
+    }
   return stats;
 }
 

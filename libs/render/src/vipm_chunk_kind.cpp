@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "terralod/runtime/view.h"
+#include "terralod/vipm/vipm_fans.h"
 #include "terralod/vipm/vipm_theta.h"
 #include "vipm_gpu_chunk.h"
 #include "vipm_pass.h"
@@ -50,7 +51,7 @@ Result<std::unique_ptr<VipmChunkKind>> VipmChunkKind::create(const TilesetReader
 }
 
 VipmChunkKind::VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass)
-    : mTileset(tileset), mPass(std::move(pass)) {}
+    : mTileset(tileset), mPass(std::move(pass)), mStitchTable(std::make_unique<StitchTable>()) {}
 
 VipmChunkKind::~VipmChunkKind() = default;
 
@@ -58,9 +59,11 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[blob.node];
   const auto start = std::chrono::steady_clock::now();
-  auto decoded = decodeVipmPayload(
-      blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
-      uint32_t(h.chunkCells(record.level)), flangeSides(h, record), record.maxSkirtDepth);
+  auto decoded =
+      decodeVipmPayload(blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
+                        uint32_t(h.chunkCells(record.level)), flangeSides(h, record),
+                        record.maxSkirtDepth, int64_t(record.x) * h.chunkCells(record.level),
+                        int64_t(record.y) * h.chunkCells(record.level));
   if (!decoded) return decoded.error();
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -92,6 +95,34 @@ void VipmChunkKind::release(uint32_t node) {
   mChunks.erase(it);
 }
 
+void VipmChunkKind::stitch(const TerrainStyle& style, std::span<const VipmDraw> draws) {
+  const bool fans = style.skirts && style.stitch == VipmStitch::kFans;
+  if (!fans) {
+    for (const VipmDraw& d : draws) d.chunk->stitch(nullptr);
+    return;
+  }
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  mStitchTable->clear();
+  for (const VipmDraw& d : draws) d.chunk->addStitchPoints(*mStitchTable);
+  mStitchTable->finish();
+  const auto gathered = Clock::now();
+  FanTiming timing;
+  timing.gatherMs = std::chrono::duration<double, std::milli>(gathered - start).count();
+  for (const VipmDraw& d : draws) {
+    const auto before = Clock::now();
+    if (d.chunk->stitch(mStitchTable.get()))
+      timing.changedMs.push_back(
+          std::chrono::duration<double, std::milli>(Clock::now() - before).count());
+  }
+  timing.totalMs = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  mFanTimings.push_back(std::move(timing));
+}
+
+std::vector<VipmChunkKind::FanTiming> VipmChunkKind::takeFanTimings() {
+  return std::exchange(mFanTimings, {});
+}
+
 std::vector<double> VipmChunkKind::takeReconstructMs() {
   std::lock_guard lock(mTimingMutex);
   return std::exchange(mReconstructMs, {});
@@ -119,6 +150,7 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
     it->second->update(theta, geomorph);
     draws.push_back({it->second.get(), s.node, s.morph});
   }
+  stitch(frame.context.style, draws);
   mPass->draw(frame.context, tree, draws, frame.stats);
 }
 
@@ -136,6 +168,7 @@ void VipmChunkKind::addMaterialIdDraws(TerrainFrame& frame, std::span<const Vipm
     it->second->update(c.theta, c.morphTheta, geomorph);
     draws.push_back({it->second.get(), c.node, 0.0f});
   }
+  stitch(frame.context.style, draws);
   mPass->draw(frame.context, frame.tree, draws, frame.stats, VipmImage::kMaterialIds);
 }
 

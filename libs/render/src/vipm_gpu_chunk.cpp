@@ -25,6 +25,8 @@ GlTexture& GlTexture::operator=(GlTexture&& other) noexcept {
 VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
     : mMesh(p.mesh),
       mLevels(p.levels),
+      mWhere(p.where),
+      mStitcher(p.stitcher),
       mOwn(p.positions),
       mDrawn(p.positions),
       mFade(p.fade),
@@ -33,12 +35,18 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
       mWidth(p.width),
       mHeight(p.height),
       mZBase(p.zBase) {
+  // Vertices: the mesh's, the flange copies, then room for the fans' inserted points.
+  mFanVertexFirst = uint32_t(mOwn.size());
+  const size_t vertexCount = mOwn.size() + mStitcher.maxInsertedPoints();
+  mDrawn.resize(vertexCount);
   glCreateBuffers(GLsizei(mBuffers.size()), mBuffers.data());
-  const auto positionBytes = GLsizeiptr(mOwn.size() * sizeof(mOwn[0]));
-  glNamedBufferStorage(mBuffers[0], positionBytes, mOwn.data(), GL_DYNAMIC_STORAGE_BIT);
+  const auto positionBytes = GLsizeiptr(vertexCount * sizeof(mDrawn[0]));
+  glNamedBufferStorage(mBuffers[0], positionBytes, mDrawn.data(), GL_DYNAMIC_STORAGE_BIT);
   // Materials: each vertex's own (flange copies: their top's), and its weights.
   mMaterials = p.materials;
-  glNamedBufferStorage(mBuffers[1], GLsizeiptr(mMaterials.size()), mMaterials.data(), 0);
+  mMaterials.resize(vertexCount, 0);
+  glNamedBufferStorage(mBuffers[1], GLsizeiptr(mMaterials.size()), mMaterials.data(),
+                       GL_DYNAMIC_STORAGE_BIT);
   mWeightBytes.resize(mMaterials.size());
   for (size_t v = 0; v < mMaterials.size(); ++v) {
     mWeightBytes[v].fill(0);
@@ -47,18 +55,19 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   if (mFade == MaterialFade::kToTarget)
     for (uint32_t v = 0; v < mMesh.vertexCount(); ++v) mWeights.push_back(ownWeights(v));
   const auto weightBytes = GLsizeiptr(mWeightBytes.size() * sizeof(mWeightBytes[0]));
-  glNamedBufferStorage(mBuffers[3], weightBytes, mWeightBytes.data(),
-                       mFade == MaterialFade::kToTarget ? GL_DYNAMIC_STORAGE_BIT : 0);
-  if (mFade == MaterialFade::kKeep) {  // never changes: no CPU copies needed
-    mMaterials = {};
-    mWeightBytes = {};
-  }
-  // Every part at a fixed place, at its finest level's size; the flanges after them.
+  glNamedBufferStorage(mBuffers[3], weightBytes, mWeightBytes.data(), GL_DYNAMIC_STORAGE_BIT);
+  // Every part at a fixed place, at its finest level's size plus room for its fans; the
+  // flanges after them.
   uint32_t first = 0;
+  const uint32_t fanRoom = 3 * mStitcher.maxFanTriangles();
   for (const VipmPart& part : mLevels.parts()) {
     mRanges.push_back({part.material, first, 0});
-    first += uint32_t(part.indices.size());
+    first += uint32_t(part.indices.size()) + fanRoom;
   }
+  mReplaced.resize(mRanges.size());
+  mFanOffset.assign(mRanges.size(), 0);
+  mFanCount.assign(mRanges.size(), 0);
+  mPrefixUploaded.assign(mRanges.size(), 0);
   mFlangeFirst = first;
   const size_t indexCount = size_t(first) + maxFlangeIndices(mFlanges);
   glNamedBufferStorage(mBuffers[2], GLsizeiptr(std::max<size_t>(indexCount, 1) * 2), nullptr,
@@ -69,7 +78,8 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   mNormalSize = p.normals.size;
   uint64_t normalBytes = 0;
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
-  // On the GPU, plus the CPU state (the payload's copy and the drawn positions).
+  // On the GPU, plus the CPU state (the payload's copy, the drawn positions, materials and
+  // weights).
   mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +
               normalBytes;
   mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes) + mMaterials.size() +
@@ -122,8 +132,11 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   const bool morphs = window.morphing > window.applied;
   for (uint32_t j = previous.applied; j < previous.morphing; ++j)
     mDrawn[n - 1 - j] = mOwn[n - 1 - j];
-  if (morphs)
+  if (morphs) {
     morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
+    // Exact in every chunk's frame, so fans elsewhere put these points where they are drawn.
+    for (uint32_t j = window.applied; j < window.morphing; ++j) quantizeDrawn(mDrawn[n - 1 - j]);
+  }
   mWindow = window;
   if (morphed || morphs) {
     uint32_t lo = n, hi = 0;  // the union of both windows' vertex ranges
@@ -146,11 +159,13 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   auto parts = mLevels.parts();
   for (size_t i = 0; i < parts.size(); ++i) {
     VipmPart& part = parts[i];
-    mRanges[i].count = mLevels.drawnTriangles(part) * 3;
+    const uint32_t living = mLevels.drawnTriangles(part) * 3;
+    mRanges[i].count = living;  // the fans (stitch) come after
     if (!part.dirty) continue;
-    if (mRanges[i].count)
-      glNamedBufferSubData(mBuffers[2], GLintptr(mRanges[i].firstIndex * 2),
-                           GLsizeiptr(mRanges[i].count * 2), part.indices.data());
+    if (living)
+      glNamedBufferSubData(mBuffers[2], GLintptr(mRanges[i].firstIndex * 2), GLsizeiptr(living * 2),
+                           part.indices.data());
+    mPrefixUploaded[i] = 1;
     part.dirty = false;
   }
   if (levelChanged) {
@@ -163,6 +178,108 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
                            GLsizeiptr(mFlangeIndices.size() * 2), mFlangeIndices.data());
     mFlangesValid = true;
   }
+}
+
+}  // namespace terralod
+
+namespace terralod {
+
+void VipmGpuChunk::addStitchPoints(StitchTable& table) const {
+  mStitcher.addPoints(table, mLevels.activeVertices(), std::span(mDrawn).first(mMesh.vertexCount()),
+                      std::span(mWeightBytes).first(mMesh.vertexCount()),
+                      std::span(mMaterials).first(mMesh.vertexCount()));
+}
+
+void VipmGpuChunk::partSlots(size_t i, std::span<const uint32_t> replaced,
+                             std::vector<uint32_t>& out) const {
+  out.clear();
+  const VipmPart& part = mLevels.parts()[i];
+  if (part.material == kWholeChunk) {
+    out.assign(replaced.begin(), replaced.end());
+    return;
+  }
+  auto from = part.wholeTriangles.begin();
+  for (uint32_t t : replaced) {
+    from = std::lower_bound(from, part.wholeTriangles.end(), t);
+    if (from != part.wholeTriangles.end() && *from == t)
+      out.push_back(uint32_t(from - part.wholeTriangles.begin()));
+  }
+}
+
+bool VipmGpuChunk::fanInPart(const std::array<uint32_t, 3>& triangle, int material) const {
+  if (material == kWholeChunk) return true;
+  for (uint32_t v : triangle) {
+    const uint32_t n = mMesh.vertexCount();
+    const auto& w = v < n ? mWeightBytes[v] : mFans.weights[v - n];
+    if (w[size_t(material)] > 0) return true;
+  }
+  return false;
+}
+
+bool VipmGpuChunk::stitch(const StitchTable* table) {
+  const uint32_t n = mMesh.vertexCount();
+  StitchFans next;
+  if (table) {
+    const VipmPart& whole = mLevels.whole();
+    mStitcher.fan(*table, std::span(whole.indices).first(size_t(mLevels.drawnTriangles(whole)) * 3),
+                  std::span(mDrawn).first(n), next);
+  }
+  const bool changed = !(next == mFans);
+  if (changed) {
+    mFans = std::move(next);
+    // Inserted point k is vertex n + k in the fans; it is stored after the flange copies.
+    const size_t k = mFans.positions.size();
+    for (size_t i = 0; i < k; ++i) {
+      mDrawn[mFanVertexFirst + i] = mFans.positions[i];
+      mMaterials[mFanVertexFirst + i] = mFans.materials[i];
+      mWeightBytes[mFanVertexFirst + i] = mFans.weights[i];
+    }
+    if (k) {
+      glNamedBufferSubData(mBuffers[0], GLintptr(mFanVertexFirst * sizeof(mDrawn[0])),
+                           GLsizeiptr(k * sizeof(mDrawn[0])), mDrawn.data() + mFanVertexFirst);
+      glNamedBufferSubData(mBuffers[1], GLintptr(mFanVertexFirst), GLsizeiptr(k),
+                           mMaterials.data() + mFanVertexFirst);
+      glNamedBufferSubData(mBuffers[3], GLintptr(mFanVertexFirst * sizeof(mWeightBytes[0])),
+                           GLsizeiptr(k * sizeof(mWeightBytes[0])),
+                           mWeightBytes.data() + mFanVertexFirst);
+    }
+  }
+  const uint32_t shift = mFanVertexFirst - n;  // inserted points sit after the flange copies
+  auto parts = mLevels.parts();
+  std::vector<uint32_t> slots;
+  std::vector<uint16_t> fans;
+  static constexpr std::array<uint16_t, 3> kEmpty{0, 0, 0};
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const VipmPart& part = parts[i];
+    const uint32_t living = mLevels.drawnTriangles(part);
+    if (!changed && !mPrefixUploaded[i] && mFanOffset[i] == living * 3) continue;
+    const GLintptr base = GLintptr(mRanges[i].firstIndex) * 2;
+    partSlots(i, mFans.replaced, slots);
+    // Triangles no longer replaced get their indices back (unless the prefix was uploaded
+    // whole this frame); those replaced now are emptied.
+    std::vector<uint32_t>& was = mReplaced[i];
+    if (!mPrefixUploaded[i])
+      for (uint32_t s : was)
+        if (s < living && !std::binary_search(slots.begin(), slots.end(), s))
+          glNamedBufferSubData(mBuffers[2], base + GLintptr(s) * 6, 6, part.indices.data() + 3 * s);
+    for (uint32_t s : slots)
+      if (mPrefixUploaded[i] || !std::binary_search(was.begin(), was.end(), s))
+        glNamedBufferSubData(mBuffers[2], base + GLintptr(s) * 6, 6, kEmpty.data());
+    was = slots;
+    fans.clear();
+    for (const auto& t : mFans.triangles)
+      if (fanInPart(t, part.material))
+        for (uint32_t v : t) fans.push_back(uint16_t(v < n ? v : v + shift));
+    if (!fans.empty())
+      glNamedBufferSubData(mBuffers[2], base + GLintptr(living) * 6, GLsizeiptr(fans.size() * 2),
+                           fans.data());
+    mFanOffset[i] = living * 3;
+    mFanCount[i] = uint32_t(fans.size());
+    mPrefixUploaded[i] = 0;
+  }
+  for (size_t i = 0; i < parts.size(); ++i)
+    mRanges[i].count = mLevels.drawnTriangles(parts[i]) * 3 + mFanCount[i];
+  return changed;
 }
 
 }  // namespace terralod

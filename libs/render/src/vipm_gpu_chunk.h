@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "terralod/vipm/vipm_fans.h"
 #include "vipm_payload.h"
 
 namespace terralod {
@@ -46,11 +47,24 @@ class VipmGpuChunk {
   struct Range {
     int material = kWholeChunk;
     uint32_t firstIndex = 0;
-    uint32_t count = 0;  ///< indices drawn now
+    uint32_t count = 0;  ///< indices drawn now (its fans included)
   };
   /// The whole chunk first, then one per material present.
   const std::vector<Range>& parts() const { return mRanges; }
   Range flanges() const { return {kWholeChunk, mFlangeFirst, uint32_t(mFlangeIndices.size())}; }
+  /// Stitching by fans (vipm_fans.h), after every drawn chunk's update of the frame: adds this
+  /// chunk's drawn border points to the frame's table, then replaces its border triangles by
+  /// fans onto the table's points (`table` null: no fans, the chunk's own triangles). Uploads
+  /// only what changed: the replaced triangles, the fans and their inserted points.
+  void addStitchPoints(StitchTable& table) const;
+  /// Returns whether its fans changed.
+  bool stitch(const StitchTable* table);
+  /// Fan triangles drawn now, and the triangles they replace.
+  uint32_t fanTriangles() const { return uint32_t(mFans.triangles.size()); }
+  uint32_t replacedTriangles() const { return uint32_t(mFans.replaced.size()); }
+  /// Its south-west grid point.
+  int64_t cornerX() const { return mWhere.cornerX; }
+  int64_t cornerY() const { return mWhere.cornerY; }
   /// Collapses applied now.
   uint32_t applied() const { return mLevels.applied(); }
   /// Vertices of the mesh active now (flanges left out).
@@ -84,13 +98,24 @@ class VipmGpuChunk {
   // Own material alone.
   MaterialWeights ownWeights(uint32_t v) const;
 
+  // Part i's triangles of the whole part's `replaced`, as slots of part i.
+  void partSlots(size_t i, std::span<const uint32_t> replaced, std::vector<uint32_t>& out) const;
+  bool fanInPart(const std::array<uint32_t, 3>& triangle, int material) const;
+
   ProgressiveMesh mMesh;
   VipmLevels mLevels;
-  std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
-  std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
-  // kToTarget only (kKeep uploads them once and keeps no copy):
-  std::vector<uint8_t> mMaterials;                               // own, per vertex (flanges too)
-  std::vector<MaterialWeights> mWeights;                         // per mesh vertex as drawn now
+  StitchChunk mWhere;
+  VipmStitcher mStitcher;
+  StitchFans mFans;                              // drawn now
+  std::vector<std::vector<uint32_t>> mReplaced;  // per part: its slots degenerate on the GPU
+  std::vector<uint32_t> mFanOffset;              // per part: where its fans start (indices)
+  std::vector<uint32_t> mFanCount;               // per part: its fans' indices
+  std::vector<uint8_t> mPrefixUploaded;          // per part: its prefix re-uploaded this frame
+  uint32_t mFanVertexFirst = 0;                  // the inserted points' first vertex
+  std::vector<std::array<float, 3>> mOwn;        // own positions (flange vertices after the mesh's)
+  std::vector<std::array<float, 3>> mDrawn;      // drawn now (geomorphed)
+  std::vector<uint8_t> mMaterials;               // own, per vertex (flanges too)
+  std::vector<MaterialWeights> mWeights;         // per mesh vertex as drawn now (kToTarget only)
   std::vector<std::array<uint8_t, kMaxMaterials>> mWeightBytes;  // as uploaded (flanges too)
   MaterialFade mFade = MaterialFade::kKeep;  // kKeep: every vertex its own material alone
   Flanges mFlanges;

@@ -69,13 +69,16 @@ VipmPass::VipmPass(ShaderProgram program, std::vector<GlTexture> details,
   }
 }
 
-void VipmPass::setChunk(const FrameContext& frame, const ChunkTree& tree, const Draw& d) const {
+void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   const GLuint p = mProgram.id();
   const ChunkNode& n = tree.node(d.node);
   const VipmGpuChunk& c = *d.chunk;
   const auto spacing = tree.spacing();
-  glProgramUniform3f(p, mProgram.uniformLocation("uOrigin"), float(n.box.min[0] - frame.eye.x),
-                     float(n.box.min[1] - frame.eye.y), float(c.zBase() - frame.eye.z));
+  // Exact positions (the vertex shader): the chunk's corner from the frame's anchor in whole
+  // cells and its zBase, both exact in float, so a point two chunks share sums alike in both.
+  glProgramUniform2f(p, mProgram.uniformLocation("uCornerCells"), float(c.cornerX() - mAnchor[0]),
+                     float(c.cornerY() - mAnchor[1]));
+  glProgramUniform1f(p, mProgram.uniformLocation("uZBase"), float(c.zBase()));
   glProgramUniform2f(p, mProgram.uniformLocation("uGridSize"), float(c.normalSize()),
                      float(c.normalSize()));
   // World-space detail coordinates, reduced to one period in double at the chunk's corner.
@@ -117,6 +120,14 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glProgramUniformMatrix4fv(p, at("uViewProjection"), 1, GL_FALSE,
                             glm::value_ptr(frame.viewProjection));
   glProgramUniform1f(p, at("uEyeHeight"), float(frame.eye.z));
+  // The anchor: the grid point at a multiple of 256 cells nearest below the eye, so that
+  // positions near the eye keep their precision.
+  const Box& extent = tree.extent();
+  const double eyeCells[2] = {(frame.eye.x - extent.min[0]) / spacing[0],
+                              (frame.eye.y - extent.min[1]) / spacing[1]};
+  for (int k = 0; k < 2; ++k) mAnchor[size_t(k)] = int64_t(std::floor(eyeCells[k] / 256.0)) * 256;
+  glProgramUniform2f(p, at("uEyeCells"), float(eyeCells[0] - double(mAnchor[0])),
+                     float(eyeCells[1] - double(mAnchor[1])));
   glProgramUniform2f(p, at("uSpacing"), float(spacing[0]), float(spacing[1]));
   glProgramUniform2f(p, at("uDetailScale"), float(1.0 / kDetailCells), float(1.0 / kDetailCells));
   glProgramUniform3fv(p, at("uSun"), 1, glm::value_ptr(sun));
@@ -143,13 +154,13 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glProgramUniform1i(p, at("uPass"), 0);
   glProgramUniform1i(p, at("uMaterial"), -1);
   for (const Draw& d : draws) {
-    setChunk(frame, tree, d);
+    setChunk(tree, d);
     const VipmGpuChunk::Range whole = d.chunk->parts().front();
     glProgramUniform1i(p, at("uFlange"), 0);
     stats.drawCalls += drawRange(*d.chunk, whole);
-    stats.triangles += whole.count / 3;
+    stats.triangles += whole.count / 3 - d.chunk->replacedTriangles();  // those are empty
     stats.vertices += d.chunk->activeVertices();
-    if (style.skirts) {
+    if (style.skirts && style.stitch == VipmStitch::kFlanges) {
       glProgramUniform1i(p, at("uFlange"), 1);
       stats.drawCalls += drawRange(*d.chunk, d.chunk->flanges());
       stats.triangles += d.chunk->flanges().count / 3;
@@ -170,7 +181,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     for (const Draw& d : draws)
       for (const VipmGpuChunk::Range& r : d.chunk->parts())
         if (r.material == int(m) && r.count > 0) {
-          setChunk(frame, tree, d);
+          setChunk(tree, d);
           stats.drawCalls += drawRange(*d.chunk, r);
         }
   }
@@ -185,7 +196,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     glPolygonOffset(1.0f, 1.0f);
     glDepthFunc(GL_GEQUAL);
     for (const Draw& d : draws) {
-      setChunk(frame, tree, d);
+      setChunk(tree, d);
       stats.drawCalls += drawRange(*d.chunk, d.chunk->parts().front());
     }
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);

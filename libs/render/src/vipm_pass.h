@@ -23,7 +23,7 @@ namespace terralod {
 
 /// A chunk to draw, already at the frame's level.
 struct VipmDraw {
-  const VipmGpuChunk* chunk = nullptr;
+  VipmGpuChunk* chunk = nullptr;
   uint32_t node = 0;
   float morph = 0.0f;
 };
@@ -51,13 +51,14 @@ class VipmPass {
  private:
   VipmPass(ShaderProgram program, std::vector<GlTexture> details,
            std::vector<std::array<float, 3>> colors);
-  void setChunk(const FrameContext& frame, const ChunkTree& tree, const Draw& d) const;
+  void setChunk(const ChunkTree& tree, const Draw& d) const;
   uint32_t drawRange(const VipmGpuChunk& chunk, const VipmGpuChunk::Range& range) const;
 
   ShaderProgram mProgram;
   GlVertexArray mVertexArray;
   std::vector<GlTexture> mDetails;            // per material
   std::vector<std::array<float, 3>> mColors;  // per material, sRGB 0..1
+  std::array<int64_t, 2> mAnchor{};           // per frame: grid point positions are taken from
 };
 
 }  // namespace terralod

@@ -14,12 +14,13 @@ uint64_t VipmChunkPayload::bytes() const {
   b += positions.size() * sizeof(positions[0]) + materials.size();
   for (const auto& mip : normals.mips) b += mip.size();
   b += flanges.tops.size() * 4;
+  b += stitcher.bytes();
   return b;
 }
 
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
-                                           float flangeDepth) {
+                                           float flangeDepth, int64_t cornerX, int64_t cornerY) {
   auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
   if (!normals) return normals.error();
   // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
@@ -46,6 +47,9 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
     p.positions.push_back({t[0], t[1], t[2] - flangeDepth});
     p.materials.push_back(p.materials[top]);
   }
+  p.where = {cornerX,    cornerY,     data.zBase,
+             data.width, data.height, root ? int32_t(kStitchLineCells) : 0};
+  p.stitcher = VipmStitcher(unpacked.mesh, p.where);
   p.mesh = std::move(unpacked.mesh);
   return p;
 }

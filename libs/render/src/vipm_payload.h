@@ -14,6 +14,7 @@
 #include "terralod/format/texture_codec.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/vipm/progressive_mesh.h"
+#include "terralod/vipm/vipm_fans.h"
 #include "terralod/vipm/vipm_flanges.h"
 #include "terralod/vipm/vipm_levels.h"
 
@@ -29,6 +30,9 @@ struct VipmChunkPayload final : ChunkPayload {
   MaterialFade fade = MaterialFade::kKeep;
   Flanges flanges;
   float flangeDepth = 0.0f;
+  /// Where the chunk lies (its corner in grid cells) and its fan stitching state.
+  StitchChunk where;
+  VipmStitcher stitcher;
   double zBase = 0.0;
   int32_t width = 0, height = 0;  ///< grid points
   /// The node's normal map: chunk cells + 1 texels a side over its unclipped square, texel i
@@ -40,9 +44,10 @@ struct VipmChunkPayload final : ChunkPayload {
 
 /// Decodes a VIPM node's bytes (its blob and its texture blob; `subject` names it in errors)
 /// into a payload. `chunkCells`: the node's side in cells (its normal map has one more texel);
-/// `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres.
+/// `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres;
+/// `cornerX`, `cornerY`: the node's south-west grid point.
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
-                                           float flangeDepth);
+                                           float flangeDepth, int64_t cornerX, int64_t cornerY);
 
 }  // namespace terralod

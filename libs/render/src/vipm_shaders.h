@@ -20,7 +20,9 @@ layout(location = 2) in vec4 aWeights0;
 layout(location = 3) in vec4 aWeights1;
 uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
-uniform vec3 uOrigin;          // chunk corner relative to the eye (z: zBase - eye z)
+uniform vec2 uCornerCells;     // chunk corner, grid cells from the frame's anchor (whole)
+uniform float uZBase;          // the chunk's zBase (metres)
+uniform vec2 uEyeCells;        // the eye, grid cells from the anchor
 uniform vec2 uSpacing;         // metres per cell
 uniform vec2 uGridSize;        // the normal map's texels a side (chunk cells + 1, unclipped)
 uniform vec2 uDetailOrigin;    // detail texture coordinate of the chunk's corner
@@ -36,7 +38,11 @@ out float vWeight;
 out vec3 vMaterialColor;
 flat out uint vMaterialId;
 void main() {
-  vec3 p = uOrigin + vec3(aPosition.xy * uSpacing, aPosition.z);
+  // A point two chunks share has the same exact sums in both (fan stitching puts it in each
+  // chunk's frame exactly), so both round them alike and draw the same edges.
+  precise vec2 grid = aPosition.xy + uCornerCells;
+  precise float height = aPosition.z + uZBase;
+  vec3 p = vec3((grid - uEyeCells) * uSpacing, height - uEyeHeight);
   vRelative = p;
   vHeight = p.z + uEyeHeight;
   vNormalUv = (aPosition.xy + 0.5) / uGridSize;  // texel i's centre is on grid point i

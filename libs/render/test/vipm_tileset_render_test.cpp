@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <set>
 
 #include "headless_scene.h"
@@ -148,6 +149,38 @@ TEST_F(VipmTilesetRender, FlangesMaterialsAndGeomorphsShow) {
   for (size_t i = 0; i < with.rgba.size(); i += 4)
     bins.insert((with.rgba[i] / 32) * 64 + (with.rgba[i + 1] / 32) * 8 + with.rgba[i + 2] / 32);
   EXPECT_GT(bins.size(), 12u);
+}
+
+TEST_F(VipmTilesetRender, FansCloseEveryBorderWithoutFlanges) {
+  // The low pass (ground below the horizon in every column, as holes() needs), every chunk
+  // stitched by fans and nothing below the surface: no hole in any frame, and the picture is
+  // the flanges' one but along the borders.
+  open(test::Frames::kComplete);
+  const Flight flight = autoFlight(mScene->tree(), 240, 180, 60.0, 0);
+  const std::vector<Camera> cameras = flightCameras(flight);
+  TerrainStyle fans, none;
+  fans.stitch = none.stitch = VipmStitch::kFans;
+  none.skirts = false;
+  uint64_t holesWithout = 0, fanChanges = 0;
+  double differ = 0.0;
+  int frames = 0;
+  for (size_t i = 0; i < size_t(flight.climbStart); i += 20) {
+    FrameStats stats;
+    const Image stitched = draw(cameras[i], {}, fans, &stats);
+    EXPECT_EQ(holes(stitched), 0u) << "frame " << i;
+    EXPECT_EQ(stats.draw.missing, 0u);
+    fanChanges += stats.fanChangeMs.size();
+    EXPECT_FALSE(std::isnan(stats.fanFrameMs));
+    holesWithout += holes(draw(cameras[i], {}, none));
+    const Image flanged = draw(cameras[i], {}, {});
+    uint64_t d = 0;
+    for (size_t k = 0; k < stitched.rgba.size(); ++k) d += stitched.rgba[k] != flanged.rgba[k];
+    differ += double(d) / double(stitched.rgba.size());
+    ++frames;
+  }
+  EXPECT_GT(fanChanges, 0u);
+  EXPECT_GT(holesWithout, 0u);
+  EXPECT_LT(differ / frames, 0.05);  // borders only
 }
 
 TEST_F(VipmTilesetRender, MaterialIdImagesCoverTheTerrainWithItsMaterials) {

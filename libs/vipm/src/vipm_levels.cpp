@@ -81,6 +81,7 @@ Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
       prefixIn[t] = count;
       if (mask[t] & (1u << m)) {
         local[t] = count++;
+        part.wholeTriangles.push_back(t);
         part.indices.insert(part.indices.end(), w.indices.begin() + 3 * t,
                             w.indices.begin() + 3 * t + 3);
       } else {

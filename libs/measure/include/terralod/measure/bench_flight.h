@@ -51,6 +51,7 @@ struct FrameRecord {
   double materialPopPx = NAN;
   /// The same with the last frame's state as it was drawn (its own geomorph).
   double materialMorphStepPx = NAN;
+  double fanMs = NAN;  ///< VIPM with --stitch fans: the frame's fan stitching (render thread)
 };
 
 struct BenchFlightOptions {
@@ -66,6 +67,7 @@ struct BenchFlightResult {
   TexelDensity texels;                ///< over frames that had every wanted chunk resident
   int metricStride = 0;               ///< every how many source samples the quality figures used
   std::vector<double> reconstructMs;  ///< per VIPM chunk decoded: decode and reconstruction, ms
+  std::vector<double> fanChangeMs;    ///< per VIPM chunk whose fans changed: their making, ms
   std::vector<Image> keptImages;
   std::vector<size_t> keptFrameIndices;
 };

@@ -12,6 +12,7 @@
 
 #include <chrono>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -66,6 +67,11 @@ struct FrameStats {
   /// VIPM chunks decoded since the last frame: each one's decode and reconstruction time on
   /// its loader thread, milliseconds.
   std::vector<double> reconstructMs;
+  /// VIPM fan stitching (--stitch fans) on the render thread this frame, milliseconds: each
+  /// chunk whose fans changed (its level or a neighbour's, or a border vertex geomorphing),
+  /// and the whole frame's stitching (gathering the border points included); NaN without.
+  std::vector<double> fanChangeMs;
+  double fanFrameMs = std::numeric_limits<double>::quiet_NaN();
 };
 
 class TerrainScene {

@@ -9,10 +9,16 @@ namespace terralod {
 
 enum class ColorBy { kRelief, kLevel, kMorph };
 
+/// How VIPM chunks close their borders (the static kind always hangs skirts): flanges hanging
+/// below every border, or fans that replace the border triangles so both sides draw the same
+/// edges (vipm_fans.h). `skirts` false leaves out both (shows the cracks).
+enum class VipmStitch : uint8_t { kFlanges, kFans };
+
 struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface
   bool skirts = true;
+  VipmStitch stitch = VipmStitch::kFlanges;
   bool textures = true;     ///< false: ignore chunk textures, light from the drawn geometry
   bool sky = true;          ///< false: empty pixels keep exactly the background colour
   bool chunkBoxes = false;  ///< outline each drawn chunk's bounding box, coloured by level

@@ -50,6 +50,7 @@ inline int vipmMaterialOfPixel(uint8_t red) {
 }
 
 class VipmPass;
+class StitchTable;
 class VipmGpuChunk;
 struct VipmDraw;
 
@@ -78,6 +79,15 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   /// Milliseconds each chunk decoded since the last call took to decode and reconstruct (on
   /// the loader threads), in no particular order; the list is then emptied.
   std::vector<double> takeReconstructMs();
+  /// Fan stitching's CPU time per frame drawn with fans (render thread): gathering the drawn
+  /// border points, and each chunk whose fans changed (a level change of it or a neighbour,
+  /// or a border vertex geomorphing), in milliseconds; the list is then emptied.
+  struct FanTiming {
+    double gatherMs = 0.0;
+    std::vector<double> changedMs;
+    double totalMs = 0.0;
+  };
+  std::vector<FanTiming> takeFanTimings();
   /// GPU memory the uploaded chunks take.
   uint64_t gpuBytes() const { return mGpuBytes; }
 
@@ -88,7 +98,11 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   std::unique_ptr<VipmPass> mPass;
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
   uint64_t mGpuBytes = 0;
-  std::vector<VipmDraw> mDraws;  // per frame, kept to avoid allocating
+  // Fans or no fans for every drawn chunk, after their levels are set.
+  void stitch(const TerrainStyle& style, std::span<const VipmDraw> draws);
+  std::vector<VipmDraw> mDraws;               // per frame, kept to avoid allocating
+  std::unique_ptr<StitchTable> mStitchTable;  // per frame
+  std::vector<FanTiming> mFanTimings;
   mutable std::mutex mTimingMutex;
   mutable std::vector<double> mReconstructMs;  // guarded by mTimingMutex
 };

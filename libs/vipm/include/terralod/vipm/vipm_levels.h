@@ -41,7 +41,10 @@ struct VipmPart {
   std::vector<uint32_t> triangles;  ///< per collapse count 0..R: living triangles (a prefix)
   std::vector<uint32_t> moveStart;  ///< per collapse 0..R: start of its moves
   std::vector<uint16_t> moves;      ///< index positions in `indices` a collapse rewrites
-  bool dirty = true;                ///< indices changed since the flag was last cleared
+  /// Per triangle of the part: its index in the whole part (ascending; empty in the whole
+  /// part itself, where it is the identity).
+  std::vector<uint32_t> wholeTriangles;
+  bool dirty = true;  ///< indices changed since the flag was last cleared
 };
 
 /// Whether a collapse's vertex fades its material into its target's while it geomorphs.

@@ -1,0 +1,150 @@
+#pragma once
+// Exact stitching of VIPM chunks by triangle fans (papers/vipm-terrain-story.md, "the perfect"
+// way): every chunk border, and every inner seam of a blot root, lies on a grid line x or y =
+// a multiple of 64 cells. Each frame the drawn chunks put their active vertices on those lines
+// into one StitchTable (absolute positions, as drawn); then every living triangle with an edge
+// on a line whose span holds points of the table is replaced by a fan from its opposite corner
+// onto those points. Both sides of a line then draw the same polyline, the union of their
+// points, so borders match exactly with nothing hanging below the surface.
+//
+// Points on a line are ordered by (along, z): a vertex geomorphing along its side can stand at
+// the same place as its neighbour's vertex at another height, and the union then holds both,
+// one above the other, in the same order on both sides. A triangle with edges on two lines (at
+// a chunk's corner) is fanned on one, then each piece on the other. Chunks keep the triangles
+// that can ever have an edge on a line (at any level), so a frame's work is proportional to the
+// borders, not to the chunks.
+//
+// Positions must be exact for both sides to rasterise the same edges: a point is given in
+// absolute grid cells and metres (doubles), and the chunk that inserts it converts it to its
+// own frame; geomorphing vertices are rounded (quantizeDrawn) so that every conversion is
+// exact in float.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "terralod/materials/material.h"
+#include "terralod/vipm/progressive_mesh.h"
+
+namespace terralod {
+
+/// Grid cells between the lines chunks can meet on (a VIPM leaf's side).
+inline constexpr int64_t kStitchLineCells = 64;
+
+/// A line x = at (axis 0, points ordered by y) or y = at (axis 1, ordered by x); grid cells.
+struct StitchLine {
+  uint8_t axis = 0;
+  int64_t at = 0;
+  bool operator==(const StitchLine&) const = default;
+};
+
+/// A drawn vertex on a line, in absolute coordinates, with what the splatting draws there.
+struct StitchPoint {
+  double along = 0.0;  ///< grid cells along the line
+  double z = 0.0;      ///< metres
+  std::array<uint8_t, kMaxMaterials> weights{};  ///< splat weights as drawn (bytes)
+  uint8_t material = 0;                          ///< the vertex's own material
+};
+
+/// The points of every drawn chunk on every line, for one frame.
+class StitchTable {
+ public:
+  void clear();
+  void add(const StitchLine& line, const StitchPoint& point);
+  /// Orders each line's points by (along, z) and drops exact duplicates (a point two chunks
+  /// share). Call once after the last add.
+  void finish();
+  /// The points of `line` strictly between keys (along0, z0) and (along1, z1), in order from
+  /// the first to the second (either way round).
+  std::span<const StitchPoint> between(const StitchLine& line, double along0, double z0,
+                                       double along1, double z1, bool& reversed) const;
+  size_t pointCount() const;
+
+ private:
+  struct Hash {
+    size_t operator()(const StitchLine& l) const {
+      return std::hash<int64_t>()(l.at * 2 + l.axis);
+    }
+  };
+  std::unordered_map<StitchLine, std::vector<StitchPoint>, Hash> mLines;
+};
+
+/// Where a chunk lies: its south-west grid point and its zBase (positions are relative to
+/// them), its grid points, and its inner seams' spacing (blot roots: every kStitchLineCells;
+/// 0: none).
+struct StitchChunk {
+  int64_t cornerX = 0, cornerY = 0;
+  double zBase = 0.0;
+  int32_t width = 0, height = 0;
+  int32_t seamStep = 0;
+};
+
+/// Rounds a geomorphing vertex's position so that moving it between chunks' frames is exact
+/// in float: x, y to 2^-16 cells, z to 2^-10 m (exact while |z| < 16 km above zBase).
+void quantizeDrawn(std::array<float, 3>& position);
+
+/// The fans of a chunk at one frame.
+struct StitchFans {
+  /// Triangles of the whole part (indices into its triangle order) the fans replace,
+  /// ascending.
+  std::vector<uint32_t> replaced;
+  /// The fans' triangles: a corner < vertexCount is the chunk's vertex, else inserted point
+  /// corner - vertexCount.
+  std::vector<std::array<uint32_t, 3>> triangles;
+  /// Points of other chunks (or of the root's other side of a seam) the fans use, in the
+  /// chunk's own frame (grid x, y from its corner, metres above its zBase).
+  std::vector<std::array<float, 3>> positions;
+  std::vector<std::array<uint8_t, kMaxMaterials>> weights;
+  std::vector<uint8_t> materials;
+
+  void clear();
+  bool operator==(const StitchFans&) const = default;
+};
+
+class VipmStitcher {
+ public:
+  /// Finds the chunk's vertices on its lines and the triangles that can ever have an edge on
+  /// one (replaying the collapses once).
+  VipmStitcher(const ProgressiveMesh& mesh, const StitchChunk& chunk);
+  VipmStitcher() = default;
+
+  /// Adds the active vertices (< activeVertices) on the chunk's lines at their drawn
+  /// positions, with their drawn weights and own materials.
+  void addPoints(StitchTable& table, uint32_t activeVertices,
+                 std::span<const std::array<float, 3>> drawn,
+                 std::span<const std::array<uint8_t, kMaxMaterials>> weights,
+                 std::span<const uint8_t> materials) const;
+
+  /// The fans for the living triangles `living` (the whole part's indices, a prefix) with
+  /// vertices at `drawn`, against `table` (which holds this chunk's own points).
+  void fan(const StitchTable& table, std::span<const uint16_t> living,
+           std::span<const std::array<float, 3>> drawn, StitchFans& out) const;
+
+  /// The most triangles and inserted points fan can give.
+  uint32_t maxFanTriangles() const { return mMaxTriangles; }
+  uint32_t maxInsertedPoints() const { return mMaxInserted; }
+  /// Vertices on the chunk's lines (the work addPoints does) and candidate triangles.
+  size_t borderVertexCount() const { return mBorderVertices.size(); }
+  size_t candidateCount() const { return mCandidates.size(); }
+  /// Memory it keeps.
+  uint64_t bytes() const {
+    return mBorderVertices.size() * 3 + mCandidates.size() * 4 + mLines.size() * sizeof(Line);
+  }
+
+ private:
+  struct Line {
+    StitchLine line;
+    double local = 0.0;  // the line's coordinate in the chunk's frame
+  };
+  StitchChunk mChunk;
+  uint32_t mVertexCount = 0;
+  std::vector<Line> mLines;
+  std::vector<uint16_t> mBorderVertices;   // vertices on a line
+  std::vector<uint8_t> mLineMask;          // per border vertex (same order): its lines' bits
+  std::vector<uint32_t> mCandidates;       // ascending triangle slots
+  uint32_t mMaxTriangles = 0, mMaxInserted = 0;
+};
+
+}  // namespace terralod
