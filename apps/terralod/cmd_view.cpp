@@ -64,6 +64,7 @@ struct Knobs {
   float tau = 2.0f;
   bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
   bool boxes = false, fans = false;  // fans: VIPM borders stitched by fans, not flanges
+  bool blots = true;                 // far VIPM chunks drawn as blots
   int colorBy = 0;                   // relief, level, morph
 };
 
@@ -137,6 +138,7 @@ int runView(const ViewCommand& v) {
   knobs.textures = !v.options.noTextures;
   knobs.colorBy = int(baseStyle->colorBy);
   knobs.fans = baseStyle->stitch == VipmStitch::kFans;
+  knobs.blots = baseStyle->blots == VipmBlots::kOn;
   FlyCamera fly(start->front());
   double fov = v.options.fovDegrees;
   std::vector<float> frameTimes(kFrameHistory, 0.0f);
@@ -201,6 +203,7 @@ int runView(const ViewCommand& v) {
     TerrainStyle style = *baseStyle;
     style.skirts = knobs.skirts;
     style.stitch = knobs.fans ? VipmStitch::kFans : VipmStitch::kFlanges;
+    style.blots = knobs.blots ? VipmBlots::kOn : VipmBlots::kOff;
     style.wireframe = knobs.wireframe;
     style.chunkBoxes = knobs.boxes;
     style.textures = knobs.textures;
@@ -239,6 +242,8 @@ int runView(const ViewCommand& v) {
     ImGui::Checkbox("chunk boxes", &knobs.boxes);
     ImGui::SameLine();
     ImGui::Checkbox("fans", &knobs.fans);
+    ImGui::SameLine();
+    ImGui::Checkbox("blots", &knobs.blots);
     ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();

@@ -40,6 +40,10 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "both sides, nothing below the surface)")
       ->capture_default_str()
       ->check(CLI::IsMember({"flanges", "fans"}));
+  c.add_flag("--no-blots", o.noBlots,
+             "VIPM tilesets: draw every chunk one pass per material, also far ones (by default "
+             "a chunk where a cell covers less than a pixel is a blot, one pass in its "
+             "materials' average colours, which nearer materials fade to)");
   c.add_flag_callback(
       "--no-horizon-culling", [&o] { o.horizonCulling = HorizonCulling::kOff; },
       "Draw every selected chunk, also those nearer terrain hides (culling them never changes "
@@ -103,6 +107,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.chunkBoxes = o.chunkBoxes;
   style.skirts = !o.noSkirts;
   style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;
+  style.blots = o.noBlots ? VipmBlots::kOff : VipmBlots::kOn;
   style.textures = !o.noTextures;
   if (!o.sun.empty()) {
     if (o.sun.size() != 2 || !std::isfinite(o.sun[0]) || !std::isfinite(o.sun[1]) ||

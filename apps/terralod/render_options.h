@@ -25,6 +25,7 @@ struct RenderOptions {
   std::string background = "9CC3E6";
   bool wireframe = false, noMorph = false, noSkirts = false, noTextures = false;
   bool chunkBoxes = false;
+  bool noBlots = false;            ///< --no-blots: VIPM chunks never drawn as blots
   std::string stitch = "flanges";  ///< --stitch: VIPM borders, "flanges" or "fans"
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees

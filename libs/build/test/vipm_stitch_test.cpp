@@ -46,10 +46,10 @@ using Point = std::tuple<double, double, double>;  // absolute grid x, y and met
 
 struct Cases {
   size_t fannedTriangles = 0;
-  size_t twoLineTriangles = 0;   // a corner triangle fanned along two lines
-  size_t seamFans = 0;           // fans on a root's inner seam
-  size_t fractionalPoints = 0;   // inserted points off the grid (geomorphing)
-  size_t rootLeafBorders = 0;    // fans where a root meets leaves
+  size_t twoLineTriangles = 0;  // a corner triangle fanned along two lines
+  size_t seamFans = 0;          // fans on a root's inner seam
+  size_t fractionalPoints = 0;  // inserted points off the grid (geomorphing)
+  size_t rootLeafBorders = 0;   // fans where a root meets leaves
 };
 
 class VipmStitch : public ::testing::Test {
@@ -79,9 +79,9 @@ class VipmStitch : public ::testing::Test {
       n.chunk = std::move(chunk).value();
       n.own = positionsAboveBase(n.chunk);
       const int64_t cells = h.chunkCells(r.level);
-      n.where = {int64_t(r.x) * cells,         int64_t(r.y) * cells,       n.chunk.data.zBase,
-                 int32_t(n.chunk.data.width), int32_t(n.chunk.data.height),
-                 r.level == 0 ? int32_t(kStitchLineCells) : 0};
+      n.where = {int64_t(r.x) * cells,         int64_t(r.y) * cells,
+                 n.chunk.data.zBase,           int32_t(n.chunk.data.width),
+                 int32_t(n.chunk.data.height), r.level == 0 ? int32_t(kStitchLineCells) : 0};
       n.stitcher = VipmStitcher(n.chunk.unpacked.mesh, n.where);
       nodes.push_back(std::move(n));
     }
@@ -156,8 +156,8 @@ class VipmStitch : public ::testing::Test {
           ++next;
           continue;
         }
-        out.push_back({absolute(living[3 * t]), absolute(living[3 * t + 1]),
-                       absolute(living[3 * t + 2])});
+        out.push_back(
+            {absolute(living[3 * t]), absolute(living[3 * t + 1]), absolute(living[3 * t + 2])});
       }
       for (const auto& tri : f.triangles)
         out.push_back({absolute(tri[0]), absolute(tri[1]), absolute(tri[2])});
@@ -225,8 +225,10 @@ Closure closure(const std::vector<std::array<Point, 3>>& triangles, double cells
     return false;
   };
   for (const auto& t : triangles) {
-    const double ax = std::get<0>(t[1]) - std::get<0>(t[0]), ay = std::get<1>(t[1]) - std::get<1>(t[0]);
-    const double bx = std::get<0>(t[2]) - std::get<0>(t[0]), by = std::get<1>(t[2]) - std::get<1>(t[0]);
+    const double ax = std::get<0>(t[1]) - std::get<0>(t[0]),
+                 ay = std::get<1>(t[1]) - std::get<1>(t[0]);
+    const double bx = std::get<0>(t[2]) - std::get<0>(t[0]),
+                 by = std::get<1>(t[2]) - std::get<1>(t[0]);
     const double area = 0.5 * (ax * by - ay * bx);
     c.area += area;
     if (area < -1e-9) c.negativeArea -= area;
@@ -275,8 +277,8 @@ TEST_F(VipmStitch, EveryCutIsOneClosedSurfaceWithFansAndNotWithout) {
   EXPECT_GT(cases.fractionalPoints, 0u);
   EXPECT_GT(cases.rootLeafBorders, 0u);
   std::printf("fanned %zu, two lines %zu, seams %zu, sliding points %zu, root-leaf %zu\n",
-              cases.fannedTriangles, cases.twoLineTriangles, cases.seamFans,
-              cases.fractionalPoints, cases.rootLeafBorders);
+              cases.fannedTriangles, cases.twoLineTriangles, cases.seamFans, cases.fractionalPoints,
+              cases.rootLeafBorders);
 }
 
 TEST_F(VipmStitch, FansStayWithinTheirBounds) {

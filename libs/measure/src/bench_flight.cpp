@@ -69,6 +69,20 @@ class QualityPass {
       if (before.missing == 0)
         r.imagePop = meanAbsoluteDifference(beforeImage, mPopTarget->readPixels());
     }
+    if (mVipm && mOptions.style.blots == VipmBlots::kOn) {
+      // The blot switch: this frame's picture against the same chunks with the blots drawn
+      // one pass per material (faded to their averages), as if every blot switched at once.
+      if (Status s = bindFramebufferOfSize(mPopTarget, view.camera.width, view.camera.height); !s)
+        return s;
+      const DrawStats drawn = mScene.drawChunks(view, mCurrent, mOptions.style, selection);
+      if (drawn.blots > 0 && drawn.missing == 0) {
+        const Image withBlots = mPopTarget->readPixels();
+        TerrainStyle faded = mOptions.style;
+        faded.blots = VipmBlots::kFadeOnly;
+        mScene.drawChunks(view, mCurrent, faded, selection);
+        r.blotSwitch = meanAbsoluteDifference(withBlots, mPopTarget->readPixels());
+      }
+    }
     if (mVipm) mCurrentDrawn = VipmQuality::drawn(mScene.tree(), view, selection.tau, mCurrent);
     auto error = mVipm ? mVipm->maxErrorPixels(view, mCurrentDrawn)
                        : mMetrics->maxErrorPixels(view, mCurrent);
@@ -200,6 +214,7 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
                               frame->fanChangeMs.end());
     r.fanMs = frame->fanFrameMs;
     r.draws = frame->draw.drawCalls;
+    r.blots = frame->draw.blots;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;
     r.cullingActive = frame->horizon.active;

@@ -45,6 +45,15 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
     j["reconstruct_ms_max"] = percentile(flight.reconstructMs, 1.0);
     // Fan stitching (--stitch fans): per chunk whose fans changed, and per frame.
     j["stitch"] = style.stitch == VipmStitch::kFans ? "fans" : "flanges";
+    j["blots"] = style.blots == VipmBlots::kOn;
+    j["blots_p50"] =
+        percentile(column(f, [](const FrameRecord& r) { return double(r.blots); }), 0.5);
+    if (options.source && style.blots == VipmBlots::kOn) {
+      j["blot_switch_mean_max"] =
+          percentile(column(f, [](const FrameRecord& r) { return r.blotSwitch; }), 1.0);
+      j["blot_switch_mean_p50"] =
+          percentile(column(f, [](const FrameRecord& r) { return r.blotSwitch; }), 0.5);
+    }
     if (style.stitch == VipmStitch::kFans && style.skirts) {
       std::vector<double> fanFrame;
       for (const FrameRecord& r : f)

@@ -31,6 +31,23 @@ uint8_t flangeSides(const TilesetHeader& h, const NodeRecord& r) {
 
 }  // namespace
 
+namespace {
+
+// Where blots begin (TerrainStyle::blotCellPixels) and materials fade toward them.
+VipmBlotDistances vipmBlotDistances(const ChunkTree& tree, const View& view,
+                                    const TerrainStyle& style) {
+  VipmBlotDistances d;
+  if (style.blots == VipmBlots::kOff || !(style.blotCellPixels > 0)) return d;
+  // A cell of `spacing` metres covers blotCellPixels at distance spacing·K / blotCellPixels.
+  const double perMetreAtOne = screenSpaceError(view, 1.0, 1.0);
+  const auto spacing = tree.spacing();
+  d.blotFrom = std::min(spacing[0], spacing[1]) * perMetreAtOne / style.blotCellPixels;
+  d.fadeFrom = 0.5 * d.blotFrom;
+  return d;
+}
+
+}  // namespace
+
 double vipmDrawnTheta(const ChunkTree& tree, const View& view, double tau,
                       const SelectedChunk& chunk) {
   const ChunkNode& n = tree.node(chunk.node);
@@ -63,7 +80,7 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
       decodeVipmPayload(blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
                         uint32_t(h.chunkCells(record.level)), flangeSides(h, record),
                         record.maxSkirtDepth, int64_t(record.x) * h.chunkCells(record.level),
-                        int64_t(record.y) * h.chunkCells(record.level));
+                        int64_t(record.y) * h.chunkCells(record.level), mPass->averages());
   if (!decoded) return decoded.error();
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -137,6 +154,7 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
   const ChunkTree& tree = frame.tree;
   const View& view = frame.context.view;
   const Geomorph geomorph = frame.selection.morph ? Geomorph::kOn : Geomorph::kOff;
+  const VipmBlotDistances blots = vipmBlotDistances(tree, view, frame.context.style);
   std::vector<VipmDraw>& draws = mDraws;
   draws.clear();
   for (const SelectedChunk& s : chunks) {
@@ -148,10 +166,13 @@ void VipmChunkKind::addDraws(TerrainFrame& frame, std::span<const SelectedChunk>
     ++frame.stats.chunks;
     const double theta = vipmDrawnTheta(tree, view, frame.selection.tau, s);
     it->second->update(theta, geomorph);
-    draws.push_back({it->second.get(), s.node, s.morph});
+    const bool blot = frame.context.style.blots == VipmBlots::kOn &&
+                      distanceToBox(view.camera.eye, tree.node(s.node).box) >= blots.blotFrom;
+    draws.push_back({it->second.get(), s.node, s.morph, blot});
+    frame.stats.blots += blot;
   }
   stitch(frame.context.style, draws);
-  mPass->draw(frame.context, tree, draws, frame.stats);
+  mPass->draw(frame.context, tree, draws, frame.stats, VipmImage::kColour, blots);
 }
 
 void VipmChunkKind::addMaterialIdDraws(TerrainFrame& frame, std::span<const VipmChunkAt> chunks) {

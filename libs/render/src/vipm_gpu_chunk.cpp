@@ -78,6 +78,23 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   mNormalSize = p.normals.size;
   uint64_t normalBytes = 0;
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
+  // The blot texture, with mips (blots are small on screen), averaged encoded as the
+  // material passes add encoded colours.
+  {
+    GLuint name = 0;
+    glCreateTextures(GL_TEXTURE_2D, 1, &name);
+    mBlot = GlTexture(name);
+    const auto side = GLsizei(p.normals.size);
+    const int levels = int(std::floor(std::log2(double(side)))) + 1;
+    glTextureStorage2D(name, levels, GL_RGBA8, side, side);  // encoded: see vipm_blot.h
+    glTextureSubImage2D(name, 0, 0, 0, side, side, GL_RGBA, GL_UNSIGNED_BYTE, p.blot.data());
+    glGenerateTextureMipmap(name);
+    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    normalBytes += p.blot.size() * 4 / 3;  // with its mips
+  }
   // On the GPU, plus the CPU state (the payload's copy, the drawn positions, materials and
   // weights).
   mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +

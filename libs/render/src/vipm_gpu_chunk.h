@@ -79,6 +79,8 @@ class VipmGpuChunk {
   /// (morphMaterialWeights).
   uint32_t weightBuffer() const { return mBuffers[3]; }
   uint32_t normalMap() const { return mNormalMap.id(); }
+  /// Its blot texture (encoded colours, vipm_blot.h; mips), laid out as the normal map.
+  uint32_t blotTexture() const { return mBlot.id(); }
   /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
   uint32_t normalSize() const { return mNormalSize; }
   int32_t width() const { return mWidth; }
@@ -127,6 +129,7 @@ class VipmGpuChunk {
   uint32_t mFlangeFirst = 0;
   std::array<uint32_t, 4> mBuffers{};  // positions, materials, indices, weights
   GlTexture mNormalMap;
+  GlTexture mBlot;
   uint32_t mNormalSize = 0;
   int32_t mWidth = 0, mHeight = 0;
   double mZBase = 0.0;

@@ -10,6 +10,7 @@
 #include "atmosphere.h"
 #include "frame_colors.h"
 #include "terralod/materials/detail_texture.h"
+#include "terralod/vipm/vipm_blot.h"
 #include "vipm_shaders.h"
 
 namespace terralod {
@@ -17,8 +18,10 @@ namespace {
 
 constexpr int kDetailSize = 256;
 
-GlTexture makeDetail(const TilesetMaterial& m) {
+// The material's detail texture, and its texels' linear mean (what its smallest mip shows).
+GlTexture makeDetail(const TilesetMaterial& m, std::array<float, 3>& average) {
   const DetailTexture detail = makeDetailTexture(Material{m.id, m.name, m.color}, kDetailSize);
+  average = linearMean(detail.rgb);
   GLuint name = 0;
   glCreateTextures(GL_TEXTURE_2D, 1, &name);
   GlTexture texture(name);
@@ -44,11 +47,15 @@ Result<VipmPass> VipmPass::create(std::span<const TilesetMaterial> materials) {
   if (!program) return program.error();
   std::vector<GlTexture> details;
   std::vector<std::array<float, 3>> colors;
+  MaterialAverages averages;
   for (const TilesetMaterial& m : materials) {
-    details.push_back(makeDetail(m));
+    averages.emplace_back();
+    details.push_back(makeDetail(m, averages.back()));
     colors.push_back({m.color[0] / 255.0f, m.color[1] / 255.0f, m.color[2] / 255.0f});
   }
-  return VipmPass(std::move(program).value(), std::move(details), std::move(colors));
+  VipmPass pass(std::move(program).value(), std::move(details), std::move(colors));
+  pass.mAverages = std::move(averages);
+  return pass;
 }
 
 VipmPass::VipmPass(ShaderProgram program, std::vector<GlTexture> details,
@@ -96,6 +103,7 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   glVertexArrayVertexBuffer(mVertexArray.id(), 2, c.weightBuffer(), 0, 8);
   glVertexArrayElementBuffer(mVertexArray.id(), c.indexBuffer());
   glBindTextureUnit(1, c.normalMap());
+  glBindTextureUnit(2, c.blotTexture());  // blots, and the fade toward them
 }
 
 uint32_t VipmPass::drawRange(const VipmGpuChunk&, const VipmGpuChunk::Range& range) const {
@@ -106,7 +114,7 @@ uint32_t VipmPass::drawRange(const VipmGpuChunk&, const VipmGpuChunk::Range& ran
 }
 
 void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,
-                    DrawStats& stats, VipmImage image) {
+                    DrawStats& stats, VipmImage image, const VipmBlotDistances& blots) {
   if (draws.empty()) return;
   const TerrainStyle& style = frame.style;
   const GLuint p = mProgram.id();
@@ -142,6 +150,8 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glProgramUniform1i(p, at("uMaterialIds"), ids ? 1 : 0);
   if (!mColors.empty())
     glProgramUniform3fv(p, at("uMaterialColors"), GLsizei(mColors.size()), mColors[0].data());
+  glProgramUniform2f(p, at("uBlotFade"), float(blots.fadeFrom), float(blots.blotFrom));
+  glProgramUniform1i(p, at("uBlot"), 2);
   mProgram.use();
   glBindVertexArray(mVertexArray.id());
   glEnable(GL_DEPTH_TEST);
@@ -157,11 +167,14 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     setChunk(tree, d);
     const VipmGpuChunk::Range whole = d.chunk->parts().front();
     glProgramUniform1i(p, at("uFlange"), 0);
+    // A blot: the whole chunk in one pass, coloured by its blot texture.
+    glProgramUniform1i(p, at("uPass"), d.blot ? 3 : 0);
     stats.drawCalls += drawRange(*d.chunk, whole);
     stats.triangles += whole.count / 3 - d.chunk->replacedTriangles();  // those are empty
     stats.vertices += d.chunk->activeVertices();
     if (style.skirts && style.stitch == VipmStitch::kFlanges) {
       glProgramUniform1i(p, at("uFlange"), 1);
+      glProgramUniform1i(p, at("uPass"), 0);
       stats.drawCalls += drawRange(*d.chunk, d.chunk->flanges());
       stats.triangles += d.chunk->flanges().count / 3;
     }
@@ -180,7 +193,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     glBindTextureUnit(0, mDetails[m].id());
     for (const Draw& d : draws)
       for (const VipmGpuChunk::Range& r : d.chunk->parts())
-        if (r.material == int(m) && r.count > 0) {
+        if (!d.blot && r.material == int(m) && r.count > 0) {
           setChunk(tree, d);
           stats.drawCalls += drawRange(*d.chunk, r);
         }

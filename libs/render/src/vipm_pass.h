@@ -21,11 +21,21 @@
 
 namespace terralod {
 
-/// A chunk to draw, already at the frame's level.
+/// A chunk to draw, already at the frame's level; a blot draws in one pass with its blot
+/// texture (vipm_blot.h).
 struct VipmDraw {
   VipmGpuChunk* chunk = nullptr;
   uint32_t node = 0;
   float morph = 0.0f;
+  bool blot = false;
+};
+
+/// Where materials fade to their average colours (from `fadeFrom` to `blotFrom` metres from
+/// the eye) and blots begin (chunks whose nearest point is at least `blotFrom` away).
+/// Default: never.
+struct VipmBlotDistances {
+  double fadeFrom = 1e30;
+  double blotFrom = 2e30;
 };
 
 /// What a VipmPass draws: the splatted picture, or a material-ID image (bench's material
@@ -46,7 +56,10 @@ class VipmPass {
   /// calls and triangles (the whole chunk's and, with skirts on, the flanges') to `stats`.
   /// kMaterialIds leaves out the wireframe (the frame should be cleared to black, no sky).
   void draw(const FrameContext& frame, const ChunkTree& tree, std::span<const Draw> draws,
-            DrawStats& stats, VipmImage image = VipmImage::kColour);
+            DrawStats& stats, VipmImage image = VipmImage::kColour,
+            const VipmBlotDistances& blots = {});
+  /// Per material: its detail texture's linear mean colour (what blots draw).
+  const std::vector<std::array<float, 3>>& averages() const { return mAverages; }
 
  private:
   VipmPass(ShaderProgram program, std::vector<GlTexture> details,
@@ -56,9 +69,10 @@ class VipmPass {
 
   ShaderProgram mProgram;
   GlVertexArray mVertexArray;
-  std::vector<GlTexture> mDetails;            // per material
-  std::vector<std::array<float, 3>> mColors;  // per material, sRGB 0..1
-  std::array<int64_t, 2> mAnchor{};           // per frame: grid point positions are taken from
+  std::vector<GlTexture> mDetails;              // per material
+  std::vector<std::array<float, 3>> mColors;    // per material, sRGB 0..1
+  std::vector<std::array<float, 3>> mAverages;  // per material, linear: its detail's mean
+  std::array<int64_t, 2> mAnchor{};             // per frame: grid point positions are taken from
 };
 
 }  // namespace terralod

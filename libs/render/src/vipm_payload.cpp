@@ -14,13 +14,14 @@ uint64_t VipmChunkPayload::bytes() const {
   b += positions.size() * sizeof(positions[0]) + materials.size();
   for (const auto& mip : normals.mips) b += mip.size();
   b += flanges.tops.size() * 4;
-  b += stitcher.bytes();
+  b += stitcher.bytes() + blot.size();
   return b;
 }
 
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
-                                           float flangeDepth, int64_t cornerX, int64_t cornerY) {
+                                           float flangeDepth, int64_t cornerX, int64_t cornerY,
+                                           const MaterialAverages& averages) {
   auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
   if (!normals) return normals.error();
   // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
@@ -41,6 +42,7 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
   p.normals = std::move(normals).value();
   p.flanges = makeFlanges(unpacked.mesh, flangeSides, root ? int32_t(kVipmChunkCells) : 0);
   p.fade = fade;
+  p.blot = makeBlotTexels(unpacked.mesh, unpacked.materials, averages, int32_t(chunkCells));
   p.materials = std::move(unpacked.materials);
   for (uint16_t top : p.flanges.tops) {
     const auto& t = p.positions[top];

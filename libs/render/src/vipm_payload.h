@@ -14,6 +14,7 @@
 #include "terralod/format/texture_codec.h"
 #include "terralod/runtime/residency.h"
 #include "terralod/vipm/progressive_mesh.h"
+#include "terralod/vipm/vipm_blot.h"
 #include "terralod/vipm/vipm_fans.h"
 #include "terralod/vipm/vipm_flanges.h"
 #include "terralod/vipm/vipm_levels.h"
@@ -38,6 +39,8 @@ struct VipmChunkPayload final : ChunkPayload {
   /// The node's normal map: chunk cells + 1 texels a side over its unclipped square, texel i
   /// on grid point i (docs/format.md "VIPM tilesets").
   TextureLayer normals;
+  /// Its blot texture (vipm_blot.h): encoded RGBA bytes, texels as the normal map's.
+  std::vector<uint8_t> blot;
 
   uint64_t bytes() const;
 };
@@ -45,9 +48,11 @@ struct VipmChunkPayload final : ChunkPayload {
 /// Decodes a VIPM node's bytes (its blob and its texture blob; `subject` names it in errors)
 /// into a payload. `chunkCells`: the node's side in cells (its normal map has one more texel);
 /// `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres;
-/// `cornerX`, `cornerY`: the node's south-west grid point.
+/// `cornerX`, `cornerY`: the node's south-west grid point; `averages`: the materials' average
+/// colours, for its blot texture.
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
-                                           float flangeDepth, int64_t cornerX, int64_t cornerY);
+                                           float flangeDepth, int64_t cornerX, int64_t cornerY,
+                                           const MaterialAverages& averages);
 
 }  // namespace terralod

@@ -57,7 +57,8 @@ void main() {
 
 // uPass 0: the whole chunk (depth; black, to which the material passes add), its flanges in
 // the material colours lit as level ground (they show only in cracks); 1: a material's
-// triangles, weighted by the material's share, added; 2: the wireframe overlay.
+// triangles, weighted by the material's share, added; 2: the wireframe overlay; 3: a blot, the
+// whole chunk in one pass coloured by its blot texture.
 // uMaterialIds 1: a material-ID image instead (VipmImage::kMaterialIds): red holds
 // (floor(weight * 31) * 8 + material) / 255, under GL_MAX blending in the material passes, so
 // the material with the largest weight wins (ties: the higher index); the whole chunk writes 0
@@ -77,6 +78,8 @@ uniform int uFlange;
 uniform int uDetailed;        // 0: the material's flat colour instead of its detail texture
 uniform sampler2D uDetail;    // unit 0, sRGB
 uniform sampler2D uNormalMap; // unit 1
+uniform sampler2D uBlot;      // unit 2: a blot's material colours, one texel a grid point
+uniform vec2 uBlotFade;       // materials fade to the blot's colours from x to y metres away
 uniform int uColorBy;         // 0 materials, 1 level, 2 morph
 uniform float uLevel;
 uniform float uMorph;
@@ -84,6 +87,17 @@ uniform vec3 uSun;
 uniform vec3 uHaze;
 uniform float uEyeHeight;
 out vec4 fragColor;
+// The blot texture's colour here, linear (stored encoded: vipm_blot.h).
+vec3 blotColor() { return pow(texture(uBlot, vNormalUv).rgb, vec3(2.2)); }
+// Lit, hazed and encoded for output.
+vec3 shade(vec3 base, vec3 n) {
+  float diffuse = max(dot(n, uSun), 0.0);
+  float sky = 0.30 + 0.20 * n.z;
+  vec3 color = base * (sky + 0.85 * diffuse);
+  float through = transmittance(uEyeHeight, vHeight, length(vRelative));
+  color = color * through + uHaze * (1.0 - through);
+  return pow(color, vec3(1.0 / 2.2));
+}
 void main() {
   if (uPass == 2) {
     fragColor = vec4(0.05, 0.05, 0.05, 1.0);
@@ -98,6 +112,7 @@ void main() {
   vec3 n = vec3(0.0, 0.0, 1.0);
   vec3 base;
   float weight = 1.0;
+  float toBlot = 0.0;  // a material pass's fade to what the blot draws here
   if (uPass == 0) {
     if (uFlange == 0) {
       fragColor = vec4(0.0, 0.0, 0.0, 1.0);
@@ -107,17 +122,21 @@ void main() {
   } else {
     vec2 xy = texture(uNormalMap, vNormalUv).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
-    base = uDetailed == 1 ? texture(uDetail, vDetailUv).rgb : pow(vMaterialColor, vec3(2.2));
-    weight = vWeight;
+    if (uPass == 3) {  // a blot: the material colours where the mesh's finest level has them
+      base = blotColor();
+    } else {
+      base = uDetailed == 1 ? texture(uDetail, vDetailUv).rgb : pow(vMaterialColor, vec3(2.2));
+      weight = vWeight;
+      toBlot = smoothstep(uBlotFade.x, uBlotFade.y, length(vRelative));
+    }
   }
   if (uColorBy == 1) base = levelColor(uLevel);
   if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), uMorph);
-  float diffuse = max(dot(n, uSun), 0.0);
-  float sky = 0.30 + 0.20 * n.z;
-  vec3 color = base * (sky + 0.85 * diffuse);
-  float through = transmittance(uEyeHeight, vHeight, length(vRelative));
-  color = color * through + uHaze * (1.0 - through);
-  fragColor = vec4(weight * pow(color, vec3(1.0 / 2.2)), 1.0);
+  vec3 encoded = shade(base, n);
+  // Toward the blots every material fades to the blot's colour: the weights sum to one, so the
+  // passes add up to mix(splatted, blot, toBlot), which is the blot itself where blots begin.
+  if (toBlot > 0.0 && uColorBy == 0) encoded = mix(encoded, shade(blotColor(), n), toBlot);
+  fragColor = vec4(weight * encoded, 1.0);
 }
 )";
 

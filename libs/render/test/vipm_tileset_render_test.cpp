@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "headless_scene.h"
@@ -181,6 +182,49 @@ TEST_F(VipmTilesetRender, FansCloseEveryBorderWithoutFlanges) {
   EXPECT_GT(fanChanges, 0u);
   EXPECT_GT(holesWithout, 0u);
   EXPECT_LT(differ / frames, 0.05);  // borders only
+}
+
+// Mean absolute difference of two images' colour channels, in 8-bit units.
+double meanDifference(const Image& a, const Image& b) {
+  double sum = 0.0;
+  for (size_t i = 0; i < a.rgba.size(); ++i)
+    if (i % 4 != 3) sum += std::abs(int(a.rgba[i]) - int(b.rgba[i]));
+  return sum / double(a.rgba.size() / 4 * 3);
+}
+
+TEST_F(VipmTilesetRender, BlotsDrawFarChunksInOnePassAndTheSwitchDoesNotShow) {
+  // Low views over the synth with blots from 4 px a cell (the tileset is small): far chunks
+  // are blots, fewer draw calls; the picture is the one with those chunks drawn per material,
+  // faded as they are toward the blots (what a blot replaces), within half a level of 8 bits;
+  // without the fade it is not.
+  open(test::Frames::kComplete);
+  const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);
+  const std::vector<Camera> cameras = flightCameras(flight);
+  TerrainStyle blots, faded, off;
+  blots.blotCellPixels = faded.blotCellPixels = off.blotCellPixels = 4.0;
+  faded.blots = VipmBlots::kFadeOnly;
+  off.blots = VipmBlots::kOff;
+  uint32_t blotted = 0;
+  double worstSwitch = 0.0, unfaded = 0.0;
+  for (size_t i = 0; i < size_t(flight.climbStart); i += 300) {
+    FrameStats withBlots, without;
+    const Image a = draw(cameras[i], {}, blots, &withBlots);
+    const Image b = draw(cameras[i], {}, faded, &without);
+    const Image c = draw(cameras[i], {}, off);
+    blotted += withBlots.draw.blots;
+    EXPECT_EQ(without.draw.blots, 0u);
+    if (withBlots.draw.blots > 0) {
+      EXPECT_LT(withBlots.draw.drawCalls, without.draw.drawCalls);
+    }
+    worstSwitch = std::max(worstSwitch, meanDifference(a, b));
+    unfaded = std::max(unfaded, meanDifference(a, c));
+  }
+  EXPECT_GT(blotted, 0u);
+  EXPECT_LT(worstSwitch, 0.5);
+  EXPECT_GT(unfaded, 0.5);
+  EXPECT_GT(unfaded, 10.0 * worstSwitch);
+  std::printf("blots %u, switch %.3f/255, without the fade %.3f/255\n", blotted, worstSwitch,
+              unfaded);
 }
 
 TEST_F(VipmTilesetRender, MaterialIdImagesCoverTheTerrainWithItsMaterials) {

@@ -48,9 +48,8 @@ size_t StitchTable::pointCount() const {
   return n;
 }
 
-std::span<const StitchPoint> StitchTable::between(const StitchLine& line, double along0,
-                                                  double z0, double along1, double z1,
-                                                  bool& reversed) const {
+std::span<const StitchPoint> StitchTable::between(const StitchLine& line, double along0, double z0,
+                                                  double along1, double z1, bool& reversed) const {
   auto it = mLines.find(line);
   if (it == mLines.end()) return {};
   StitchPoint lo, hi;
@@ -184,8 +183,8 @@ void VipmStitcher::fan(const StitchTable& table, std::span<const uint16_t> livin
     if (k == inserted.size()) {
       inserted.push_back(&s);
       std::array<float, 3> p{};
-      const double along = l.line.axis == 0 ? s.along - double(mChunk.cornerY)
-                                            : s.along - double(mChunk.cornerX);
+      const double along =
+          l.line.axis == 0 ? s.along - double(mChunk.cornerY) : s.along - double(mChunk.cornerX);
       p[l.line.axis == 0 ? 0 : 1] = float(l.local);
       p[l.line.axis == 0 ? 1 : 0] = float(along);
       p[2] = float(s.z - mChunk.zBase);

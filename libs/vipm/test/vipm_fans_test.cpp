@@ -110,7 +110,8 @@ TEST(VipmFans, ACornerTriangleIsFannedAlongBothSides) {
   double area = 0.0;
   for (const auto& t : f.triangles) {
     std::array<std::array<float, 3>, 3> p;
-    for (int k = 0; k < 3; ++k) p[size_t(k)] = t[size_t(k)] < 9 ? a.drawn[t[size_t(k)]] : f.positions[t[size_t(k)] - 9];
+    for (int k = 0; k < 3; ++k)
+      p[size_t(k)] = t[size_t(k)] < 9 ? a.drawn[t[size_t(k)]] : f.positions[t[size_t(k)] - 9];
     const double s = 0.5 * ((p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) -
                             (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]));
     EXPECT_GT(s, 0.0);

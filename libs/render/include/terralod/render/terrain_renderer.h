@@ -29,6 +29,7 @@ struct DrawStats {
   /// Vertices drawn: a VIPM chunk's active vertices (flanges left out), a static chunk's part
   /// vertices before its skirt's.
   uint64_t vertices = 0;
+  uint32_t blots = 0;  ///< VIPM chunks drawn as blots (one pass, vipm_blot.h)
 };
 
 class TerrainRenderer {

@@ -14,11 +14,21 @@ enum class ColorBy { kRelief, kLevel, kMorph };
 /// edges (vipm_fans.h). `skirts` false leaves out both (shows the cracks).
 enum class VipmStitch : uint8_t { kFlanges, kFans };
 
+/// Far VIPM chunks as blots (vipm_blot.h): on; kFadeOnly fades the materials as kOn does but
+/// draws no chunk as a blot (what a blot replaces: bench measures the switch against it);
+/// off, every chunk one pass per material at every distance.
+enum class VipmBlots : uint8_t { kOn, kFadeOnly, kOff };
+
 struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface
   bool skirts = true;
   VipmStitch stitch = VipmStitch::kFlanges;
+  /// VIPM chunks far enough that a grid cell covers less than blotCellPixels pixels are drawn
+  /// as blots, in one pass with their materials' average colours; from half that distance on,
+  /// the materials fade to those colours.
+  VipmBlots blots = VipmBlots::kOn;
+  double blotCellPixels = 1.0;
   bool textures = true;     ///< false: ignore chunk textures, light from the drawn geometry
   bool sky = true;          ///< false: empty pixels keep exactly the background colour
   bool chunkBoxes = false;  ///< outline each drawn chunk's bounding box, coloured by level

@@ -42,8 +42,8 @@ struct StitchLine {
 
 /// A drawn vertex on a line, in absolute coordinates, with what the splatting draws there.
 struct StitchPoint {
-  double along = 0.0;  ///< grid cells along the line
-  double z = 0.0;      ///< metres
+  double along = 0.0;                            ///< grid cells along the line
+  double z = 0.0;                                ///< metres
   std::array<uint8_t, kMaxMaterials> weights{};  ///< splat weights as drawn (bytes)
   uint8_t material = 0;                          ///< the vertex's own material
 };
@@ -64,9 +64,7 @@ class StitchTable {
 
  private:
   struct Hash {
-    size_t operator()(const StitchLine& l) const {
-      return std::hash<int64_t>()(l.at * 2 + l.axis);
-    }
+    size_t operator()(const StitchLine& l) const { return std::hash<int64_t>()(l.at * 2 + l.axis); }
   };
   std::unordered_map<StitchLine, std::vector<StitchPoint>, Hash> mLines;
 };
@@ -141,9 +139,9 @@ class VipmStitcher {
   StitchChunk mChunk;
   uint32_t mVertexCount = 0;
   std::vector<Line> mLines;
-  std::vector<uint16_t> mBorderVertices;   // vertices on a line
-  std::vector<uint8_t> mLineMask;          // per border vertex (same order): its lines' bits
-  std::vector<uint32_t> mCandidates;       // ascending triangle slots
+  std::vector<uint16_t> mBorderVertices;  // vertices on a line
+  std::vector<uint8_t> mLineMask;         // per border vertex (same order): its lines' bits
+  std::vector<uint32_t> mCandidates;      // ascending triangle slots
   uint32_t mMaxTriangles = 0, mMaxInserted = 0;
 };
 
