@@ -44,7 +44,8 @@ class QualityPass {
     // VIPM chunks are measured as the VIPM kind draws them (holes alike for both kinds).
     if (scene.tileset().header().meshKind == MeshKind::kVipm)
       mVipm.emplace(scene.tileset(), scene.tree(), source, stride, hardwareThreads(),
-                    options.selection.morph ? Geomorph::kOn : Geomorph::kOff);
+                    options.selection.morph ? Geomorph::kOn : Geomorph::kOff,
+                    options.style.skirts ? options.style.stitch : VipmStitch::kFlanges);
     mHoleStyle = options.style;
     mHoleStyle.sky = false;
   }

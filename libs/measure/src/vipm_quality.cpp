@@ -87,13 +87,15 @@ bool sameBranch(const ChunkTree& tree, uint32_t a, uint32_t b) {
 }  // namespace
 
 VipmQuality::VipmQuality(const TilesetReader& tileset, const ChunkTree& tree,
-                         const Heightfield& source, int stride, unsigned threads, Geomorph geomorph)
+                         const Heightfield& source, int stride, unsigned threads, Geomorph geomorph,
+                         VipmStitch stitch)
     : mTileset(tileset),
       mTree(tree),
       mSource(source),
       mStride(std::max(stride, 1)),
       mThreads(std::max(threads, 1u)),
-      mGeomorph(geomorph) {}
+      mGeomorph(geomorph),
+      mStitch(stitch) {}
 
 std::vector<VipmQuality::Drawn> VipmQuality::drawn(const ChunkTree& tree, const View& view,
                                                    double tau,
@@ -133,11 +135,15 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   c.own = positionsAboveBase(*loaded);  // as the kind holds them
   UnpackedChunk& unpacked = loaded->unpacked;
   c.mesh = std::move(unpacked.mesh);
+  c.materials = std::move(unpacked.materials);
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = mTileset.nodes()[node];
   const auto [x0, y0] = chunkCellOrigin(h, record);
   c.x0 = x0;
   c.y0 = y0;
+  if (mStitch == VipmStitch::kFans)
+    c.stitcher = VipmStitcher(c.mesh, {x0, y0, c.zBase, c.mesh.width, c.mesh.height,
+                                       record.level == 0 ? int32_t(kStitchLineCells) : 0});
   c.maxX = std::min<int64_t>(x0 + h.chunkCells(record.level), mSource.columns() - 1);
   c.maxY = std::min<int64_t>(y0 + h.chunkCells(record.level), mSource.rows() - 1);
   c.truthMin = 1e300;
@@ -151,21 +157,54 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   return &mChunks.emplace(node, std::move(c)).first->second;
 }
 
-std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, const Drawn& d) {
+std::vector<std::array<float, 3>> VipmQuality::drawnPositions(Chunk& c, const Drawn& d) {
   // What VipmGpuChunk::update draws for θ (the collapses θ chooses, geomorphed at morphTheta).
   const MorphWindow window = morphWindow(c.mesh.errors, d.theta, mGeomorph);
   c.levels.setApplied(window.applied);
   std::vector<std::array<float, 3>> drawn = c.own;
-  if (window.morphing > window.applied) morphPositions(c.mesh, window, d.morphTheta, c.own, drawn);
+  if (window.morphing > window.applied) {
+    morphPositions(c.mesh, window, d.morphTheta, c.own, drawn);
+    const uint32_t n = c.mesh.vertexCount();
+    for (uint32_t j = window.applied; j < window.morphing; ++j) quantizeDrawn(drawn[n - 1 - j]);
+  }
+  return drawn;
+}
+
+std::vector<VipmQuality::Triangle> VipmQuality::triangles(
+    const Chunk& c, std::span<const std::array<float, 3>> drawn, const StitchFans* fans) const {
   const VipmPart& whole = c.levels.whole();
   const uint32_t count = c.levels.drawnTriangles(whole);
-  std::vector<Triangle> out(count);
-  for (uint32_t t = 0; t < count; ++t)
+  const uint32_t n = c.mesh.vertexCount();
+  auto at = [&](uint32_t v) -> const std::array<float, 3>& {
+    return v < n ? drawn[v] : fans->positions[v - n];
+  };
+  std::vector<Triangle> out;
+  out.reserve(count + (fans ? fans->triangles.size() : 0));
+  auto add = [&](uint32_t a, uint32_t b, uint32_t e) {
+    Triangle t;
+    const uint32_t corners[3] = {a, b, e};
     for (int j = 0; j < 3; ++j) {
-      const std::array<float, 3>& p = drawn[whole.indices[3 * t + j]];
-      out[t].v[j] = {double(c.x0) + p[0], double(c.y0) + p[1], c.zBase + double(p[2])};
+      const std::array<float, 3>& p = at(corners[j]);
+      t.v[size_t(j)] = {double(c.x0) + p[0], double(c.y0) + p[1], c.zBase + double(p[2])};
     }
+    out.push_back(t);
+  };
+  size_t next = 0;
+  for (uint32_t t = 0; t < count; ++t) {
+    if (fans && next < fans->replaced.size() && fans->replaced[next] == t) {
+      ++next;
+      continue;
+    }
+    add(whole.indices[3 * t], whole.indices[3 * t + 1], whole.indices[3 * t + 2]);
+  }
+  if (fans)
+    for (const auto& f : fans->triangles) add(f[0], f[1], f[2]);
   return out;
+}
+
+std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, const Drawn& d) {
+  const auto drawn = drawnPositions(c, d);
+  return triangles(c, drawn, nullptr);
 }
 
 bool VipmQuality::inView(const View& view, int64_t x, int64_t y, double z) const {
@@ -198,10 +237,36 @@ Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Dra
   // Surfaces on this thread (the chunks' level state is not thread-safe), measured in parallel.
   std::vector<std::pair<const Chunk*, std::vector<Triangle>>> surfaces;
   surfaces.reserve(chunks.size());
+  std::vector<Chunk*> states;
+  std::vector<std::vector<std::array<float, 3>>> positions;
   for (const Drawn& d : chunks) {
     auto c = chunk(d.node);
     if (!c) return c.error();
-    surfaces.emplace_back(*c, surface(**c, d));
+    states.push_back(*c);
+    positions.push_back(drawnPositions(**c, d));
+  }
+  // With fans: every chunk's border points, then each chunk's fans, as the kind makes them.
+  StitchTable table;
+  std::vector<std::array<uint8_t, kMaxMaterials>> noWeights;
+  if (mStitch == VipmStitch::kFans) {
+    for (size_t i = 0; i < states.size(); ++i) {
+      noWeights.assign(positions[i].size(), {});
+      states[i]->stitcher.addPoints(table, states[i]->levels.activeVertices(), positions[i],
+                                    noWeights, states[i]->materials);
+    }
+    table.finish();
+  }
+  StitchFans fans;
+  for (size_t i = 0; i < states.size(); ++i) {
+    const Chunk& c = *states[i];
+    if (mStitch == VipmStitch::kFans) {
+      const VipmPart& whole = c.levels.whole();
+      c.stitcher.fan(table,
+                     std::span(whole.indices).first(size_t(c.levels.drawnTriangles(whole)) * 3),
+                     positions[i], fans);
+    }
+    surfaces.emplace_back(
+        &c, triangles(c, positions[i], mStitch == VipmStitch::kFans ? &fans : nullptr));
   }
   std::atomic<double> found{0.0};
   const auto spacing = mTree.spacing();

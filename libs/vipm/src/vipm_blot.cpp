@@ -11,7 +11,9 @@ float toLinear(float s) {
 }
 // The splatting shader's output encoding (a pure power law): a fragment's colour is the sum of
 // its materials' encoded colours times their weights.
-float encode(float linear) { return std::pow(std::clamp(linear, 0.0f, 1.0f), 1.0f / 2.2f); }
+float encode(float linear) {
+  return std::pow(std::clamp(linear, 0.0f, 1.0f), 1.0f / 2.2f);
+}
 
 }  // namespace
 
@@ -22,8 +24,7 @@ std::array<float, 3> linearMean(std::span<const uint8_t> rgb) {
   return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
 }
 
-std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh,
-                                    std::span<const uint8_t> materials,
+std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh, std::span<const uint8_t> materials,
                                     const MaterialAverages& averages, int32_t cells) {
   const int32_t side = cells + 1;
   std::vector<std::array<float, 3>> colour(size_t(side) * side, {0.0f, 0.0f, 0.0f});
@@ -68,7 +69,8 @@ std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh,
       const size_t from = size_t(sy) * size_t(side) + size_t(sx);
       const size_t to = (size_t(py) * size_t(side) + size_t(px)) * 4;
       for (int k = 0; k < 3; ++k)
-        out[to + size_t(k)] = uint8_t(std::lround(255.0f * std::clamp(colour[from][size_t(k)], 0.0f, 1.0f)));
+        out[to + size_t(k)] =
+            uint8_t(std::lround(255.0f * std::clamp(colour[from][size_t(k)], 0.0f, 1.0f)));
       out[to + 3] = 255;
     }
   return out;

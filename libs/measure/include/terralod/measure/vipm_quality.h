@@ -15,6 +15,8 @@
 //    grows with the camera's speed).
 //  Chunks drawn alike in both (same node, same collapses, no geomorph or the same θ) are left
 //  out.
+// With fan stitching (VipmStitch::kFans) the error is measured on the fans too, made from the
+// frame's chunks as the kind makes them; pops compare each chunk's own triangles.
 
 #include <array>
 #include <cstdint>
@@ -29,6 +31,7 @@
 #include "terralod/runtime/selection.h"
 #include "terralod/runtime/view.h"
 #include "terralod/vipm/progressive_mesh.h"
+#include "terralod/vipm/vipm_fans.h"
 #include "terralod/vipm/vipm_levels.h"
 
 namespace terralod {
@@ -40,7 +43,8 @@ class VipmQuality {
   /// `source` is the tileset's source grid; every `stride`-th sample (x and y) is measured.
   /// `geomorph`: whether the kind geomorphs (SelectionOptions::morph).
   VipmQuality(const TilesetReader& tileset, const ChunkTree& tree, const Heightfield& source,
-              int stride, unsigned threads, Geomorph geomorph);
+              int stride, unsigned threads, Geomorph geomorph,
+              VipmStitch stitch = VipmStitch::kFlanges);
 
   /// The chunks of `selection` with the θ the VIPM kind draws them with in `view`.
   static std::vector<Drawn> drawn(const ChunkTree& tree, const View& view, double tau,
@@ -65,6 +69,8 @@ class VipmQuality {
   struct Chunk {
     ProgressiveMesh mesh;
     VipmLevels levels;
+    VipmStitcher stitcher;
+    std::vector<uint8_t> materials;
     std::vector<std::array<float, 3>> own;  // grid x, grid y, metres above zBase
     double zBase = 0.0;
     int64_t x0 = 0, y0 = 0, maxX = 0, maxY = 0;  // source samples it covers
@@ -76,8 +82,14 @@ class VipmQuality {
   };
   // Decodes a chunk once. Not thread-safe.
   Result<Chunk*> chunk(uint32_t node);
-  // The chunk's surface triangles in state `d`, as the kind draws them. Not thread-safe.
+  // The chunk's surface triangles in state `d`, as the kind draws them (without fans). Not
+  // thread-safe.
   std::vector<Triangle> surface(Chunk& c, const Drawn& d);
+  // Sets the chunk's collapses for `d` and returns its vertices where the kind draws them.
+  std::vector<std::array<float, 3>> drawnPositions(Chunk& c, const Drawn& d);
+  // Its living triangles at `drawn`, those `fans` replace (if any) left out and the fans added.
+  std::vector<Triangle> triangles(const Chunk& c, std::span<const std::array<float, 3>> drawn,
+                                  const StitchFans* fans) const;
   // Calls visit(x, y, drawnHeight) at every measured sample under the triangles that may be in
   // view (drawn and true heights considered).
   template <typename Visit>
@@ -91,6 +103,7 @@ class VipmQuality {
   int mStride;
   unsigned mThreads;
   Geomorph mGeomorph;
+  VipmStitch mStitch;
   std::unordered_map<uint32_t, Chunk> mChunks;
 };
 

@@ -30,8 +30,7 @@ std::array<float, 3> linearMean(std::span<const uint8_t> rgb);
 
 /// Encoded bytes (RGBA, alpha 255; the shader decodes with ^2.2), (cells + 1)² texels, row 0
 /// south. `materials`: per vertex of `mesh`; a material without an average is black.
-std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh,
-                                    std::span<const uint8_t> materials,
+std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh, std::span<const uint8_t> materials,
                                     const MaterialAverages& averages, int32_t cells);
 
 }  // namespace terralod

@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# Issue 21's figures so far: fan stitching and blots on the VIPM kind.
+#
+#  1. Quality with fans and no flanges: each DEM's climb and the first FRAMES frames of its
+#     low pass, `bench --source --stitch fans` (error, pops, holes, blot switch, fan CPU), and
+#     the low pass with `--no-skirts` (no fans either: holes must appear).
+#  2. Fans against flanges, and blots against --no-blots: the same low pass without --source,
+#     each pair run back to back (frame time, triangles, draw calls, fan CPU per change).
+#  3. The 8193² synth (1 m) at 1024×768, the first FRAMES frames of its low pass: VIPM with
+#     blots, with --no-blots, and the chunked LOD kind (draw calls, triangles, frame time).
+#
+#   bench/vipm_far_field.sh [FRAMES] [TAU]     defaults: 2000 2
+#
+# Scratch files: $BENCH_DIR/vipm_far_field. ONLY="crater zion synth" runs just those parts.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+frames=${1:-2000}
+tau=${2:-2}
+terralod=${TERRALOD:-$here/build/release/apps/terralod/terralod}
+dir=${BENCH_DIR:-$here/build/bench}/vipm_far_field
+mkdir -p "$dir"
+data=$here/tests/data
+want() { [ -z "${ONLY:-}" ] || [[ " $ONLY " == *" $1 "* ]]; }
+
+figures() {  # JSON file, then keys: one "key=value" per key bench wrote
+  python3 - "$@" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[1]))
+print("  ".join(f"{k}={j[k]:.4g}" if isinstance(j.get(k), float) else f"{k}={j.get(k)}"
+                for k in sys.argv[2:]))
+PY
+}
+
+for entry in "crater|crater_lake_0513.bt" "zion|zion_srtm3_utm12_30m.tif"; do
+  IFS='|' read -r name file <<<"$entry"
+  want "$name" || continue
+  [ -e "$dir/$name.tlod" ] ||
+    "$terralod" build "$data/$file" --kind vipm -o "$dir/$name.tlod" >/dev/null
+  flight=(--auto-flight --tau "$tau" --size 320x240)
+  echo "## $name"
+  for run in "climb|--climb-only" "pass|--frames $frames" "pass_noskirts|--frames $frames --no-skirts"; do
+    IFS='|' read -r what opts <<<"$run"
+    # shellcheck disable=SC2086
+    "$terralod" bench "$dir/$name.tlod" "${flight[@]}" $opts --stitch fans \
+      --source "$data/$file" --json "$dir/${name}_fans_$what.json" >/dev/null
+    echo "fans, $what: $(figures "$dir/${name}_fans_$what.json" max_error_px max_pop_px \
+      holes_total image_pop_mean material_pop_px blot_switch_mean_max blots_p50 \
+      triangles_p50 fan_change_ms_p50 fan_change_ms_max fan_frame_ms_p50)"
+  done
+  for run in "flanges|--stitch flanges" "fans|--stitch fans" "noblots|--no-blots" "blots|"; do
+    IFS='|' read -r what opts <<<"$run"
+    # shellcheck disable=SC2086
+    "$terralod" bench "$dir/$name.tlod" "${flight[@]}" --frames "$frames" $opts \
+      --json "$dir/${name}_time_$what.json" >/dev/null
+    echo "timing, $what: $(figures "$dir/${name}_time_$what.json" frame_ms_p50 frame_ms_p99 \
+      triangles_p50 draws_p50 blots_p50 fan_change_ms_p50 fan_change_ms_max fan_frame_ms_p50)"
+  done
+done
+
+if want synth; then
+  [ -e "$dir/s8193.tif" ] || "$terralod" synth --size 8193 -o "$dir/s8193.tif" >/dev/null
+  [ -e "$dir/s8193_vipm.tlod" ] ||
+    "$terralod" build "$dir/s8193.tif" --kind vipm -o "$dir/s8193_vipm.tlod" >/dev/null
+  [ -e "$dir/s8193_static.tlod" ] ||
+    "$terralod" build "$dir/s8193.tif" --no-texture -o "$dir/s8193_static.tlod" >/dev/null
+  flight=(--auto-flight --tau "$tau" --size 1024x768 --frames "$frames")
+  echo "## 8193² synth, 1024×768"
+  for run in "vipm_blots|s8193_vipm|--stitch fans" "vipm_noblots|s8193_vipm|--stitch fans --no-blots" \
+    "static|s8193_static|"; do
+    IFS='|' read -r what tileset opts <<<"$run"
+    # shellcheck disable=SC2086
+    "$terralod" bench "$dir/$tileset.tlod" "${flight[@]}" $opts \
+      --json "$dir/synth_$what.json" >/dev/null
+    echo "$what: $(figures "$dir/synth_$what.json" frame_ms_p50 frame_ms_p99 triangles_p50 \
+      draws_p50 blots_p50 fan_frame_ms_p50)"
+  done
+fi
