@@ -65,7 +65,7 @@ struct Knobs {
   bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
   bool boxes = false, fans = false;  // fans: VIPM borders stitched by fans, not flanges
   bool blots = true;                 // far VIPM chunks drawn as blots
-  int colorBy = 0;                   // relief, level, morph
+  int colorBy = 0;                   // relief, level, morph, kind
 };
 
 FlyInput readInput(GLFWwindow* w, double& lastX, double& lastY, bool& dragging) {
@@ -244,7 +244,7 @@ int runView(const ViewCommand& v) {
     ImGui::Checkbox("fans", &knobs.fans);
     ImGui::SameLine();
     ImGui::Checkbox("blots", &knobs.blots);
-    ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0");
+    ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0kind\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();
     ImGui::Checkbox("walk", &fly.walking);

@@ -51,9 +51,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--no-textures", o.noTextures,
              "Ignore the chunks' textures: height tint lit from the drawn geometry (cheaper "
              "where texture filtering is slow, e.g. software OpenGL)");
-  c.add_option("--color-by", o.colorBy, "Surface colour: relief, level (chunk level) or morph")
+  c.add_option("--color-by", o.colorBy,
+               "Surface colour: relief, level (chunk level), morph, or kind (VIPM leaves green, "
+               "roots blue, blots orange; chunked LOD grey)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"relief", "level", "morph"}));
+      ->check(CLI::IsMember({"relief", "level", "morph", "kind"}));
   c.add_option("--sun", o.sun,
                "Sun direction AZ,EL in degrees: azimuth clockwise from north, elevation above "
                "the horizon (default 315,40)")
@@ -120,6 +122,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.haze = o.haze;
   style.colorBy = o.colorBy == "level"   ? ColorBy::kLevel
                   : o.colorBy == "morph" ? ColorBy::kMorph
+                  : o.colorBy == "kind"  ? ColorBy::kKind
                                          : ColorBy::kRelief;
   return style;
 }

@@ -182,6 +182,7 @@ void main() {
   }
   if (uColorBy == 1) base = levelColor(vLevel);
   if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), vMorph);
+  if (uColorBy == 3) base = vec3(0.62);  // by kind: chunked LOD chunks are grey
   float diffuse = max(dot(n, uSun), 0.0);
   float sky = 0.30 + 0.20 * n.z;
   vec3 color = base * (sky + 0.85 * diffuse);

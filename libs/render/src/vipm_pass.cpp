@@ -97,6 +97,7 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   }
   glProgramUniform2f(p, mProgram.uniformLocation("uDetailOrigin"), origin[0], origin[1]);
   glProgramUniform1f(p, mProgram.uniformLocation("uLevel"), float(n.level));
+  glProgramUniform1i(p, mProgram.uniformLocation("uKind"), d.blot ? 2 : n.level == 0 ? 1 : 0);
   glProgramUniform1f(p, mProgram.uniformLocation("uMorph"), d.morph);
   glVertexArrayVertexBuffer(mVertexArray.id(), 0, c.vertexBuffer(), 0, 12);
   glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 1);

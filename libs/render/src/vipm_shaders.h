@@ -83,6 +83,7 @@ uniform vec2 uBlotFade;       // materials fade to the blot's colours from x to 
 uniform int uColorBy;         // 0 materials, 1 level, 2 morph
 uniform float uLevel;
 uniform float uMorph;
+uniform int uKind;            // uColorBy 3: 0 a leaf, 1 a root, 2 a blot
 uniform vec3 uSun;
 uniform vec3 uHaze;
 uniform float uEyeHeight;
@@ -132,6 +133,9 @@ void main() {
   }
   if (uColorBy == 1) base = levelColor(uLevel);
   if (uColorBy == 2) base = mix(vec3(0.15, 0.35, 0.95), vec3(0.95, 0.25, 0.15), uMorph);
+  if (uColorBy == 3) base = uKind == 0 ? vec3(0.30, 0.62, 0.25)    // a leaf
+                          : uKind == 1 ? vec3(0.22, 0.40, 0.85)    // a root
+                                       : vec3(0.90, 0.50, 0.12);  // a blot
   vec3 encoded = shade(base, n);
   // Toward the blots every material fades to the blot's colour: the weights sum to one, so the
   // passes add up to mix(splatted, blot, toBlot), which is the blot itself where blots begin.

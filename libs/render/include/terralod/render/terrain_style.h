@@ -7,7 +7,8 @@
 
 namespace terralod {
 
-enum class ColorBy { kRelief, kLevel, kMorph };
+/// kKind: by chunk kind (VIPM leaves, VIPM roots, VIPM blots; static chunks grey).
+enum class ColorBy { kRelief, kLevel, kMorph, kKind };
 
 /// How VIPM chunks close their borders (the static kind always hangs skirts): flanges hanging
 /// below every border, or fans that replace the border triangles so both sides draw the same
