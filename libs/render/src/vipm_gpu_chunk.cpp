@@ -66,7 +66,7 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   }
   mReplaced.resize(mRanges.size());
   mFanOffset.assign(mRanges.size(), 0);
-  mFanCount.assign(mRanges.size(), 0);
+  mPartFans.resize(mRanges.size());
   mPrefixUploaded.assign(mRanges.size(), 0);
   mFlangeFirst = first;
   const size_t indexCount = size_t(first) + maxFlangeIndices(mFlanges);
@@ -197,10 +197,6 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   }
 }
 
-}  // namespace terralod
-
-namespace terralod {
-
 void VipmGpuChunk::addStitchPoints(StitchTable& table) const {
   mStitcher.addPoints(table, mLevels.activeVertices(), std::span(mDrawn).first(mMesh.vertexCount()),
                       std::span(mWeightBytes).first(mMesh.vertexCount()),
@@ -269,7 +265,14 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
   for (size_t i = 0; i < parts.size(); ++i) {
     const VipmPart& part = parts[i];
     const uint32_t living = mLevels.drawnTriangles(part);
-    if (!changed && !mPrefixUploaded[i] && mFanOffset[i] == living * 3) continue;
+    // A material part's fans: those with a corner weighing on it now (a root's vertices fade,
+    // so this can change while the fans do not).
+    fans.clear();
+    for (const auto& t : mFans.triangles)
+      if (fanInPart(t, part.material))
+        for (uint32_t v : t) fans.push_back(uint16_t(v < n ? v : v + shift));
+    if (!changed && !mPrefixUploaded[i] && mFanOffset[i] == living * 3 && fans == mPartFans[i])
+      continue;
     const GLintptr base = GLintptr(mRanges[i].firstIndex) * 2;
     partSlots(i, mFans.replaced, slots);
     // Triangles no longer replaced get their indices back (unless the prefix was uploaded
@@ -283,19 +286,15 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
       if (mPrefixUploaded[i] || !std::binary_search(was.begin(), was.end(), s))
         glNamedBufferSubData(mBuffers[2], base + GLintptr(s) * 6, 6, kEmpty.data());
     was = slots;
-    fans.clear();
-    for (const auto& t : mFans.triangles)
-      if (fanInPart(t, part.material))
-        for (uint32_t v : t) fans.push_back(uint16_t(v < n ? v : v + shift));
     if (!fans.empty())
       glNamedBufferSubData(mBuffers[2], base + GLintptr(living) * 6, GLsizeiptr(fans.size() * 2),
                            fans.data());
     mFanOffset[i] = living * 3;
-    mFanCount[i] = uint32_t(fans.size());
+    mPartFans[i] = fans;
     mPrefixUploaded[i] = 0;
   }
   for (size_t i = 0; i < parts.size(); ++i)
-    mRanges[i].count = mLevels.drawnTriangles(parts[i]) * 3 + mFanCount[i];
+    mRanges[i].count = mLevels.drawnTriangles(parts[i]) * 3 + uint32_t(mPartFans[i].size());
   return changed;
 }
 

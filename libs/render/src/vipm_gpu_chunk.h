@@ -111,7 +111,7 @@ class VipmGpuChunk {
   StitchFans mFans;                              // drawn now
   std::vector<std::vector<uint32_t>> mReplaced;  // per part: its slots degenerate on the GPU
   std::vector<uint32_t> mFanOffset;              // per part: where its fans start (indices)
-  std::vector<uint32_t> mFanCount;               // per part: its fans' indices
+  std::vector<std::vector<uint16_t>> mPartFans;  // per part: its fans' indices, uploaded
   std::vector<uint8_t> mPrefixUploaded;          // per part: its prefix re-uploaded this frame
   uint32_t mFanVertexFirst = 0;                  // the inserted points' first vertex
   std::vector<std::array<float, 3>> mOwn;        // own positions (flange vertices after the mesh's)
