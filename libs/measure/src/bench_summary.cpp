@@ -60,6 +60,7 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
         if (!std::isnan(r.fanMs)) fanFrame.push_back(r.fanMs);
       j["fan_changes"] = flight.fanChangeMs.size();
       j["fan_change_ms_p50"] = percentile(flight.fanChangeMs, 0.5);
+      j["fan_change_ms_p99"] = percentile(flight.fanChangeMs, 0.99);
       j["fan_change_ms_max"] = percentile(flight.fanChangeMs, 1.0);
       j["fan_frame_ms_p50"] = percentile(fanFrame, 0.5);
       j["fan_frame_ms_max"] = percentile(fanFrame, 1.0);
