@@ -29,10 +29,6 @@ uint8_t flangeSides(const TilesetHeader& h, const NodeRecord& r) {
   return sides;
 }
 
-}  // namespace
-
-namespace {
-
 // Where blots begin (TerrainStyle::blotCellPixels) and materials fade toward them.
 VipmBlotDistances vipmBlotDistances(const ChunkTree& tree, const View& view,
                                     const TerrainStyle& style) {
