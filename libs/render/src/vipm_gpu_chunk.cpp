@@ -231,15 +231,24 @@ bool VipmGpuChunk::fanInPart(const std::array<uint32_t, 3>& triangle, int materi
 
 bool VipmGpuChunk::stitch(const StitchTable* table) {
   const uint32_t n = mMesh.vertexCount();
-  StitchFans next;
-  if (table) {
-    const VipmPart& whole = mLevels.whole();
-    mStitcher.fan(*table, std::span(whole.indices).first(size_t(mLevels.drawnTriangles(whole)) * 3),
-                  std::span(mDrawn).first(n), next);
+  // The fans depend on the level and the table's points on the chunk's lines alone: when
+  // those are as last time, so are the fans, and the candidate triangles are not walked.
+  const uint64_t signature = table ? mStitcher.signature(*table, mLevels.applied()) : 0;
+  bool changed = false;
+  if (!table || signature != mFanSignature || !mFanSignatureValid) {
+    StitchFans next;
+    if (table) {
+      const VipmPart& whole = mLevels.whole();
+      mStitcher.fan(*table,
+                    std::span(whole.indices).first(size_t(mLevels.drawnTriangles(whole)) * 3),
+                    std::span(mDrawn).first(n), next);
+    }
+    changed = !(next == mFans);
+    if (changed) mFans = std::move(next);
+    mFanSignature = signature;
+    mFanSignatureValid = table != nullptr;
   }
-  const bool changed = !(next == mFans);
   if (changed) {
-    mFans = std::move(next);
     // Inserted point k is vertex n + k in the fans; it is stored after the flange copies.
     const size_t k = mFans.positions.size();
     for (size_t i = 0; i < k; ++i) {

@@ -114,10 +114,12 @@ class VipmGpuChunk {
   std::vector<std::vector<uint16_t>> mPartFans;  // per part: its fans' indices, uploaded
   std::vector<uint8_t> mPrefixUploaded;          // per part: its prefix re-uploaded this frame
   uint32_t mFanVertexFirst = 0;                  // the inserted points' first vertex
-  std::vector<std::array<float, 3>> mOwn;        // own positions (flange vertices after the mesh's)
-  std::vector<std::array<float, 3>> mDrawn;      // drawn now (geomorphed)
-  std::vector<uint8_t> mMaterials;               // own, per vertex (flanges too)
-  std::vector<MaterialWeights> mWeights;         // per mesh vertex as drawn now (kToTarget only)
+  uint64_t mFanSignature = 0;  // VipmStitcher::signature of what mFans was made from
+  bool mFanSignatureValid = false;
+  std::vector<std::array<float, 3>> mOwn;    // own positions (flange vertices after the mesh's)
+  std::vector<std::array<float, 3>> mDrawn;  // drawn now (geomorphed)
+  std::vector<uint8_t> mMaterials;           // own, per vertex (flanges too)
+  std::vector<MaterialWeights> mWeights;     // per mesh vertex as drawn now (kToTarget only)
   std::vector<std::array<uint8_t, kMaxMaterials>> mWeightBytes;  // as uploaded (flanges too)
   MaterialFade mFade = MaterialFade::kKeep;  // kKeep: every vertex its own material alone
   Flanges mFlanges;

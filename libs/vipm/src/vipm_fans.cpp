@@ -65,6 +65,18 @@ std::span<const StitchPoint> StitchTable::between(const StitchLine& line, double
   return {first, last};
 }
 
+std::span<const StitchPoint> StitchTable::span(const StitchLine& line, double along0,
+                                               double along1) const {
+  auto it = mLines.find(line);
+  if (it == mLines.end()) return {};
+  const auto& points = it->second;
+  auto first = std::lower_bound(points.begin(), points.end(), along0,
+                                [](const StitchPoint& p, double a) { return p.along < a; });
+  auto last = std::upper_bound(first, points.end(), along1,
+                               [](double a, const StitchPoint& p) { return a < p.along; });
+  return {first, last};
+}
+
 void StitchFans::clear() {
   replaced.clear();
   triangles.clear();
@@ -166,6 +178,26 @@ void VipmStitcher::addPoints(StitchTable& table, uint32_t activeVertices,
       table.add(mLines[l].line, point);
     }
   }
+}
+
+uint64_t VipmStitcher::signature(const StitchTable& table, uint32_t applied) const {
+  uint64_t h = 1469598103934665603ull ^ applied;
+  auto mix = [&h](const void* data, size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  };
+  for (const Line& l : mLines) {
+    const double origin = double(l.line.axis == 0 ? mChunk.cornerY : mChunk.cornerX);
+    const double length = double(l.line.axis == 0 ? mChunk.height - 1 : mChunk.width - 1);
+    for (const StitchPoint& p : table.span(l.line, origin, origin + length)) {
+      mix(&p.along, sizeof(p.along));
+      mix(&p.z, sizeof(p.z));
+      mix(p.weights.data(), p.weights.size());
+      mix(&p.material, 1);
+    }
+    mix(&l.local, sizeof(l.local));  // a line without points still counts
+  }
+  return h;
 }
 
 void VipmStitcher::fan(const StitchTable& table, std::span<const uint16_t> living,

@@ -150,6 +150,31 @@ TEST(VipmFans, NothingChangesWithoutOtherPoints) {
   EXPECT_LE(table.pointCount(), 12u);
 }
 
+TEST(VipmFans, TheSignatureFollowsWhatTheFansAreMadeOf) {
+  // Equal signatures promise equal fans: the chunk's level, and the points on its lines.
+  Chunk a({0, 0, 0.0, 3, 3, 0});
+  auto signatureWith = [&](double z, double along, int64_t line) {
+    StitchTable table;
+    a.add(table);
+    StitchPoint p;
+    p.along = along;
+    p.z = z;
+    table.add({0, line}, p);
+    table.finish();
+    return a.stitcher.signature(table, 0);
+  };
+  const uint64_t base = signatureWith(5.0, 1.5, 2);
+  EXPECT_EQ(signatureWith(5.0, 1.5, 2), base);
+  EXPECT_NE(signatureWith(5.25, 1.5, 2), base);  // a neighbour's point moved
+  EXPECT_NE(signatureWith(5.0, 1.75, 2), base);
+  EXPECT_EQ(signatureWith(5.0, 1.5, 7), signatureWith(6.0, 1.5, 7));  // not on its lines
+  EXPECT_EQ(signatureWith(5.0, 7.0, 2), signatureWith(6.0, 7.0, 2));  // beyond its span
+  StitchTable table;
+  a.add(table);
+  table.finish();
+  EXPECT_NE(a.stitcher.signature(table, 0), a.stitcher.signature(table, 1));
+}
+
 TEST(VipmFans, QuantizedPositionsMoveBetweenFramesExactly) {
   std::array<float, 3> p{37.123456f, 12.987654f, 812.34567f};
   quantizeDrawn(p);

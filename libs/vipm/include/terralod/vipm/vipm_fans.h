@@ -61,6 +61,8 @@ class StitchTable {
   std::span<const StitchPoint> between(const StitchLine& line, double along0, double z0,
                                        double along1, double z1, bool& reversed) const;
   size_t pointCount() const;
+  /// The points of `line` from `along0` to `along1` (grid cells), both included, in order.
+  std::span<const StitchPoint> span(const StitchLine& line, double along0, double along1) const;
 
  private:
   struct Hash {
@@ -119,6 +121,12 @@ class VipmStitcher {
   /// vertices at `drawn`, against `table` (which holds this chunk's own points).
   void fan(const StitchTable& table, std::span<const uint16_t> living,
            std::span<const std::array<float, 3>> drawn, StitchFans& out) const;
+
+  /// A hash of everything fan's result depends on besides the chunk's own triangles at a
+  /// level: `applied` (the chunk's collapse count) and the table's points on the chunk's lines
+  /// within its span (its own border points among them). Equal signatures: equal fans. Costs
+  /// the points on the chunk's lines, not its candidate triangles.
+  uint64_t signature(const StitchTable& table, uint32_t applied) const;
 
   /// The most triangles and inserted points fan can give.
   uint32_t maxFanTriangles() const { return mMaxTriangles; }
