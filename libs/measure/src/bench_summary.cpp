@@ -55,9 +55,7 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
           percentile(column(f, [](const FrameRecord& r) { return r.blotSwitch; }), 0.5);
     }
     if (style.stitch == VipmStitch::kFans && style.skirts) {
-      std::vector<double> fanFrame;
-      for (const FrameRecord& r : f)
-        if (!std::isnan(r.fanMs)) fanFrame.push_back(r.fanMs);
+      const auto fanFrame = column(f, [](const FrameRecord& r) { return r.fanMs; });
       j["fan_changes"] = flight.fanChangeMs.size();
       j["fan_change_ms_p50"] = percentile(flight.fanChangeMs, 0.5);
       j["fan_change_ms_p99"] = percentile(flight.fanChangeMs, 0.99);

@@ -119,9 +119,7 @@ void VipmChunkKind::stitch(const TerrainStyle& style, std::span<const VipmDraw> 
   mStitchTable->clear();
   for (const VipmDraw& d : draws) d.chunk->addStitchPoints(*mStitchTable);
   mStitchTable->finish();
-  const auto gathered = Clock::now();
   FanTiming timing;
-  timing.gatherMs = std::chrono::duration<double, std::milli>(gathered - start).count();
   for (const VipmDraw& d : draws) {
     const auto before = Clock::now();
     if (d.chunk->stitch(mStitchTable.get()))

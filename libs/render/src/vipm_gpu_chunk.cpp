@@ -25,7 +25,6 @@ GlTexture& GlTexture::operator=(GlTexture&& other) noexcept {
 VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
     : mMesh(p.mesh),
       mLevels(p.levels),
-      mWhere(p.where),
       mStitcher(p.stitcher),
       mOwn(p.positions),
       mDrawn(p.positions),
@@ -274,14 +273,15 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
   for (size_t i = 0; i < parts.size(); ++i) {
     const VipmPart& part = parts[i];
     const uint32_t living = mLevels.drawnTriangles(part);
+    const bool placed = !changed && !mPrefixUploaded[i] && mFanOffset[i] == living * 3;
+    if (placed && mFade == MaterialFade::kKeep) continue;  // its weights never change
     // A material part's fans: those with a corner weighing on it now (a root's vertices fade,
     // so this can change while the fans do not).
     fans.clear();
     for (const auto& t : mFans.triangles)
       if (fanInPart(t, part.material))
         for (uint32_t v : t) fans.push_back(uint16_t(v < n ? v : v + shift));
-    if (!changed && !mPrefixUploaded[i] && mFanOffset[i] == living * 3 && fans == mPartFans[i])
-      continue;
+    if (placed && fans == mPartFans[i]) continue;
     const GLintptr base = GLintptr(mRanges[i].firstIndex) * 2;
     partSlots(i, mFans.replaced, slots);
     // Triangles no longer replaced get their indices back (unless the prefix was uploaded

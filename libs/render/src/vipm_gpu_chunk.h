@@ -63,8 +63,8 @@ class VipmGpuChunk {
   uint32_t fanTriangles() const { return uint32_t(mFans.triangles.size()); }
   uint32_t replacedTriangles() const { return uint32_t(mFans.replaced.size()); }
   /// Its south-west grid point.
-  int64_t cornerX() const { return mWhere.cornerX; }
-  int64_t cornerY() const { return mWhere.cornerY; }
+  int64_t cornerX() const { return mStitcher.chunk().cornerX; }
+  int64_t cornerY() const { return mStitcher.chunk().cornerY; }
   /// Collapses applied now.
   uint32_t applied() const { return mLevels.applied(); }
   /// Vertices of the mesh active now (flanges left out).
@@ -106,7 +106,6 @@ class VipmGpuChunk {
 
   ProgressiveMesh mMesh;
   VipmLevels mLevels;
-  StitchChunk mWhere;
   VipmStitcher mStitcher;
   StitchFans mFans;                              // drawn now
   std::vector<std::vector<uint32_t>> mReplaced;  // per part: its slots degenerate on the GPU

@@ -49,9 +49,8 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
     p.positions.push_back({t[0], t[1], t[2] - flangeDepth});
     p.materials.push_back(p.materials[top]);
   }
-  p.where = {cornerX,    cornerY,     data.zBase,
-             data.width, data.height, root ? int32_t(kStitchLineCells) : 0};
-  p.stitcher = VipmStitcher(unpacked.mesh, p.where);
+  p.stitcher = VipmStitcher(unpacked.mesh, {cornerX, cornerY, data.zBase, data.width, data.height,
+                                            root ? int32_t(kStitchLineCells) : 0});
   p.mesh = std::move(unpacked.mesh);
   return p;
 }

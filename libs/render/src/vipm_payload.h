@@ -31,8 +31,7 @@ struct VipmChunkPayload final : ChunkPayload {
   MaterialFade fade = MaterialFade::kKeep;
   Flanges flanges;
   float flangeDepth = 0.0f;
-  /// Where the chunk lies (its corner in grid cells) and its fan stitching state.
-  StitchChunk where;
+  /// Its fan stitching state, with where it lies (its corner in grid cells).
   VipmStitcher stitcher;
   double zBase = 0.0;
   int32_t width = 0, height = 0;  ///< grid points

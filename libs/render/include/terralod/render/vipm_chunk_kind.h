@@ -79,11 +79,11 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   /// Milliseconds each chunk decoded since the last call took to decode and reconstruct (on
   /// the loader threads), in no particular order; the list is then emptied.
   std::vector<double> takeReconstructMs();
-  /// Fan stitching's CPU time per frame drawn with fans (render thread): gathering the drawn
-  /// border points, and each chunk whose fans changed (a level change of it or a neighbour,
-  /// or a border vertex geomorphing), in milliseconds; the list is then emptied.
+  /// Fan stitching's CPU time per frame drawn with fans (render thread): each chunk whose fans
+  /// changed (a level change of it or a neighbour, or a border vertex geomorphing), and the
+  /// whole frame's (the drawn border points gathered too), in milliseconds; the list is then
+  /// emptied.
   struct FanTiming {
-    double gatherMs = 0.0;
     std::vector<double> changedMs;
     double totalMs = 0.0;
   };

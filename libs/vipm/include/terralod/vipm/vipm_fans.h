@@ -128,6 +128,9 @@ class VipmStitcher {
   /// the points on the chunk's lines, not its candidate triangles.
   uint64_t signature(const StitchTable& table, uint32_t applied) const;
 
+  /// Where the chunk lies.
+  const StitchChunk& chunk() const { return mChunk; }
+
   /// The most triangles and inserted points fan can give.
   uint32_t maxFanTriangles() const { return mMaxTriangles; }
   uint32_t maxInsertedPoints() const { return mMaxInserted; }
