@@ -19,6 +19,7 @@ void addRenderCommand(CLI::App& root, Runner& run);
 void addBenchCommand(CLI::App& root, Runner& run);
 void addViewCommand(CLI::App& root, Runner& run);
 void addClassifyCommand(CLI::App& root, Runner& run);
+void addEditCommand(CLI::App& root, Runner& run);
 
 /// The command line terralod was started with, arguments quoted where the shell needs it (for
 /// reports that say how they were made).

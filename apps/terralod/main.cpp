@@ -9,7 +9,7 @@ int main(int argc, char** argv) {
   using namespace terralod::cli;
   CLI::App app{
       "terralod: massive terrain with chunked level of detail.\n"
-      "Build a tileset from any elevation raster, then inspect, verify, export, render or "
+      "Build a tileset from any elevation raster, then inspect, verify, edit, export, render or "
       "benchmark it."};
   app.require_subcommand(1, 1);
   app.failure_message([](const CLI::App*, const CLI::Error& e) {
@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   addBenchCommand(app, run);
   addViewCommand(app, run);
   addClassifyCommand(app, run);
+  addEditCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,6 +1,7 @@
 #include "terralod/build/builder.h"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -117,6 +118,7 @@ Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& p
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
                                   const std::function<void(const std::string&)>& warn) {
   if (options.kind == TilesetKind::kVipm) return buildVipmTileset(options, progress, warn);
+  assert(options.edits.empty());  // edits are for VIPM tilesets (terralod edit refuses others)
   const auto start = Clock::now();
   BuildSummary summary;
   auto opened = DemReader::open(options.input, options.dem);

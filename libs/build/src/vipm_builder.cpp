@@ -14,10 +14,12 @@
 #include "terralod/build/tree_layout.h"
 #include "terralod/build/vipm_chunks.h"
 #include "terralod/core/parallel.h"
+#include "terralod/format/terrain_edits_json.h"
 #include "terralod/format/tileset_metadata.h"
 #include "terralod/format/tileset_writer.h"
 #include "terralod/materials/dem_classification.h"
 #include "terralod/materials/material_raster.h"
+#include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/void_fill.h"
 
 namespace terralod {
@@ -50,7 +52,7 @@ Status checkOptions(const BuildOptions& options) {
   return {};
 }
 
-// Stage: the DEM, whole, voids filled.
+// Stage: the DEM, whole, voids filled, the edits applied.
 Result<Heightfield> readDem(const DemReader& reader, const BuildOptions& options,
                             Progress& progress, BuildSummary& summary) {
   const DemInfo& info = reader.info();
@@ -65,16 +67,23 @@ Result<Heightfield> readDem(const DemReader& reader, const BuildOptions& options
   auto filled = fillVoids(*heights, info.path);
   if (!filled) return filled.error();
   summary.filledVoids = *filled;
+  applyHeightEdits(options.edits, info.spacingX, info.spacingY, *heights);
   return heights;
 }
 
 // Stage: the material of every grid point.
 Result<MaterialMap> readMaterials(const DemReader& reader, const BuildOptions& options,
                                   Progress& progress) {
-  if (options.materialsPath.empty()) return classifyDem(reader, &progress);
   MaterialRasterOptions rasterOptions;
   rasterOptions.palettePath = options.palettePath;
-  return readMaterialRaster(options.materialsPath, reader, rasterOptions);
+  auto map = options.materialsPath.empty()
+                 ? classifyDem(reader, &progress)
+                 : readMaterialRaster(options.materialsPath, reader, rasterOptions);
+  if (!map) return map;
+  const DemInfo& info = reader.info();
+  if (Status s = applyPaintEdits(options.edits, info.spacingX, info.spacingY, *map, info.path); !s)
+    return s.error();
+  return map;
 }
 
 TreeLayout vipmLayout(const DemInfo& info) {
@@ -198,6 +207,8 @@ std::string metadataJson(const DemInfo& info, const BuildOptions& options, const
         {"collapses", s.collapses},
         {"filled_voids", s.filledVoids}}},
   };
+  if (!options.edits.empty())
+    j["edits"] = nlohmann::json::parse(terrainEditScript(options.edits))["edits"];
   return j.dump(2);
 }
 

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "terrain_edit_list.h"
 #include "terralod/format/texture_codec.h"
 
 namespace terralod {
@@ -60,6 +61,10 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
     if (const auto e = source->find("encoding"); e != source->end()) {
       if (!e->is_string()) return bad("\"source\".\"encoding\" is not a string");
       m.sourceEncoding = e->get<std::string>();
+    }
+    if (const auto f = source->find("file"); f != source->end()) {
+      if (!f->is_string()) return bad("\"source\".\"file\" is not a string");
+      m.sourceFile = f->get<std::string>();
     }
     if (const auto band = source->find("band"); band != source->end()) {
       if (!band->is_number_integer() || band->get<int64_t>() < 1 || band->get<int64_t>() > 65535)
@@ -124,6 +129,11 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
                    " is not {\"id\": 0..255, \"name\": text, \"color\": \"#rrggbb\"}");
       m.materials.push_back({uint8_t(id->get<uint64_t>()), name->get<std::string>(), *rgb});
     }
+  }
+  if (const auto edits = j.find("edits"); edits != j.end()) {
+    auto list = parseTerrainEditList(*edits, subject, "invalid tileset metadata: \"edits\"");
+    if (!list) return list.error();
+    m.edits = std::move(*list);
   }
   if (header.meshKind == MeshKind::kVipm && m.materials.empty())
     return bad("a VIPM tileset names no \"materials\"");

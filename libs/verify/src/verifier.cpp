@@ -10,6 +10,7 @@
 #include "terralod/core/sample_raster.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/void_fill.h"
 #include "vipm_verifier.h"
@@ -178,6 +179,7 @@ Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::s
   if (Status s = (*source)->readWindow(0, 0, info.columns, info.rows, heights.values().data()); !s)
     return s.error();
   if (auto filled = fillVoids(heights, sourcePath); !filled) return filled.error();
+  applyHeightEdits(tileset.metadata().edits, info.spacingX, info.spacingY, heights);
   return heights;
 }
 

@@ -12,6 +12,7 @@
 #include "terralod/format/vipm_chunk_codec.h"
 #include "terralod/materials/dem_classification.h"
 #include "terralod/materials/material_raster.h"
+#include "terralod/materials/terrain_edits.h"
 #include "vipm_chunk_check.h"
 
 namespace terralod {
@@ -42,6 +43,11 @@ Result<std::optional<MaterialMap>> sourceMaterials(const TilesetReader& tileset,
                  ? classifyDem(**dem)
                  : readMaterialRaster(options.materialsPath, **dem, {options.palettePath});
   if (!map) return map.error();
+  const DemInfo& info = (*dem)->info();
+  if (Status s = applyPaintEdits(tileset.metadata().edits, info.spacingX, info.spacingY, *map,
+                                 tileset.name());
+      !s)
+    return s.error();
   return std::optional<MaterialMap>(std::move(*map));
 }
 

@@ -12,7 +12,6 @@
 namespace terralod {
 
 /// How the tileset's source is opened (encoding, band, vertical scale from its metadata).
-DemOpenOptions tilesetDemOptions(const TilesetReader& tileset);
 
 /// Fills `report` (levels, chunks, failures, vipm) for a VIPM tileset; fails only when the
 /// source's materials cannot be read.

@@ -4,9 +4,11 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "terralod/core/progress.h"
 #include "terralod/core/result.h"
+#include "terralod/core/terrain_edit.h"
 #include "terralod/format/chunk_codec.h"
 #include "terralod/raster/dem_reader.h"
 #include "terralod/vipm/collapse_order.h"
@@ -65,6 +67,9 @@ struct BuildOptions {
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
   MaterialRules materialRules = MaterialRules::kOn;
   BlotError blotError;
+  /// Brush strokes applied to the heights and materials before anything is built, and
+  /// recorded in the metadata ("edits"; `terralod edit`).
+  std::vector<TerrainEdit> edits;
 };
 
 struct BuildSummary {

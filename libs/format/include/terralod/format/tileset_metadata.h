@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/core/terrain_edit.h"
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {
@@ -38,6 +39,8 @@ inline constexpr size_t kMaxTilesetMaterials = 8;
 struct TilesetMetadata {
   /// "source": "encoding" as written ("none", "terrain-rgb", "terrarium").
   std::string sourceEncoding = "none";
+  /// "source": "file", the source raster's file name (no directory); empty when not recorded.
+  std::string sourceFile;
   /// "source": "band", recorded only for multi-band sources.
   std::optional<int> sourceBand;
   /// "build": "vertical_scale".
@@ -51,6 +54,9 @@ struct TilesetMetadata {
   std::string materialsSource;
   /// VIPM: "build": "material_rules" (absent: true).
   bool materialRules = true;
+  /// VIPM: "edits", the brush strokes applied to the source before it was built (docs/format.md
+  /// "Edits"), in order; empty when there were none.
+  std::vector<TerrainEdit> edits;
 };
 
 /// "#rrggbb" for a colour (what "materials" stores).

@@ -13,6 +13,7 @@
 #include "terralod/core/progress.h"
 #include "terralod/core/result.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/raster/dem_reader.h"
 #include "terralod/raster/heightfield.h"
 
 namespace terralod {
@@ -74,9 +75,13 @@ struct VerifyReport {
   bool ok() const { return failureCount == 0; }
 };
 
+/// How to open the tileset's source the way it was built (encoding, band, vertical scale).
+DemOpenOptions tilesetDemOptions(const TilesetReader& tileset);
+
 /// The source raster read the way the tileset's metadata says it was built (same encoding and
-/// vertical scale), with its voids filled as the builder fills them. Fails naming the source
-/// when it cannot be read or is not the size the tileset was built from.
+/// vertical scale), with its voids filled as the builder fills them and the tileset's recorded
+/// edits ("edits", `terralod edit`) applied. Fails naming the source when it cannot be read or
+/// is not the size the tileset was built from.
 Result<Heightfield> loadTilesetSource(const TilesetReader& tileset, const std::string& sourcePath);
 
 /// Verifies `tilesetPath` against `sourcePath` (read the way the tileset's metadata says it
