@@ -21,6 +21,7 @@ namespace fs = std::filesystem;
 struct EditArgs {
   std::string tileset, script, source, materials, palette;
   unsigned threads = 0;
+  bool rebuildAll = false;
 };
 
 Result<std::vector<TerrainEdit>> readScript(const std::string& path) {
@@ -59,8 +60,8 @@ Status checkStrokes(const std::vector<TerrainEdit>& edits, const TilesetReader& 
   for (size_t i = 0; i < edits.size(); ++i) {
     const TerrainEdit& e = edits[i];
     const std::string where = "edits[" + std::to_string(i) + "]: ";
-    if (touchedPoints(e, h.spacingX, h.spacingY, int32_t(h.sourceColumns),
-                      int32_t(h.sourceRows)) == 0) {
+    if (touchedPoints(e, h.spacingX, h.spacingY, int32_t(h.sourceColumns), int32_t(h.sourceRows)) ==
+        0) {
       char text[256];
       std::snprintf(text, sizeof text,
                     "the %s brush at (%g, %g) with radius %g m touches no grid point of the "
@@ -110,6 +111,7 @@ Result<BuildOptions> rebuildOptions(const TilesetReader& tileset, const EditArgs
     options->dem.spacing = std::array<double, 2>{h.spacingX, h.spacingY};
   options->input = *source;
   options->output = args.tileset;
+  if (!args.rebuildAll) options->reuse = args.tileset;  // chunks no stroke reaches are kept
   options->materialsPath = args.materials;
   options->palettePath = args.palette;
   options->threads = args.threads;
@@ -135,9 +137,10 @@ int runEdit(const EditArgs& args) {
   auto summary = buildTileset(options, progress, warn);
   if (!summary) return fail(summary.error().message);
   std::printf(
-      "terralod: edited %s: %zu stroke(s) applied, %zu recorded in all; rebuilt %llu chunks from "
-      "%s in %.2f s\n",
+      "terralod: edited %s: %zu stroke(s) applied, %zu recorded in all; rebuilt %llu of %llu "
+      "chunks from %s in %.2f s\n",
       args.tileset.c_str(), edits->size(), options.edits.size(),
+      (unsigned long long)(summary->chunks - summary->reusedChunks),
       (unsigned long long)summary->chunks, options.input.c_str(), summary->totalSeconds);
   return 0;
 }
@@ -168,6 +171,9 @@ void addEditCommand(CLI::App& root, Runner& run) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--threads", args->threads, "Worker threads (default: all cores)")
       ->check(wholeNumber<unsigned>());
+  cmd->add_flag("--rebuild-all", args->rebuildAll,
+                "Build every chunk again (by default the chunks no new stroke reaches are kept "
+                "as they are; the result is the same bytes either way)");
   cmd->footer(
       "Example:\n"
       "  terralod edit dem.tlod --script edits.json --source dem.tif\n"

@@ -125,13 +125,13 @@ TEST_F(VipmEditCli, BadEditsAreOneErrorLineAndLeaveTheTilesetAsItWas) {
   std::ofstream(script) << "{\"edits\": [{\"brush\": \"dig\"}]}";
   expectRefused(edit, script + ": edits[0]: \"brush\" is not one of");
   writeScript(script, {{Brush::kRaise, -5000.0, 100.0, 300.0, 1.0, 0}});
-  expectRefused(edit, script + ": edits[0]: the raise brush at (-5000, 100) with radius 300 m "
-                               "touches no grid point");
+  expectRefused(edit, script +
+                          ": edits[0]: the raise brush at (-5000, 100) with radius 300 m "
+                          "touches no grid point");
   writeScript(script, {{Brush::kPaint, 100.0, 100.0, 300.0, 0.0, 200}});
   expectRefused(edit, script + ": edits[0]: material 200 is not one of the tileset's (0 water");
   writeScript(script, {{Brush::kRaise, 100.0, 100.0, 300.0, 1.0, 0}});
-  expectRefused({"edit", mTileset, "--script", script, "--source",
-                 testData("crater_lake_0513.bt")},
+  expectRefused({"edit", mTileset, "--script", script, "--source", testData("crater_lake_0513.bt")},
                 "crater_lake_0513.bt: is 513x513 samples but");
 
   // A tileset whose source is nowhere to be found, and a static tileset.
@@ -154,7 +154,7 @@ TEST_F(VipmEditCli, AKilledEditLeavesTheOldTilesetOrTheEditedOne) {
             0);
   const std::string old = readWholeFile(tileset);
   writeScript(mDir.file("e.json"), strokesFor(*TilesetReader::openFile(tileset).value()));
-  const std::vector<std::string> args = {"edit", tileset, "--script", mDir.file("e.json"),
+  const std::vector<std::string> args = {"edit",      tileset, "--script", mDir.file("e.json"),
                                          "--threads", "2"};
   const auto start = Clock::now();
   ASSERT_EQ(runTerralod(args).exitCode, 0);

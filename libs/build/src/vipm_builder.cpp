@@ -21,6 +21,7 @@
 #include "terralod/materials/material_raster.h"
 #include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/void_fill.h"
+#include "vipm_chunk_reuse.h"
 
 namespace terralod {
 namespace {
@@ -276,14 +277,32 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   std::vector<VipmLeaf> leaves(leafCount);
   // Every node's normal map, from the source heights (never from its mesh).
   std::vector<std::vector<uint8_t>> normalMaps(nodes.size());
+  // An earlier build's chunks that no new stroke reaches (an edit), kept as they are.
+  const std::optional<VipmChunkReuse> reuse = VipmChunkReuse::open(options, info, zStep);
+  std::vector<uint8_t> reused(nodes.size(), 0);
+  auto keep = [&](size_t i, int32_t x0, int32_t y0, int32_t w, int32_t h, auto&& reuseChunk,
+                  auto& out) {
+    auto old = reuse ? reuse->clean(uint32_t(i), x0, y0, w, h) : std::nullopt;
+    if (!old) return false;
+    auto chunk = reuseChunk(std::vector<uint8_t>(old->mesh().begin(), old->mesh().end()), *heights,
+                            *materials, x0, y0, w, h, zStep);
+    if (!chunk) return false;
+    out = std::move(*chunk);
+    normalMaps[i].assign(old->texture().begin(), old->texture().end());
+    reused[i] = 1;
+    return true;
+  };
   progress.begin("vipm chunks", leafCount + rootCount);
   parallelFor(leafCount, threads, [&](size_t k, unsigned) {
-    const NodeRecord& n = nodes[rootCount + k];
+    const size_t i = rootCount + k;
+    const NodeRecord& n = nodes[i];
     const int32_t x0 = int32_t(n.x) * kLeaf, y0 = int32_t(n.y) * kLeaf;
-    leaves[k] = buildVipmLeaf(*heights, *materials, x0, y0, pointsFrom(x0, layout.cellsX, kLeaf),
-                              pointsFrom(y0, layout.cellsY, kLeaf), params);
-    normalMaps[rootCount + k] =
-        buildVipmNormalMap(*heights, x0, y0, kLeaf, info.spacingX, info.spacingY);
+    const int32_t w = pointsFrom(x0, layout.cellsX, kLeaf),
+                  h = pointsFrom(y0, layout.cellsY, kLeaf);
+    if (!keep(i, x0, y0, w, h, reuseVipmLeaf, leaves[k])) {
+      leaves[k] = buildVipmLeaf(*heights, *materials, x0, y0, w, h, params);
+      normalMaps[i] = buildVipmNormalMap(*heights, x0, y0, kLeaf, info.spacingX, info.spacingY);
+    }
     progress.advance(1);
   });
 
@@ -307,7 +326,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     deviations.leaf[size_t(n.y) * size_t(deviations.leavesX) + n.x] = leaf.borderDeviation;
     largestCoarsest = std::max(largestCoarsest, double(leaf.coarsest.error));
     summary.collapses += leaf.collapses;
-    leafSeconds.push_back(leaf.seconds);
+    if (!reused[rootCount + k]) leafSeconds.push_back(leaf.seconds);
   }
   const double rootLevelError = 2.0 * std::max(largestCoarsest, options.maxError);
 
@@ -319,10 +338,15 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
       children.push_back(&leaves[n.firstChild + c - rootCount].coarsest);
     const int32_t x0 = int32_t(n.x) * kRoot, y0 = int32_t(n.y) * kRoot;
-    roots[r] = buildVipmRoot(
-        *heights, *materials, children, x0, y0, pointsFrom(x0, layout.cellsX, kRoot),
-        pointsFrom(y0, layout.cellsY, kRoot), zStep, rootLevelError, options.compressionLevel);
-    normalMaps[r] = buildVipmNormalMap(*heights, x0, y0, kRoot, info.spacingX, info.spacingY);
+    const int32_t w = pointsFrom(x0, layout.cellsX, kRoot),
+                  h = pointsFrom(y0, layout.cellsY, kRoot);
+    // Kept only while the roots' level error (every root's error floor) is what it was.
+    if (!(reuse && reuse->rootLevelError() == rootLevelError &&
+          keep(r, x0, y0, w, h, reuseVipmRoot, roots[r]))) {
+      roots[r] = buildVipmRoot(*heights, *materials, children, x0, y0, w, h, zStep, rootLevelError,
+                               options.compressionLevel);
+      normalMaps[r] = buildVipmNormalMap(*heights, x0, y0, kRoot, info.spacingX, info.spacingY);
+    }
     progress.advance(1);
   });
   progress.end();
@@ -365,6 +389,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   }
   summary.levels = 2;
   summary.chunks = nodes.size();
+  summary.reusedChunks = uint64_t(std::count(reused.begin(), reused.end(), uint8_t{1}));
 
   TilesetHeader header;
   header.version = 2;  // with texture blobs: the normal maps

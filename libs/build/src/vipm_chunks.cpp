@@ -2,6 +2,7 @@
 
 #include <time.h>
 #include <algorithm>
+#include <array>
 
 #include <cassert>
 #include <cmath>
@@ -48,7 +49,12 @@ CoarseMesh coarsestLevel(const ProgressiveMesh& mesh, const VipmChunkData& store
   }
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (removals.ok() && (*removals)[t] != r) continue;
-    for (uint16_t v : mesh.triangles[t]) c.indices.push_back(findRoot(rep, v));
+    // Each triangle from its lowest corner (the blob codec may rotate corners, so a chunk
+    // read back from its blob gives the same level as the one that was encoded).
+    std::array<uint32_t, 3> corners;
+    for (int k = 0; k < 3; ++k) corners[k] = findRoot(rep, mesh.triangles[t][k]);
+    const int first = int(std::min_element(corners.begin(), corners.end()) - corners.begin());
+    for (int k = 0; k < 3; ++k) c.indices.push_back(corners[(first + k) % 3]);
   }
   return c;
 }
@@ -66,6 +72,18 @@ GridPatch sourcePatch(const Heightfield& heights, const MaterialMap& materials, 
       patch.heights.push_back(heights(x0 + x, y0 + y));
       patch.materials.push_back(materials.at(x0 + x, y0 + y));
     }
+  return patch;
+}
+
+// The source patch with its vertex heights rounded to the tileset's step, as a chunk is built
+// from (a base on that step at or below every sample).
+GridPatch quantisedPatch(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
+                         int32_t y0, int32_t width, int32_t height, double zStep,
+                         HeightQuantisation& q) {
+  GridPatch patch = sourcePatch(heights, materials, x0, y0, width, height);
+  const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
+  q = {std::floor(double(lowest) / zStep) * zStep, zStep};
+  quantiseVertexHeights(patch, q);
   return patch;
 }
 
@@ -91,7 +109,66 @@ float coarsestError(const VipmChunkData& stored) {
   return u.mesh.errors.back();
 }
 
+// Whether a root of width x height points holds its children's shared sides.
+bool hasSeams(int32_t width, int32_t height) {
+  return width > kLeaf + 1 || height > kLeaf + 1;
+}
+
+// A stored chunk decoded and unpacked, with the patch it was built from.
+struct Stored {
+  VipmChunkData data;
+  ProgressiveMesh mesh;
+  GridPatch patch;
+  std::vector<double> vertexHeights;
+  NodeRecord node;
+};
+
+Result<Stored> readStored(const std::vector<uint8_t>& blob, const Heightfield& heights,
+                          const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
+                          int32_t height, double zStep) {
+  auto decoded = decodeVipmChunk(blob, "reused chunk");
+  if (!decoded) return decoded.error();
+  Stored s;
+  s.data = std::move(*decoded);
+  if (s.data.width != width || s.data.height != height || s.data.zStep != zStep)
+    return Error{"reused chunk: not the chunk it replaces"};
+  s.mesh = unpackChunk(s.data).mesh;
+  HeightQuantisation q;
+  s.patch = quantisedPatch(heights, materials, x0, y0, width, height, zStep, q);
+  s.node = storedNode(s.data, s.vertexHeights);
+  return s;
+}
+
 }  // namespace
+
+Result<VipmLeaf> reuseVipmLeaf(std::vector<uint8_t> blob, const Heightfield& heights,
+                               const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
+                               int32_t height, double zStep) {
+  auto s = readStored(blob, heights, materials, x0, y0, width, height, zStep);
+  if (!s) return s.error();
+  VipmLeaf leaf;
+  leaf.blob = std::move(blob);
+  leaf.node = s->node;
+  leaf.coarsest = coarsestLevel(s->mesh, s->data, x0, y0);
+  leaf.coarsest.error = coarsestError(s->data);
+  leaf.borderDeviation = borderDeviation(s->mesh, s->patch.heights, s->vertexHeights);
+  leaf.collapses = s->data.collapseCount();
+  return leaf;
+}
+
+Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& heights,
+                               const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
+                               int32_t height, double zStep) {
+  auto s = readStored(blob, heights, materials, x0, y0, width, height, zStep);
+  if (!s) return s.error();
+  VipmRoot root;
+  root.blob = std::move(blob);
+  root.node = s->node;
+  root.borderDeviation = borderDeviation(s->mesh, s->patch.heights, s->vertexHeights);
+  root.seamDeviation = hasSeams(width, height) ? coarsestError(s->data) : 0.0;
+  root.collapses = s->data.collapseCount();
+  return root;
+}
 
 double vipmTilesetZStep(double maxError, double range) {
   double step = std::exp2(std::floor(std::log2(std::max(maxError, 1e-6) / 8.0)));
@@ -185,11 +262,8 @@ double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& so
 VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
                        int32_t y0, int32_t width, int32_t height, const VipmLeafParams& params) {
   const double start = threadSeconds();
-  GridPatch patch = sourcePatch(heights, materials, x0, y0, width, height);
-  const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
-  const HeightQuantisation q{std::floor(double(lowest) / params.zStep) * params.zStep,
-                             params.zStep};
-  quantiseVertexHeights(patch, q);
+  HeightQuantisation q;
+  GridPatch patch = quantisedPatch(heights, materials, x0, y0, width, height, params.zStep, q);
   CollapseStart from;
   from.bakedError = floatBelow(params.maxError);
   CollapseOrder order = buildCollapseOrder(patch, params.rules, from);
@@ -202,7 +276,9 @@ VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials,
   leaf.blob = encodeVipmChunk(stored, params.compressionLevel);
   std::vector<double> vertexHeights;
   leaf.node = storedNode(stored, vertexHeights);
-  leaf.coarsest = coarsestLevel(mesh, stored, x0, y0);
+  // From the chunk as stored (its triangles in stored order), as reuseVipmLeaf gets it, so
+  // that the root joined from it is the same whether the leaf was built or kept.
+  leaf.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
   leaf.coarsest.error = coarsestError(stored);
   leaf.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
   leaf.collapses = stored.collapseCount();
@@ -250,12 +326,10 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
                        int compressionLevel) {
   const double start = threadSeconds();
   const VipmChunkData joined = joinCoarsest(children, x0, y0, width, height, zStep);
-  GridPatch patch = sourcePatch(heights, materials, x0, y0, width, height);
-  // The children's stored heights are round(h / zStep) zStep on the tileset's step; a base
-  // on that step at or below every sample keeps them (and bounds every point's rounding).
-  const float lowest = *std::min_element(patch.heights.begin(), patch.heights.end());
-  const HeightQuantisation q{std::floor(double(lowest) / zStep) * zStep, zStep};
-  quantiseVertexHeights(patch, q);
+  // The children's stored heights are round(h / zStep) zStep on the tileset's step; the
+  // patch's base keeps them (and bounds every point's rounding).
+  HeightQuantisation q;
+  GridPatch patch = quantisedPatch(heights, materials, x0, y0, width, height, zStep, q);
   CollapseStart from;
   for (size_t i = 0; i + 2 < joined.indices.size(); i += 3)
     from.triangles.push_back({joined.points[joined.indices[i]],
@@ -266,6 +340,7 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
            float(joined.zBase + double(joined.heights[v]) * zStep));
   from.seamX = width > kLeaf + 1 ? kLeaf : -1;
   from.seamY = height > kLeaf + 1 ? kLeaf : -1;
+  assert(hasSeams(width, height) == (from.seamX >= 0 || from.seamY >= 0));
   // Every collapse waits for the root to take over (θ >= levelError).
   from.errorFloor = floatAbove(levelError);
   CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
@@ -277,8 +352,7 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   std::vector<double> vertexHeights;
   root.node = storedNode(stored, vertexHeights);
   root.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
-  const bool seams = from.seamX >= 0 || from.seamY >= 0;
-  root.seamDeviation = seams ? coarsestError(stored) : 0.0;
+  root.seamDeviation = hasSeams(width, height) ? coarsestError(stored) : 0.0;
   root.collapses = stored.collapseCount();
   root.seconds = threadSeconds() - start;
   return root;

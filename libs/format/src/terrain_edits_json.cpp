@@ -16,7 +16,9 @@ std::optional<Brush> parseBrush(const std::string& name) {
   return std::nullopt;
 }
 
-bool isFinite(const json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+bool isFinite(const json& v) {
+  return v.is_number() && std::isfinite(v.get<double>());
+}
 
 // One entry, or the problem with it.
 Result<TerrainEdit> parseEntry(const json& e) {
@@ -33,8 +35,8 @@ Result<TerrainEdit> parseEntry(const json& e) {
   if (!b) return Error{"\"brush\" is not one of \"raise\", \"lower\", \"smooth\", \"paint\""};
   edit.brush = *b;
   const auto center = e.find("center");
-  if (center == e.end() || !center->is_array() || center->size() != 2 ||
-      !isFinite((*center)[0]) || !isFinite((*center)[1]))
+  if (center == e.end() || !center->is_array() || center->size() != 2 || !isFinite((*center)[0]) ||
+      !isFinite((*center)[1]))
     return Error{"\"center\" is not [x, y] in metres"};
   edit.centerX = (*center)[0].get<double>();
   edit.centerY = (*center)[1].get<double>();
@@ -53,8 +55,7 @@ Result<TerrainEdit> parseEntry(const json& e) {
     return edit;
   }
   if (material != e.end())
-    return Error{"\"material\" belongs to paint edits, not " +
-                 std::string(brushName(edit.brush))};
+    return Error{"\"material\" belongs to paint edits, not " + std::string(brushName(edit.brush))};
   if (amount == e.end() || !isFinite(*amount) || amount->get<double>() <= 0.0)
     return Error{edit.brush == Brush::kSmooth
                      ? "\"amount\" is not a strength in (0, 1]"
@@ -67,8 +68,7 @@ Result<TerrainEdit> parseEntry(const json& e) {
 
 }  // namespace
 
-Result<std::vector<TerrainEdit>> parseTerrainEditList(const json& list,
-                                                      const std::string& subject,
+Result<std::vector<TerrainEdit>> parseTerrainEditList(const json& list, const std::string& subject,
                                                       const std::string& where) {
   if (!list.is_array()) return makeError(subject, where + " is not an array");
   std::vector<TerrainEdit> edits;

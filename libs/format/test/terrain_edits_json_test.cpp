@@ -51,8 +51,8 @@ TEST(TerrainEditsJson, MistakesAreOneLineNamingTheEntry) {
        "e.json: edits[0]: \"amount\" is not a number of metres"},
       {R"({"edits": [{"brush": "smooth", )" + ok + R"(, "amount": 1.5}]})",
        "e.json: edits[0]: \"amount\" is not a strength in (0, 1]"},
-      {R"({"edits": [{"brush": "raise", )" + ok + R"(, "amount": 1}, {"brush": "paint", )" +
-           ok + "}]}",
+      {R"({"edits": [{"brush": "raise", )" + ok + R"(, "amount": 1}, {"brush": "paint", )" + ok +
+           "}]}",
        "e.json: edits[1]: a paint edit's \"material\" is not a material id 0..255"},
       {R"({"edits": [{"brush": "raise", )" + ok + R"(, "amount": 1, "material": 2}]})",
        "e.json: edits[0]: \"material\" belongs to paint edits, not raise"},

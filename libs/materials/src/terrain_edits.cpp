@@ -11,7 +11,8 @@ template <typename F>
 void forEachTouched(const TerrainEdit& e, double sx, double sy, const GridWindow& w, F&& f) {
   for (int32_t y = w.y0; y <= w.y1; ++y)
     for (int32_t x = w.x0; x <= w.x1; ++x) {
-      const double weight = brushWeight(std::hypot(x * sx - e.centerX, y * sy - e.centerY), e.radius);
+      const double weight =
+          brushWeight(std::hypot(x * sx - e.centerX, y * sy - e.centerY), e.radius);
       if (weight > 0.0) f(x, y, weight);
     }
 }

@@ -70,6 +70,10 @@ struct BuildOptions {
   /// Brush strokes applied to the heights and materials before anything is built, and
   /// recorded in the metadata ("edits"; `terralod edit`).
   std::vector<TerrainEdit> edits;
+  /// VIPM: an earlier build of the same source with the same options and a prefix of `edits`
+  /// (the tileset an edit replaces). Its chunks that the other strokes do not reach are kept as
+  /// they are; the result is the same bytes as a build without it. Empty: build every chunk.
+  std::string reuse;
 };
 
 struct BuildSummary {
@@ -92,6 +96,7 @@ struct BuildSummary {
   uint32_t materials = 0;         ///< materials in the tileset
   double chunkSecondsMedian = 0;  ///< per leaf chunk: collapse order to encoded blob
   double chunkSecondsMax = 0;
+  uint64_t reusedChunks = 0;  ///< chunks kept from BuildOptions::reuse
 };
 
 /// Builds `options.output` from `options.input` (a VIPM tileset when options.kind says so:

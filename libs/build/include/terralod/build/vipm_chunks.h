@@ -96,6 +96,18 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
                        int32_t width, int32_t height, double zStep, double levelError,
                        int compressionLevel);
 
+/// A leaf or root as buildVipmLeaf or buildVipmRoot made it, from its stored blob (an edit
+/// rebuilds only the chunks its strokes reach): the blob as it is, its node fields, and what
+/// the roots and flange depths need (coarsest level, border and seam deviations), worked out
+/// again from the blob and the heights, which must be those it was built from. Fails when the
+/// blob does not decode.
+Result<VipmLeaf> reuseVipmLeaf(std::vector<uint8_t> blob, const Heightfield& heights,
+                               const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
+                               int32_t height, double zStep);
+Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& heights,
+                               const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
+                               int32_t height, double zStep);
+
 /// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of cells + 1
 /// texels over grid square [x0, x0 + cells]^2, texel (i, j) the central-difference normal of
 /// the source heights at grid point (x0 + i, y0 + j) (points outside the data take the nearest

@@ -21,8 +21,8 @@ struct TerrainEdit {
   /// Metres east and north of the data's south-west sample (the tileset's x and y, as
   /// `terralod info` prints the extent).
   double centerX = 0.0, centerY = 0.0;
-  double radius = 0.0;  ///< metres, > 0
-  double amount = 0.0;  ///< raise and lower: metres; smooth: strength in (0, 1]; paint: unused
+  double radius = 0.0;   ///< metres, > 0
+  double amount = 0.0;   ///< raise and lower: metres; smooth: strength in (0, 1]; paint: unused
   uint8_t material = 0;  ///< paint: the material's id (as the tileset's "materials" list it)
   friend bool operator==(const TerrainEdit&, const TerrainEdit&) = default;
 };
