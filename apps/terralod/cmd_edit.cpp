@@ -138,10 +138,11 @@ int runEdit(const EditArgs& args) {
   if (!summary) return fail(summary.error().message);
   std::printf(
       "terralod: edited %s: %zu stroke(s) applied, %zu recorded in all; rebuilt %llu of %llu "
-      "chunks from %s in %.2f s\n",
+      "chunks from %s in %.2f s (source read %.2f s, chunks %.2f s)\n",
       args.tileset.c_str(), edits->size(), options.edits.size(),
       (unsigned long long)(summary->chunks - summary->reusedChunks),
-      (unsigned long long)summary->chunks, options.input.c_str(), summary->totalSeconds);
+      (unsigned long long)summary->chunks, options.input.c_str(), summary->totalSeconds,
+      summary->loadSeconds, summary->meshSeconds);
   return 0;
 }
 
