@@ -44,8 +44,8 @@ bool sameBuild(const TilesetReader& old, const BuildOptions& options, const DemI
 
 }  // namespace
 
-std::optional<VipmChunkReuse> VipmChunkReuse::open(const BuildOptions& options,
-                                                   const DemInfo& info, double zStep) {
+std::optional<VipmChunkReuse> VipmChunkReuse::open(const BuildOptions& options, const DemInfo& info,
+                                                   double zStep) {
   if (options.reuse.empty()) return std::nullopt;
   auto old = TilesetReader::openFile(options.reuse);
   if (!old || !sameBuild(**old, options, info, zStep)) return std::nullopt;
@@ -61,8 +61,7 @@ std::optional<VipmChunkReuse> VipmChunkReuse::open(const BuildOptions& options,
 std::optional<NodeBytes> VipmChunkReuse::clean(uint32_t index, int32_t x0, int32_t y0,
                                                int32_t width, int32_t height) const {
   for (const GridWindow& w : mStrokes)
-    if (!w.empty() && w.x0 <= x0 + width && w.x1 >= x0 - 1 && w.y0 <= y0 + height &&
-        w.y1 >= y0 - 1)
+    if (!w.empty() && w.x0 <= x0 + width && w.x1 >= x0 - 1 && w.y0 <= y0 + height && w.y1 >= y0 - 1)
       return std::nullopt;
   if (index >= mOld->nodes().size()) return std::nullopt;
   auto bytes = mOld->readNode(index);

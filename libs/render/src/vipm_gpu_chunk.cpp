@@ -94,11 +94,11 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
     glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     normalBytes += p.blot.size() * 4 / 3;  // with its mips
   }
-  // On the GPU, plus the CPU state (the payload's copy, the drawn positions, materials and
-  // weights).
+  // On the GPU, plus the CPU state (the payload's copy but its textures, which only the GPU
+  // keeps; the drawn positions, materials and weights).
   mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +
               normalBytes;
-  mBytes = mGpuBytes + p.bytes() + uint64_t(positionBytes) + mMaterials.size() +
+  mBytes = mGpuBytes + p.bytes() - p.textureBytes() + uint64_t(positionBytes) + mMaterials.size() +
            mWeightBytes.size() * sizeof(mWeightBytes[0]) + mWeights.size() * sizeof(mWeights[0]);
   update(0.0, Geomorph::kOff);
 }

@@ -12,9 +12,14 @@ uint64_t VipmChunkPayload::bytes() const {
     b +=
         p.indices.size() * 2 + p.triangles.size() * 4 + p.moveStart.size() * 4 + p.moves.size() * 2;
   b += positions.size() * sizeof(positions[0]) + materials.size();
-  for (const auto& mip : normals.mips) b += mip.size();
   b += flanges.tops.size() * 4;
-  b += stitcher.bytes() + blot.size();
+  b += stitcher.bytes();
+  return b + textureBytes();
+}
+
+uint64_t VipmChunkPayload::textureBytes() const {
+  uint64_t b = blot.size();
+  for (const auto& mip : normals.mips) b += mip.size();
   return b;
 }
 

@@ -41,7 +41,10 @@ struct VipmChunkPayload final : ChunkPayload {
   /// Its blot texture (vipm_blot.h): encoded RGBA bytes, texels as the normal map's.
   std::vector<uint8_t> blot;
 
+  /// Everything it holds (what a chunk costs between its load and its upload).
   uint64_t bytes() const;
+  /// Of those, the texture bytes (normal map and blot), which go to the GPU and are not kept.
+  uint64_t textureBytes() const;
 };
 
 /// Decodes a VIPM node's bytes (its blob and its texture blob; `subject` names it in errors)
