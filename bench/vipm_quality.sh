@@ -11,7 +11,8 @@
 #
 #   bench/vipm_quality.sh [FRAMES] [TAU] [SIZE]     defaults: 2000 2 320x240
 #
-# Scratch files: $BENCH_DIR/vipm_quality. ONLY="name ..." runs just those rows.
+# Scratch files: $BENCH_DIR/vipm_quality. ONLY="name ..." runs just those rows; VIPM_OPTS adds
+# bench options to the VIPM runs (e.g. VIPM_OPTS="--stitch fans").
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=${1:-2000}
@@ -38,8 +39,9 @@ for entry in "${rows[@]}"; do
   [ -e "$dir/${file%%.*}_static.tlod" ] ||
     "$terralod" build "$data/$file" --no-texture -o "$dir/${file%%.*}_static.tlod" >/dev/null
   run() {
+    # shellcheck disable=SC2086
     "$terralod" bench "$dir/$name.tlod" --auto-flight --tau "$tau" --size "$size" \
-      --source "$data/$file" --json "$dir/$name$1.json" "${@:2}" >/dev/null
+      --source "$data/$file" --json "$dir/$name$1.json" "${@:2}" ${VIPM_OPTS:-} >/dev/null
   }
   static() {
     "$terralod" bench "$dir/${file%%.*}_static.tlod" --auto-flight --tau "$tau" --size "$size" \

@@ -61,8 +61,7 @@ std::optional<VipmChunkReuse> VipmChunkReuse::open(const BuildOptions& options, 
 std::optional<NodeBytes> VipmChunkReuse::clean(uint32_t index, int32_t x0, int32_t y0,
                                                int32_t width, int32_t height) const {
   for (const GridWindow& w : mStrokes)
-    if (!w.empty() && w.x0 <= x0 + width && w.x1 >= x0 - 1 && w.y0 <= y0 + height && w.y1 >= y0 - 1)
-      return std::nullopt;
+    if (windowMeets(w, x0, y0, width, height, 1)) return std::nullopt;
   if (index >= mOld->nodes().size()) return std::nullopt;
   auto bytes = mOld->readNode(index);
   if (!bytes) return std::nullopt;

@@ -36,6 +36,12 @@ void smooth(const TerrainEdit& e, double sx, double sy, const GridWindow& w, Hei
 
 }  // namespace
 
+bool windowMeets(const GridWindow& w, int32_t x0, int32_t y0, int32_t width, int32_t height,
+                 int32_t margin) {
+  return !w.empty() && w.x0 <= x0 + width - 1 + margin && w.x1 >= x0 - margin &&
+         w.y0 <= y0 + height - 1 + margin && w.y1 >= y0 - margin;
+}
+
 GridWindow editWindow(const TerrainEdit& e, double sx, double sy, int32_t columns, int32_t rows) {
   auto clampTo = [](double v, int32_t hi) {
     return int32_t(std::clamp(v, -1.0, double(hi) + 1.0));

@@ -30,6 +30,10 @@ struct GridWindow {
   bool empty() const { return x0 > x1 || y0 > y1; }
 };
 
+/// Whether `w` meets the grid points [x0, x0 + width) x [y0, y0 + height) grown by `margin`.
+bool windowMeets(const GridWindow& w, int32_t x0, int32_t y0, int32_t width, int32_t height,
+                 int32_t margin);
+
 /// The grid points within a stroke's radius lie inside this window of a columns x rows grid.
 GridWindow editWindow(const TerrainEdit& edit, double spacingX, double spacingY, int32_t columns,
                       int32_t rows);

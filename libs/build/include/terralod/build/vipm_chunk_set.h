@@ -1,0 +1,64 @@
+#pragma once
+// A VIPM tileset's chunks in memory with the heights and materials they are built from
+// (docs/architecture.md "Edits"). `build` makes every chunk (or keeps an earlier build's where
+// no new stroke reaches, BuildOptions::reuse); `apply` then takes more strokes and builds again
+// only the chunks they reach, so an editor can swap those in while it draws; buildVipmTileset
+// writes the set as a tileset. The bytes are those of a build of the edited source.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "terralod/build/builder.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/core/progress.h"
+#include "terralod/format/node_bytes.h"
+#include "terralod/format/tileset_format.h"
+#include "terralod/materials/material.h"
+#include "terralod/raster/heightfield.h"
+
+namespace terralod {
+
+struct VipmChunkSetState;
+
+/// A VIPM tileset's tree: 64-cell leaves under 128-cell roots over the DEM's cells.
+TreeLayout vipmTreeLayout(const DemInfo& info);
+
+class VipmChunkSet {
+ public:
+  /// Builds every chunk of `heights` (void-filled, options.edits applied) and `materials`
+  /// (paint applied) with `options` (zStep, rules, blot error, compression; options.reuse:
+  /// chunks kept). Fails when the heights' relief needs a step coarser than --max-error.
+  static Result<VipmChunkSet> build(const BuildOptions& options, const DemInfo& info,
+                                    Heightfield heights, MaterialMap materials,
+                                    Progress& progress);
+  VipmChunkSet(VipmChunkSet&&) noexcept;
+  VipmChunkSet& operator=(VipmChunkSet&&) noexcept;
+  ~VipmChunkSet();
+
+  /// Applies `strokes` to the heights and materials and builds again every chunk they reach
+  /// (all roots when the roots' level error changes, everything when the tileset's height
+  /// step does). Returns the nodes whose bytes or record changed, in node order. Fails, with
+  /// nothing changed, when a stroke paints a material the set does not have or the relief
+  /// outgrows 16-bit heights at --max-error.
+  Result<std::vector<uint32_t>> apply(std::span<const TerrainEdit> strokes, unsigned threads);
+
+  /// Node records in tileset order (mesh fields and flange depths; no blob offsets).
+  const std::vector<NodeRecord>& nodes() const;
+  /// A node's mesh blob followed by its texture blob (the normal map), as a tileset stores
+  /// them.
+  NodeBytes nodeBytes(uint32_t node) const;
+  const std::vector<TerrainEdit>& edits() const;
+  double zStep() const;
+  double rootLevelError() const;
+  const MaterialMap& materials() const;
+  /// Build figures: collapses, chunks kept, per-leaf CPU seconds (median, max) of those built.
+  const BuildSummary& summary() const;
+
+ private:
+  explicit VipmChunkSet(std::unique_ptr<VipmChunkSetState> state);
+  std::unique_ptr<VipmChunkSetState> mState;
+};
+
+}  // namespace terralod
