@@ -29,8 +29,8 @@ VipmChunkSet* craterSet() {
     options.kind = TilesetKind::kVipm;
     options.threads = 2;
     NullProgress progress;
-    auto built =
-        VipmChunkSet::build(options, info, std::move(heights), classifyDem(*reader).value(), progress);
+    auto built = VipmChunkSet::build(options, info, std::move(heights),
+                                     classifyDem(*reader).value(), progress);
     return built ? std::make_unique<VipmChunkSet>(std::move(*built))
                  : std::unique_ptr<VipmChunkSet>();
   }();

@@ -95,6 +95,10 @@ Result<BuildOptions> rebuildOptions(const TilesetReader& tileset, const EditArgs
   if (from != "classification" && args.materials.empty())
     return makeError(args.tileset, "was built with --materials " + from +
                                        ": give that raster again with --materials");
+  if (from == "classification" && !args.materials.empty())
+    return makeError(args.tileset,
+                     "its materials were classified from the heights, not read "
+                     "from a raster: leave out --materials");
   const TilesetHeader& h = tileset.header();
   const double verticalScale = options->dem.verticalScale;
   options->dem = tilesetDemOptions(tileset);

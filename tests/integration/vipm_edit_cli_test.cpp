@@ -134,6 +134,9 @@ TEST_F(VipmEditCli, BadEditsAreOneErrorLineAndLeaveTheTilesetAsItWas) {
   expectRefused({"edit", mTileset, "--script", script, "--source", testData("crater_lake_0513.bt")},
                 "crater_lake_0513.bt: is 513x513 samples but");
 
+  expectRefused({"edit", mTileset, "--script", script, "--materials", mDem},
+                mTileset + ": its materials were classified from the heights");
+
   // A tileset whose source is nowhere to be found, and a static tileset.
   fs::create_directory(mDir.file("elsewhere"));
   const std::string moved = mDir.file("elsewhere/t.tlod");

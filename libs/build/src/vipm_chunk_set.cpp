@@ -25,7 +25,6 @@ int32_t pointsFrom(int32_t first, int32_t cells, int32_t side) {
   return std::min(side, cells - first) + 1;
 }
 
-
 // The height range of root (rx, ry)'s grid points.
 double rootRange(const Heightfield& h, const TreeLayout& layout, int32_t rx, int32_t ry) {
   const int32_t x0 = rx * kRoot, y0 = ry * kRoot;
@@ -361,7 +360,9 @@ VipmChunkSet::VipmChunkSet(VipmChunkSet&&) noexcept = default;
 VipmChunkSet& VipmChunkSet::operator=(VipmChunkSet&&) noexcept = default;
 VipmChunkSet::~VipmChunkSet() = default;
 
-const std::vector<NodeRecord>& VipmChunkSet::nodes() const { return mState->nodes; }
+const std::vector<NodeRecord>& VipmChunkSet::nodes() const {
+  return mState->nodes;
+}
 
 NodeBytes VipmChunkSet::nodeBytes(uint32_t node) const {
   const VipmChunkSetState& s = *mState;
@@ -374,10 +375,20 @@ NodeBytes VipmChunkSet::nodeBytes(uint32_t node) const {
   return b;
 }
 
-const std::vector<TerrainEdit>& VipmChunkSet::edits() const { return mState->options.edits; }
-double VipmChunkSet::zStep() const { return mState->zStep; }
-double VipmChunkSet::rootLevelError() const { return mState->rootLevelError; }
-const MaterialMap& VipmChunkSet::materials() const { return mState->materials; }
-const BuildSummary& VipmChunkSet::summary() const { return mState->summary; }
+const std::vector<TerrainEdit>& VipmChunkSet::edits() const {
+  return mState->options.edits;
+}
+double VipmChunkSet::zStep() const {
+  return mState->zStep;
+}
+double VipmChunkSet::rootLevelError() const {
+  return mState->rootLevelError;
+}
+const MaterialMap& VipmChunkSet::materials() const {
+  return mState->materials;
+}
+const BuildSummary& VipmChunkSet::summary() const {
+  return mState->summary;
+}
 
 }  // namespace terralod

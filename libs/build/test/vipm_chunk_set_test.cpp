@@ -26,7 +26,8 @@ Source crater() {
   Source s;
   s.info = reader->info();
   s.heights = Heightfield(s.info.columns, s.info.rows);
-  EXPECT_TRUE(reader->readWindow(0, 0, s.info.columns, s.info.rows, s.heights.values().data()).ok());
+  EXPECT_TRUE(
+      reader->readWindow(0, 0, s.info.columns, s.info.rows, s.heights.values().data()).ok());
   s.materials = classifyDem(*reader).value();
   return s;
 }
@@ -41,7 +42,8 @@ BuildOptions options() {
 TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   const Source source = crater();
   NullProgress progress;
-  auto set = VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
+  auto set =
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
   ASSERT_TRUE(set.ok()) << set.error().message;
   const std::vector<NodeRecord> recordsBefore = set->nodes();
   std::vector<NodeBytes> bytesBefore;
@@ -58,13 +60,13 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   // The same strokes applied to the source before building.
   Source edited = source;
   applyHeightEdits(strokes, edited.info.spacingX, edited.info.spacingY, edited.heights);
-  ASSERT_TRUE(applyPaintEdits(strokes, edited.info.spacingX, edited.info.spacingY,
-                              edited.materials, "crater")
+  ASSERT_TRUE(applyPaintEdits(strokes, edited.info.spacingX, edited.info.spacingY, edited.materials,
+                              "crater")
                   .ok());
   BuildOptions withStrokes = options();
   withStrokes.edits = strokes;
-  auto fresh = VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials,
-                                   progress);
+  auto fresh =
+      VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials, progress);
   ASSERT_TRUE(fresh.ok()) << fresh.error().message;
   EXPECT_EQ(fresh->rootLevelError(), set->rootLevelError());
   for (uint32_t i = 0; i < recordsBefore.size(); ++i) {
@@ -84,19 +86,20 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
 TEST(VipmChunkSet, ARefusedStrokeChangesNothing) {
   const Source source = crater();
   NullProgress progress;
-  auto set = VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
+  auto set =
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
   ASSERT_TRUE(set.ok());
   const NodeBytes before = set->nodeBytes(20);
-  auto refused = set->apply(
-      std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 50.0, 0},
-                               {Brush::kPaint, 9000.0, 12000.0, 500.0, 0.0, 99}},
-      2);
+  auto refused =
+      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 50.0, 0},
+                                          {Brush::kPaint, 9000.0, 12000.0, 500.0, 0.0, 99}},
+                 2);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("paints material 99"), std::string::npos);
   // A raise that makes one root's relief too tall for 16-bit heights at a step of at most
   // --max-error (65,000 steps of 1 m).
-  auto tooTall = set->apply(
-      std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 70000.0, 0}}, 2);
+  auto tooTall =
+      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 70000.0, 0}}, 2);
   ASSERT_FALSE(tooTall.ok());
   EXPECT_NE(tooTall.error().message.find("too fine for 16-bit heights"), std::string::npos);
   EXPECT_TRUE(set->edits().empty());

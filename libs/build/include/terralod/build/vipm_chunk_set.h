@@ -31,8 +31,7 @@ class VipmChunkSet {
   /// (paint applied) with `options` (zStep, rules, blot error, compression; options.reuse:
   /// chunks kept). Fails when the heights' relief needs a step coarser than --max-error.
   static Result<VipmChunkSet> build(const BuildOptions& options, const DemInfo& info,
-                                    Heightfield heights, MaterialMap materials,
-                                    Progress& progress);
+                                    Heightfield heights, MaterialMap materials, Progress& progress);
   VipmChunkSet(VipmChunkSet&&) noexcept;
   VipmChunkSet& operator=(VipmChunkSet&&) noexcept;
   ~VipmChunkSet();
