@@ -290,16 +290,8 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
   VipmChunkSetState& s = *mState;
   const std::vector<TerrainEdit> list(strokes.begin(), strokes.end());
   const double sx = s.info.spacingX, sy = s.info.spacingY;
-  // Refused paint leaves the set as it was: check every stroke's material first.
-  for (size_t i = 0; i < list.size(); ++i) {
-    const auto& known = s.materials.materials;
-    if (list[i].brush == Brush::kPaint &&
-        std::none_of(known.begin(), known.end(),
-                     [&](const Material& m) { return m.id == list[i].material; })) {
-      MaterialMap probe{1, 1, {0}, known};
-      return applyPaintEdits({list[i]}, 1.0, 1.0, probe, s.info.path).error();
-    }
-  }
+  // Refused paint leaves the set as it was.
+  if (Status ok = checkPaintMaterials(list, s.materials, s.info.path); !ok) return ok.error();
   // The heights the strokes touch, to put back if the relief outgrows the height step.
   std::vector<std::pair<GridWindow, std::vector<float>>> saved;
   for (const TerrainEdit& e : list) {

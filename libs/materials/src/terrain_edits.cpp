@@ -83,21 +83,31 @@ void applyHeightEdits(const std::vector<TerrainEdit>& edits, double sx, double s
   }
 }
 
-Status applyPaintEdits(const std::vector<TerrainEdit>& edits, double sx, double sy,
-                       MaterialMap& materials, const std::string& subject) {
+Status checkPaintMaterials(const std::vector<TerrainEdit>& edits, const MaterialMap& materials,
+                           const std::string& subject) {
   for (size_t i = 0; i < edits.size(); ++i) {
     const TerrainEdit& e = edits[i];
+    if (e.brush != Brush::kPaint ||
+        std::any_of(materials.materials.begin(), materials.materials.end(),
+                    [&](const Material& m) { return m.id == e.material; }))
+      continue;
+    std::string known;
+    for (const Material& m : materials.materials)
+      known += (known.empty() ? "" : ", ") + std::to_string(m.id) + " " + m.name;
+    return makeError(subject, "edit " + std::to_string(i) + " paints material " +
+                                  std::to_string(e.material) +
+                                  ", which the tileset does not have (" + known + ")");
+  }
+  return {};
+}
+
+Status applyPaintEdits(const std::vector<TerrainEdit>& edits, double sx, double sy,
+                       MaterialMap& materials, const std::string& subject) {
+  if (Status s = checkPaintMaterials(edits, materials, subject); !s) return s;
+  for (const TerrainEdit& e : edits) {
     if (e.brush != Brush::kPaint) continue;
     const auto found = std::find_if(materials.materials.begin(), materials.materials.end(),
                                     [&](const Material& m) { return m.id == e.material; });
-    if (found == materials.materials.end()) {
-      std::string known;
-      for (const Material& m : materials.materials)
-        known += (known.empty() ? "" : ", ") + std::to_string(m.id) + " " + m.name;
-      return makeError(subject, "edit " + std::to_string(i) + " paints material " +
-                                    std::to_string(e.material) +
-                                    ", which the tileset does not have (" + known + ")");
-    }
     const uint8_t index = uint8_t(found - materials.materials.begin());
     const GridWindow w = editWindow(e, sx, sy, materials.columns, materials.rows);
     if (w.empty()) continue;

@@ -48,7 +48,11 @@ double brushWeight(double distance, double radius);
 void applyHeightEdits(const std::vector<TerrainEdit>& edits, double spacingX, double spacingY,
                       Heightfield& heights);
 
-/// Fails (naming `subject`) when a paint stroke names a material id the map does not have.
+/// Fails (naming `subject`) when a paint stroke names a material id `materials` does not have.
+Status checkPaintMaterials(const std::vector<TerrainEdit>& edits, const MaterialMap& materials,
+                           const std::string& subject);
+
+/// checkPaintMaterials, then the paint strokes (nothing is painted when it fails).
 Status applyPaintEdits(const std::vector<TerrainEdit>& edits, double spacingX, double spacingY,
                        MaterialMap& materials, const std::string& subject);
 
