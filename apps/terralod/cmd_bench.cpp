@@ -5,9 +5,12 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "bench_editor.h"
 #include "cli_checks.h"
 #include "commands.h"
+#include "edit_source.h"
 #include "render_options.h"
+#include "terralod/build/vipm_builder.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/measure/bench_report.h"
 #include "terralod/measure/bench_summary.h"
@@ -21,10 +24,31 @@ namespace {
 struct BenchCommand {
   RenderOptions options;
   std::string source;
+  std::string editScript, editSource;
+  size_t editEvery = 60;
   std::string jsonPath;
   std::string reportDir;
   int metricStride = 0;
 };
+
+// The editor of bench --edit-script: the tileset's chunk set (its source read again, every
+// chunk kept from the tileset) and the script's strokes.
+Result<std::unique_ptr<BenchEditor>> benchEditor(const BenchCommand& b,
+                                                 const TilesetReader& tileset) {
+  if (!b.source.empty())
+    return Error{
+        "--edit-script and --source exclude each other (the metrics would count the "
+        "strokes as error); the edit's source is --edit-source"};
+  auto strokes = readEditScript(b.editScript);
+  if (!strokes) return strokes.error();
+  auto options = editSourceOptions(tileset, {b.options.tileset, b.editSource, "", "", 0});
+  if (!options) return options.error();
+  options->reuse = b.options.tileset;  // every chunk kept: the set is the tileset
+  TerminalProgress progress;
+  auto set = openVipmChunkSet(*options, progress);
+  if (!set) return set.error();
+  return std::make_unique<BenchEditor>(std::move(*set), std::move(*strokes), b.editEvery);
+}
 
 int runBench(const BenchCommand& b) {
   if (b.options.flightFile.empty() && !b.options.autoFlight)
@@ -46,6 +70,12 @@ int runBench(const BenchCommand& b) {
     if (!loaded) return fail(loaded.error().message);
     source = std::move(loaded).value();
   }
+  std::unique_ptr<BenchEditor> editor;
+  if (!b.editScript.empty()) {
+    auto made = benchEditor(b, **tileset);
+    if (!made) return fail(made.error().message);
+    editor = std::move(*made);
+  }
   auto context = GlContext::createHeadless();
   if (!context) return fail(context.error().message);
   // Streaming, as an application would run: frames never wait for data.
@@ -63,6 +93,10 @@ int runBench(const BenchCommand& b) {
   flightOptions.source = source ? &*source : nullptr;
   flightOptions.metricStride = b.metricStride;
   flightOptions.keepFrames = b.reportDir.empty() ? 0 : kReportSheetFrames;
+  if (editor)
+    flightOptions.beforeFrame = [&editor](size_t frame, TerrainScene& s) {
+      return editor->beforeFrame(frame, s);
+    };
   BenchRunInfo info;
   info.tileset = b.options.tileset;
   info.gl = (*context)->description();
@@ -73,7 +107,8 @@ int runBench(const BenchCommand& b) {
   auto run = runBenchFlight(scene, *cameras, flightOptions, info, progress);
   if (!run) return fail(run.error().message);
   const BenchFlightResult* flight = &run->flight;
-  const nlohmann::json& j = run->summary;
+  nlohmann::json& j = run->summary;
+  if (editor) editor->addFigures(j);
   if (!b.reportDir.empty())
     if (Status s = writeBenchReport(b.reportDir, *flight, j, commandLine()); !s)
       return fail(s.error().message);
@@ -92,6 +127,11 @@ int runBench(const BenchCommand& b) {
                 j["max_error_px"].get<double>(), j["max_pop_px"].get<double>(),
                 (unsigned long long)j["holes_total"].get<uint64_t>(),
                 j["image_pop_mean"].get<double>());
+  if (editor)
+    std::printf("; %llu strokes swapped in, latency p50 %.0f ms (%.0f frames), max %.0f ms",
+                (unsigned long long)j["edit_swapped"].get<uint64_t>(),
+                j["edit_latency_ms_p50"].get<double>(), j["edit_latency_frames_p50"].get<double>(),
+                j["edit_latency_ms_max"].get<double>());
   if (j.contains("material_pop_px"))
     std::printf("; material pop %.0f px", j["material_pop_px"].get<double>());
   std::printf("\nterralod: wrote %s\n", b.jsonPath.c_str());
@@ -115,6 +155,16 @@ void addBenchCommand(CLI::App& root, Runner& run) {
                   "With --source: measure every k-th sample in x and y (default: every sample up "
                   "to 4097 a side, ceil(side / 4097) above)")
       ->check(wholeNumber<int>(1));
+  cmd->add_option("--edit-script", b->editScript,
+                  "VIPM tilesets: apply the strokes of this edit script (terralod edit) during "
+                  "the flight, one every --edit-every frames, regenerating on a worker thread and "
+                  "swapping the chunks in while drawing; reports edit_latency_ms (stroke to "
+                  "its chunks drawn)");
+  cmd->add_option("--edit-every", b->editEvery, "Frames between strokes (default 60)")
+      ->check(wholeNumber<size_t>(1));
+  cmd->add_option("--edit-source", b->editSource,
+                  "The raster the tileset was built from, for --edit-script (default: the file "
+                  "its metadata names, next to it or in the current directory)");
   cmd->add_option("--json", b->jsonPath, "Where to write the figures (JSON)")->required();
   cmd->add_option("--report", b->reportDir,
                   "Also write a report to this directory: report.md with the figures, plots of "

@@ -2,56 +2,23 @@
 // is rebuilt from its source with every recorded stroke and the new ones applied, and replaces
 // the old file only once complete (an interrupted edit leaves the old tileset as it was).
 #include <cstdio>
-#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "cli_checks.h"
 #include "commands.h"
-#include "terralod/build/vipm_rebuild.h"
+#include "edit_source.h"
 #include "terralod/format/terrain_edits_json.h"
 #include "terralod/materials/terrain_edits.h"
-#include "terralod/verify/verifier.h"
 
 namespace terralod::cli {
 namespace {
-
-namespace fs = std::filesystem;
 
 struct EditArgs {
   std::string tileset, script, source, materials, palette;
   unsigned threads = 0;
   bool rebuildAll = false;
 };
-
-Result<std::vector<TerrainEdit>> readScript(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return makeError(path, "cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  auto edits = parseTerrainEditScript(text.str(), path);
-  if (!edits) return edits;
-  if (edits->empty()) return makeError(path, "\"edits\" is empty: nothing to do");
-  return edits;
-}
-
-// The source the tileset was built from: --source, else the file its metadata names, next to
-// the tileset or in the current directory.
-Result<std::string> findSource(const TilesetReader& tileset, const EditArgs& args) {
-  if (!args.source.empty()) return args.source;
-  const std::string& name = tileset.metadata().sourceFile;
-  const std::string need =
-      "edit needs the source's full-resolution heights (the chunks keep simplified meshes): "
-      "give --source DEM";
-  if (name.empty()) return makeError(args.tileset, need);
-  for (const fs::path& dir : {fs::path(args.tileset).parent_path(), fs::current_path()}) {
-    std::error_code ec;
-    if (fs::is_regular_file(dir / name, ec)) return (dir / name).string();
-  }
-  return makeError(args.tileset, need + " (" + name +
-                                     ", which it was built from, is neither next to it nor in "
-                                     "the current directory)");
-}
 
 // Every stroke touches the data, and paints a material the tileset has.
 Status checkStrokes(const std::vector<TerrainEdit>& edits, const TilesetReader& tileset,
@@ -87,38 +54,11 @@ Status checkStrokes(const std::vector<TerrainEdit>& edits, const TilesetReader& 
 // The build options that rebuild the tileset with `edits` added.
 Result<BuildOptions> rebuildOptions(const TilesetReader& tileset, const EditArgs& args,
                                     const std::vector<TerrainEdit>& edits) {
-  auto options = recordedVipmBuildOptions(tileset);
+  auto options = editSourceOptions(
+      tileset, {args.tileset, args.source, args.materials, args.palette, args.threads});
   if (!options) return options;
-  auto source = findSource(tileset, args);
-  if (!source) return source.error();
-  const std::string& from = tileset.metadata().materialsSource;
-  if (from != "classification" && args.materials.empty())
-    return makeError(args.tileset, "was built with --materials " + from +
-                                       ": give that raster again with --materials");
-  if (from == "classification" && !args.materials.empty())
-    return makeError(args.tileset,
-                     "its materials were classified from the heights, not read "
-                     "from a raster: leave out --materials");
-  const TilesetHeader& h = tileset.header();
-  const double verticalScale = options->dem.verticalScale;
-  options->dem = tilesetDemOptions(tileset);
-  options->dem.verticalScale = verticalScale;
-  auto dem = DemReader::open(*source, options->dem);
-  if (!dem) return dem.error();
-  const DemInfo& info = (*dem)->info();
-  if (uint32_t(info.columns) != h.sourceColumns || uint32_t(info.rows) != h.sourceRows)
-    return makeError(*source, "is " + std::to_string(info.columns) + "x" +
-                                  std::to_string(info.rows) + " samples but " + args.tileset +
-                                  " was built from " + std::to_string(h.sourceColumns) + "x" +
-                                  std::to_string(h.sourceRows));
-  if (info.spacingX != h.spacingX || info.spacingY != h.spacingY)  // built with --spacing
-    options->dem.spacing = std::array<double, 2>{h.spacingX, h.spacingY};
-  options->input = *source;
   options->output = args.tileset;
   if (!args.rebuildAll) options->reuse = args.tileset;  // chunks no stroke reaches are kept
-  options->materialsPath = args.materials;
-  options->palettePath = args.palette;
-  options->threads = args.threads;
   options->edits.insert(options->edits.end(), edits.begin(), edits.end());
   return options;
 }
@@ -126,7 +66,7 @@ Result<BuildOptions> rebuildOptions(const TilesetReader& tileset, const EditArgs
 int runEdit(const EditArgs& args) {
   if (args.tileset.starts_with("http://") || args.tileset.starts_with("https://"))
     return fail(args.tileset + ": edit rewrites a local file, not a URL");
-  auto edits = readScript(args.script);
+  auto edits = readEditScript(args.script);
   if (!edits) return fail(edits.error().message);
   BuildOptions options;
   {

@@ -130,34 +130,69 @@ double BlotError::leafError(double maxError) const {
   return std::numeric_limits<double>::infinity();
 }
 
-Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
-                                      const std::function<void(const std::string&)>& warn) {
+namespace {
+
+// What the chunks are made of: the DEM whole (voids filled, edits applied) and its materials.
+struct SourceData {
+  DemInfo info;
+  Heightfield heights;
+  MaterialMap materials;
+};
+
+Result<SourceData> readSource(const BuildOptions& options, Progress& progress,
+                              BuildSummary& summary,
+                              const std::function<void(const std::string&)>& warn) {
   const auto start = Clock::now();
   if (Status s = checkOptions(options); !s) return s.error();
-  BuildSummary summary;
   auto opened = DemReader::open(options.input, options.dem);
   if (!opened) return opened.error();
   const DemReader& reader = **opened;
-  const DemInfo& info = reader.info();
-  summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
-  const TreeLayout layout = vipmTreeLayout(info);
+  SourceData source;
+  source.info = reader.info();
+  summary.sourceSamples = uint64_t(source.info.columns) * uint64_t(source.info.rows);
+  const TreeLayout layout = vipmTreeLayout(source.info);
   if (layout.rootsX > 4096 || layout.rootsY > 4096)
-    return makeError(info.path, "is too large for a VIPM tileset (at most 524288 cells a side)");
-  auto writer = TilesetWriter::create(options.output);  // fail on it before any work
-  if (!writer) return writer.error();
-
+    return makeError(source.info.path,
+                     "is too large for a VIPM tileset (at most 524288 cells a side)");
   auto heights = readDem(reader, options, progress, summary);
   if (!heights) return heights.error();
+  source.heights = std::move(*heights);
   summary.loadSeconds = secondsSince(start);
   auto materials = readMaterials(reader, options, progress);
   if (!materials) return materials.error();
-  summary.materials = uint32_t(materials->materials.size());
-  warnAboutSource(info, warn);
+  source.materials = std::move(*materials);
+  summary.materials = uint32_t(source.materials.materials.size());
+  warnAboutSource(source.info, warn);
+  return source;
+}
+
+}  // namespace
+
+Result<VipmChunkSet> openVipmChunkSet(const BuildOptions& options, Progress& progress) {
+  BuildSummary summary;
+  auto source = readSource(options, progress, summary, [](const std::string&) {});
+  if (!source) return source.error();
+  return VipmChunkSet::build(options, source->info, std::move(source->heights),
+                             std::move(source->materials), progress);
+}
+
+Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
+                                      const std::function<void(const std::string&)>& warn) {
+  const auto start = Clock::now();
+  BuildSummary summary;
+  // Fail on the output before any work.
+  if (Status s = checkOptions(options); !s) return s.error();
+  auto writer = TilesetWriter::create(options.output);
+  if (!writer) return writer.error();
+  auto source = readSource(options, progress, summary, warn);
+  if (!source) return source.error();
+  const DemInfo& info = source->info;
+  const TreeLayout layout = vipmTreeLayout(info);
 
   // Stage: the chunks.
   const auto meshStart = Clock::now();
-  auto set =
-      VipmChunkSet::build(options, info, std::move(*heights), std::move(*materials), progress);
+  auto set = VipmChunkSet::build(options, info, std::move(source->heights),
+                                 std::move(source->materials), progress);
   if (!set) return set.error();
   const BuildSummary& built = set->summary();
   summary.collapses = built.collapses;

@@ -195,6 +195,8 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
   size_t nextKept = 0;
   progress.begin("flying", cameras.size());
   for (size_t i = 0; i < cameras.size(); ++i) {
+    if (options.beforeFrame)
+      if (Status s = options.beforeFrame(i, scene); !s) return frameError(i, s.error());
     auto view = makeView(cameras[i]);
     if (!view) return frameError(i, view.error());
     if (Status s = bindFramebufferOfSize(target, view->camera.width, view->camera.height); !s)

@@ -175,4 +175,12 @@ DrawStats TerrainScene::drawVipmMaterials(const View& view, std::span<const Vipm
   return stats;
 }
 
+void TerrainScene::replaceNodes(std::vector<NodeReplacement> nodes,
+                                std::span<const double> levelErrors) {
+  for (const NodeReplacement& n : nodes) mTree.updateNode(n.node, n.record);
+  for (size_t level = 0; level < levelErrors.size(); ++level)
+    mTree.setLevelError(uint32_t(level), levelErrors[level]);
+  mDriver->replaceNodes(std::move(nodes));
+}
+
 }  // namespace terralod

@@ -70,7 +70,7 @@ VipmChunkKind::~VipmChunkKind() = default;
 
 Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
-  const NodeRecord& record = mTileset.nodes()[blob.node];
+  const NodeRecord& record = blob.record;  // an edit's, when the node was replaced
   const auto start = std::chrono::steady_clock::now();
   auto decoded =
       decodeVipmPayload(blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),

@@ -33,4 +33,15 @@ ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> no
   mRootCells = int32_t(header.rootCells);
 }
 
+void ChunkTree::updateNode(uint32_t i, const NodeRecord& r) {
+  ChunkNode& n = mNodes[i];
+  n.box.min[2] = double(r.minZ);
+  n.box.max[2] = double(r.maxZ);
+  n.skirtBottom = double(r.minZ) - double(r.maxSkirtDepth);
+  n.triangleCount = r.triangleCount;
+  n.skirtTriangleCount = r.skirtTriangleCount;
+  mExtent.min[2] = std::min(mExtent.min[2], double(r.minZ));
+  mExtent.max[2] = std::max(mExtent.max[2], double(r.maxZ));
+}
+
 }  // namespace terralod

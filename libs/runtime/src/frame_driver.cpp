@@ -28,14 +28,21 @@ FrameDriver::FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, Ch
   mOccluders.resize(mTree.nodes().size());
   // Runs on loader threads: reads the node's bytes and has its kind decode them. Touches
   // only the reader (thread-safe) and the kinds' decode (thread-safe by contract).
-  auto load = [reader = &mTileset, tree = &mTree,
-               kinds = &mKinds](uint32_t node) -> Result<LoadedChunk> {
-    auto bytes = reader->readNode(node);
-    if (!bytes) return bytes.error();
+  auto load = [reader = &mTileset, tree = &mTree, kinds = &mKinds,
+               replacements = mReplacements](uint32_t node) -> Result<LoadedChunk> {
+    std::shared_ptr<const NodeReplacement> replaced;
+    {
+      std::lock_guard lock(replacements->mutex);
+      if (auto it = replacements->nodes.find(node); it != replacements->nodes.end())
+        replaced = it->second;
+    }
     const ChunkKind* kind = kinds->find(tree->node(node).meshKind);  // checked by create()
-    auto loaded = kind->decode(ChunkBlob{node, *bytes, reader->name()});
+    Result<NodeBytes> read = replaced ? Result<NodeBytes>(replaced->bytes) : reader->readNode(node);
+    if (!read) return read.error();
+    auto loaded = kind->decode(ChunkBlob{node, *read, reader->name(),
+                                         replaced ? replaced->record : reader->nodes()[node]});
     if (!loaded) return loaded.error();
-    loaded->bytesRead = bytes->bytes.size();
+    loaded->bytesRead = replaced ? 0 : read->bytes.size();
     if (!loaded->occluders.empty()) loaded->bytes += loaded->occluders.bytes();
     return loaded;
   };
@@ -83,7 +90,10 @@ void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
     }
     const uint64_t bytes = kind.upload(chunk.node, *chunk.chunk.payload);
     const OccluderGrid& grid = chunk.chunk.occluders;
-    residency.markResident(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
+    if (chunk.refresh)
+      residency.markRefreshed(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
+    else
+      residency.markResident(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
     keepOccluders(chunk.node, std::move(chunk.chunk.occluders));
     ++stats.uploads;
   }
@@ -177,6 +187,17 @@ UpdateStats FrameDriver::update(const View& view, const SelectionOptions& select
 HorizonCullingStats FrameDriver::cullHidden(const View& view, std::span<const SelectedChunk> chunks,
                                             double nearPlane, std::vector<SelectedChunk>& visible) {
   return mCuller.cull(mTree, view, chunks, nearPlane, visible, mOccluders);
+}
+
+void FrameDriver::replaceNodes(std::vector<NodeReplacement> nodes) {
+  for (NodeReplacement& r : nodes) {
+    const uint32_t node = r.node;
+    {
+      std::lock_guard lock(mReplacements->mutex);
+      mReplacements->nodes[node] = std::make_shared<const NodeReplacement>(std::move(r));
+    }
+    mResidency->invalidate(node);
+  }
 }
 
 void FrameDriver::keepOccluders(uint32_t node, OccluderGrid grid) {

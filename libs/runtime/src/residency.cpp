@@ -55,6 +55,19 @@ std::vector<ReadyChunk> Residency::collect() {
   for (Finished& f : done) {
     Node& n = mNodes[f.node];
     --mInFlight;
+    if (f.refresh) {
+      // Kept only while the node is still resident (an evicted one reloads the new bytes).
+      n.refreshing = false;
+      if (!f.result) {
+        if (mLog) mLog(f.result.error().message);
+        ++mCounters.failures;
+      } else if (n.state == ChunkState::kResident) {
+        mCounters.bytesRead += f.result->bytesRead;
+        addBytes(int64_t(f.result->bytes));
+        mReady.push_back({f.node, std::move(f.result).value(), true});
+      }
+      continue;
+    }
     if (f.result) {
       n.state = ChunkState::kReady;
       n.failures = 0;
@@ -142,10 +155,14 @@ std::vector<uint32_t> Residency::evict() {
         keep.push_back(std::move(r));
         continue;
       }
-      mNodes[r.node].state = ChunkState::kAbsent;
-      adjustParent(r.node, -1);
       addBytes(-int64_t(r.chunk.bytes));
       ++mCounters.discarded;
+      if (r.refresh) {  // the node stays resident with its old payload: decode it again later
+        invalidate(r.node);
+        continue;
+      }
+      mNodes[r.node].state = ChunkState::kAbsent;
+      adjustParent(r.node, -1);
     }
     mReady.swap(keep);
   }
@@ -166,6 +183,13 @@ std::vector<uint32_t> Residency::evict() {
     mDrawable[i] = 0;
     addBytes(-int64_t(n.gpuBytes));
     n.gpuBytes = 0;
+    n.stale = false;  // it loads the new bytes when next wanted
+    // A refresh of it waiting for its upload has nothing left to replace.
+    std::erase_if(mReady, [&](const ReadyChunk& r) {
+      if (r.node != i || !r.refresh) return false;
+      addBytes(-int64_t(r.chunk.bytes));
+      return true;
+    });
     adjustParent(i, -1);
     ++mCounters.evictions;
     evicted.push_back(i);
@@ -189,20 +213,68 @@ void Residency::dispatch() {
     const uint32_t node = mQueue[started++];
     mNodes[node].state = ChunkState::kLoading;
     adjustParent(node, +1);
-    ++mInFlight;
-    {
-      std::lock_guard lock(*mDoneMutex);
-      ++*mRunning;
-    }
-    mRunner.post([load = &mLoad, node, doneMutex = mDoneMutex, done = mDone, running = mRunning] {
-      Result<LoadedChunk> result = (*load)(node);
-      std::lock_guard lock(*doneMutex);
-      done->push_back({node, std::move(result)});
-      --*running;
-    });
+    post(node, false);
   }
   mQueue.erase(mQueue.begin(), mQueue.begin() + std::ptrdiff_t(started));
+  startRefreshes();
   ++mFrame;
+}
+
+void Residency::post(uint32_t node, bool refresh) {
+  ++mInFlight;
+  {
+    std::lock_guard lock(*mDoneMutex);
+    ++*mRunning;
+  }
+  mRunner.post(
+      [load = &mLoad, node, refresh, doneMutex = mDoneMutex, done = mDone, running = mRunning] {
+        Result<LoadedChunk> result = (*load)(node);
+        std::lock_guard lock(*doneMutex);
+        done->push_back({node, std::move(result), refresh});
+        --*running;
+      });
+}
+
+void Residency::invalidate(uint32_t node) {
+  Node& n = mNodes[node];
+  if (!n.stale) mStale.push_back(node);
+  n.stale = true;
+}
+
+size_t Residency::stale() const {
+  return size_t(std::count_if(mStale.begin(), mStale.end(),
+                              [&](uint32_t i) { return mNodes[i].stale || mNodes[i].refreshing; }));
+}
+
+void Residency::startRefreshes() {
+  // Resident: decode again (beside the loads: an edit's chunks come back promptly). Loading
+  // or ready: wait until resident. Otherwise the next load reads the new bytes.
+  std::erase_if(mStale, [&](uint32_t i) {
+    Node& n = mNodes[i];
+    switch (n.state) {
+      case ChunkState::kResident:
+        if (n.stale && !n.refreshing) {
+          n.stale = false;
+          n.refreshing = true;
+          post(i, true);
+        }
+        return !n.stale && !n.refreshing;
+      case ChunkState::kLoading:
+      case ChunkState::kReady:
+        return false;
+      default:
+        n.stale = false;
+        return !n.refreshing;
+    }
+  });
+}
+
+void Residency::markRefreshed(const ReadyChunk& chunk, uint64_t gpuBytes) {
+  assert(chunk.refresh && mNodes[chunk.node].state == ChunkState::kResident);
+  Node& n = mNodes[chunk.node];
+  addBytes(-int64_t(chunk.chunk.bytes));
+  addBytes(int64_t(gpuBytes) - int64_t(n.gpuBytes));
+  n.gpuBytes = gpuBytes;
 }
 
 }  // namespace terralod

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -80,13 +81,17 @@ class RecordingBackend {
 
 struct BlobPayload final : ChunkPayload {
   uint32_t node = 0;
+  uint8_t filler = 0;  ///< the blob's first filler byte (a replaced node's tells its version)
 };
 
-inline std::vector<uint8_t> blobFor(uint32_t node) {
-  std::vector<uint8_t> b(8 + kBlobPayloadBytes, uint8_t(node * 31));
+inline std::vector<uint8_t> blobFor(uint32_t node, uint8_t filler) {
+  std::vector<uint8_t> b(8 + kBlobPayloadBytes, filler);
   std::memcpy(b.data(), "BLOB", 4);
   std::memcpy(b.data() + 4, &node, 4);
   return b;
+}
+inline std::vector<uint8_t> blobFor(uint32_t node) {
+  return blobFor(node, uint8_t(node * 31));
 }
 
 // Every blob's occluder grid: 2 x 2 cells at 0 m (what the driver keeps while it is resident).
@@ -110,16 +115,19 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
       return makeError(blob.tilesetName, "chunk " + std::to_string(blob.node) + " is another's");
     auto payload = std::make_unique<BlobPayload>();
     payload->node = node;
+    payload->filler = mesh[8];
     return LoadedChunk{std::move(payload), kBlobPayloadBytes, 0, blobOccluders()};
   }
   void beginFrame() override { mBackend.beginFrame(); }
   UploadRoom prepare(const ChunkPayload&) override { return UploadRoom::kReady; }
   uint64_t upload(uint32_t node, const ChunkPayload& payload) override {
     EXPECT_EQ(static_cast<const BlobPayload&>(payload).node, node);
+    uploadedFiller[node] = static_cast<const BlobPayload&>(payload).filler;
     mBackend.upload(node);
     return kBlobPayloadBytes;
   }
   void release(uint32_t node) override { mBackend.release(node); }
+  std::map<uint32_t, uint8_t> uploadedFiller;  ///< per node: its last upload's
   void addDraws(RecordedFrame& frame, std::span<const SelectedChunk> chunks) override {
     frame.draws.insert(frame.draws.end(), chunks.begin(), chunks.end());
     mBackend.draw(chunks);

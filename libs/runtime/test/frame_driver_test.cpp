@@ -222,3 +222,89 @@ TEST(KindRuns, GroupsAMixedSelectionByKindInSelectionOrder) {
 
 }  // namespace
 }  // namespace terralod
+
+namespace terralod {
+namespace {
+
+// An edit's nodes (replaceNodes): resident ones are decoded again on the loader threads and
+// swapped in by a later update while their old payload keeps being drawn; absent ones load
+// the new bytes when wanted; every replaced node's last upload is its new bytes.
+TEST(FrameDriver, ReplacedNodesAreSwappedInWhileTheOldOnesAreDrawn) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_replace.tlod"), kLevels);
+  auto reader = TilesetReader::openFile(path).value();
+  const ChunkTree tree(reader->header(), reader->nodes());
+  InlineRunner runner;
+  FakeClock clock(&runner);
+  RecordingBackend backend(clock);
+  BlobKind kind(backend);
+  ChunkKinds kinds;
+  kinds.add(kind);
+  auto driver = FrameDriver::create(*reader, tree, kinds, runner, clock, smallBudget()).value();
+  SelectionOptions selection;
+  selection.tau = 2.0;
+  const std::vector<Camera> cameras = flightCameras(recordedFlight(tree));
+  constexpr size_t kEditFrame = 120;
+  std::vector<uint32_t> replaced, residentAtEdit;
+  size_t swappedAt = 0;
+  for (size_t f = 0; f < cameras.size(); ++f) {
+    driver->update(makeView(cameras[f]).value(), selection);
+    const Residency& r = driver->residency();
+    if (f == kEditFrame) {
+      // Every drawn node, a root, and the first node nobody has loaded.
+      std::vector<NodeReplacement> edit;
+      for (const SelectedChunk& c : driver->selected()) replaced.push_back(c.node);
+      replaced.push_back(0);
+      for (uint32_t i = 0; i < tree.nodes().size(); ++i)
+        if (r.state(i) == ChunkState::kAbsent) {
+          replaced.push_back(i);
+          break;
+        }
+      std::sort(replaced.begin(), replaced.end());
+      replaced.erase(std::unique(replaced.begin(), replaced.end()), replaced.end());
+      for (uint32_t node : replaced) {
+        NodeReplacement n;
+        n.node = node;
+        n.record = reader->nodes()[node];
+        n.bytes.bytes = blobFor(node, 0xAB);
+        n.bytes.meshBytes = uint32_t(n.bytes.bytes.size());
+        edit.push_back(std::move(n));
+        if (r.state(node) == ChunkState::kResident) residentAtEdit.push_back(node);
+      }
+      ASSERT_GT(residentAtEdit.size(), 1u);
+      ASSERT_LT(residentAtEdit.size(), replaced.size());  // one was absent
+      driver->replaceNodes(std::move(edit));
+      EXPECT_GT(driver->pendingReplacements(), 0u);
+    }
+    if (f > kEditFrame) {
+      // The drawn chunks stay drawn meanwhile (old payloads until swapped; the flight may
+      // evict a replaced node it no longer wants, which then loads the new bytes).
+      for (const SelectedChunk& c : driver->selected())
+        EXPECT_EQ(r.state(c.node), ChunkState::kResident) << "node " << c.node << " frame " << f;
+      if (swappedAt == 0 && driver->pendingReplacements() == 0) swappedAt = f;
+      if (swappedAt == 0) {
+        size_t old = 0;
+        for (uint32_t node : residentAtEdit)
+          old += r.state(node) == ChunkState::kResident && kind.uploadedFiller[node] != 0xAB;
+        EXPECT_GT(old, 0u) << "pending replacements but none left to swap, frame " << f;
+      }
+    }
+    runner.runAll();
+  }
+  ASSERT_GT(swappedAt, kEditFrame) << "the replaced nodes were never all swapped in";
+  // Decoded beside the loads, uploaded within the per-frame budget (5 uploads here, shared
+  // with the flight's own loads).
+  EXPECT_LE(swappedAt, kEditFrame + 2 + residentAtEdit.size()) << residentAtEdit.size();
+  // Every replaced node drawn since (resident now, or loaded later) shows its new bytes.
+  const Residency& r = driver->residency();
+  size_t swapped = 0;
+  for (uint32_t node : replaced)
+    if (r.state(node) == ChunkState::kResident) {
+      EXPECT_EQ(kind.uploadedFiller[node], 0xAB) << node;
+      ++swapped;
+    }
+  EXPECT_GT(swapped, 0u);
+  EXPECT_EQ(kind.uploadedFiller[0], 0xAB);  // the root: resident throughout, so swapped
+}
+
+}  // namespace
+}  // namespace terralod

@@ -13,8 +13,13 @@
 #include <string>
 
 #include "terralod/build/builder.h"
+#include "terralod/build/vipm_chunk_set.h"
 
 namespace terralod {
+
+/// The chunk set buildVipmTileset writes: the source read whole (voids filled, options.edits
+/// applied), its materials, every chunk built or kept (options.reuse). What an editor holds.
+Result<VipmChunkSet> openVipmChunkSet(const BuildOptions& options, Progress& progress);
 
 Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
                                       const std::function<void(const std::string&)>& warn);

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -64,6 +65,9 @@ struct BenchFlightOptions {
   const Heightfield* source = nullptr;  ///< measure quality against it (optional)
   int metricStride = 0;   ///< measure every k-th source sample in x and y; 0: automatic
   size_t keepFrames = 0;  ///< keep this many evenly spaced frames' images (contact sheet)
+  /// Called before each frame with its index (bench --edit-script: strokes during the
+  /// flight); a failure ends the flight with it. Empty: nothing.
+  std::function<Status(size_t frame, TerrainScene& scene)> beforeFrame;
 };
 
 struct BenchFlightResult {

@@ -110,6 +110,12 @@ class TerrainScene {
   const GpuChunkStore& store() const { return mStore; }
   const TilesetReader& tileset() const { return *mTileset; }
   const Residency& residency() const { return mDriver->residency(); }
+  /// An edit's new nodes (VipmChunkSet::apply) and the tileset's level errors now: the tree
+  /// takes their boxes at once, and the driver swaps their chunks in over the next frames
+  /// (FrameDriver::replaceNodes).
+  void replaceNodes(std::vector<NodeReplacement> nodes, std::span<const double> levelErrors);
+  /// Replaced nodes whose new chunks are not drawn yet.
+  size_t pendingReplacements() const { return mDriver->pendingReplacements(); }
   /// The chunks the last frame selected.
   const std::vector<SelectedChunk>& selected() const { return mDriver->selected(); }
   uint64_t gpuBytes() const {

@@ -36,6 +36,8 @@ struct ChunkBlob {
   uint32_t node = 0;
   const NodeBytes& bytes;          ///< read and mesh-CRC-checked by the TilesetReader
   const std::string& tilesetName;  ///< for errors: "<tileset>: chunk N ..."
+  /// The node's record as it stands: the file's, or an edit's (FrameDriver::replaceNodes).
+  const NodeRecord& record;
 };
 
 /// Whether a ready chunk can be uploaded now.

@@ -29,11 +29,17 @@ struct ChunkNode {
   uint32_t skirtTriangleCount = 0;
 };
 
-/// Immutable after construction; safe to share between threads.
+/// Safe to share between threads: only an edit changes it (updateNode, setLevelError), on
+/// the thread that selects, and loader threads read only the structure and mesh kinds.
 class ChunkTree {
  public:
   /// `header` and `nodes` must have passed the format's validation (TilesetReader does that).
   ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> nodes);
+
+  /// An edit's new record for node i: its box's heights, skirt bottom and triangle counts.
+  void updateNode(uint32_t i, const NodeRecord& record);
+  /// An edit's new level error (a VIPM tileset's roots).
+  void setLevelError(uint32_t level, double error) { mLevelError[level] = error; }
 
   const std::vector<ChunkNode>& nodes() const { return mNodes; }
   const ChunkNode& node(uint32_t i) const { return mNodes[i]; }

@@ -24,8 +24,10 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <span>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "terralod/core/result.h"
@@ -67,6 +69,13 @@ struct UpdateStats {
   uint32_t easing = 0;           ///< chunks drawn above their morph schedule (late splits)
 };
 
+/// A node's new bytes and record (an edit: VipmChunkSet::apply).
+struct NodeReplacement {
+  uint32_t node = 0;
+  NodeRecord record;
+  NodeBytes bytes;
+};
+
 class FrameDriver {
  public:
   /// Checks that every node's mesh kind is registered, then loads and uploads the roots on
@@ -82,6 +91,14 @@ class FrameDriver {
 
   /// One frame's update for `view` (see above); selected() then holds what to draw.
   UpdateStats update(const View& view, const SelectionOptions& selection);
+
+  /// Nodes whose bytes and records changed (an edit): later loads read these, and resident
+  /// ones are decoded again on the loader threads and swapped in by a later update (the old
+  /// ones are drawn until then: no frame waits for them). The tree's boxes are the caller's
+  /// (ChunkTree::updateNode).
+  void replaceNodes(std::vector<NodeReplacement> nodes);
+  /// Replaced nodes whose new bytes are not drawn yet (resident, loading or waiting).
+  size_t pendingReplacements() const { return mResidency->stale(); }
 
   /// The chunks the last update selected, with their (eased) morph parameters.
   const std::vector<SelectedChunk>& selected() const { return mSelected; }
@@ -129,6 +146,12 @@ class FrameDriver {
   uint64_t mFrame = 2;
   HorizonCuller mCuller;
   std::vector<OccluderGrid> mOccluders;  // per node, while resident
+  // Replaced nodes (read on loader threads).
+  struct Replacements {
+    std::mutex mutex;
+    std::unordered_map<uint32_t, std::shared_ptr<const NodeReplacement>> nodes;
+  };
+  std::shared_ptr<Replacements> mReplacements = std::make_shared<Replacements>();
   uint64_t mOccluderBytes = 0;
   void keepOccluders(uint32_t node, OccluderGrid grid);
 };

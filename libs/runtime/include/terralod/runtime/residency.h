@@ -72,6 +72,9 @@ struct ResidencyCounters {
 struct ReadyChunk {
   uint32_t node = 0;
   LoadedChunk chunk;
+  /// A resident chunk decoded again (invalidate): upload it in place of the one drawn, then
+  /// markRefreshed.
+  bool refresh = false;
 };
 
 class Residency {
@@ -97,6 +100,15 @@ class Residency {
   void markResident(const ReadyChunk& chunk, uint64_t gpuBytes);
   /// The same for a chunk from loadNow().
   void markLoadedNow(uint32_t node, uint64_t gpuBytes);
+  /// A refreshed chunk was uploaded in place of the old one, now holding `gpuBytes`.
+  void markRefreshed(const ReadyChunk& chunk, uint64_t gpuBytes);
+  /// The node's bytes changed (an edit): a resident chunk is decoded again on a loader thread
+  /// and comes back from collect() as a refresh (it stays drawn meanwhile); one loading or
+  /// waiting for its upload is decoded again once resident; an absent one simply loads the
+  /// new bytes when wanted.
+  void invalidate(uint32_t node);
+  /// Nodes invalidated whose new bytes are not uploaded yet (resident, loading or ready).
+  size_t stale() const;
   /// Gives a ready chunk back unused (e.g. the frame's upload budget ran out): kept for later.
   void returnReady(ReadyChunk chunk);
   /// `node` is in use this frame (drawn, or an ancestor of a drawn chunk).
@@ -124,11 +136,16 @@ class Residency {
     uint32_t failures = 0;
     uint64_t gpuBytes = 0;
     uint32_t busyChildren = 0;  // children loading, ready or resident
+    bool stale = false;         // invalidated: its drawn or coming payload has old bytes
+    bool refreshing = false;    // a refresh load is running
   };
   struct Finished {
     uint32_t node;
     Result<LoadedChunk> result;
+    bool refresh = false;
   };
+  void post(uint32_t node, bool refresh);
+  void startRefreshes();
   void adjustParent(uint32_t node, int delta);
   void addBytes(int64_t delta);
 
@@ -142,6 +159,7 @@ class Residency {
   std::vector<uint32_t> mQueue;     // queued nodes
   std::vector<uint32_t> mResident;  // resident nodes (for eviction)
   std::vector<ReadyChunk> mReady;   // loaded, not yet uploaded
+  std::vector<uint32_t> mStale;     // invalidated nodes not settled yet
   uint64_t mFrame = 1;
   size_t mInFlight = 0;
   ResidencyCounters mCounters;
