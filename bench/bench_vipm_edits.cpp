@@ -30,7 +30,7 @@ VipmChunkSet* craterSet() {
     options.threads = 2;
     NullProgress progress;
     auto built = VipmChunkSet::build(options, info, std::move(heights),
-                                     classifyDem(*reader).value(), progress);
+                                     classifyDem(*reader).value(), 0, progress);
     return built ? std::make_unique<VipmChunkSet>(std::move(*built))
                  : std::unique_ptr<VipmChunkSet>();
   }();

@@ -34,8 +34,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
         nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node)});
       s.nodes = nodes.size();
       // The roots' level error may have moved; the leaves' is --max-error.
-      const std::vector<double> levelErrors = {mSet.rootLevelError(),
-                                               scene.tree().levelError(1)};
+      const std::vector<double> levelErrors = {mSet.rootLevelError(), scene.tree().levelError(1)};
       scene.replaceNodes(std::move(nodes), levelErrors);
       s.drawnNodes = scene.pendingReplacements();
       mState = State::kSwapping;

@@ -78,5 +78,4 @@ Result<BuildOptions> editSourceOptions(const TilesetReader& tileset, const EditS
   return options;
 }
 
-
 }  // namespace terralod::cli

@@ -37,8 +37,8 @@ class VipmBenchEditCli : public ::testing::Test {
 
 TEST_F(VipmBenchEditCli, StrokesDuringAFlightAreSwappedInAndNoFrameWaits) {
   const RunResult r = runTerralod({"bench", mTileset, "--flight", mDir.file("descend.json"),
-                                   "--edit-script", mDir.file("strokes.json"), "--edit-every",
-                                   "10", "--edit-source", kDem, "--json", mDir.file("b.json")});
+                                   "--edit-script", mDir.file("strokes.json"), "--edit-every", "10",
+                                   "--edit-source", kDem, "--json", mDir.file("b.json")});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto j = nlohmann::json::parse(std::ifstream(mDir.file("b.json")));
   EXPECT_EQ(j["edit_strokes"], 2);
@@ -54,9 +54,10 @@ TEST_F(VipmBenchEditCli, StrokesDuringAFlightAreSwappedInAndNoFrameWaits) {
 }
 
 TEST_F(VipmBenchEditCli, EditsDuringAFlightAreRefusedWhereTheyCannotWork) {
-  const std::vector<std::string> bench = {"bench", mTileset, "--flight", mDir.file("descend.json"),
-                                          "--json", mDir.file("b.json"), "--edit-script",
-                                          mDir.file("strokes.json")};
+  const std::vector<std::string> bench = {"bench",         mTileset,
+                                          "--flight",      mDir.file("descend.json"),
+                                          "--json",        mDir.file("b.json"),
+                                          "--edit-script", mDir.file("strokes.json")};
   auto with = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = bench;
     args.insert(args.end(), extra.begin(), extra.end());

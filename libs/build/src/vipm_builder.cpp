@@ -173,46 +173,28 @@ Result<VipmChunkSet> openVipmChunkSet(const BuildOptions& options, Progress& pro
   auto source = readSource(options, progress, summary, [](const std::string&) {});
   if (!source) return source.error();
   return VipmChunkSet::build(options, source->info, std::move(source->heights),
-                             std::move(source->materials), progress);
+                             std::move(source->materials), summary.filledVoids, progress);
 }
 
-Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
-                                      const std::function<void(const std::string&)>& warn) {
-  const auto start = Clock::now();
-  BuildSummary summary;
-  // Fail on the output before any work.
-  if (Status s = checkOptions(options); !s) return s.error();
-  auto writer = TilesetWriter::create(options.output);
-  if (!writer) return writer.error();
-  auto source = readSource(options, progress, summary, warn);
-  if (!source) return source.error();
-  const DemInfo& info = source->info;
+namespace {
+
+// The set's blobs in node order (each followed by its texture blob, docs/format.md "Version 2:
+// textures"), header and metadata through `writer`; adds the counts to `summary`.
+Status writeChunkSet(TilesetWriter& writer, const VipmChunkSet& set, BuildSummary& summary) {
+  const DemInfo& info = set.info();
+  const BuildOptions& options = set.options();
   const TreeLayout layout = vipmTreeLayout(info);
-
-  // Stage: the chunks.
-  const auto meshStart = Clock::now();
-  auto set = VipmChunkSet::build(options, info, std::move(source->heights),
-                                 std::move(source->materials), progress);
-  if (!set) return set.error();
-  const BuildSummary& built = set->summary();
-  summary.collapses = built.collapses;
-  summary.chunkSecondsMedian = built.chunkSecondsMedian;
-  summary.chunkSecondsMax = built.chunkSecondsMax;
-  summary.reusedChunks = built.reusedChunks;
-
-  // The blobs in node order, each followed by its texture blob (docs/format.md "Version 2:
-  // textures").
-  std::vector<NodeRecord> nodes = set->nodes();
+  std::vector<NodeRecord> nodes = set.nodes();
   double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
   for (size_t i = 0; i < nodes.size(); ++i) {
     NodeRecord& n = nodes[i];
-    const NodeBytes bytes = set->nodeBytes(uint32_t(i));
-    auto offset = (*writer)->appendBlob(bytes.mesh());
+    const NodeBytes bytes = set.nodeBytes(uint32_t(i));
+    auto offset = writer.appendBlob(bytes.mesh());
     if (!offset) return offset.error();
     n.blobOffset = *offset;
     n.blobBytes = bytes.meshBytes;
     n.blobCrc = crc32Of(bytes.mesh());
-    if (auto at = (*writer)->appendBlob(bytes.texture()); !at) return at.error();
+    if (auto at = writer.appendBlob(bytes.texture()); !at) return at.error();
     n.flags |= kNodeHasTexture;
     n.textureBytes = uint32_t(bytes.texture().size());
     summary.textureBytes += n.textureBytes;
@@ -221,7 +203,6 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
     summary.vertices += n.vertexCount;
     summary.triangles += n.triangleCount;
   }
-  summary.meshSeconds = secondsSince(meshStart);
   summary.levels = 2;
   summary.chunks = nodes.size();
 
@@ -239,17 +220,50 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   header.sourceRows = uint32_t(info.rows);
   header.spacingX = info.spacingX;
   header.spacingY = info.spacingY;
-  header.levelError[0] = set->rootLevelError();
+  header.levelError[0] = set.rootLevelError();
   header.levelError[1] = options.maxError;
   header.extentMin = {0.0, 0.0, zMin};
   header.extentMax = {layout.cellsX * info.spacingX, layout.cellsY * info.spacingY, zMax};
   header.filledVoids = summary.filledVoids;
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;
-  if (Status s = (*writer)->finish(
-          header, nodes, metadataJson(info, options, summary, set->materials(), set->zStep()));
-      !s)
-    return s.error();
+  return writer.finish(header, nodes,
+                       metadataJson(info, options, summary, set.materials(), set.zStep()));
+}
+
+}  // namespace
+
+Status writeVipmTileset(const VipmChunkSet& set, const std::string& output) {
+  auto writer = TilesetWriter::create(output);
+  if (!writer) return writer.error();
+  BuildSummary summary = set.summary();
+  summary.textureBytes = summary.vertices = summary.triangles = 0;
+  return writeChunkSet(**writer, set, summary);
+}
+
+Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
+                                      const std::function<void(const std::string&)>& warn) {
+  const auto start = Clock::now();
+  BuildSummary summary;
+  // Fail on the output before any work.
+  if (Status s = checkOptions(options); !s) return s.error();
+  auto writer = TilesetWriter::create(options.output);
+  if (!writer) return writer.error();
+  auto source = readSource(options, progress, summary, warn);
+  if (!source) return source.error();
+
+  // Stage: the chunks.
+  const auto meshStart = Clock::now();
+  auto set = VipmChunkSet::build(options, source->info, std::move(source->heights),
+                                 std::move(source->materials), summary.filledVoids, progress);
+  if (!set) return set.error();
+  const BuildSummary& built = set->summary();
+  summary.collapses = built.collapses;
+  summary.chunkSecondsMedian = built.chunkSecondsMedian;
+  summary.chunkSecondsMax = built.chunkSecondsMax;
+  summary.reusedChunks = built.reusedChunks;
+  if (Status s = writeChunkSet(**writer, *set, summary); !s) return s.error();
+  summary.meshSeconds = secondsSince(meshStart);
   std::error_code ec;
   summary.fileBytes = std::filesystem::file_size(options.output, ec);
   summary.totalSeconds = secondsSince(start);

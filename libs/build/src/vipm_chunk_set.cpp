@@ -259,8 +259,9 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
 
 Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemInfo& info,
                                          Heightfield heights, MaterialMap materials,
-                                         Progress& progress) {
+                                         uint64_t filledVoids, Progress& progress) {
   auto s = std::make_unique<VipmChunkSetState>();
+  s->summary.filledVoids = filledVoids;
   s->options = options;
   s->info = info;
   s->layout = vipmTreeLayout(info);
@@ -378,6 +379,12 @@ double VipmChunkSet::rootLevelError() const {
 }
 const MaterialMap& VipmChunkSet::materials() const {
   return mState->materials;
+}
+const BuildOptions& VipmChunkSet::options() const {
+  return mState->options;
+}
+const DemInfo& VipmChunkSet::info() const {
+  return mState->info;
 }
 const BuildSummary& VipmChunkSet::summary() const {
   return mState->summary;

@@ -7,7 +7,11 @@
 
 #include <algorithm>
 
+#include <fstream>
+#include <sstream>
+
 #include "temp_dir.h"
+#include "terralod/build/vipm_builder.h"
 #include "terralod/materials/dem_classification.h"
 #include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/dem_reader.h"
@@ -43,7 +47,7 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   const Source source = crater();
   NullProgress progress;
   auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
   ASSERT_TRUE(set.ok()) << set.error().message;
   const std::vector<NodeRecord> recordsBefore = set->nodes();
   std::vector<NodeBytes> bytesBefore;
@@ -66,7 +70,7 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   BuildOptions withStrokes = options();
   withStrokes.edits = strokes;
   auto fresh =
-      VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials, progress);
+      VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials, 0, progress);
   ASSERT_TRUE(fresh.ok()) << fresh.error().message;
   EXPECT_EQ(fresh->rootLevelError(), set->rootLevelError());
   for (uint32_t i = 0; i < recordsBefore.size(); ++i) {
@@ -83,11 +87,38 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   }
 }
 
+std::string readWholeFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// What an editor writes back: the set after its strokes, as the tileset a build of the source
+// with those strokes writes, byte for byte (strokes recorded).
+TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
+  const Source source = crater();
+  NullProgress progress;
+  auto set =
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  ASSERT_TRUE(set.ok());
+  const std::vector<TerrainEdit> strokes = {{Brush::kLower, 3000.0, 9000.0, 800.0, 15.0, 0}};
+  ASSERT_TRUE(set->apply(strokes, 2).ok());
+  test::TempDir dir;
+  ASSERT_TRUE(writeVipmTileset(*set, dir.file("written.tlod")).ok());
+  BuildOptions o = options();
+  o.input = source.info.path;
+  o.output = dir.file("built.tlod");
+  o.edits = strokes;
+  ASSERT_TRUE(buildTileset(o, progress, [](const std::string&) {}).ok());
+  EXPECT_TRUE(readWholeFile(dir.file("written.tlod")) == readWholeFile(dir.file("built.tlod")));
+}
+
 TEST(VipmChunkSet, ARefusedStrokeChangesNothing) {
   const Source source = crater();
   NullProgress progress;
   auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, progress);
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
   ASSERT_TRUE(set.ok());
   const NodeBytes before = set->nodeBytes(20);
   auto refused =

@@ -21,6 +21,10 @@ namespace terralod {
 /// applied), its materials, every chunk built or kept (options.reuse). What an editor holds.
 Result<VipmChunkSet> openVipmChunkSet(const BuildOptions& options, Progress& progress);
 
+/// Writes `set` as a tileset at `output` (atomically: the file appears complete or not at all),
+/// its strokes recorded: the bytes buildVipmTileset writes for the source with those strokes.
+Status writeVipmTileset(const VipmChunkSet& set, const std::string& output);
+
 Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& progress,
                                       const std::function<void(const std::string&)>& warn);
 

@@ -30,8 +30,10 @@ class VipmChunkSet {
   /// Builds every chunk of `heights` (void-filled, options.edits applied) and `materials`
   /// (paint applied) with `options` (zStep, rules, blot error, compression; options.reuse:
   /// chunks kept). Fails when the heights' relief needs a step coarser than --max-error.
+  /// `filledVoids`: how many source samples were voids (recorded in the header).
   static Result<VipmChunkSet> build(const BuildOptions& options, const DemInfo& info,
-                                    Heightfield heights, MaterialMap materials, Progress& progress);
+                                    Heightfield heights, MaterialMap materials,
+                                    uint64_t filledVoids, Progress& progress);
   VipmChunkSet(VipmChunkSet&&) noexcept;
   VipmChunkSet& operator=(VipmChunkSet&&) noexcept;
   ~VipmChunkSet();
@@ -52,7 +54,11 @@ class VipmChunkSet {
   double zStep() const;
   double rootLevelError() const;
   const MaterialMap& materials() const;
-  /// Build figures: collapses, chunks kept, per-leaf CPU seconds (median, max) of those built.
+  /// The options it was built with, their edits every stroke applied since.
+  const BuildOptions& options() const;
+  const DemInfo& info() const;
+  /// Build figures: collapses, chunks kept, per-leaf CPU seconds (median, max) of those built,
+  /// filled voids.
   const BuildSummary& summary() const;
 
  private:
