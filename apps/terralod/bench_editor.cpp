@@ -5,51 +5,30 @@
 namespace terralod::cli {
 
 BenchEditor::BenchEditor(VipmChunkSet set, std::vector<TerrainEdit> strokes, size_t every)
-    : mSet(std::move(set)), mStrokes(std::move(strokes)), mEvery(std::max<size_t>(every, 1)) {}
-
-BenchEditor::~BenchEditor() {
-  if (mWorker.joinable()) mWorker.join();
-}
+    : mEditor(std::move(set)), mStrokes(std::move(strokes)), mEvery(std::max<size_t>(every, 1)) {}
 
 Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
-  switch (mState) {
-    case State::kIdle:
-      if (mNext >= mStrokes.size() || frame < (mNext + 1) * mEvery) return {};
-      mDone.push_back({Clock::now(), frame});
-      mApplied = false;
-      mWorker = std::thread([this, stroke = mStrokes[mNext]] {
-        mChanged = mSet.apply(std::vector<TerrainEdit>{stroke}, 0);
-        mApplied = true;
-      });
-      mState = State::kApplying;
-      return {};
-    case State::kApplying: {
-      if (!mApplied) return {};
-      mWorker.join();
-      Stroke& s = mDone.back();
-      s.regenMs = std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
-      if (!mChanged) return mChanged.error();
-      std::vector<NodeReplacement> nodes;
-      for (uint32_t node : *mChanged)
-        nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node)});
-      s.nodes = nodes.size();
-      // The roots' level error may have moved; the leaves' is --max-error.
-      const std::vector<double> levelErrors = {mSet.rootLevelError(), scene.tree().levelError(1)};
-      scene.replaceNodes(std::move(nodes), levelErrors);
-      s.drawnNodes = scene.pendingReplacements();
-      mState = State::kSwapping;
-      return {};
-    }
-    case State::kSwapping:
-      // Everything the last frame drew of the stroke's nodes was already the new chunks.
-      if (scene.pendingReplacements() != 0) return {};
-      Stroke& s = mDone.back();
-      s.latencyMs = std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
-      s.latencyFrames = frame - s.startFrame;
-      s.swapped = true;
-      ++mNext;
-      mState = State::kIdle;
-      return {};
+  if (auto finished = mEditor.poll(scene)) {
+    if (!finished->status) return finished->status;
+    Stroke& s = mDone.back();
+    s.regenMs = finished->ms;
+    s.nodes = finished->nodes;
+    s.drawnNodes = finished->drawnNodes;
+    s.regenerated = true;
+  }
+  if (!mDone.empty() && mDone.back().regenerated && !mDone.back().swapped &&
+      scene.pendingReplacements() == 0) {
+    // Everything the last frame drew of the stroke's nodes was already the new chunks.
+    Stroke& s = mDone.back();
+    s.latencyMs = std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
+    s.latencyFrames = frame - s.startFrame;
+    s.swapped = true;
+    ++mNext;
+  }
+  const bool idle = mDone.empty() || mDone.back().swapped;
+  if (idle && mNext < mStrokes.size() && frame >= (mNext + 1) * mEvery) {
+    mDone.push_back({Clock::now(), frame});
+    mEditor.submit(mStrokes[mNext]);
   }
   return {};
 }
@@ -58,6 +37,7 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
   std::vector<double> regen, latency, frames, nodes, drawn;
   size_t swapped = 0;
   for (const Stroke& s : mDone) {
+    if (!s.regenerated) continue;
     regen.push_back(s.regenMs);
     nodes.push_back(double(s.nodes));
     drawn.push_back(double(s.drawnNodes));

@@ -1,28 +1,20 @@
 #pragma once
 // Brush strokes during a bench flight (bench --edit-script): every `every` frames the next
-// stroke goes to a worker thread, which applies it to the tileset's chunk set in memory
-// (VipmChunkSet::apply); the frame after it is done, its nodes go to the scene, which swaps
-// them in over the next frames. Frames never wait for either. Measured per stroke: the
-// regeneration, and the time and frames from the stroke to its last chunk swapped in.
+// stroke goes to a LiveEditor; measured per stroke, the regeneration, and the time and frames
+// from the stroke to its last chunk swapped in. Frames never wait for either.
 
-#include <atomic>
-#include <memory>
-#include <thread>
+#include <chrono>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
-#include "terralod/build/vipm_chunk_set.h"
-#include "terralod/render/terrain_scene.h"
+#include "live_editor.h"
 
 namespace terralod::cli {
 
 class BenchEditor {
  public:
   BenchEditor(VipmChunkSet set, std::vector<TerrainEdit> strokes, size_t every);
-  ~BenchEditor();  ///< waits for a stroke still being applied
-  BenchEditor(const BenchEditor&) = delete;
-  BenchEditor& operator=(const BenchEditor&) = delete;
 
   /// Called before frame `frame` is drawn. Fails when a stroke cannot be applied.
   Status beforeFrame(size_t frame, TerrainScene& scene);
@@ -37,20 +29,14 @@ class BenchEditor {
     Clock::time_point start;
     size_t startFrame = 0;
     double regenMs = 0.0, latencyMs = 0.0;
-    size_t latencyFrames = 0, nodes = 0;
-    size_t drawnNodes = 0;  // of those, resident (or on their way) when handed to the scene
-    bool swapped = false;
+    size_t latencyFrames = 0, nodes = 0, drawnNodes = 0;
+    bool regenerated = false, swapped = false;
   };
-  enum class State : uint8_t { kIdle, kApplying, kSwapping };
 
-  VipmChunkSet mSet;
+  LiveEditor mEditor;
   std::vector<TerrainEdit> mStrokes;
   size_t mEvery;
   size_t mNext = 0;  // the next stroke
-  State mState = State::kIdle;
-  std::thread mWorker;
-  std::atomic<bool> mApplied{false};
-  Result<std::vector<uint32_t>> mChanged{std::vector<uint32_t>{}};
   std::vector<Stroke> mDone;
 };
 

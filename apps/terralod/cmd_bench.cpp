@@ -41,11 +41,7 @@ Result<std::unique_ptr<BenchEditor>> benchEditor(const BenchCommand& b,
         "strokes as error); the edit's source is --edit-source"};
   auto strokes = readEditScript(b.editScript);
   if (!strokes) return strokes.error();
-  auto options = editSourceOptions(tileset, {b.options.tileset, b.editSource, "", "", 0});
-  if (!options) return options.error();
-  options->reuse = b.options.tileset;  // every chunk kept: the set is the tileset
-  TerminalProgress progress;
-  auto set = openVipmChunkSet(*options, progress);
+  auto set = openTilesetChunkSet(tileset, b.options.tileset, b.editSource);
   if (!set) return set.error();
   return std::make_unique<BenchEditor>(std::move(*set), std::move(*strokes), b.editEvery);
 }

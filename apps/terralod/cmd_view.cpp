@@ -10,12 +10,19 @@
 #include <imgui.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <optional>
+#include <thread>
 
 #include "commands.h"
+#include "edit_source.h"
+#include "live_editor.h"
 #include "render_options.h"
+#include "terralod/build/vipm_builder.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/measure/fly_camera.h"
+#include "terralod/render/frame_context.h"
 #include "terralod/render/image.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/render/window.h"
@@ -31,7 +38,45 @@ struct ViewCommand {
   RenderOptions options;
   std::string play, screenshot, record;
   bool exitAfterPlay = false;
+  // The brush (VIPM tilesets): on with --edit, or with a script of strokes to apply.
+  bool edit = false, saveEdits = false;
+  std::string editSource, editScript;
 };
+
+// The brush panel's settings.
+struct Brushing {
+  int brush = 0;  // raise, lower, smooth, paint
+  float radius = 200.0f, amount = 10.0f, strength = 0.5f;
+  int material = 0;  // index into the tileset's materials
+  std::string status = "B + left click applies the brush";
+};
+
+// The terrain point under window pixel (x, y) of the frame just drawn into the default
+// framebuffer, from its depth (reversed, kNearPlane / distance along the view axis); none on
+// the sky.
+std::optional<glm::dvec3> pickTerrain(const View& view, double x, double y) {
+  const int width = view.camera.width, height = view.camera.height;
+  if (x < 0 || y < 0 || x >= width || y >= height) return std::nullopt;
+  float depth = 0.0f;
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glReadPixels(int(x), height - 1 - int(y), 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
+  if (!(depth > 0.0f)) return std::nullopt;
+  const double ndcX = (std::floor(x) + 0.5) / width * 2.0 - 1.0;
+  const double ndcY = 1.0 - (std::floor(y) + 0.5) / height * 2.0;
+  const glm::dvec3 ray =
+      view.forward + ndcX * view.tanHalfWidth * view.right + ndcY * view.tanHalfHeight * view.up;
+  return view.camera.eye + (kNearPlane / double(depth)) * ray;
+}
+
+// The editor of the view's brush: the tileset's chunk set (its source read again, every chunk
+// kept from the tileset).
+Result<std::unique_ptr<LiveEditor>> viewEditor(const ViewCommand& v, const TilesetReader& tileset) {
+  if (v.options.tileset.starts_with("http://") || v.options.tileset.starts_with("https://"))
+    return Error{"--edit needs a local tileset, not a URL (edits are written back to it)"};
+  auto set = openTilesetChunkSet(tileset, v.options.tileset, v.editSource);
+  if (!set) return set.error();
+  return std::make_unique<LiveEditor>(std::move(*set));
+}
 
 // The default framebuffer's back buffer as an image (top row first), before the panel is drawn.
 Image readBackBuffer(int width, int height) {
@@ -109,6 +154,22 @@ int runView(const ViewCommand& v) {
   }
   const std::array<int, 2> size = playback ? std::array<int, 2>{playback->width, playback->height}
                                            : std::array<int, 2>{1280, 800};
+  std::unique_ptr<LiveEditor> editor;
+  std::vector<TerrainEdit> scripted;
+  std::vector<TilesetMaterial> materials = (*tileset)->metadata().materials;
+  if (v.edit || !v.editScript.empty()) {
+    if (!v.editScript.empty()) {
+      auto strokes = readEditScript(v.editScript);
+      if (!strokes) return fail(strokes.error().message);
+      scripted = std::move(*strokes);
+    }
+    auto made = viewEditor(v, **tileset);
+    if (!made) return fail(made.error().message);
+    editor = std::move(*made);
+  }
+  size_t nextScripted = 0;
+  Brushing brushing;
+  bool brushWasDown = false;
   auto window = Window::open("terralod view: " + v.options.tileset, size[0], size[1]);
   if (!window) return fail(window.error().message);
   auto created =
@@ -171,6 +232,10 @@ int runView(const ViewCommand& v) {
 
     const auto [width, height] = (*window)->framebufferSize();
     Camera camera;
+    // A scripted edit holds the flight's last frame until every stroke is drawn.
+    const bool editing = editor && (nextScripted < scripted.size() || editor->busy() ||
+                                    scene.pendingReplacements() != 0);
+    if (playback && !played.empty() && frame >= played.size() && editing) frame = played.size() - 1;
     if (playback && frame < played.size()) {
       camera = played[frame];
       camera.width = width;
@@ -215,8 +280,39 @@ int runView(const ViewCommand& v) {
     frameTimes[frame % kFrameHistory] = float(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - drawStart)
             .count());
+    if (editor) {
+      if (auto done = editor->poll(scene)) {
+        char text[160];
+        if (!done->status)
+          brushing.status = done->status.error().message;
+        else if (done->stroke)
+          std::snprintf(text, sizeof text, "stroke %zu: %zu chunks rebuilt in %.0f ms",
+                        editor->strokes(), done->nodes, done->ms);
+        else
+          std::snprintf(text, sizeof text, "saved %s in %.0f ms", v.options.tileset.c_str(),
+                        done->ms);
+        if (done->status) brushing.status = text;
+      }
+      if (nextScripted < scripted.size() && editor->submit(scripted[nextScripted])) ++nextScripted;
+      // The brush: B held, left click on the terrain.
+      GLFWwindow* handle = (*window)->handle();
+      const bool down = glfwGetMouseButton(handle, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS;
+      if (down && !brushWasDown && glfwGetKey(handle, GLFW_KEY_B) == GLFW_PRESS &&
+          !ImGui::GetIO().WantCaptureMouse) {
+        double x = 0, y = 0;
+        glfwGetCursorPos(handle, &x, &y);
+        if (auto at = pickTerrain(*view, x, y)) {
+          TerrainEdit e{Brush(brushing.brush), at->x, at->y, brushing.radius, brushing.amount, 0};
+          if (e.brush == Brush::kSmooth) e.amount = brushing.strength;
+          if (e.brush == Brush::kPaint && !materials.empty())
+            e.material = materials[size_t(brushing.material)].id;
+          brushing.status = editor->submit(e) ? "regenerating..." : "busy: try again";
+        }
+      }
+      brushWasDown = down;
+    }
 
-    const bool playedOut = playback && frame + 1 == played.size();
+    const bool playedOut = playback && frame + 1 == played.size() && !editing;
     if (screenshotAsked || (playedOut && !v.screenshot.empty())) {
       const std::string path =
           !v.screenshot.empty() && playedOut ? v.screenshot : "terralod-screenshot.png";
@@ -268,6 +364,23 @@ int runView(const ViewCommand& v) {
                      nullptr, 0.0f, 50.0f, ImVec2(0, 50));
     ImGui::TextUnformatted(recording ? "recording (R to stop)"
                                      : "R records a flight, F12 saves a screenshot");
+    if (editor) {
+      ImGui::Separator();
+      ImGui::Combo("brush", &brushing.brush, "raise\0lower\0smooth\0paint\0");
+      ImGui::SliderFloat("radius (m)", &brushing.radius, 1.0f, 20000.0f, "%.0f",
+                         ImGuiSliderFlags_Logarithmic);
+      if (brushing.brush == 2)
+        ImGui::SliderFloat("strength", &brushing.strength, 0.05f, 1.0f, "%.2f");
+      else if (brushing.brush == 3 && !materials.empty())
+        ImGui::SliderInt(materials[size_t(brushing.material)].name.c_str(), &brushing.material, 0,
+                         int(materials.size()) - 1);
+      else
+        ImGui::SliderFloat("amount (m)", &brushing.amount, 0.1f, 1000.0f, "%.1f",
+                           ImGuiSliderFlags_Logarithmic);
+      ImGui::TextUnformatted(brushing.status.c_str());
+      ImGui::Text("%zu strokes%s", editor->strokes(), editor->unsaved() ? ", not saved" : "");
+      if (ImGui::Button("save") && !editor->save(v.options.tileset)) brushing.status = "busy";
+    }
     ImGui::End();
     ImGui::Render();
     ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
@@ -277,6 +390,28 @@ int runView(const ViewCommand& v) {
   }
   if (recording)
     if (Status s = saveRecording(); !s) warn(s.error().message);
+  if (editor && v.saveEdits) {
+    // Finish the stroke in progress, then write the tileset back.
+    auto finish = [&]() -> Status {
+      while (editor->busy()) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(5));
+        if (auto done = editor->poll(scene); done && !done->status) return done->status;
+      }
+      return {};
+    };
+    Status saved = finish();
+    if (saved && editor->unsaved()) {
+      editor->save(v.options.tileset);
+      saved = finish();
+      if (saved)
+        std::printf("terralod: saved %zu strokes to %s\n", editor->strokes(),
+                    v.options.tileset.c_str());
+    }
+    if (!saved) {
+      warn(saved.error().message);
+      status = 1;
+    }
+  }
   ImGui_ImplOpenGL3_Shutdown();
   ImGui_ImplGlfw_Shutdown();
   ImGui::DestroyContext();
@@ -298,6 +433,17 @@ void addViewCommand(CLI::App& root, Runner& run) {
                   "With --play: save the last frame here (.png, or .jpg/.jpeg for JPEG)");
   cmd->add_flag("--exit-after-play", v->exitAfterPlay, "With --play: close after the last frame");
   cmd->add_option("--record", v->record, "Where R saves the recorded flight (JSON)");
+  cmd->add_flag("--edit", v->edit,
+                "VIPM tilesets: the brush (hold B and click): raise, lower, smooth, paint; "
+                "strokes are regenerated while you fly and saved with the panel's save button");
+  cmd->add_option("--edit-source", v->editSource,
+                  "The raster the tileset was built from (default: the file its metadata names, "
+                  "next to it or in the current directory)");
+  cmd->add_option("--edit-script", v->editScript,
+                  "Apply these strokes (terralod edit's script) one after another as the view "
+                  "starts; with --play the last frame waits until they are drawn");
+  cmd->add_flag("--save-edits", v->saveEdits,
+                "Write the strokes back to the tileset when the view closes");
   cmd->footer(
       "Controls:\n"
       "  drag (left or right button)  look around\n"
@@ -306,6 +452,7 @@ void addViewCommand(CLI::App& root, Runner& run) {
       "  R                            start/stop recording a flight (--record, default "
       "terralod-flight.json)\n"
       "  F12                          save a screenshot (terralod-screenshot.png)\n"
+      "  B + left click               (--edit) apply the brush set in the panel\n"
       "Examples:\n"
       "  terralod view dem.tlod\n"
       "  terralod view http://host/dem.tlod --tau 1 --chunk-boxes\n"

@@ -4,7 +4,9 @@
 #include <fstream>
 #include <sstream>
 
+#include "terralod/build/vipm_builder.h"
 #include "terralod/build/vipm_rebuild.h"
+#include "terralod/core/progress.h"
 #include "terralod/format/terrain_edits_json.h"
 #include "terralod/verify/verifier.h"
 
@@ -76,6 +78,15 @@ Result<BuildOptions> editSourceOptions(const TilesetReader& tileset, const EditS
   options->palettePath = args.palette;
   options->threads = args.threads;
   return options;
+}
+
+Result<VipmChunkSet> openTilesetChunkSet(const TilesetReader& tileset, const std::string& path,
+                                         const std::string& source) {
+  auto options = editSourceOptions(tileset, {path, source, "", "", 0});
+  if (!options) return options.error();
+  options->reuse = path;  // every chunk kept: the set is the tileset
+  TerminalProgress progress;
+  return openVipmChunkSet(*options, progress);
 }
 
 }  // namespace terralod::cli

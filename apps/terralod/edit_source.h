@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "terralod/build/builder.h"
+#include "terralod/build/vipm_chunk_set.h"
 #include "terralod/format/tileset_reader.h"
 
 namespace terralod::cli {
@@ -26,5 +27,10 @@ Result<std::vector<TerrainEdit>> readEditScript(const std::string& path);
 /// current directory), checked to be the size the tileset was built from. Output, reuse and new
 /// edits are the caller's. Fails naming the tileset or the source.
 Result<BuildOptions> editSourceOptions(const TilesetReader& tileset, const EditSourceArgs& args);
+
+/// The tileset's chunk set for an editor (view --edit, bench --edit-script): its source read
+/// again (`source`, else the file its metadata names), every chunk kept from the tileset.
+Result<VipmChunkSet> openTilesetChunkSet(const TilesetReader& tileset, const std::string& path,
+                                         const std::string& source);
 
 }  // namespace terralod::cli

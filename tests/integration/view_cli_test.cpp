@@ -76,3 +76,57 @@ TEST(ViewCli, RefusesAScreenshotNameItCannotWrite) {
 
 }  // namespace
 }  // namespace terralod::test
+
+namespace terralod::test {
+namespace {
+
+// The brush, scripted: strokes applied while the flight plays are regenerated on a worker and
+// swapped into the drawn tileset; the last frame (held until they are drawn) shows what the
+// tileset written back at exit (--save-edits) draws headless, and that tileset verifies
+// against its source with the strokes.
+TEST(ViewCli, ScriptedStrokesAreDrawnAndWrittenBack) {
+  TempDir dir;
+  const std::string dem = testData("crater_lake_0513.bt");
+  ASSERT_EQ(runTerralod({"build", dem, "--kind", "vipm", "-o", dir.file("c.tlod")}).exitCode, 0);
+  const std::string before = readWholeFile(dir.file("c.tlod"));
+  std::ofstream(dir.file("f.json")) << R"({"fov_deg": 60, "size": [320, 240], "frames": 20,
+    "keyframes": [{"eye": [5000, 1000, 3500], "target": [8800, 7500, 1900]},
+                  {"eye": [5500, 2500, 3000], "target": [8800, 7500, 1900]}]})";
+  // An island raised in the lake, and snow painted on it.
+  std::ofstream(dir.file("s.json")) << R"({"edits": [
+    {"brush": "raise", "center": [8000, 6500], "radius": 600, "amount": 150},
+    {"brush": "paint", "center": [8800, 7500], "radius": 700, "material": 4}]})";
+  const RunResult viewed = runProgram(
+      TERRALOD_XVFB_RUN, {"-a", "-n", "260", "-s", "-screen 0 1280x1024x24 -noreset", TERRALOD_CLI,
+                          "view", dir.file("c.tlod"), "--play", dir.file("f.json"), "--screenshot",
+                          dir.file("shot.png"), "--exit-after-play", "--edit-script",
+                          dir.file("s.json"), "--edit-source", dem, "--save-edits"});
+  ASSERT_EQ(viewed.exitCode, 0) << viewed.out << viewed.err;
+  EXPECT_NE(viewed.out.find("saved 2 strokes"), std::string::npos) << viewed.out;
+  EXPECT_NE(readWholeFile(dir.file("c.tlod")), before);
+  const RunResult verified =
+      runTerralod({"verify", dir.file("c.tlod"), "--source", dem, "--threads", "2"});
+  EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
+
+  const RunResult rendered =
+      runTerralod({"render", dir.file("c.tlod"), "-o", dir.file("headless.png"), "--eye",
+                   "5500,2500,3000", "--target", "8800,7500,1900", "--size", "320x240"});
+  ASSERT_EQ(rendered.exitCode, 0) << rendered.err;
+  const Image shot = readPng(dir.file("shot.png")).value();
+  const Image headless = readPng(dir.file("headless.png")).value();
+  const auto c = compareImages(shot, headless, ImageTolerance{4, 0.01});
+  EXPECT_TRUE(c.matches) << "mean abs error " << c.meanAbsoluteError << ", differing "
+                         << c.differingFraction << " " << c.message;
+  // And the strokes show: the same view of the tileset before them differs.
+  std::ofstream(dir.file("before.tlod"), std::ios::binary) << before;
+  ASSERT_EQ(runTerralod({"render", dir.file("before.tlod"), "-o", dir.file("before.png"), "--eye",
+                         "5500,2500,3000", "--target", "8800,7500,1900", "--size", "320x240"})
+                .exitCode,
+            0);
+  const auto unchanged =
+      compareImages(shot, readPng(dir.file("before.png")).value(), ImageTolerance{4, 0.01});
+  EXPECT_FALSE(unchanged.matches) << "the strokes do not show";
+}
+
+}  // namespace
+}  // namespace terralod::test

@@ -1,0 +1,62 @@
+#pragma once
+// Brush strokes on a drawn VIPM tileset (the `view` brush, bench --edit-script): a stroke is
+// applied to the tileset's chunk set on a worker thread (VipmChunkSet::apply); once it is done,
+// poll() hands its rebuilt nodes to the scene, which swaps them in over the next frames. Saving
+// writes the set back to the tileset on the worker (atomically: a save in progress never leaves
+// a file that fails verify). One job at a time; frames never wait for one.
+
+#include <atomic>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <thread>
+
+#include "terralod/build/vipm_chunk_set.h"
+#include "terralod/render/terrain_scene.h"
+
+namespace terralod::cli {
+
+class LiveEditor {
+ public:
+  explicit LiveEditor(VipmChunkSet set);
+  ~LiveEditor();  ///< waits for the job in progress
+  LiveEditor(const LiveEditor&) = delete;
+  LiveEditor& operator=(const LiveEditor&) = delete;
+
+  bool busy() const { return mJob != Job::kNone; }
+  /// Starts applying `stroke`; false (and nothing done) while busy.
+  bool submit(const TerrainEdit& stroke);
+  /// Starts writing the set to `path`; false while busy.
+  bool save(const std::string& path);
+
+  struct Finished {
+    bool stroke = false;  ///< a stroke (else a save)
+    Status status;
+    double ms = 0.0;        ///< the job's time on the worker
+    size_t nodes = 0;       ///< a stroke's rebuilt nodes
+    size_t drawnNodes = 0;  ///< of those, the scene had drawn (or on its way): to swap
+  };
+  /// Each frame, on the drawing thread: the job that finished since, if any (a stroke's nodes
+  /// already handed to `scene`).
+  std::optional<Finished> poll(TerrainScene& scene);
+
+  size_t strokes() const { return mStrokes; }  ///< applied since it was made
+  bool unsaved() const { return mUnsaved; }
+
+ private:
+  enum class Job : uint8_t { kNone, kStroke, kSave };
+  using Clock = std::chrono::steady_clock;
+  void start(Job job, std::function<Status()> work);
+
+  VipmChunkSet mSet;
+  Job mJob = Job::kNone;
+  std::thread mWorker;
+  std::atomic<bool> mDone{false};
+  Status mStatus;
+  Result<std::vector<uint32_t>> mChanged{std::vector<uint32_t>{}};
+  Clock::time_point mStart;
+  size_t mStrokes = 0;
+  bool mUnsaved = false;
+};
+
+}  // namespace terralod::cli
