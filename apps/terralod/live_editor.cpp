@@ -16,6 +16,7 @@ void LiveEditor::start(Job job, std::function<Status()> work) {
   mStart = Clock::now();
   mWorker = std::thread([this, work = std::move(work)] {
     mStatus = work();
+    mWorkMs = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
     mDone = true;
   });
 }
@@ -42,7 +43,7 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
   Finished f;
   f.stroke = mJob == Job::kStroke;
   f.status = mStatus;
-  f.ms = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
+  f.ms = mWorkMs;
   mJob = Job::kNone;
   if (!f.status) return f;
   if (!f.stroke) {

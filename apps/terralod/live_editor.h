@@ -32,7 +32,7 @@ class LiveEditor {
   struct Finished {
     bool stroke = false;  ///< a stroke (else a save)
     Status status;
-    double ms = 0.0;        ///< the job's time on the worker
+    double ms = 0.0;        ///< the job's own time on the worker (not until it was polled)
     size_t nodes = 0;       ///< a stroke's rebuilt nodes
     size_t drawnNodes = 0;  ///< of those, the scene had drawn (or on its way): to swap
   };
@@ -55,6 +55,7 @@ class LiveEditor {
   Status mStatus;
   Result<std::vector<uint32_t>> mChanged{std::vector<uint32_t>{}};
   Clock::time_point mStart;
+  double mWorkMs = 0.0;  // the job's own time, written by the worker before mDone
   size_t mStrokes = 0;
   bool mUnsaved = false;
 };
