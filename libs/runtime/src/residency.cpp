@@ -56,15 +56,18 @@ std::vector<ReadyChunk> Residency::collect() {
     Node& n = mNodes[f.node];
     --mInFlight;
     if (f.refresh) {
-      // Kept only while the node is still resident (an evicted one reloads the new bytes).
+      // Kept only while the node is still resident (an evicted one reloads the new bytes);
+      // it stays refreshing until uploaded (markRefreshed).
+      if (f.result && n.state == ChunkState::kResident) {
+        mCounters.bytesRead += f.result->bytesRead;
+        addBytes(int64_t(f.result->bytes));
+        mReady.push_back({f.node, std::move(f.result).value(), true});
+        continue;
+      }
       n.refreshing = false;
       if (!f.result) {
         if (mLog) mLog(f.result.error().message);
         ++mCounters.failures;
-      } else if (n.state == ChunkState::kResident) {
-        mCounters.bytesRead += f.result->bytesRead;
-        addBytes(int64_t(f.result->bytes));
-        mReady.push_back({f.node, std::move(f.result).value(), true});
       }
       continue;
     }
@@ -158,6 +161,7 @@ std::vector<uint32_t> Residency::evict() {
       addBytes(-int64_t(r.chunk.bytes));
       ++mCounters.discarded;
       if (r.refresh) {  // the node stays resident with its old payload: decode it again later
+        mNodes[r.node].refreshing = false;
         invalidate(r.node);
         continue;
       }
@@ -188,6 +192,7 @@ std::vector<uint32_t> Residency::evict() {
     std::erase_if(mReady, [&](const ReadyChunk& r) {
       if (r.node != i || !r.refresh) return false;
       addBytes(-int64_t(r.chunk.bytes));
+      n.refreshing = false;
       return true;
     });
     adjustParent(i, -1);
@@ -275,6 +280,7 @@ void Residency::markRefreshed(const ReadyChunk& chunk, uint64_t gpuBytes) {
   addBytes(-int64_t(chunk.chunk.bytes));
   addBytes(int64_t(gpuBytes) - int64_t(n.gpuBytes));
   n.gpuBytes = gpuBytes;
+  n.refreshing = false;
 }
 
 }  // namespace terralod

@@ -280,7 +280,14 @@ TEST(FrameDriver, ReplacedNodesAreSwappedInWhileTheOldOnesAreDrawn) {
       // evict a replaced node it no longer wants, which then loads the new bytes).
       for (const SelectedChunk& c : driver->selected())
         EXPECT_EQ(r.state(c.node), ChunkState::kResident) << "node " << c.node << " frame " << f;
-      if (swappedAt == 0 && driver->pendingReplacements() == 0) swappedAt = f;
+      if (swappedAt == 0 && driver->pendingReplacements() == 0) {
+        swappedAt = f;
+        // None pending means every resident replaced node draws its new bytes already.
+        for (uint32_t node : replaced)
+          if (r.state(node) == ChunkState::kResident) {
+            EXPECT_EQ(kind.uploadedFiller[node], 0xAB) << "node " << node << " frame " << f;
+          }
+      }
       if (swappedAt == 0) {
         size_t old = 0;
         for (uint32_t node : residentAtEdit)

@@ -137,7 +137,7 @@ class Residency {
     uint64_t gpuBytes = 0;
     uint32_t busyChildren = 0;  // children loading, ready or resident
     bool stale = false;         // invalidated: its drawn or coming payload has old bytes
-    bool refreshing = false;    // a refresh load is running
+    bool refreshing = false;    // a refresh load is running or waiting for its upload
   };
   struct Finished {
     uint32_t node;
