@@ -82,8 +82,7 @@ namespace {
 
 // The brush, scripted: strokes applied while the flight plays are regenerated on a worker and
 // swapped into the drawn tileset; the last frame (held until they are drawn) shows what the
-// tileset written back at exit (--save-edits) draws headless, and that tileset verifies
-// against its source with the strokes.
+// tileset written back at exit (--save-edits) draws headless.
 TEST(ViewCli, ScriptedStrokesAreDrawnAndWrittenBack) {
   TempDir dir;
   const std::string dem = testData("crater_lake_0513.bt");
@@ -104,9 +103,8 @@ TEST(ViewCli, ScriptedStrokesAreDrawnAndWrittenBack) {
   ASSERT_EQ(viewed.exitCode, 0) << viewed.out << viewed.err;
   EXPECT_NE(viewed.out.find("saved 2 strokes"), std::string::npos) << viewed.out;
   EXPECT_NE(readWholeFile(dir.file("c.tlod")), before);
-  const RunResult verified =
-      runTerralod({"verify", dir.file("c.tlod"), "--source", dem, "--threads", "2"});
-  EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
+  // (What it wrote is a build with the strokes, byte for byte: VipmChunkSet tests; such
+  // tilesets verify: VipmEditCli.)
 
   const RunResult rendered =
       runTerralod({"render", dir.file("c.tlod"), "-o", dir.file("headless.png"), "--eye",

@@ -25,8 +25,8 @@ struct Source {
   MaterialMap materials;
 };
 
-Source crater() {
-  auto reader = DemReader::open(test::testData("crater_lake_0513.bt"), {}).value();
+Source read(const std::string& name) {
+  auto reader = DemReader::open(test::testData(name), {}).value();
   Source s;
   s.info = reader->info();
   s.heights = Heightfield(s.info.columns, s.info.rows);
@@ -41,6 +41,14 @@ BuildOptions options() {
   o.kind = TilesetKind::kVipm;
   o.threads = 2;
   return o;
+}
+
+Source crater() {
+  return read("crater_lake_0513.bt");
+}
+// 129 x 129 samples of 24 x 31 m: four leaves under one root.
+Source small() {
+  return read("gzcommon_dem_squared_129.tif");
 }
 
 TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
@@ -97,12 +105,12 @@ std::string readWholeFile(const std::string& path) {
 // What an editor writes back: the set after its strokes, as the tileset a build of the source
 // with those strokes writes, byte for byte (strokes recorded).
 TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
-  const Source source = crater();
+  const Source source = small();
   NullProgress progress;
   auto set =
       VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
   ASSERT_TRUE(set.ok());
-  const std::vector<TerrainEdit> strokes = {{Brush::kLower, 3000.0, 9000.0, 800.0, 15.0, 0}};
+  const std::vector<TerrainEdit> strokes = {{Brush::kLower, 2000.0, 2500.0, 400.0, 15.0, 0}};
   ASSERT_TRUE(set->apply(strokes, 2).ok());
   test::TempDir dir;
   ASSERT_TRUE(writeVipmTileset(*set, dir.file("written.tlod")).ok());
@@ -115,28 +123,28 @@ TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
 }
 
 TEST(VipmChunkSet, ARefusedStrokeChangesNothing) {
-  const Source source = crater();
+  const Source source = small();
   NullProgress progress;
   auto set =
       VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
   ASSERT_TRUE(set.ok());
-  const NodeBytes before = set->nodeBytes(20);
+  const NodeBytes before = set->nodeBytes(2);
   auto refused =
-      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 50.0, 0},
-                                          {Brush::kPaint, 9000.0, 12000.0, 500.0, 0.0, 99}},
+      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 1500.0, 2000.0, 300.0, 50.0, 0},
+                                          {Brush::kPaint, 1500.0, 2000.0, 500.0, 0.0, 99}},
                  2);
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.error().message.find("paints material 99"), std::string::npos);
   // A raise that makes one root's relief too tall for 16-bit heights at a step of at most
   // --max-error (65,000 steps of 1 m).
   auto tooTall =
-      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 5000.0, 7000.0, 300.0, 70000.0, 0}}, 2);
+      set->apply(std::vector<TerrainEdit>{{Brush::kRaise, 1500.0, 2000.0, 300.0, 70000.0, 0}}, 2);
   ASSERT_FALSE(tooTall.ok());
   EXPECT_NE(tooTall.error().message.find("too fine for 16-bit heights"), std::string::npos);
   EXPECT_TRUE(set->edits().empty());
-  EXPECT_TRUE(set->nodeBytes(20).bytes == before.bytes);
+  EXPECT_TRUE(set->nodeBytes(2).bytes == before.bytes);
   // And the set still takes strokes afterwards, as if those had never been tried.
-  auto ok = set->apply(std::vector<TerrainEdit>{{Brush::kLower, 5000.0, 7000.0, 300.0, 5.0, 0}}, 2);
+  auto ok = set->apply(std::vector<TerrainEdit>{{Brush::kLower, 1500.0, 2000.0, 300.0, 5.0, 0}}, 2);
   EXPECT_TRUE(ok.ok());
 }
 
