@@ -2,8 +2,6 @@
 // is rebuilt from its source with every recorded stroke and the new ones applied, and replaces
 // the old file only once complete (an interrupted edit leaves the old tileset as it was).
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 #include "cli_checks.h"
 #include "commands.h"

@@ -31,13 +31,6 @@ struct RunResult {
   }
 };
 
-inline std::string readWholeFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// Runs `program args...` with stdout and stderr captured through temporary files; `env` holds
 /// NAME=VALUE settings added to the child's environment.
 inline RunResult runProgram(const std::string& program, const std::vector<std::string>& args,

@@ -1,9 +1,12 @@
 #pragma once
-// Test scaffolding shared by every test executable: scratch directories and test data paths.
+// Test scaffolding shared by every test executable: scratch directories, test data paths, and
+// reading a whole file.
 
 #include <stdlib.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <system_error>
 
@@ -32,6 +35,14 @@ class TempDir {
 /// A file under tests/data.
 inline std::string testData(const std::string& name) {
   return std::string(TERRALOD_TEST_DATA) + "/" + name;
+}
+
+/// A whole file's bytes (empty when it cannot be read).
+inline std::string readWholeFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
 }
 
 }  // namespace terralod::test

@@ -31,15 +31,9 @@
 namespace terralod {
 namespace {
 
+using test::readWholeFile;
 using test::TempDir;
 using test::testData;
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 // A corner as the world sees it: grid point, height, material.
 using Corner = std::tuple<uint32_t, uint32_t, double, uint8_t>;

@@ -19,6 +19,7 @@
 namespace terralod {
 namespace {
 
+using test::readWholeFile;
 struct Source {
   DemInfo info;
   Heightfield heights;
@@ -93,13 +94,6 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
       EXPECT_TRUE(listed) << "node " << i << " changed but is not listed";
     }
   }
-}
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 // What an editor writes back: the set after its strokes, as the tileset a build of the source

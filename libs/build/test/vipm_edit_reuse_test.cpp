@@ -13,15 +13,9 @@
 namespace terralod {
 namespace {
 
+using test::readWholeFile;
 using test::TempDir;
 using test::testData;
-
-std::string readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 BuildSummary build(const BuildOptions& o) {
   NullProgress progress;
