@@ -7,7 +7,10 @@
 #  2. Fans against flanges, and blots against --no-blots: the same low pass without --source,
 #     each pair run back to back (frame time, triangles, draw calls, fan CPU per change).
 #  3. The 8193² synth (1 m) at 1024×768, the first FRAMES frames of its low pass: VIPM with
-#     blots, with --no-blots, and the chunked LOD kind (draw calls, triangles, frame time).
+#     blots and super-chunks (the default), with --no-super-chunks, with --no-blots
+#     --no-super-chunks (per-chunk drawing), and the chunked LOD kind (draw calls, triangles,
+#     frame time); then VIPM's quality there with --source over the first QFRAMES frames (error,
+#     pops, holes, image pops; default 300).
 #
 #   bench/vipm_far_field.sh [FRAMES] [TAU]     defaults: 2000 2
 #
@@ -66,13 +69,21 @@ if want synth; then
     "$terralod" build "$dir/s8193.tif" --no-texture -o "$dir/s8193_static.tlod" >/dev/null
   flight=(--auto-flight --tau "$tau" --size 1024x768 --frames "$frames")
   echo "## 8193² synth, 1024×768"
-  for run in "vipm_blots|s8193_vipm|--stitch fans" "vipm_noblots|s8193_vipm|--stitch fans --no-blots" \
-    "static|s8193_static|"; do
+  for run in "vipm_super|s8193_vipm|--stitch fans" \
+    "vipm_nosuper|s8193_vipm|--stitch fans --no-super-chunks" \
+    "vipm_perchunk|s8193_vipm|--stitch fans --no-blots --no-super-chunks" "static|s8193_static|"; do
     IFS='|' read -r what tileset opts <<<"$run"
     # shellcheck disable=SC2086
     "$terralod" bench "$dir/$tileset.tlod" "${flight[@]}" $opts \
       --json "$dir/synth_$what.json" >/dev/null
     echo "$what: $(figures "$dir/synth_$what.json" frame_ms_p50 frame_ms_p99 triangles_p50 \
-      draws_p50 blots_p50 fan_frame_ms_p50)"
+      draws_p50 blots_p50 super_chunk_calls_p50 fan_frame_ms_p50)"
+  done
+  for stitch in fans flanges; do
+    "$terralod" bench "$dir/s8193_vipm.tlod" --auto-flight --tau "$tau" --size 1024x768 \
+      --frames "${QFRAMES:-300}" --stitch "$stitch" --source "$dir/s8193.tif" \
+      --json "$dir/synth_quality_$stitch.json" >/dev/null
+    echo "quality, $stitch: $(figures "$dir/synth_quality_$stitch.json" max_error_px max_pop_px \
+      holes_total image_pop_mean blot_switch_mean_max draws_p50 super_chunk_calls_p50)"
   done
 fi

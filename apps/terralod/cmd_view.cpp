@@ -110,6 +110,7 @@ struct Knobs {
   bool morph = true, skirts = true, wireframe = false, freeze = false, textures = true;
   bool boxes = false, fans = false;  // fans: VIPM borders stitched by fans, not flanges
   bool blots = true;                 // far VIPM chunks drawn as blots
+  bool superChunks = true;           // a super-chunk's blots in one call
   int colorBy = 0;                   // relief, level, morph, kind
 };
 
@@ -200,6 +201,7 @@ int runView(const ViewCommand& v) {
   knobs.colorBy = int(baseStyle->colorBy);
   knobs.fans = baseStyle->stitch == VipmStitch::kFans;
   knobs.blots = baseStyle->blots == VipmBlots::kOn;
+  knobs.superChunks = baseStyle->superChunks == VipmSuperChunks::kOn;
   FlyCamera fly(start->front());
   double fov = v.options.fovDegrees;
   std::vector<float> frameTimes(kFrameHistory, 0.0f);
@@ -269,6 +271,7 @@ int runView(const ViewCommand& v) {
     style.skirts = knobs.skirts;
     style.stitch = knobs.fans ? VipmStitch::kFans : VipmStitch::kFlanges;
     style.blots = knobs.blots ? VipmBlots::kOn : VipmBlots::kOff;
+    style.superChunks = knobs.superChunks ? VipmSuperChunks::kOn : VipmSuperChunks::kOff;
     style.wireframe = knobs.wireframe;
     style.chunkBoxes = knobs.boxes;
     style.textures = knobs.textures;
@@ -340,6 +343,8 @@ int runView(const ViewCommand& v) {
     ImGui::Checkbox("fans", &knobs.fans);
     ImGui::SameLine();
     ImGui::Checkbox("blots", &knobs.blots);
+    ImGui::SameLine();
+    ImGui::Checkbox("super-chunks", &knobs.superChunks);
     ImGui::Combo("colour", &knobs.colorBy, "relief\0level\0morph\0kind\0");
     ImGui::Checkbox("freeze selection", &knobs.freeze);
     ImGui::SameLine();

@@ -44,6 +44,9 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
              "VIPM tilesets: draw every chunk one pass per material, also far ones (by default "
              "a chunk where a cell covers less than a pixel is a blot, one pass in its "
              "materials' average colours, which nearer materials fade to)");
+  c.add_flag("--no-super-chunks", o.noSuperChunks,
+             "VIPM tilesets: draw every blot in its own call (by default the blots of each "
+             "super-chunk, 4 x 4 chunks of a level, draw in one)");
   c.add_flag_callback(
       "--no-horizon-culling", [&o] { o.horizonCulling = HorizonCulling::kOff; },
       "Draw every selected chunk, also those nearer terrain hides (culling them never changes "
@@ -53,7 +56,8 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
              "where texture filtering is slow, e.g. software OpenGL)");
   c.add_option("--color-by", o.colorBy,
                "Surface colour: relief, level (chunk level), morph, or kind (VIPM leaves green, "
-               "roots blue, blots orange; chunked LOD grey)")
+               "roots blue, blots orange, blots drawn with their super-chunk purple; chunked "
+               "LOD grey)")
       ->capture_default_str()
       ->check(CLI::IsMember({"relief", "level", "morph", "kind"}));
   c.add_option("--sun", o.sun,
@@ -110,6 +114,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.skirts = !o.noSkirts;
   style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;
   style.blots = o.noBlots ? VipmBlots::kOff : VipmBlots::kOn;
+  style.superChunks = o.noSuperChunks ? VipmSuperChunks::kOff : VipmSuperChunks::kOn;
   style.textures = !o.noTextures;
   if (!o.sun.empty()) {
     if (o.sun.size() != 2 || !std::isfinite(o.sun[0]) || !std::isfinite(o.sun[1]) ||

@@ -26,6 +26,7 @@ struct RenderOptions {
   bool wireframe = false, noMorph = false, noSkirts = false, noTextures = false;
   bool chunkBoxes = false;
   bool noBlots = false;            ///< --no-blots: VIPM chunks never drawn as blots
+  bool noSuperChunks = false;      ///< --no-super-chunks: every VIPM blot in its own call
   std::string stitch = "flanges";  ///< --stitch: VIPM borders, "flanges" or "fans"
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees

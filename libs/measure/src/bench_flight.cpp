@@ -218,6 +218,7 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.fanMs = frame->fanFrameMs;
     r.draws = frame->draw.drawCalls;
     r.blots = frame->draw.blots;
+    r.superChunks = frame->draw.superChunks;
     r.chunks = frame->selection.selected;
     r.culledChunks = frame->horizon.culled;
     r.cullingActive = frame->horizon.active;

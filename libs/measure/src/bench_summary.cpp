@@ -48,6 +48,9 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
     j["blots"] = style.blots == VipmBlots::kOn;
     j["blots_p50"] =
         percentile(column(f, [](const FrameRecord& r) { return double(r.blots); }), 0.5);
+    j["super_chunks"] = style.superChunks == VipmSuperChunks::kOn;
+    j["super_chunk_calls_p50"] =
+        percentile(column(f, [](const FrameRecord& r) { return double(r.superChunks); }), 0.5);
     if (options.source && style.blots == VipmBlots::kOn) {
       j["blot_switch_mean_max"] =
           percentile(column(f, [](const FrameRecord& r) { return r.blotSwitch; }), 1.0);

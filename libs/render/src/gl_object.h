@@ -55,6 +55,30 @@ class GlObject {
 using GlBuffer = GlObject<GlObjectKind::kBuffer>;
 using GlVertexArray = GlObject<GlObjectKind::kVertexArray>;
 
+/// A texture name (made by the caller with glCreateTextures), deleted with its owner.
+class GlTexture {
+ public:
+  GlTexture() = default;
+  explicit GlTexture(uint32_t name) : mName(name) {}
+  ~GlTexture() {
+    if (mName) glDeleteTextures(1, &mName);
+  }
+  GlTexture(GlTexture&& other) noexcept : mName(std::exchange(other.mName, 0)) {}
+  GlTexture& operator=(GlTexture&& other) noexcept {
+    if (this != &other) {
+      if (mName) glDeleteTextures(1, &mName);
+      mName = std::exchange(other.mName, 0);
+    }
+    return *this;
+  }
+  GlTexture(const GlTexture&) = delete;
+  GlTexture& operator=(const GlTexture&) = delete;
+  uint32_t id() const { return mName; }
+
+ private:
+  uint32_t mName = 0;
+};
+
 /// A buffer refilled every frame: reallocated (twice the size asked, at least 4 KB) only
 /// when the data outgrows it.
 class GrowingBuffer {

@@ -1,5 +1,7 @@
 #include "terralod/render/vipm_chunk_kind.h"
 
+#include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <utility>
 #include <vector>
@@ -92,20 +94,44 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   return loaded;
 }
 
+VipmChunkKind::BlockKey VipmChunkKind::blockKey(int64_t cornerX, int64_t cornerY,
+                                                uint32_t normalSize) {
+  const int64_t cells = std::max<int64_t>(int64_t(normalSize) - 1, 1);
+  const int64_t side = cells * VipmBlock::kSide;
+  return {normalSize, cornerX / side, cornerY / side};
+}
+
 uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
-  auto chunk = std::make_unique<VipmGpuChunk>(static_cast<const Payload&>(payload).chunk);
+  const VipmChunkPayload& p = static_cast<const Payload&>(payload).chunk;
+  const StitchChunk& where = p.stitcher.chunk();
+  const BlockKey key = blockKey(where.cornerX, where.cornerY, p.normals.size);
+  std::unique_ptr<VipmBlock>& block = mBlocks[key];
+  if (!block)
+    block = std::make_unique<VipmBlock>(p.normals.size, p.normals.encoding,
+                                        uint32_t(p.normals.mips.size()));
+  assert(block->fits(p.normals));  // one level's chunks: the same normal map size
+  const int64_t cells = int64_t(p.normals.size) - 1;
+  const int slot = int((where.cornerX / cells) % VipmBlock::kSide +
+                       VipmBlock::kSide * ((where.cornerY / cells) % VipmBlock::kSide));
+  auto chunk = std::make_unique<VipmGpuChunk>(p, *block, slot);
+  block->setMember(slot, chunk.get());
   const uint64_t bytes = chunk->bytes();
   mGpuBytes += chunk->gpuBytes();
-  if (auto& slot = mChunks[node]) mGpuBytes -= slot->gpuBytes();
-  mChunks[node] = std::move(chunk);
+  if (auto& old = mChunks[node]) mGpuBytes -= old->gpuBytes();
+  mChunks[node] = std::move(chunk);  // an old chunk in the slot releases its vertices
   return bytes;
 }
 
 void VipmChunkKind::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;
-  mGpuBytes -= it->second->gpuBytes();
+  VipmGpuChunk& chunk = *it->second;
+  const BlockKey key = blockKey(chunk.cornerX(), chunk.cornerY(), chunk.normalSize());
+  VipmBlock& block = const_cast<VipmBlock&>(chunk.block());
+  if (block.member(chunk.slot()) == &chunk) block.setMember(chunk.slot(), nullptr);
+  mGpuBytes -= chunk.gpuBytes();
   mChunks.erase(it);
+  if (block.empty()) mBlocks.erase(key);
 }
 
 void VipmChunkKind::stitch(const TerrainStyle& style, std::span<const VipmDraw> draws) {

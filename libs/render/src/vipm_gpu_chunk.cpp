@@ -10,19 +10,7 @@
 
 namespace terralod {
 
-GlTexture::~GlTexture() {
-  if (mName) glDeleteTextures(1, &mName);
-}
-GlTexture::GlTexture(GlTexture&& other) noexcept : mName(std::exchange(other.mName, 0)) {}
-GlTexture& GlTexture::operator=(GlTexture&& other) noexcept {
-  if (this != &other) {
-    if (mName) glDeleteTextures(1, &mName);
-    mName = std::exchange(other.mName, 0);
-  }
-  return *this;
-}
-
-VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
+VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot)
     : mMesh(p.mesh),
       mLevels(p.levels),
       mStitcher(p.stitcher),
@@ -33,19 +21,21 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
       mFlangeDepth(p.flangeDepth),
       mWidth(p.width),
       mHeight(p.height),
-      mZBase(p.zBase) {
+      mZBase(p.zBase),
+      mBlock(block),
+      mSlot(slot),
+      mIndexBuffer(GlBuffer::make()) {
   // Vertices: the mesh's, the flange copies, then room for the fans' inserted points.
   mFanVertexFirst = uint32_t(mOwn.size());
   const size_t vertexCount = mOwn.size() + mStitcher.maxInsertedPoints();
   mDrawn.resize(vertexCount);
-  glCreateBuffers(GLsizei(mBuffers.size()), mBuffers.data());
-  const auto positionBytes = GLsizeiptr(vertexCount * sizeof(mDrawn[0]));
-  glNamedBufferStorage(mBuffers[0], positionBytes, mDrawn.data(), GL_DYNAMIC_STORAGE_BIT);
+  mVertices = mBlock.allocate(uint32_t(vertexCount), slot);
+  const auto positionBytes = vertexCount * sizeof(mDrawn[0]);
+  mBlock.writePositions(mVertices, 0, mDrawn);
   // Materials: each vertex's own (flange copies: their top's), and its weights.
   mMaterials = p.materials;
   mMaterials.resize(vertexCount, 0);
-  glNamedBufferStorage(mBuffers[1], GLsizeiptr(mMaterials.size()), mMaterials.data(),
-                       GL_DYNAMIC_STORAGE_BIT);
+  mBlock.writeMaterials(mVertices, 0, mMaterials);
   mWeightBytes.resize(mMaterials.size());
   for (size_t v = 0; v < mMaterials.size(); ++v) {
     mWeightBytes[v].fill(0);
@@ -53,8 +43,8 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   }
   if (mFade == MaterialFade::kToTarget)
     for (uint32_t v = 0; v < mMesh.vertexCount(); ++v) mWeights.push_back(ownWeights(v));
-  const auto weightBytes = GLsizeiptr(mWeightBytes.size() * sizeof(mWeightBytes[0]));
-  glNamedBufferStorage(mBuffers[3], weightBytes, mWeightBytes.data(), GL_DYNAMIC_STORAGE_BIT);
+  const auto weightBytes = mWeightBytes.size() * sizeof(mWeightBytes[0]);
+  mBlock.writeWeights(mVertices, 0, mWeightBytes);
   // Every part at a fixed place, at its finest level's size plus room for its fans; the
   // flanges after them.
   uint32_t first = 0;
@@ -69,51 +59,59 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p)
   mPrefixUploaded.assign(mRanges.size(), 0);
   mFlangeFirst = first;
   const size_t indexCount = size_t(first) + maxFlangeIndices(mFlanges);
-  glNamedBufferStorage(mBuffers[2], GLsizeiptr(std::max<size_t>(indexCount, 1) * 2), nullptr,
+  glNamedBufferStorage(mIndexBuffer.id(), GLsizeiptr(std::max<size_t>(indexCount, 1) * 2), nullptr,
                        GL_DYNAMIC_STORAGE_BIT);
   for (VipmPart& part : mLevels.parts()) part.dirty = true;
-  // The stored BC5 normal map as it is, with its mips (as the static kind's textures).
-  mNormalMap = GlTexture(uploadLayerTexture(p.normals));
+  // The stored BC5 normal map as it is, with its mips (as the static kind's textures), and
+  // the blot texture, with mips (blots are small on screen), averaged encoded as the material
+  // passes add encoded colours.
+  mBlock.writeTextures(slot, p.normals, p.blot);
   mNormalSize = p.normals.size;
-  uint64_t normalBytes = 0;
+  uint64_t normalBytes = p.blot.size() * 4 / 3;  // with its mips
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
-  // The blot texture, with mips (blots are small on screen), averaged encoded as the
-  // material passes add encoded colours.
-  {
-    GLuint name = 0;
-    glCreateTextures(GL_TEXTURE_2D, 1, &name);
-    mBlot = GlTexture(name);
-    const auto side = GLsizei(p.normals.size);
-    const int levels = int(std::floor(std::log2(double(side)))) + 1;
-    glTextureStorage2D(name, levels, GL_RGBA8, side, side);  // encoded: see vipm_blot.h
-    glTextureSubImage2D(name, 0, 0, 0, side, side, GL_RGBA, GL_UNSIGNED_BYTE, p.blot.data());
-    glGenerateTextureMipmap(name);
-    glTextureParameteri(name, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTextureParameteri(name, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    normalBytes += p.blot.size() * 4 / 3;  // with its mips
-  }
   // On the GPU, plus the CPU state (the payload's copy but its textures, which only the GPU
   // keeps; the drawn positions, materials and weights).
-  mGpuBytes = uint64_t(positionBytes) + mMaterials.size() + uint64_t(weightBytes) + indexCount * 2 +
-              normalBytes;
+  // (its vertices' slot tags: one byte each).
+  mGpuBytes = uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) +
+              indexCount * 2 + normalBytes;
   mBytes = mGpuBytes + p.bytes() - p.textureBytes() + uint64_t(positionBytes) + mMaterials.size() +
            mWeightBytes.size() * sizeof(mWeightBytes[0]) + mWeights.size() * sizeof(mWeights[0]);
   update(0.0, Geomorph::kOff);
 }
 
 VipmGpuChunk::~VipmGpuChunk() {
-  glDeleteBuffers(GLsizei(mBuffers.size()), mBuffers.data());
+  mBlock.release(mVertices);
 }
 
 void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
   if (count == 0) return;
-  glNamedBufferSubData(mBuffers[0], GLintptr(first * sizeof(mDrawn[0])),
-                       GLsizeiptr(count * sizeof(mDrawn[0])), mDrawn.data() + first);
+  mBlock.writePositions(mVertices, first, std::span(mDrawn).subspan(first, count));
   if (mFade == MaterialFade::kToTarget)
-    glNamedBufferSubData(mBuffers[3], GLintptr(first * sizeof(mWeightBytes[0])),
-                         GLsizeiptr(count * sizeof(mWeightBytes[0])), mWeightBytes.data() + first);
+    mBlock.writeWeights(mVertices, first, std::span(mWeightBytes).subspan(first, count));
+}
+
+void VipmGpuChunk::writeIndices(uint32_t first, std::span<const uint16_t> indices) {
+  if (indices.empty()) return;
+  glNamedBufferSubData(mIndexBuffer.id(), GLintptr(first) * 2, GLsizeiptr(indices.size_bytes()),
+                       indices.data());
+  ++mIndexVersion;
+}
+
+void VipmGpuChunk::appendDrawn(std::vector<uint32_t>& surface,
+                               std::vector<uint32_t>* flanges) const {
+  const uint32_t base = mVertices.first;
+  const VipmPart& whole = mLevels.whole();
+  const uint32_t living = mLevels.drawnTriangles(whole);
+  const std::vector<uint32_t>& replaced = mReplaced.front();
+  auto skip = replaced.begin();
+  for (uint32_t t = 0; t < living; ++t) {
+    while (skip != replaced.end() && *skip < t) ++skip;
+    if (skip != replaced.end() && *skip == t) continue;
+    for (int k = 0; k < 3; ++k) surface.push_back(base + whole.indices[3 * t + size_t(k)]);
+  }
+  for (uint16_t i : mPartFans.front()) surface.push_back(base + i);
+  if (flanges)
+    for (uint16_t i : mFlangeIndices) flanges->push_back(base + i);
 }
 
 MaterialWeights VipmGpuChunk::ownWeights(uint32_t v) const {
@@ -178,9 +176,7 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     const uint32_t living = mLevels.drawnTriangles(part) * 3;
     mRanges[i].count = living;  // the fans (stitch) come after
     if (!part.dirty) continue;
-    if (living)
-      glNamedBufferSubData(mBuffers[2], GLintptr(mRanges[i].firstIndex * 2), GLsizeiptr(living * 2),
-                           part.indices.data());
+    writeIndices(mRanges[i].firstIndex, std::span(part.indices).first(living));
     mPrefixUploaded[i] = 1;
     part.dirty = false;
   }
@@ -189,9 +185,7 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
     flangeIndices(mFlanges, n, mLevels.activeVertices(),
                   std::span(whole.indices).first(size_t(mLevels.drawnTriangles(whole)) * 3),
                   mFlangeIndices);
-    if (!mFlangeIndices.empty())
-      glNamedBufferSubData(mBuffers[2], GLintptr(mFlangeFirst * 2),
-                           GLsizeiptr(mFlangeIndices.size() * 2), mFlangeIndices.data());
+    writeIndices(mFlangeFirst, mFlangeIndices);
     mFlangesValid = true;
   }
 }
@@ -255,15 +249,12 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
       mMaterials[mFanVertexFirst + i] = mFans.materials[i];
       mWeightBytes[mFanVertexFirst + i] = mFans.weights[i];
     }
-    if (k) {
-      glNamedBufferSubData(mBuffers[0], GLintptr(mFanVertexFirst * sizeof(mDrawn[0])),
-                           GLsizeiptr(k * sizeof(mDrawn[0])), mDrawn.data() + mFanVertexFirst);
-      glNamedBufferSubData(mBuffers[1], GLintptr(mFanVertexFirst), GLsizeiptr(k),
-                           mMaterials.data() + mFanVertexFirst);
-      glNamedBufferSubData(mBuffers[3], GLintptr(mFanVertexFirst * sizeof(mWeightBytes[0])),
-                           GLsizeiptr(k * sizeof(mWeightBytes[0])),
-                           mWeightBytes.data() + mFanVertexFirst);
-    }
+    mBlock.writePositions(mVertices, mFanVertexFirst,
+                          std::span(mDrawn).subspan(mFanVertexFirst, k));
+    mBlock.writeMaterials(mVertices, mFanVertexFirst,
+                          std::span(mMaterials).subspan(mFanVertexFirst, k));
+    mBlock.writeWeights(mVertices, mFanVertexFirst,
+                        std::span(mWeightBytes).subspan(mFanVertexFirst, k));
   }
   const uint32_t shift = mFanVertexFirst - n;  // inserted points sit after the flange copies
   auto parts = mLevels.parts();
@@ -282,7 +273,7 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
       if (fanInPart(t, part.material))
         for (uint32_t v : t) fans.push_back(uint16_t(v < n ? v : v + shift));
     if (placed && fans == mPartFans[i]) continue;
-    const GLintptr base = GLintptr(mRanges[i].firstIndex) * 2;
+    const uint32_t base = mRanges[i].firstIndex;
     partSlots(i, mFans.replaced, slots);
     // Triangles no longer replaced get their indices back (unless the prefix was uploaded
     // whole this frame); those replaced now are emptied.
@@ -290,14 +281,12 @@ bool VipmGpuChunk::stitch(const StitchTable* table) {
     if (!mPrefixUploaded[i])
       for (uint32_t s : was)
         if (s < living && !std::binary_search(slots.begin(), slots.end(), s))
-          glNamedBufferSubData(mBuffers[2], base + GLintptr(s) * 6, 6, part.indices.data() + 3 * s);
+          writeIndices(base + 3 * s, std::span(part.indices).subspan(3 * size_t(s), 3));
     for (uint32_t s : slots)
       if (mPrefixUploaded[i] || !std::binary_search(was.begin(), was.end(), s))
-        glNamedBufferSubData(mBuffers[2], base + GLintptr(s) * 6, 6, kEmpty.data());
+        writeIndices(base + 3 * s, kEmpty);
     was = slots;
-    if (!fans.empty())
-      glNamedBufferSubData(mBuffers[2], base + GLintptr(living) * 6, GLsizeiptr(fans.size() * 2),
-                           fans.data());
+    writeIndices(base + 3 * living, fans);
     mFanOffset[i] = living * 3;
     mPartFans[i] = fans;
     mPrefixUploaded[i] = 0;

@@ -1,38 +1,26 @@
 #pragma once
-// One VIPM chunk on the GPU, with the CPU state that drives its level of detail: a vertex
-// buffer (positions, re-uploaded over the geomorphing range), a material buffer, one index
-// buffer holding every part at a fixed place plus the flanges of the current border, and its
-// stored normal map (a BC5 texture). Render thread only.
+// One VIPM chunk on the GPU, with the CPU state that drives its level of detail: its vertices
+// in its block's buffers (vipm_block.h: positions, re-uploaded over the geomorphing range,
+// materials and splat weights), one index buffer of its own holding every part at a fixed
+// place plus the flanges of the current border, and its stored normal map (a BC5 texture) and
+// blot texture in its block's layer. Render thread only.
 
 #include <array>
 #include <cstdint>
 #include <vector>
 
+#include "gl_object.h"
 #include "terralod/vipm/vipm_fans.h"
+#include "vipm_block.h"
 #include "vipm_payload.h"
 
 namespace terralod {
 
-/// A GL texture name, deleted with its owner.
-class GlTexture {
- public:
-  GlTexture() = default;
-  explicit GlTexture(uint32_t name) : mName(name) {}
-  ~GlTexture();
-  GlTexture(GlTexture&& other) noexcept;
-  GlTexture& operator=(GlTexture&& other) noexcept;
-  GlTexture(const GlTexture&) = delete;
-  GlTexture& operator=(const GlTexture&) = delete;
-  uint32_t id() const { return mName; }
-
- private:
-  uint32_t mName = 0;
-};
-
 class VipmGpuChunk {
  public:
-  /// Makes the GL objects and uploads the chunk at its finest level.
-  explicit VipmGpuChunk(const VipmChunkPayload& payload);
+  /// Uploads the chunk at its finest level into `slot` of `block` (which must fit its
+  /// textures and outlive it) and makes its index buffer.
+  VipmGpuChunk(const VipmChunkPayload& payload, VipmBlock& block, int slot);
   ~VipmGpuChunk();
   VipmGpuChunk(const VipmGpuChunk&) = delete;
   VipmGpuChunk& operator=(const VipmGpuChunk&) = delete;
@@ -69,18 +57,24 @@ class VipmGpuChunk {
   uint32_t applied() const { return mLevels.applied(); }
   /// Vertices of the mesh active now (flanges left out).
   uint32_t activeVertices() const { return mLevels.activeVertices(); }
-  uint32_t vertexBuffer() const { return mBuffers[0]; }
-  /// Per vertex: its own material (one byte).
-  uint32_t materialBuffer() const { return mBuffers[1]; }
-  uint32_t indexBuffer() const { return mBuffers[2]; }
-  /// Per vertex: its splat weights as drawn now, one unsigned normalised byte per material
-  /// (8 bytes). Its own material alone, except while a blot root's vertex geomorphs: a root's
-  /// collapses join different materials, so a corner's material changes only by fading
-  /// (morphMaterialWeights).
-  uint32_t weightBuffer() const { return mBuffers[3]; }
-  uint32_t normalMap() const { return mNormalMap.id(); }
-  /// Its blot texture (encoded colours, vipm_blot.h; mips), laid out as the normal map.
-  uint32_t blotTexture() const { return mBlot.id(); }
+  /// Its block, holding per vertex its position, its own material (one byte) and its splat
+  /// weights as drawn now, one unsigned normalised byte per material (8 bytes; its own
+  /// material alone, except while a blot root's vertex geomorphs: a root's collapses join
+  /// different materials, so a corner's material changes only by fading,
+  /// morphMaterialWeights); its normal map and its blot texture (encoded colours,
+  /// vipm_blot.h; mips, laid out as the normal map) are layer slot() of its arrays.
+  const VipmBlock& block() const { return mBlock; }
+  int slot() const { return mSlot; }
+  /// Its vertices in the block's buffers: the mesh's, the flange copies, then room for the
+  /// fans' inserted points.
+  VipmVertexRange vertices() const { return mVertices; }
+  uint32_t indexBuffer() const { return mIndexBuffer.id(); }
+  /// What its whole part draws now, as indices into the block's buffers: its triangles (the
+  /// fans' replaced ones left out) and fans to `surface`, with `flanges` its flanges to
+  /// `flanges`.
+  void appendDrawn(std::vector<uint32_t>& surface, std::vector<uint32_t>* flanges) const;
+  /// Changes whenever what appendDrawn gives may have changed.
+  uint64_t indexVersion() const { return mIndexVersion; }
   /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
   uint32_t normalSize() const { return mNormalSize; }
   int32_t width() const { return mWidth; }
@@ -93,6 +87,7 @@ class VipmGpuChunk {
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
+  void writeIndices(uint32_t first, std::span<const uint16_t> indices);
   // Sets the weights of the window's vertices (their own material alone outside it) and the
   // bytes uploaded of vertices [first, end) (both windows') and of the flange copies.
   void morphMaterials(const MorphWindow& previous, const MorphWindow& window, double morphTheta,
@@ -128,12 +123,14 @@ class VipmGpuChunk {
   std::vector<uint16_t> mFlangeIndices;
   std::vector<Range> mRanges;
   uint32_t mFlangeFirst = 0;
-  std::array<uint32_t, 4> mBuffers{};  // positions, materials, indices, weights
-  GlTexture mNormalMap;
-  GlTexture mBlot;
   uint32_t mNormalSize = 0;
   int32_t mWidth = 0, mHeight = 0;
   double mZBase = 0.0;
+  VipmBlock& mBlock;
+  int mSlot = 0;
+  VipmVertexRange mVertices;
+  GlBuffer mIndexBuffer;
+  uint64_t mIndexVersion = 0;
   uint64_t mBytes = 0, mGpuBytes = 0;
 };
 

@@ -70,10 +70,22 @@ VipmPass::VipmPass(ShaderProgram program, std::vector<GlTexture> details,
   // The weights of materials 0-3 and 4-7: two attributes from one 8-byte vertex.
   glVertexArrayAttribFormat(vao, 2, 4, GL_UNSIGNED_BYTE, GL_TRUE, 0);
   glVertexArrayAttribFormat(vao, 3, 4, GL_UNSIGNED_BYTE, GL_TRUE, 4);
-  for (GLuint a = 0; a < 4; ++a) {
-    glVertexArrayAttribBinding(vao, a, std::min(a, 2u));
+  // Its chunk's slot in its block (one byte).
+  glVertexArrayAttribIFormat(vao, 4, 1, GL_UNSIGNED_BYTE, 0);
+  for (GLuint a = 0; a < 5; ++a) {
+    glVertexArrayAttribBinding(vao, a, a < 3 ? a : a - 1);
     glEnableVertexArrayAttrib(vao, a);
   }
+}
+
+void VipmPass::bindBlock(const VipmBlock& block, uint32_t firstVertex) const {
+  const GLuint vao = mVertexArray.id();
+  glVertexArrayVertexBuffer(vao, 0, block.positionBuffer(), GLintptr(firstVertex) * 12, 12);
+  glVertexArrayVertexBuffer(vao, 1, block.materialBuffer(), GLintptr(firstVertex), 1);
+  glVertexArrayVertexBuffer(vao, 2, block.weightBuffer(), GLintptr(firstVertex) * 8, 8);
+  glVertexArrayVertexBuffer(vao, 3, block.slotBuffer(), GLintptr(firstVertex), 1);
+  glBindTextureUnit(1, block.normalArray());
+  glBindTextureUnit(2, block.blotArray());  // blots, and the fade toward them
 }
 
 void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
@@ -99,12 +111,72 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   glProgramUniform1f(p, mProgram.uniformLocation("uLevel"), float(n.level));
   glProgramUniform1i(p, mProgram.uniformLocation("uKind"), d.blot ? 2 : n.level == 0 ? 1 : 0);
   glProgramUniform1f(p, mProgram.uniformLocation("uMorph"), d.morph);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 0, c.vertexBuffer(), 0, 12);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 1, c.materialBuffer(), 0, 1);
-  glVertexArrayVertexBuffer(mVertexArray.id(), 2, c.weightBuffer(), 0, 8);
+  glProgramUniform1i(p, mProgram.uniformLocation("uBlock"), 0);
+  bindBlock(c.block(), c.vertices().first);
   glVertexArrayElementBuffer(mVertexArray.id(), c.indexBuffer());
-  glBindTextureUnit(1, c.normalMap());
-  glBindTextureUnit(2, c.blotTexture());  // blots, and the fade toward them
+}
+
+void VipmPass::drawBlock(const ChunkTree& tree, std::span<const Draw* const> members, bool flanges,
+                         DrawStats& stats) const {
+  const GLuint p = mProgram.id();
+  const VipmBlock& block = members.front()->chunk->block();
+  VipmBlock::Batch& batch = const_cast<VipmBlock&>(block).batch();
+  // The index list again only when one of its chunks or what they draw changed.
+  mKey.clear();
+  for (const Draw* d : members) {
+    mKey.push_back(uint64_t(uintptr_t(d->chunk)));
+    mKey.push_back(d->chunk->indexVersion());
+    mKey.push_back(d->chunk->applied());
+  }
+  mKey.push_back(flanges);
+  if (mKey != batch.key) {
+    batch.key = mKey;
+    batch.indices.clear();
+    mFlangeIndices.clear();
+    for (const Draw* d : members)
+      d->chunk->appendDrawn(batch.indices, flanges ? &mFlangeIndices : nullptr);
+    batch.surfaceIndices = uint32_t(batch.indices.size());
+    batch.indices.insert(batch.indices.end(), mFlangeIndices.begin(), mFlangeIndices.end());
+    if (batch.indices.size() > batch.capacity) {
+      batch.capacity = uint32_t(batch.indices.size() * 5 / 4 + 64);
+      batch.buffer = GlBuffer::make();
+      glNamedBufferStorage(batch.buffer.id(), GLsizeiptr(batch.capacity) * 4, nullptr,
+                           GL_DYNAMIC_STORAGE_BIT);
+    }
+    glNamedBufferSubData(batch.buffer.id(), 0, GLsizeiptr(batch.indices.size() * 4),
+                         batch.indices.data());
+  }
+  std::array<float, 2 * VipmBlock::kSlots> corners{};
+  std::array<float, VipmBlock::kSlots> zBases{}, morphs{};
+  for (const Draw* d : members) {
+    const VipmGpuChunk& c = *d->chunk;
+    const auto s = size_t(c.slot());
+    corners[2 * s] = float(c.cornerX() - mAnchor[0]);
+    corners[2 * s + 1] = float(c.cornerY() - mAnchor[1]);
+    zBases[s] = float(c.zBase());
+    morphs[s] = d->morph;
+    stats.vertices += c.activeVertices();
+  }
+  auto at = [&](const char* name) { return mProgram.uniformLocation(name); };
+  glProgramUniform1i(p, at("uBlock"), 1);
+  glProgramUniform2fv(p, at("uSlotCorner"), VipmBlock::kSlots, corners.data());
+  glProgramUniform1fv(p, at("uSlotZBase"), VipmBlock::kSlots, zBases.data());
+  glProgramUniform1fv(p, at("uSlotMorph"), VipmBlock::kSlots, morphs.data());
+  glProgramUniform1i(p, at("uFlangeFrom"), GLint(batch.surfaceIndices / 3));
+  const auto gridSize = float(members.front()->chunk->normalSize());
+  glProgramUniform2f(p, at("uGridSize"), gridSize, gridSize);
+  glProgramUniform1f(p, at("uLevel"), float(tree.node(members.front()->node).level));
+  glProgramUniform1i(p, at("uKind"), 3);
+  glProgramUniform1i(p, at("uPass"), 3);
+  glProgramUniform1i(p, at("uFlange"), 0);
+  bindBlock(block, 0);
+  glVertexArrayElementBuffer(mVertexArray.id(), batch.buffer.id());
+  if (!batch.indices.empty())
+    glDrawElements(GL_TRIANGLES, GLsizei(batch.indices.size()), GL_UNSIGNED_INT, nullptr);
+  stats.drawCalls += 1;
+  stats.triangles += batch.indices.size() / 3;
+  stats.superChunks += 1;
+  stats.superChunkBlots += uint32_t(members.size());
 }
 
 uint32_t VipmPass::drawRange(const VipmGpuChunk&, const VipmGpuChunk::Range& range) const {
@@ -164,7 +236,31 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glDisable(GL_BLEND);
   glProgramUniform1i(p, at("uPass"), 0);
   glProgramUniform1i(p, at("uMaterial"), -1);
+  // Blots that share a block with another blot: one call for the block's.
+  const bool flanges = style.skirts && style.stitch == VipmStitch::kFlanges;
+  mBlockDraws.clear();
+  if (style.superChunks == VipmSuperChunks::kOn && !ids)
+    for (const Draw& d : draws)
+      if (d.blot) mBlockDraws.push_back(&d);
+  std::sort(mBlockDraws.begin(), mBlockDraws.end(), [](const Draw* a, const Draw* b) {
+    const VipmBlock* x = &a->chunk->block();
+    const VipmBlock* y = &b->chunk->block();
+    return x != y ? std::less<>()(x, y) : a->chunk->slot() < b->chunk->slot();
+  });
+  mInBlock.assign(draws.size(), 0);
+  for (size_t i = 0; i < mBlockDraws.size();) {
+    size_t j = i + 1;
+    while (j < mBlockDraws.size() &&
+           &mBlockDraws[j]->chunk->block() == &mBlockDraws[i]->chunk->block())
+      ++j;
+    if (j - i >= 2) {
+      drawBlock(tree, std::span(mBlockDraws).subspan(i, j - i), flanges, stats);
+      for (size_t k = i; k < j; ++k) mInBlock[size_t(mBlockDraws[k] - draws.data())] = 1;
+    }
+    i = j;
+  }
   for (const Draw& d : draws) {
+    if (mInBlock[size_t(&d - draws.data())]) continue;
     setChunk(tree, d);
     const VipmGpuChunk::Range whole = d.chunk->parts().front();
     glProgramUniform1i(p, at("uFlange"), 0);
@@ -173,7 +269,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
     stats.drawCalls += drawRange(*d.chunk, whole);
     stats.triangles += whole.count / 3 - d.chunk->replacedTriangles();  // those are empty
     stats.vertices += d.chunk->activeVertices();
-    if (style.skirts && style.stitch == VipmStitch::kFlanges) {
+    if (flanges) {
       glProgramUniform1i(p, at("uFlange"), 1);
       glProgramUniform1i(p, at("uPass"), 0);
       stats.drawCalls += drawRange(*d.chunk, d.chunk->flanges());

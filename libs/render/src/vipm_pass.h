@@ -65,6 +65,11 @@ class VipmPass {
   VipmPass(ShaderProgram program, std::vector<GlTexture> details,
            std::vector<std::array<float, 3>> colors);
   void setChunk(const ChunkTree& tree, const Draw& d) const;
+  // Binds a block's vertex buffers from `firstVertex` on, and its textures.
+  void bindBlock(const VipmBlock& block, uint32_t firstVertex) const;
+  // Draws blots of one block (two or more, by slot) in one call, with their flanges.
+  void drawBlock(const ChunkTree& tree, std::span<const Draw* const> members, bool flanges,
+                 DrawStats& stats) const;
   uint32_t drawRange(const VipmGpuChunk& chunk, const VipmGpuChunk::Range& range) const;
 
   ShaderProgram mProgram;
@@ -73,6 +78,10 @@ class VipmPass {
   std::vector<std::array<float, 3>> mColors;    // per material, sRGB 0..1
   std::vector<std::array<float, 3>> mAverages;  // per material, linear: its detail's mean
   std::array<int64_t, 2> mAnchor{};             // per frame: grid point positions are taken from
+  std::vector<const Draw*> mBlockDraws;         // per frame: blots by block
+  std::vector<uint8_t> mInBlock;                // per frame: per draw, drawn in its block's call
+  mutable std::vector<uint64_t> mKey;           // per block call, kept to avoid allocating
+  mutable std::vector<uint32_t> mFlangeIndices;
 };
 
 }  // namespace terralod

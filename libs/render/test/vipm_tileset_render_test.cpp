@@ -227,6 +227,49 @@ TEST_F(VipmTilesetRender, BlotsDrawFarChunksInOnePassAndTheSwitchDoesNotShow) {
               unfaded);
 }
 
+TEST_F(VipmTilesetRender, SuperChunksDrawABlocksBlotsInOneCallAndChangeNoPixel) {
+  // The same low views with a super-chunk's blots in one call and each in its own, with
+  // flanges and with fans: fewer calls, the same picture (the same floats summed per vertex;
+  // only where a flange and a surface meet at equal depth may the order of the calls show),
+  // and no hole with fans.
+  open(test::Frames::kComplete);
+  const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);
+  const std::vector<Camera> cameras = flightCameras(flight);
+  uint32_t calls = 0, blotsInCalls = 0;
+  double worst = 0.0;  // of the channel values that differ
+  for (VipmStitch stitch : {VipmStitch::kFlanges, VipmStitch::kFans}) {
+    TerrainStyle on, off;
+    on.blotCellPixels = off.blotCellPixels = 4.0;
+    on.stitch = off.stitch = stitch;
+    off.superChunks = VipmSuperChunks::kOff;
+    for (size_t i = 0; i < size_t(flight.climbStart); i += 300) {
+      FrameStats with, without;
+      const Image a = draw(cameras[i], {}, on, &with);
+      const Image b = draw(cameras[i], {}, off, &without);
+      EXPECT_EQ(without.draw.superChunks, 0u);
+      EXPECT_EQ(with.draw.blots, without.draw.blots);
+      EXPECT_EQ(with.draw.triangles, without.draw.triangles);
+      // Each blot alone: its surface, and its flanges.
+      const uint32_t perBlot = stitch == VipmStitch::kFlanges ? 2 : 1;
+      EXPECT_EQ(with.draw.drawCalls - with.draw.superChunks + with.draw.superChunkBlots * perBlot,
+                without.draw.drawCalls);
+      calls += with.draw.superChunks;
+      blotsInCalls += with.draw.superChunkBlots;
+      uint64_t differ = 0;
+      for (size_t k = 0; k < a.rgba.size(); ++k) differ += a.rgba[k] != b.rgba[k];
+      worst = std::max(worst, double(differ) / double(a.rgba.size()));
+      EXPECT_LT(double(differ) / double(a.rgba.size()), 1e-3) << "frame " << i;
+      if (stitch == VipmStitch::kFans) {
+        EXPECT_EQ(holes(a), 0u) << "frame " << i;
+      }
+    }
+  }
+  EXPECT_GT(calls, 0u);
+  EXPECT_GT(blotsInCalls, 2 * calls - 1);
+  std::printf("%u super-chunk calls drew %u blots; at most %.2g of the values differ\n", calls,
+              blotsInCalls, worst);
+}
+
 TEST_F(VipmTilesetRender, MaterialIdImagesCoverTheTerrainWithItsMaterials) {
   open(test::Frames::kComplete);
   const Flight flight = autoFlight(mScene->tree(), 320, 240, 60.0, 0);

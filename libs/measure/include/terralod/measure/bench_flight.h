@@ -52,8 +52,9 @@ struct FrameRecord {
   double materialPopPx = NAN;
   /// The same with the last frame's state as it was drawn (its own geomorph).
   double materialMorphStepPx = NAN;
-  double fanMs = NAN;  ///< VIPM with --stitch fans: the frame's fan stitching (render thread)
-  uint32_t blots = 0;  ///< VIPM chunks drawn as blots
+  double fanMs = NAN;        ///< VIPM with --stitch fans: the frame's fan stitching (render thread)
+  uint32_t blots = 0;        ///< VIPM chunks drawn as blots
+  uint32_t superChunks = 0;  ///< VIPM super-chunk calls (each a block's blots)
   /// VIPM, with a source: mean absolute pixel change (8-bit units) between the picture and the
   /// same chunks with no blot (their materials faded), i.e. every blot switching at once.
   double blotSwitch = NAN;

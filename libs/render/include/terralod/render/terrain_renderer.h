@@ -30,6 +30,9 @@ struct DrawStats {
   /// vertices before its skirt's.
   uint64_t vertices = 0;
   uint32_t blots = 0;  ///< VIPM chunks drawn as blots (one pass, vipm_blot.h)
+  /// VIPM super-chunk calls (each the blots of one block, two or more) and the blots in them.
+  uint32_t superChunks = 0;
+  uint32_t superChunkBlots = 0;
 };
 
 class TerrainRenderer {

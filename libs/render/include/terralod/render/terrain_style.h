@@ -7,7 +7,8 @@
 
 namespace terralod {
 
-/// kKind: by chunk kind (VIPM leaves, VIPM roots, VIPM blots; static chunks grey).
+/// kKind: by chunk kind (VIPM leaves, VIPM roots, VIPM blots, VIPM blots drawn in their
+/// super-chunk's call; static chunks grey).
 enum class ColorBy { kRelief, kLevel, kMorph, kKind };
 
 /// How VIPM chunks close their borders (the static kind always hangs skirts): flanges hanging
@@ -20,6 +21,10 @@ enum class VipmStitch : uint8_t { kFlanges, kFans };
 /// off, every chunk one pass per material at every distance.
 enum class VipmBlots : uint8_t { kOn, kFadeOnly, kOff };
 
+/// VIPM blots of one super-chunk (4 × 4 chunks of a level sharing GPU storage, vipm_block.h)
+/// drawn in one call (kOn), or each chunk in its own (kOff).
+enum class VipmSuperChunks : uint8_t { kOn, kOff };
+
 struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
   bool wireframe = false;  ///< draw triangle edges over the surface
@@ -30,6 +35,7 @@ struct TerrainStyle {
   /// the materials fade to those colours.
   VipmBlots blots = VipmBlots::kOn;
   double blotCellPixels = 1.0;
+  VipmSuperChunks superChunks = VipmSuperChunks::kOn;
   bool textures = true;     ///< false: ignore chunk textures, light from the drawn geometry
   bool sky = true;          ///< false: empty pixels keep exactly the background colour
   bool chunkBoxes = false;  ///< outline each drawn chunk's bounding box, coloured by level

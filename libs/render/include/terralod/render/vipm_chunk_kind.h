@@ -12,9 +12,11 @@
 // solid under minZ, which lies under every level it can draw.
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <span>
+#include <tuple>
 #include <unordered_map>
 #include <vector>
 
@@ -52,6 +54,7 @@ inline int vipmMaterialOfPixel(uint8_t red) {
 class VipmPass;
 class StitchTable;
 class VipmGpuChunk;
+class VipmBlock;
 struct VipmDraw;
 
 class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
@@ -94,8 +97,14 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
  private:
   VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
 
+  // A super-chunk's storage: the normal map size of its level's chunks and its place in the
+  // grid of 4 × 4 blocks of them.
+  using BlockKey = std::tuple<uint32_t, int64_t, int64_t>;
+  static BlockKey blockKey(int64_t cornerX, int64_t cornerY, uint32_t normalSize);
+
   const TilesetReader& mTileset;
   std::unique_ptr<VipmPass> mPass;
+  std::map<BlockKey, std::unique_ptr<VipmBlock>> mBlocks;  // before the chunks: they use them
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
   uint64_t mGpuBytes = 0;
   // Fans or no fans for every drawn chunk, after their levels are set.

@@ -1,0 +1,147 @@
+#include "vipm_block.h"
+
+#include <epoxy/gl.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace terralod {
+namespace {
+
+GLenum normalFormat(TextureEncoding e) {
+  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
+}
+
+GLuint makeArray(GLenum format, uint32_t size, uint32_t levels) {
+  GLuint t = 0;
+  glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
+  glTextureStorage3D(t, GLsizei(levels), format, GLsizei(size), GLsizei(size),
+                     VipmBlock::kSlots);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  // Edge texels lie on the chunk border: clamping makes the border read exactly them.
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
+}  // namespace
+
+VipmBlock::VipmBlock(uint32_t normalSize, TextureEncoding normalEncoding, uint32_t normalLevels)
+    : mNormalSize(normalSize),
+      mNormalLevels(normalLevels),
+      mBlotLevels(uint32_t(std::floor(std::log2(double(std::max(normalSize, 1u))))) + 1),
+      mNormalEncoding(normalEncoding) {
+  mNormals = GlTexture(makeArray(normalFormat(normalEncoding), normalSize, normalLevels));
+  mBlots = GlTexture(makeArray(GL_RGBA8, normalSize, mBlotLevels));  // encoded: vipm_blot.h
+}
+
+VipmBlock::~VipmBlock() {
+  for (uint32_t& b : mBuffers)
+    if (b) glDeleteBuffers(1, &b);
+}
+
+bool VipmBlock::fits(const TextureLayer& normals) const {
+  return normals.size == mNormalSize && normals.encoding == mNormalEncoding &&
+         normals.mips.size() == mNormalLevels;
+}
+
+bool VipmBlock::empty() const {
+  return std::all_of(mMembers.begin(), mMembers.end(), [](auto* m) { return m == nullptr; });
+}
+
+void VipmBlock::grow(uint32_t needed) {
+  const uint64_t old = mRanges.capacity();
+  // Room for the rest of the block's chunks at about this one's size, then by half again.
+  const uint64_t capacity =
+      old == 0 ? uint64_t(needed) * kSlots : std::max(old + old / 2, old + needed);
+  for (size_t i = 0; i < mBuffers.size(); ++i) {
+    GLuint next = 0;
+    glCreateBuffers(1, &next);
+    glNamedBufferStorage(next, GLsizeiptr(capacity * kUnit[i]), nullptr, GL_DYNAMIC_STORAGE_BIT);
+    if (mBuffers[i]) {
+      glCopyNamedBufferSubData(mBuffers[i], next, 0, 0, GLsizeiptr(old * kUnit[i]));
+      glDeleteBuffers(1, &mBuffers[i]);
+    }
+    mBuffers[i] = next;
+  }
+  mRanges.grow(capacity - old);
+}
+
+VipmVertexRange VipmBlock::allocate(uint32_t count, int slot) {
+  count = std::max(count, 1u);
+  auto first = mRanges.allocate(count);
+  if (!first) {
+    grow(count);
+    first = mRanges.allocate(count);
+    assert(first);
+  }
+  const VipmVertexRange range{uint32_t(*first), count};
+  const std::vector<uint8_t> slots(count, uint8_t(slot));
+  glNamedBufferSubData(mBuffers[3], GLintptr(range.first), GLsizeiptr(count), slots.data());
+  return range;
+}
+
+void VipmBlock::release(VipmVertexRange range) {
+  if (range.count) mRanges.release(range.first, range.count);
+}
+
+void VipmBlock::writePositions(VipmVertexRange range, uint32_t first,
+                               std::span<const std::array<float, 3>> v) {
+  assert(first + v.size() <= range.count);
+  if (!v.empty())
+    glNamedBufferSubData(mBuffers[0], GLintptr((range.first + first) * kUnit[0]),
+                         GLsizeiptr(v.size_bytes()), v.data());
+}
+
+void VipmBlock::writeMaterials(VipmVertexRange range, uint32_t first,
+                               std::span<const uint8_t> v) {
+  assert(first + v.size() <= range.count);
+  if (!v.empty())
+    glNamedBufferSubData(mBuffers[1], GLintptr(range.first + first), GLsizeiptr(v.size()),
+                         v.data());
+}
+
+void VipmBlock::writeWeights(VipmVertexRange range, uint32_t first,
+                             std::span<const std::array<uint8_t, 8>> v) {
+  assert(first + v.size() <= range.count);
+  if (!v.empty())
+    glNamedBufferSubData(mBuffers[2], GLintptr((range.first + first) * kUnit[2]),
+                         GLsizeiptr(v.size_bytes()), v.data());
+}
+
+void VipmBlock::writeTextures(int slot, const TextureLayer& normals,
+                              std::span<const uint8_t> blot) {
+  assert(fits(normals));
+  const GLenum format = normalFormat(mNormalEncoding);
+  for (uint32_t m = 0; m < mNormalLevels; ++m) {
+    const GLsizei s = GLsizei(mipSize(mNormalSize, m));
+    glCompressedTextureSubImage3D(mNormals.id(), GLint(m), 0, 0, slot, s, s, 1, format,
+                                  GLsizei(normals.mips[m].size()), normals.mips[m].data());
+  }
+  const auto side = GLsizei(mNormalSize);
+  glTextureSubImage3D(mBlots.id(), 0, 0, 0, slot, side, side, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+                      blot.data());
+  // Its mips alone, through a view of its layer.
+  GLuint view = 0;
+  glGenTextures(1, &view);
+  glTextureView(view, GL_TEXTURE_2D, mBlots.id(), GL_RGBA8, 0, mBlotLevels, GLuint(slot), 1);
+  glGenerateTextureMipmap(view);
+  glDeleteTextures(1, &view);
+}
+
+uint64_t VipmBlock::gpuBytes() const {
+  uint64_t bytes = 0;
+  for (uint32_t u : kUnit) bytes += mRanges.capacity() * u;
+  uint64_t normal = 0, blot = 0;
+  for (uint32_t m = 0; m < mNormalLevels; ++m) {
+    const uint64_t blocks = (mipSize(mNormalSize, m) + 3) / 4;
+    normal += blocks * blocks * (mNormalEncoding == TextureEncoding::kBc1 ? 8 : 16);
+  }
+  for (uint32_t m = 0; m < mBlotLevels; ++m) blot += uint64_t(mipSize(mNormalSize, m)) * 4 *
+                                                     mipSize(mNormalSize, m);
+  return bytes + (normal + blot) * kSlots + uint64_t(mBatch.capacity) * 4;
+}
+
+}  // namespace terralod
