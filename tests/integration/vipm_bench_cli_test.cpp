@@ -25,6 +25,35 @@ class VipmBenchCli : public ::testing::Test {
           return built.exitCode == 0 ? std::string() : built.err;
         }));
     ASSERT_EQ(sTileset->error, "");
+    // Down towards the south-west rim.
+    std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
+      "frames": 60, "keyframes": [
+        {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
+        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+    // Low over the south-west rim, coming down: leaves draw near, roots further away.
+    std::ofstream(sDir->file("low.json")) << R"({"fov_deg": 60, "size": [160, 120],
+      "frames": 24, "keyframes": [
+        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
+        {"eye": [5400, 3500, 2350], "target": [7500, 8000, 1900]}]})";
+    // Hovering: the same camera every frame, so the LOD never changes.
+    std::ofstream(sDir->file("hover.json")) << R"({"fov_deg": 60, "size": [160, 120],
+      "frames": 16, "keyframes": [
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  }
+  static void TearDownTestSuite() {
+    delete sDir;
+    delete sTileset;
+    delete sNoRules;
+    delete sLeaves;
+    delete sLeavesNoRules;
+  }
+
+  // The tilesets only the material test reads (built by the test that needs them, so the
+  // other starts at once).
+  static void buildMaterialTilesets() {
     sNoRules = new SharedDirectory(sharedDirectory(
         "crater-vipm-no-rules", programStamp(TERRALOD_CLI), [](const std::string& dir) {
           const RunResult built =
@@ -50,30 +79,6 @@ class VipmBenchCli : public ::testing::Test {
           }));
       ASSERT_EQ((*shared)->error, "");
     }
-    // Down towards the south-west rim.
-    std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
-      "frames": 60, "keyframes": [
-        {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
-        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
-        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
-    // Low over the south-west rim, coming down: leaves draw near, roots further away.
-    std::ofstream(sDir->file("low.json")) << R"({"fov_deg": 60, "size": [160, 120],
-      "frames": 24, "keyframes": [
-        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
-        {"eye": [5200, 2500, 2600], "target": [7500, 8000, 1900]},
-        {"eye": [5400, 3500, 2350], "target": [7500, 8000, 1900]}]})";
-    // Hovering: the same camera every frame, so the LOD never changes.
-    std::ofstream(sDir->file("hover.json")) << R"({"fov_deg": 60, "size": [160, 120],
-      "frames": 16, "keyframes": [
-        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]},
-        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
-  }
-  static void TearDownTestSuite() {
-    delete sDir;
-    delete sTileset;
-    delete sNoRules;
-    delete sLeaves;
-    delete sLeavesNoRules;
   }
 
   static nlohmann::json bench(const std::vector<std::string>& extra) {
@@ -132,6 +137,8 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
 }
 
 TEST_F(VipmBenchCli, CountsPixelsWhoseMaterialChangesWithTheLevel) {
+  buildMaterialTilesets();
+  if (HasFatalFailure()) return;
   // Leaves only, coming down. Without the rules, a collapse's vertex keeps its own material
   // until the collapse is applied: boundaries jump even while geomorphing.
   const auto popping = materials(*sLeavesNoRules, "descend.json", {});
