@@ -22,6 +22,7 @@
 #include "terralod/materials/material_raster.h"
 #include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/void_fill.h"
+#include "vipm_cells.h"
 
 namespace terralod {
 namespace {
@@ -31,7 +32,6 @@ double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
-constexpr int32_t kLeaf = int32_t(kVipmLeafCells);
 // The header's textureMinTau: the default --min-tau (informative; VIPM normal maps have one
 // texel per grid point whatever τ).
 constexpr double kVipmTextureTau = 2.0;

@@ -12,11 +12,10 @@
 #include "terralod/build/vipm_chunks.h"
 #include "terralod/core/parallel.h"
 #include "terralod/materials/terrain_edits.h"
+#include "vipm_cells.h"
 #include "vipm_chunk_reuse.h"
 
 namespace terralod {
-
-constexpr int32_t kLeaf = int32_t(kVipmLeafCells), kRoot = int32_t(kVipmRootCells);
 
 namespace {
 

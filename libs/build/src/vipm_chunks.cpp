@@ -12,11 +12,10 @@
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
 #include "terralod/vipm/vipm_storage.h"
+#include "vipm_cells.h"
 
 namespace terralod {
 namespace {
-
-constexpr int32_t kLeaf = int32_t(kVipmLeafCells);
 
 // CPU time of the calling thread (wall time would count other builds on a shared machine).
 double threadSeconds() {

@@ -16,7 +16,7 @@
 namespace terralod {
 namespace {
 
-constexpr int32_t kStripRows = 256;
+constexpr int32_t kImageStripRows = 256;
 constexpr uint8_t kMaskedValue = 255;
 
 using gdal::Dataset;
@@ -107,14 +107,14 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   result.columns = columns;
   result.rows = rows;
   result.counts.assign(palette.size(), 0);
-  std::vector<uint8_t> rgb(size_t(columns) * kStripRows * 3), mask(size_t(columns) * kStripRows),
-      classes(size_t(columns) * kStripRows);
+  std::vector<uint8_t> rgb(size_t(columns) * kImageStripRows * 3),
+      mask(size_t(columns) * kImageStripRows), classes(size_t(columns) * kImageStripRows);
   // Nearest class per colour, computed once for every colour that occurs (a 16 MB table, only
   // the pages of colours that occur are touched).
   std::vector<uint8_t> nearestOf(size_t(1) << 24, 0xff);
   int bands[3] = {1, 2, 3};
-  for (int32_t row0 = 0; row0 < rows; row0 += kStripRows) {
-    const int32_t h = std::min(kStripRows, rows - row0);
+  for (int32_t row0 = 0; row0 < rows; row0 += kImageStripRows) {
+    const int32_t h = std::min(kImageStripRows, rows - row0);
     if (GDALDatasetRasterIO(image.get(), GF_Read, 0, row0, columns, h, rgb.data(), columns, h,
                             GDT_Byte, 3, bands, 3, int64_t(columns) * 3, 1) != CE_None ||
         GDALRasterIO(maskBand, GF_Read, 0, row0, columns, h, mask.data(), columns, h, GDT_Byte, 0,
@@ -153,8 +153,8 @@ Result<ClassifyImageResult> classifyImage(const std::string& imagePath,
   // Counted after the sieve: what the file holds.
   std::vector<int> indexOf(256, -1);
   for (size_t k = 0; k < palette.size(); ++k) indexOf[palette[k].id] = int(k);
-  for (int32_t row0 = 0; row0 < rows; row0 += kStripRows) {
-    const int32_t h = std::min(kStripRows, rows - row0);
+  for (int32_t row0 = 0; row0 < rows; row0 += kImageStripRows) {
+    const int32_t h = std::min(kImageStripRows, rows - row0);
     if (GDALRasterIO(band, GF_Read, 0, row0, columns, h, classes.data(), columns, h, GDT_Byte, 0,
                      0) != CE_None)
       return makeError(outputPath, "reading the classes back failed: " + gdal::lastErrorMessage());

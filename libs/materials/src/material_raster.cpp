@@ -18,7 +18,7 @@
 namespace terralod {
 namespace {
 
-constexpr int32_t kStripRows = 256;
+constexpr int32_t kDemStripRows = 256;
 constexpr uint8_t kUncovered = 255;
 
 using gdal::Dataset;
@@ -227,10 +227,10 @@ Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader&
   int distinct = 0;
   uint64_t covered = 0;
   const std::string continuous = "looks like continuous data, not classes";
-  std::vector<double> values(size_t(dem.columns) * kStripRows);
+  std::vector<double> values(size_t(dem.columns) * kDemStripRows);
   std::vector<uint8_t> valid(values.size());
-  for (int32_t row0 = 0; row0 < dem.rows; row0 += kStripRows) {
-    const int32_t h = std::min(kStripRows, dem.rows - row0);
+  for (int32_t row0 = 0; row0 < dem.rows; row0 += kDemStripRows) {
+    const int32_t h = std::min(kDemStripRows, dem.rows - row0);
     if (GDALRasterIO(valueBand, GF_Read, 0, row0, dem.columns, h, values.data(), dem.columns, h,
                      GDT_Float64, 0, 0) != CE_None ||
         GDALRasterIO(validBand, GF_Read, 0, row0, dem.columns, h, valid.data(), dem.columns, h,

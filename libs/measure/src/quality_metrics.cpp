@@ -6,18 +6,12 @@
 #include <limits>
 #include <mutex>
 
+#include "sample_key.h"
 #include "terralod/core/parallel.h"
 #include "terralod/core/sample_raster.h"
 #include "terralod/format/chunk_position.h"
 
 namespace terralod {
-namespace {
-
-uint64_t sampleKey(int64_t x, int64_t y) {
-  return (uint64_t(x) << 32) | uint64_t(y);
-}
-
-}  // namespace
 
 QualityMetrics::QualityMetrics(const TilesetReader& tileset, const ChunkTree& tree,
                                const Heightfield& source, int stride, unsigned threads)

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 
+#include "sample_key.h"
 #include "terralod/core/parallel.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/vipm_chunk_codec.h"
@@ -12,10 +13,6 @@
 
 namespace terralod {
 namespace {
-
-uint64_t sampleKey(int64_t x, int64_t y) {
-  return (uint64_t(x) << 32) | uint64_t(y);
-}
 
 // Calls visit(x, y, z) at every integer sample (x, y) inside triangle abc (closed; vertices
 // may be fractional while geomorphing) with x in [minX, maxX], y in [minY, maxY], both

@@ -455,10 +455,10 @@ TEST(DemReader, GridRowLatitudes) {
   EXPECT_LT(d.back(), 45.0);
   EXPECT_TRUE(open(testData("landlab_west_bijou_gully_3m.asc"))->gridRowLatitudes().empty());
   // No georeferencing at all: unknown.
-  EXPECT_TRUE(
-      open(testData("loadersgl_terrarium_256.png"), {.encoding = HeightEncoding::kTerrarium})
-          ->gridRowLatitudes()
-          .empty());
+  EXPECT_TRUE(open(testData("loadersgl_terrarium_256.png"),
+                   {.encoding = HeightEncoding::kTerrarium, .spacing = {}})
+                  ->gridRowLatitudes()
+                  .empty());
 }
 
 }  // namespace

@@ -16,8 +16,7 @@ GLenum normalFormat(TextureEncoding e) {
 GLuint makeArray(GLenum format, uint32_t size, uint32_t levels) {
   GLuint t = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
-  glTextureStorage3D(t, GLsizei(levels), format, GLsizei(size), GLsizei(size),
-                     VipmBlock::kSlots);
+  glTextureStorage3D(t, GLsizei(levels), format, GLsizei(size), GLsizei(size), VipmBlock::kSlots);
   glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   // Edge texels lie on the chunk border: clamping makes the border read exactly them.
@@ -95,8 +94,7 @@ void VipmBlock::writePositions(VipmVertexRange range, uint32_t first,
                          GLsizeiptr(v.size_bytes()), v.data());
 }
 
-void VipmBlock::writeMaterials(VipmVertexRange range, uint32_t first,
-                               std::span<const uint8_t> v) {
+void VipmBlock::writeMaterials(VipmVertexRange range, uint32_t first, std::span<const uint8_t> v) {
   assert(first + v.size() <= range.count);
   if (!v.empty())
     glNamedBufferSubData(mBuffers[1], GLintptr(range.first + first), GLsizeiptr(v.size()),
@@ -139,8 +137,8 @@ uint64_t VipmBlock::gpuBytes() const {
     const uint64_t blocks = (mipSize(mNormalSize, m) + 3) / 4;
     normal += blocks * blocks * (mNormalEncoding == TextureEncoding::kBc1 ? 8 : 16);
   }
-  for (uint32_t m = 0; m < mBlotLevels; ++m) blot += uint64_t(mipSize(mNormalSize, m)) * 4 *
-                                                     mipSize(mNormalSize, m);
+  for (uint32_t m = 0; m < mBlotLevels; ++m)
+    blot += uint64_t(mipSize(mNormalSize, m)) * 4 * mipSize(mNormalSize, m);
   return bytes + (normal + blot) * kSlots + uint64_t(mBatch.capacity) * 4;
 }
 

@@ -47,8 +47,7 @@ class VipmBlock {
   /// byte), splat weights (8 bytes).
   void writePositions(VipmVertexRange range, uint32_t first, std::span<const std::array<float, 3>>);
   void writeMaterials(VipmVertexRange range, uint32_t first, std::span<const uint8_t>);
-  void writeWeights(VipmVertexRange range, uint32_t first,
-                    std::span<const std::array<uint8_t, 8>>);
+  void writeWeights(VipmVertexRange range, uint32_t first, std::span<const std::array<uint8_t, 8>>);
   /// Stores a chunk's normal map (with its mips) and blot texture (level 0; mips are made) in
   /// layer `slot`.
   void writeTextures(int slot, const TextureLayer& normals, std::span<const uint8_t> blot);
