@@ -127,7 +127,7 @@ void VipmChunkKind::release(uint32_t node) {
   if (it == mChunks.end()) return;
   VipmGpuChunk& chunk = *it->second;
   const BlockKey key = blockKey(chunk.cornerX(), chunk.cornerY(), chunk.normalSize());
-  VipmBlock& block = const_cast<VipmBlock&>(chunk.block());
+  VipmBlock& block = chunk.block();
   if (block.member(chunk.slot()) == &chunk) block.setMember(chunk.slot(), nullptr);
   mGpuBytes -= chunk.gpuBytes();
   mChunks.erase(it);

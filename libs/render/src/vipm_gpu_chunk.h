@@ -64,6 +64,7 @@ class VipmGpuChunk {
   /// morphMaterialWeights); its normal map and its blot texture (encoded colours,
   /// vipm_blot.h; mips, laid out as the normal map) are layer slot() of its arrays.
   const VipmBlock& block() const { return mBlock; }
+  VipmBlock& block() { return mBlock; }
   int slot() const { return mSlot; }
   /// Its vertices in the block's buffers: the mesh's, the flange copies, then room for the
   /// fans' inserted points.

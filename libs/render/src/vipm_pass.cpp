@@ -119,8 +119,8 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
 void VipmPass::drawBlock(const ChunkTree& tree, std::span<const Draw* const> members, bool flanges,
                          DrawStats& stats) const {
   const GLuint p = mProgram.id();
-  const VipmBlock& block = members.front()->chunk->block();
-  VipmBlock::Batch& batch = const_cast<VipmBlock&>(block).batch();
+  VipmBlock& block = members.front()->chunk->block();
+  VipmBlock::Batch& batch = block.batch();
   // The index list again only when one of its chunks or what they draw changed.
   mKey.clear();
   for (const Draw* d : members) {
