@@ -25,6 +25,8 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot
       mBlock(block),
       mSlot(slot),
       mIndexBuffer(GlBuffer::make()) {
+  static uint64_t made = 0;  // render thread only
+  mSerial = ++made;
   // Vertices: the mesh's, the flange copies, then room for the fans' inserted points.
   mFanVertexFirst = uint32_t(mOwn.size());
   const size_t vertexCount = mOwn.size() + mStitcher.maxInsertedPoints();

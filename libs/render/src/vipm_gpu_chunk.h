@@ -76,6 +76,8 @@ class VipmGpuChunk {
   void appendDrawn(std::vector<uint32_t>& surface, std::vector<uint32_t>* flanges) const;
   /// Changes whenever what appendDrawn gives may have changed.
   uint64_t indexVersion() const { return mIndexVersion; }
+  /// Different for every chunk made (a new chunk may take a released one's address).
+  uint64_t serial() const { return mSerial; }
   /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
   uint32_t normalSize() const { return mNormalSize; }
   int32_t width() const { return mWidth; }
@@ -132,6 +134,7 @@ class VipmGpuChunk {
   VipmVertexRange mVertices;
   GlBuffer mIndexBuffer;
   uint64_t mIndexVersion = 0;
+  uint64_t mSerial = 0;
   uint64_t mBytes = 0, mGpuBytes = 0;
 };
 

@@ -124,7 +124,7 @@ void VipmPass::drawBlock(const ChunkTree& tree, std::span<const Draw* const> mem
   // The index list again only when one of its chunks or what they draw changed.
   mKey.clear();
   for (const Draw* d : members) {
-    mKey.push_back(uint64_t(uintptr_t(d->chunk)));
+    mKey.push_back(d->chunk->serial());
     mKey.push_back(d->chunk->indexVersion());
     mKey.push_back(d->chunk->applied());
   }
