@@ -129,17 +129,4 @@ void VipmBlock::writeTextures(int slot, const TextureLayer& normals,
   glDeleteTextures(1, &view);
 }
 
-uint64_t VipmBlock::gpuBytes() const {
-  uint64_t bytes = 0;
-  for (uint32_t u : kUnit) bytes += mRanges.capacity() * u;
-  uint64_t normal = 0, blot = 0;
-  for (uint32_t m = 0; m < mNormalLevels; ++m) {
-    const uint64_t blocks = (mipSize(mNormalSize, m) + 3) / 4;
-    normal += blocks * blocks * (mNormalEncoding == TextureEncoding::kBc1 ? 8 : 16);
-  }
-  for (uint32_t m = 0; m < mBlotLevels; ++m)
-    blot += uint64_t(mipSize(mNormalSize, m)) * 4 * mipSize(mNormalSize, m);
-  return bytes + (normal + blot) * kSlots + uint64_t(mBatch.capacity) * 4;
-}
-
 }  // namespace terralod

@@ -63,8 +63,6 @@ class VipmBlock {
   uint32_t slotBuffer() const { return mBuffers[3]; }
   uint32_t normalArray() const { return mNormals.id(); }
   uint32_t blotArray() const { return mBlots.id(); }
-  /// GPU bytes of its buffers and textures, spare room included.
-  uint64_t gpuBytes() const;
 
   /// The index list of the chunks drawn together this frame (VipmPass): rebuilt only when
   /// `key` (which chunks, at which index versions) differs from the last one's.

@@ -6,8 +6,6 @@
 #include <cmath>
 #include <utility>
 
-#include "terralod/render/texture_arrays.h"
-
 namespace terralod {
 
 VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot)
@@ -71,9 +69,9 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot
   mNormalSize = p.normals.size;
   uint64_t normalBytes = p.blot.size() * 4 / 3;  // with its mips
   for (const auto& mip : p.normals.mips) normalBytes += mip.size();
-  // On the GPU, plus the CPU state (the payload's copy but its textures, which only the GPU
-  // keeps; the drawn positions, materials and weights).
-  // (its vertices' slot tags: one byte each).
+  // On the GPU (its vertices with their one-byte slot tags, its indices, its layers), plus the
+  // CPU state (the payload's copy but its textures, which only the GPU keeps; the drawn
+  // positions, materials and weights).
   mGpuBytes = uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) +
               indexCount * 2 + normalBytes;
   mBytes = mGpuBytes + p.bytes() - p.textureBytes() + uint64_t(positionBytes) + mMaterials.size() +
