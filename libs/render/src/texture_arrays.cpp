@@ -11,42 +11,27 @@ namespace {
 
 // Colour is stored as display (gamma-encoded) values: the sRGB format makes the GPU linearise
 // texels before filtering, so filtering and mip blending happen in linear light.
-GLenum glFormat(TextureEncoding e) {
-  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
-}
-
-void setSampling(GLuint t) {
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  // Edge texels lie on the chunk border: clamping makes the border read exactly them.
-  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-}
-
 uint32_t makeArray(TextureEncoding encoding, uint32_t size, uint32_t levels, uint32_t layers) {
   GLuint t = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
-  glTextureStorage3D(t, GLsizei(levels), glFormat(encoding), GLsizei(size), GLsizei(size),
+  glTextureStorage3D(t, GLsizei(levels), chunkTextureFormat(encoding), GLsizei(size), GLsizei(size),
                      GLsizei(layers));
-  setSampling(t);
+  setChunkTextureSampling(t);
   return t;
 }
 
 }  // namespace
 
-uint32_t uploadLayerTexture(const TextureLayer& layer) {
-  GLuint t = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &t);
-  const auto levels = uint32_t(layer.mips.size());
-  glTextureStorage2D(t, GLsizei(levels), glFormat(layer.encoding), GLsizei(layer.size),
-                     GLsizei(layer.size));
-  for (uint32_t m = 0; m < levels; ++m) {
-    const GLsizei s = GLsizei(mipSize(layer.size, m));
-    glCompressedTextureSubImage2D(t, GLint(m), 0, 0, s, s, glFormat(layer.encoding),
-                                  GLsizei(layer.mips[m].size()), layer.mips[m].data());
-  }
-  setSampling(t);
-  return t;
+uint32_t chunkTextureFormat(TextureEncoding e) {
+  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
+}
+
+void setChunkTextureSampling(uint32_t t) {
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  // Edge texels lie on the chunk border: clamping makes the border read exactly them.
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
 }
 
 TextureArrays::~TextureArrays() {
@@ -175,7 +160,7 @@ TextureSlot TextureArrays::upload(const TextureLayer& layer) {
   for (uint32_t m = 0; m < c.levels; ++m) {
     const GLsizei s = GLsizei(mipSize(c.size, m));
     glCompressedTextureSubImage3D(page.texture, GLint(m), 0, 0, GLint(l), s, s, 1,
-                                  glFormat(c.encoding), GLsizei(layer.mips[m].size()),
+                                  chunkTextureFormat(c.encoding), GLsizei(layer.mips[m].size()),
                                   layer.mips[m].data());
   }
   // Running low: the next page is made ahead, off this thread.

@@ -6,22 +6,16 @@
 #include <cassert>
 #include <cmath>
 
+#include "terralod/render/texture_arrays.h"
+
 namespace terralod {
 namespace {
-
-GLenum normalFormat(TextureEncoding e) {
-  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
-}
 
 GLuint makeArray(GLenum format, uint32_t size, uint32_t levels) {
   GLuint t = 0;
   glCreateTextures(GL_TEXTURE_2D_ARRAY, 1, &t);
   glTextureStorage3D(t, GLsizei(levels), format, GLsizei(size), GLsizei(size), VipmBlock::kSlots);
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  // Edge texels lie on the chunk border: clamping makes the border read exactly them.
-  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  setChunkTextureSampling(t);
   return t;
 }
 
@@ -32,13 +26,8 @@ VipmBlock::VipmBlock(uint32_t normalSize, TextureEncoding normalEncoding, uint32
       mNormalLevels(normalLevels),
       mBlotLevels(uint32_t(std::floor(std::log2(double(std::max(normalSize, 1u))))) + 1),
       mNormalEncoding(normalEncoding) {
-  mNormals = GlTexture(makeArray(normalFormat(normalEncoding), normalSize, normalLevels));
+  mNormals = GlTexture(makeArray(chunkTextureFormat(normalEncoding), normalSize, normalLevels));
   mBlots = GlTexture(makeArray(GL_RGBA8, normalSize, mBlotLevels));  // encoded: vipm_blot.h
-}
-
-VipmBlock::~VipmBlock() {
-  for (uint32_t& b : mBuffers)
-    if (b) glDeleteBuffers(1, &b);
 }
 
 bool VipmBlock::fits(const TextureLayer& normals) const {
@@ -56,14 +45,12 @@ void VipmBlock::grow(uint32_t needed) {
   const uint64_t capacity =
       old == 0 ? uint64_t(needed) * kSlots : std::max(old + old / 2, old + needed);
   for (size_t i = 0; i < mBuffers.size(); ++i) {
-    GLuint next = 0;
-    glCreateBuffers(1, &next);
-    glNamedBufferStorage(next, GLsizeiptr(capacity * kUnit[i]), nullptr, GL_DYNAMIC_STORAGE_BIT);
-    if (mBuffers[i]) {
-      glCopyNamedBufferSubData(mBuffers[i], next, 0, 0, GLsizeiptr(old * kUnit[i]));
-      glDeleteBuffers(1, &mBuffers[i]);
-    }
-    mBuffers[i] = next;
+    GlBuffer next = GlBuffer::make();
+    glNamedBufferStorage(next.id(), GLsizeiptr(capacity * kUnit[i]), nullptr,
+                         GL_DYNAMIC_STORAGE_BIT);
+    if (old)
+      glCopyNamedBufferSubData(mBuffers[i].id(), next.id(), 0, 0, GLsizeiptr(old * kUnit[i]));
+    mBuffers[i] = std::move(next);
   }
   mRanges.grow(capacity - old);
 }
@@ -78,7 +65,7 @@ VipmVertexRange VipmBlock::allocate(uint32_t count, int slot) {
   }
   const VipmVertexRange range{uint32_t(*first), count};
   const std::vector<uint8_t> slots(count, uint8_t(slot));
-  glNamedBufferSubData(mBuffers[3], GLintptr(range.first), GLsizeiptr(count), slots.data());
+  write(3, range, 0, std::span<const uint8_t>(slots));
   return range;
 }
 
@@ -86,33 +73,35 @@ void VipmBlock::release(VipmVertexRange range) {
   if (range.count) mRanges.release(range.first, range.count);
 }
 
-void VipmBlock::writePositions(VipmVertexRange range, uint32_t first,
-                               std::span<const std::array<float, 3>> v) {
-  assert(first + v.size() <= range.count);
-  if (!v.empty())
-    glNamedBufferSubData(mBuffers[0], GLintptr((range.first + first) * kUnit[0]),
-                         GLsizeiptr(v.size_bytes()), v.data());
+template <typename T>
+void VipmBlock::write(size_t buffer, VipmVertexRange range, uint32_t first,
+                      std::span<const T> values) {
+  static_assert(sizeof(T) <= 12);
+  assert(sizeof(T) == kUnit[buffer] && first + values.size() <= range.count);
+  if (!values.empty())
+    glNamedBufferSubData(mBuffers[buffer].id(), GLintptr((range.first + first) * kUnit[buffer]),
+                         GLsizeiptr(values.size_bytes()), values.data());
 }
 
-void VipmBlock::writeMaterials(VipmVertexRange range, uint32_t first, std::span<const uint8_t> v) {
-  assert(first + v.size() <= range.count);
-  if (!v.empty())
-    glNamedBufferSubData(mBuffers[1], GLintptr(range.first + first), GLsizeiptr(v.size()),
-                         v.data());
+void VipmBlock::writePositions(VipmVertexRange range, uint32_t first,
+                               std::span<const std::array<float, 3>> values) {
+  write(0, range, first, values);
+}
+
+void VipmBlock::writeMaterials(VipmVertexRange range, uint32_t first,
+                               std::span<const uint8_t> values) {
+  write(1, range, first, values);
 }
 
 void VipmBlock::writeWeights(VipmVertexRange range, uint32_t first,
-                             std::span<const std::array<uint8_t, 8>> v) {
-  assert(first + v.size() <= range.count);
-  if (!v.empty())
-    glNamedBufferSubData(mBuffers[2], GLintptr((range.first + first) * kUnit[2]),
-                         GLsizeiptr(v.size_bytes()), v.data());
+                             std::span<const std::array<uint8_t, 8>> values) {
+  write(2, range, first, values);
 }
 
 void VipmBlock::writeTextures(int slot, const TextureLayer& normals,
                               std::span<const uint8_t> blot) {
   assert(fits(normals));
-  const GLenum format = normalFormat(mNormalEncoding);
+  const GLenum format = chunkTextureFormat(mNormalEncoding);
   for (uint32_t m = 0; m < mNormalLevels; ++m) {
     const GLsizei s = GLsizei(mipSize(mNormalSize, m));
     glCompressedTextureSubImage3D(mNormals.id(), GLint(m), 0, 0, slot, s, s, 1, format,

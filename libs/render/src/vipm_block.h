@@ -32,7 +32,6 @@ class VipmBlock {
   /// A block whose chunks' normal maps are `normalSize` texels a side in `normalEncoding` with
   /// `normalLevels` mips (the blot textures: RGBA8, the same size, a full mip chain).
   VipmBlock(uint32_t normalSize, TextureEncoding normalEncoding, uint32_t normalLevels);
-  ~VipmBlock();
   VipmBlock(const VipmBlock&) = delete;
   VipmBlock& operator=(const VipmBlock&) = delete;
 
@@ -45,9 +44,11 @@ class VipmBlock {
 
   /// Writes vertices [first, first + count) of `range`: positions (3 floats), materials (one
   /// byte), splat weights (8 bytes).
-  void writePositions(VipmVertexRange range, uint32_t first, std::span<const std::array<float, 3>>);
-  void writeMaterials(VipmVertexRange range, uint32_t first, std::span<const uint8_t>);
-  void writeWeights(VipmVertexRange range, uint32_t first, std::span<const std::array<uint8_t, 8>>);
+  void writePositions(VipmVertexRange range, uint32_t first,
+                      std::span<const std::array<float, 3>> values);
+  void writeMaterials(VipmVertexRange range, uint32_t first, std::span<const uint8_t> values);
+  void writeWeights(VipmVertexRange range, uint32_t first,
+                    std::span<const std::array<uint8_t, 8>> values);
   /// Stores a chunk's normal map (with its mips) and blot texture (level 0; mips are made) in
   /// layer `slot`.
   void writeTextures(int slot, const TextureLayer& normals, std::span<const uint8_t> blot);
@@ -57,10 +58,10 @@ class VipmBlock {
   void setMember(int slot, VipmGpuChunk* chunk) { mMembers[size_t(slot)] = chunk; }
   bool empty() const;
 
-  uint32_t positionBuffer() const { return mBuffers[0]; }
-  uint32_t materialBuffer() const { return mBuffers[1]; }
-  uint32_t weightBuffer() const { return mBuffers[2]; }
-  uint32_t slotBuffer() const { return mBuffers[3]; }
+  uint32_t positionBuffer() const { return mBuffers[0].id(); }
+  uint32_t materialBuffer() const { return mBuffers[1].id(); }
+  uint32_t weightBuffer() const { return mBuffers[2].id(); }
+  uint32_t slotBuffer() const { return mBuffers[3].id(); }
   uint32_t normalArray() const { return mNormals.id(); }
   uint32_t blotArray() const { return mBlots.id(); }
 
@@ -77,9 +78,12 @@ class VipmBlock {
 
  private:
   void grow(uint32_t needed);
+  // Values of buffer `buffer` (one per vertex) for vertices [first, first + size) of `range`.
+  template <typename T>
+  void write(size_t buffer, VipmVertexRange range, uint32_t first, std::span<const T> values);
 
   static constexpr std::array<uint32_t, 4> kUnit{12, 1, 8, 1};
-  std::array<uint32_t, 4> mBuffers{};  // positions, materials, weights, slots
+  std::array<GlBuffer, 4> mBuffers;  // positions, materials, weights, slots
   RangeAllocator mRanges{0};
   GlTexture mNormals, mBlots;
   uint32_t mNormalSize = 0, mNormalLevels = 0, mBlotLevels = 0;

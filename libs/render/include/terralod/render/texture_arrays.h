@@ -24,10 +24,11 @@
 
 namespace terralod {
 
-/// One layer alone as a 2D texture (not an array), its whole mip chain uploaded, filtered and
-/// clamped as the arrays are: for kinds that bind a texture per chunk (the VIPM kind's normal
-/// maps). Returns the GL name; the caller deletes it.
-uint32_t uploadLayerTexture(const TextureLayer& layer);
+/// The GL internal format of chunk textures of `encoding` (colour as sRGB), and the sampling
+/// every chunk texture uses (trilinear, clamped to the edge texels, which lie on the chunk
+/// border): for kinds that keep chunk textures of their own (the VIPM kind's blocks).
+uint32_t chunkTextureFormat(TextureEncoding encoding);
+void setChunkTextureSampling(uint32_t texture);
 
 struct TextureSlot {
   uint32_t array = 0;  ///< page index (arrayTexture(array) is its GL name)
