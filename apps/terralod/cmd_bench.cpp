@@ -2,6 +2,7 @@
 //                [--report DIR]
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
@@ -29,6 +30,7 @@ struct BenchCommand {
   std::string jsonPath;
   std::string reportDir;
   int metricStride = 0;
+  bool warmStart = false;
 };
 
 // The editor of bench --edit-script: the tileset's chunk set (its source read again, every
@@ -84,6 +86,7 @@ int runBench(const BenchCommand& b) {
   if (cameras->empty()) return fail("the flight has no frames");
 
   BenchFlightOptions flightOptions;
+  flightOptions.start = b.warmStart ? BenchStart::kWarm : BenchStart::kCold;
   flightOptions.selection = *selection;
   flightOptions.style = *style;
   flightOptions.source = source ? &*source : nullptr;
@@ -104,6 +107,8 @@ int runBench(const BenchCommand& b) {
   if (!run) return fail(run.error().message);
   const BenchFlightResult* flight = &run->flight;
   nlohmann::json& j = run->summary;
+  j["warm_start_ms"] =
+      std::isnan(flight->warmStartMs) ? nlohmann::json() : nlohmann::json(flight->warmStartMs);
   if (editor) editor->addFigures(j);
   if (!b.reportDir.empty())
     if (Status s = writeBenchReport(b.reportDir, *flight, j, commandLine()); !s)
@@ -161,6 +166,10 @@ void addBenchCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--edit-source", b->editSource,
                   "The raster the tileset was built from, for --edit-script (default: the file "
                   "its metadata names, next to it or in the current directory)");
+  cmd->add_flag("--warm-start", b->warmStart,
+                "Load the first camera's chunks before the first frame (as behind a viewer's "
+                "loading screen; its time is warm_start_ms), so the flight measures streaming "
+                "from a settled view rather than from the roots alone");
   cmd->add_option("--json", b->jsonPath, "Where to write the figures (JSON)")->required();
   cmd->add_option("--report", b->reportDir,
                   "Also write a report to this directory: report.md with the figures, plots of "

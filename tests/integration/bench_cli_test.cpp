@@ -74,6 +74,28 @@ TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {
   EXPECT_FALSE(j.contains("material_pop_px"));  // VIPM tilesets only
 }
 
+TEST_F(BenchCli, AWarmStartLoadsTheFirstViewBeforeTheFirstFrame) {
+  // From the roots alone the low pass's first frames are drawn coarser while the view
+  // streams in (3 here); with --warm-start the first camera's chunks are loaded first (not a
+  // frame) and its first 30 frames all show what they want.
+  auto run = [&](std::vector<std::string> extra) {
+    std::vector<std::string> args = {
+        "bench",  sTileset->file("c.tlod"), "--auto-flight", "--size", "320x240", "--frames", "30",
+        "--json", sDir->file("w.json")};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(readWholeFile(sDir->file("w.json")));
+  };
+  const auto cold = run({});
+  EXPECT_GT(cold["coarser_than_wanted_frames"].get<int>(), 0);
+  EXPECT_TRUE(cold["warm_start_ms"].is_null());
+  const auto warm = run({"--warm-start"});
+  EXPECT_EQ(warm["coarser_than_wanted_frames"].get<int>(), 0);
+  EXPECT_GT(warm["warm_start_ms"].get<double>(), 0.0);
+  EXPECT_EQ(warm["frames_waiting_on_io"].get<int>(), 0);
+}
+
 TEST(BenchTexels, NoTexelCoversMoreThanOnePixelAtTheTexturesTau) {
   // 1 m samples, 1 m leaf error: every level's textures can be sized by eq. 7 for τ = 2
   // (leaves at one texel per sample), so along the climb no texel exceeds a pixel at τ = 2,

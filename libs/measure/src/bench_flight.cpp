@@ -191,6 +191,14 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     return Error{"frame " + std::to_string(i) + ": " + e.message};
   };
 
+  if (options.start == BenchStart::kWarm && !cameras.empty()) {
+    auto view = makeView(cameras.front());
+    if (!view) return frameError(0, view.error());
+    const auto start = std::chrono::steady_clock::now();
+    scene.preload(*view, options.selection);
+    result.warmStartMs = millisecondsSince(start);
+  }
+
   std::optional<Framebuffer> target;
   size_t nextKept = 0;
   progress.begin("flying", cameras.size());

@@ -50,7 +50,7 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
   for (DrawnChunkKind<TerrainFrame>* kind : scene->mDrawnKinds) kinds.add(*kind);
   FrameDriverOptions d;
   d.cacheBytes = scene->mOptions.cacheBytes;
-  d.maxInFlight = std::max(2u, 2 * scene->mOptions.loaderThreads);
+  d.maxInFlight = std::max(1u, scene->mOptions.loadsInFlight);
   d.uploadMillisecondsPerFrame = scene->mOptions.uploadMillisecondsPerFrame;
   d.completeness =
       scene->mOptions.complete ? FrameCompleteness::kComplete : FrameCompleteness::kStreaming;

@@ -78,7 +78,7 @@ void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
   std::vector<ReadyChunk> ready = residency.collect();
   for (ReadyChunk& chunk : ready) {
     if (limit == UploadLimit::kBudget && stats.uploads > 0 &&
-        mClock.nowMilliseconds() - start > mOptions.uploadMillisecondsPerFrame) {
+        mClock.nowMilliseconds() - start > mUploadBudget) {
       residency.returnReady(std::move(chunk));
       continue;
     }
@@ -100,13 +100,18 @@ void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
   stats.uploadMilliseconds = mClock.nowMilliseconds() - start;
 }
 
-void FrameDriver::easeLateSplits(const SelectionOptions& selection, UpdateStats& stats) {
+void FrameDriver::easeLateSplits(const SelectionOptions& selection, FrameCompleteness completeness,
+                                 UpdateStats& stats) {
   // A split the selection makes now that last frame drew the parent: the children start at
   // the parent's surface. On time (the children's ρ <= τ/2) that is their schedule anyway and
   // any t keeps the error within τ; late, it hides the pop while they ease in. (Not for
-  // complete frames: they show the settled selection.)
-  constexpr float kEntryStep = 1.0f / 16.0f;
-  const bool easeIn = mOptions.completeness == FrameCompleteness::kStreaming && selection.morph;
+  // complete frames: they show the settled selection.) A split on time still starts a hair
+  // above its schedule: the parent's ρ passed τ somewhere between the last frame and this
+  // one, so the nearest child's schedule is 1 less about the camera's relative approach in
+  // one frame (times own/(parent − own) + 1). Only a chunk more than kOnTime above its
+  // schedule counts as easing (coarser than wanted), or every frame with a split would.
+  constexpr float kEntryStep = 1.0f / 16.0f, kOnTime = 1.0f / 64.0f;
+  const bool easeIn = completeness == FrameCompleteness::kStreaming && selection.morph;
   for (SelectedChunk& c : mSelected) {
     const uint32_t parent = mTree.node(c.node).parent;
     const bool drawnLastFrame = mDrawnFrame[c.node] + 1 == mFrame;
@@ -115,7 +120,7 @@ void FrameDriver::easeLateSplits(const SelectionOptions& selection, UpdateStats&
     else if (!drawnLastFrame)
       mEntryMorph[c.node] = 0.0f;  // an easing cut short (it split again) does not come back
     if (mEntryMorph[c.node] > 0.0f) {
-      if (mEntryMorph[c.node] > c.morph) ++stats.easing;
+      if (mEntryMorph[c.node] > c.morph + kOnTime) ++stats.easing;
       c.morph = std::max(c.morph, mEntryMorph[c.node]);
       mEntryMorph[c.node] = std::max(0.0f, mEntryMorph[c.node] - kEntryStep);
     }
@@ -141,8 +146,8 @@ void FrameDriver::requestWanted(const View& view, const SelectionOptions& select
   }
 }
 
-void FrameDriver::step(const View& view, const SelectionOptions& selection, UploadLimit limit,
-                       UpdateStats& stats) {
+void FrameDriver::step(const View& view, const SelectionOptions& selection,
+                       FrameCompleteness completeness, UploadLimit limit, UpdateStats& stats) {
   uploadReady(limit, stats);
 
   const double selectStart = mClock.nowMilliseconds();
@@ -151,7 +156,7 @@ void FrameDriver::step(const View& view, const SelectionOptions& selection, Uplo
   mLastSelection = selectChunks(mTree, view, options, mSelected);
   stats.selectMicroseconds = (mClock.nowMilliseconds() - selectStart) * 1000.0;
 
-  easeLateSplits(selection, stats);
+  easeLateSplits(selection, completeness, stats);
   requestWanted(view, selection);
   for (uint32_t node : mResidency->evict()) {
     kindOf(node).release(node);
@@ -161,10 +166,17 @@ void FrameDriver::step(const View& view, const SelectionOptions& selection, Uplo
   mResidency->dispatch();
 }
 
-UpdateStats FrameDriver::update(const View& view, const SelectionOptions& selection) {
-  const bool complete = mOptions.completeness == FrameCompleteness::kComplete;
+UpdateStats FrameDriver::update(const View& view, const SelectionOptions& selection,
+                                FrameCompleteness completeness) {
+  const bool complete = completeness == FrameCompleteness::kComplete;
+  const double now = mClock.nowMilliseconds();
+  const double interval = mLastUpdateStart < 0.0 ? 0.0 : now - mLastUpdateStart;
+  mLastUpdateStart = now;
+  mUploadBudget =
+      std::max(mOptions.uploadMillisecondsPerFrame, mOptions.uploadFrameShare * interval);
   UpdateStats stats;
-  step(view, selection, complete ? UploadLimit::kUnlimited : UploadLimit::kBudget, stats);
+  step(view, selection, completeness, complete ? UploadLimit::kUnlimited : UploadLimit::kBudget,
+       stats);
   // Complete frames wait until nothing they want is still on its way.
   for (int round = 0; complete && mLastSelection.coarserThanWanted > 0 && round < 100000; ++round) {
     // Nothing on its way: the rest failed (retried later) or does not fit the budget.
@@ -175,7 +187,7 @@ UpdateStats FrameDriver::update(const View& view, const SelectionOptions& select
     mClock.sleepMicroseconds(200);
     stats.waitedOnIo = true;
     UpdateStats more;
-    step(view, selection, UploadLimit::kUnlimited, more);
+    step(view, selection, completeness, UploadLimit::kUnlimited, more);
     stats.uploads += more.uploads;
     stats.evictions += more.evictions;
     stats.uploadMilliseconds += more.uploadMilliseconds;

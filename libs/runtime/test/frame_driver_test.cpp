@@ -37,8 +37,10 @@ Flight recordedFlight(const ChunkTree& tree) {
   return parseFlight(flightToJson(flight), "flight.json").value();
 }
 
+// `renderMs`: what drawing each frame takes on the clock after its update.
 FlightRun fly(const std::string& path, FrameDriverOptions options,
-              const std::function<void(const FrameDriver&, const ChunkTree&)>& check = {}) {
+              const std::function<void(const FrameDriver&, const ChunkTree&)>& check = {},
+              double renderMs = 0.0) {
   auto reader = TilesetReader::openFile(path);
   EXPECT_TRUE(reader.ok()) << reader.error().message;
   const ChunkTree tree((*reader)->header(), (*reader)->nodes());
@@ -65,6 +67,7 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
     run.drawn.push_back(std::move(frame));
     run.residentBytes.push_back((*driver)->residency().counters().residentBytes);
     if (check) check(**driver, tree);
+    clock.advance(renderMs);
     runner.runAll();  // the loads dispatched this frame finish before the next
   }
   run.counters = (*driver)->residency().counters();
@@ -145,6 +148,57 @@ TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {
   size_t fullFrames = 0;
   for (const UpdateStats& s : run.stats) fullFrames += s.uploads == 5 ? 1 : 0;
   EXPECT_GT(fullFrames, 0u) << "the upload budget never bit: nothing tested";
+}
+
+TEST(FrameDriver, SlowFramesGiveUploadsAShareOfTheirInterval) {
+  // Frames that take 96 ms to draw (software rendering): a tenth of the last interval, about
+  // 10 ms, is more than the 4 ms floor, so up to 11 uploads of 1 ms fit, and the stream keeps up.
+  const std::string path = writeBlobTileset(tilesetPath("driver_slow.tlod"), kLevels);
+  auto mostUploads = [](const FlightRun& run) {
+    size_t most = 0;
+    for (size_t f = 1; f < run.frames.size(); ++f)
+      most = std::max(most, run.frames[f].uploads.size());
+    return most;
+  };
+  const FlightRun slow = fly(path, smallBudget(), {}, 96.0);
+  EXPECT_GT(mostUploads(slow), 5u);
+  EXPECT_LE(mostUploads(slow), 12u);  // 10.8 ms at most (96 + 12 uploads), then one more
+  FrameDriverOptions floorOnly = smallBudget();
+  floorOnly.uploadFrameShare = 0.0;
+  EXPECT_LE(mostUploads(fly(path, floorOnly, {}, 96.0)), 5u);
+  // Fast frames keep the floor.
+  EXPECT_LE(mostUploads(fly(path, smallBudget())), 5u);
+}
+
+TEST(FrameDriver, SplitsOnTimeAreNotCountedAsEasing) {
+  // Loads and uploads without limit: once the first view has arrived (the flight starts from
+  // the roots alone, frames 0-17 here), every child is resident before its parent splits, so
+  // no split is late. Each starts within a hair of its schedule (its parent's ρ passed τ
+  // between two frames) and none counts as easing; with a tight budget some do (the first
+  // test).
+  const std::string path = writeBlobTileset(tilesetPath("driver_on_time.tlod"), kLevels);
+  FrameDriverOptions options;
+  options.cacheBytes = uint64_t(1) << 40;
+  options.maxInFlight = 100000;
+  options.uploadMillisecondsPerFrame = 1e9;
+  constexpr size_t kSettled = 30;
+  size_t splits = 0, frame = 1;
+  std::vector<uint8_t> drawnBefore;
+  const FlightRun run = fly(path, options, [&](const FrameDriver& driver, const ChunkTree& tree) {
+    std::vector<uint8_t> drawn(tree.nodes().size(), 0);
+    for (const SelectedChunk& c : driver.selected()) drawn[c.node] = 1;
+    if (!drawnBefore.empty() && frame++ >= kSettled)
+      for (const SelectedChunk& c : driver.selected()) {
+        const uint32_t parent = tree.node(c.node).parent;
+        splits += !drawnBefore[c.node] && parent != kNoNode && drawnBefore[parent] ? 1 : 0;
+      }
+    drawnBefore = std::move(drawn);
+  });
+  EXPECT_GT(splits, 20u);
+  for (size_t f = kSettled; f < run.stats.size(); ++f) {
+    EXPECT_EQ(run.stats[f].selection.coarserThanWanted, 0u) << f;
+    EXPECT_EQ(run.stats[f].easing, 0u) << f;
+  }
 }
 
 TEST(FrameDriver, CompleteFramesWaitUntilWhatTheyWantIsResident) {

@@ -60,7 +60,14 @@ struct FrameRecord {
   double blotSwitch = NAN;
 };
 
+/// Whether the flight starts from the roots alone or with the first view loaded.
+enum class BenchStart : uint8_t {
+  kCold,  ///< the first frames draw what has arrived, as a viewer just opened
+  kWarm   ///< the first camera's chunks load first (not a frame): steady streaming from there
+};
+
 struct BenchFlightOptions {
+  BenchStart start = BenchStart::kCold;
   SelectionOptions selection;
   TerrainStyle style;
   const Heightfield* source = nullptr;  ///< measure quality against it (optional)
@@ -73,6 +80,7 @@ struct BenchFlightOptions {
 
 struct BenchFlightResult {
   std::vector<FrameRecord> frames;
+  double warmStartMs = NAN;           ///< BenchStart::kWarm: loading the first view (not a frame)
   TexelDensity texels;                ///< over frames that had every wanted chunk resident
   int metricStride = 0;               ///< every how many source samples the quality figures used
   std::vector<double> reconstructMs;  ///< per VIPM chunk decoded: decode and reconstruction, ms

@@ -38,6 +38,10 @@ namespace terralod {
 struct SceneOptions {
   uint64_t cacheBytes = uint64_t{512} << 20;  ///< --cache-mb: GPU copies plus decoded chunks
   unsigned loaderThreads = 2;
+  /// Loads started and not yet collected (FrameDriverOptions::maxInFlight). Loads are started
+  /// once a frame, so this is also about how many can arrive per frame: enough to keep the
+  /// loader threads busy through a slow frame.
+  unsigned loadsInFlight = 32;
   double uploadMillisecondsPerFrame = 4.0;  ///< GPU uploads per frame (at least one chunk)
   bool complete = false;  ///< every frame waits until its wanted chunks are resident
   std::function<void(const std::string&)> log;  ///< one line per chunk that fails to load
@@ -86,6 +90,12 @@ class TerrainScene {
   /// selection"). Fails only when a root cannot be drawn.
   Result<FrameStats> renderFrame(const View& view, const SelectionOptions& selection,
                                  const TerrainStyle& style, bool reselect = true);
+
+  /// Loads what `view` wants and waits until it is resident or has failed, drawing nothing:
+  /// a streaming viewer's first view behind a loading screen (bench --warm-start).
+  void preload(const View& view, const SelectionOptions& selection) {
+    mDriver->update(view, selection, FrameCompleteness::kComplete);
+  }
 
   /// Selects among the resident chunks for `view` and draws them, without loading or asking
   /// for anything (a second view of the same moment, e.g. bench's look-down hole check).

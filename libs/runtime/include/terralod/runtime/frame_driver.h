@@ -18,6 +18,10 @@
 //   With FrameCompleteness::kComplete, update repeats 1-6 (uploads unlimited), sleeping on
 //   the clock between rounds, until nothing the frame wants is on its way.
 //
+// The upload budget of step 1 is uploadMillisecondsPerFrame or uploadFrameShare of the last
+// frame's interval (from one update to the next), whichever is more: a slow frame (software
+// rendering, a huge view) does not starve the stream that would make the next ones right.
+//
 // Render thread only (loads run on the runner). Deterministic for a deterministic runner and
 // clock: the same flight gives the same selections, loads and evictions.
 
@@ -53,6 +57,8 @@ struct FrameDriverOptions {
   uint64_t cacheBytes = uint64_t{512} << 20;  ///< resident plus decoded-not-uploaded
   unsigned maxInFlight = 4;                   ///< loads running at once
   double uploadMillisecondsPerFrame = 4.0;    ///< at least one chunk per frame
+  /// With longer frames: this share of the last frame's interval, when that is more.
+  double uploadFrameShare = 0.1;
   FrameCompleteness completeness = FrameCompleteness::kStreaming;
   std::function<void(const std::string&)> log;  ///< one line per chunk that fails to load
 };
@@ -90,7 +96,13 @@ class FrameDriver {
   FrameDriver& operator=(const FrameDriver&) = delete;
 
   /// One frame's update for `view` (see above); selected() then holds what to draw.
-  UpdateStats update(const View& view, const SelectionOptions& selection);
+  UpdateStats update(const View& view, const SelectionOptions& selection) {
+    return update(view, selection, mOptions.completeness);
+  }
+  /// The same with this frame's completeness (e.g. a streaming viewer's first view loaded
+  /// complete, as behind a loading screen).
+  UpdateStats update(const View& view, const SelectionOptions& selection,
+                     FrameCompleteness completeness);
 
   /// Nodes whose bytes and records changed (an edit): later loads read these, and resident
   /// ones are decoded again on the loader threads and swapped in by a later update (the old
@@ -124,10 +136,11 @@ class FrameDriver {
   FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, ChunkKinds kinds,
               TaskRunner& runner, FrameClock& clock, FrameDriverOptions options);
   Status loadRoots();
-  void step(const View& view, const SelectionOptions& selection, UploadLimit limit,
-            UpdateStats& stats);
+  void step(const View& view, const SelectionOptions& selection, FrameCompleteness completeness,
+            UploadLimit limit, UpdateStats& stats);
   void uploadReady(UploadLimit limit, UpdateStats& stats);
-  void easeLateSplits(const SelectionOptions& selection, UpdateStats& stats);
+  void easeLateSplits(const SelectionOptions& selection, FrameCompleteness completeness,
+                      UpdateStats& stats);
   void requestWanted(const View& view, const SelectionOptions& selection);
   ChunkKind& kindOf(uint32_t node);
 
@@ -144,6 +157,8 @@ class FrameDriver {
   std::vector<uint64_t> mDrawnFrame;
   std::vector<float> mEntryMorph;
   uint64_t mFrame = 2;
+  double mUploadBudget = 0.0;      // this frame's, milliseconds
+  double mLastUpdateStart = -1.0;  // clock milliseconds; < 0 before the first update
   HorizonCuller mCuller;
   std::vector<OccluderGrid> mOccluders;  // per node, while resident
   // Replaced nodes (read on loader threads).
