@@ -44,7 +44,8 @@ fi
 
 # While flying: the same strokes, three of each size, applied during the synth's automatic
 # flight at 640×480 (bench --edit-script, one every 20 frames, after the one before is
-# drawn): regeneration on a worker thread, and the time from each stroke to its chunks drawn.
+# drawn): regeneration on a worker thread, and the time from each stroke to its chunks drawn,
+# first as their whole grids (interim), then as their regenerated VIPMs.
 want flying && for leaves in 1 4 16; do
   python3 - "$leaves" >"flying$leaves.json" <<'PY'
 import json, sys
@@ -65,8 +66,10 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 keys = ["edit_strokes", "edit_swapped", "edit_nodes_p50", "edit_resident_nodes_max",
         "edit_regen_ms_p50", "edit_regen_ms_max", "edit_latency_ms_p50", "edit_latency_ms_max",
-        "edit_latency_frames_p50", "edit_latency_frames_max", "frame_ms_p50", "frame_ms_max",
-        "frames_waiting_on_io"]
+        "edit_latency_frames_p50", "edit_latency_frames_max", "edit_interim_drawn",
+        "edit_interim_latency_ms_p50", "edit_interim_latency_ms_max",
+        "edit_interim_latency_frames_p50", "edit_interim_latency_frames_max", "frame_ms_p50",
+        "frame_ms_max", "frames_waiting_on_io"]
 print(f"flying, strokes over {sys.argv[2]} leaves: " +
       "  ".join(f"{k}={j[k]:.4g}" if isinstance(j[k], float) else f"{k}={j[k]}" for k in keys))
 PY

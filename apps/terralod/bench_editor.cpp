@@ -8,19 +8,34 @@ BenchEditor::BenchEditor(VipmChunkSet set, std::vector<TerrainEdit> strokes, siz
     : mEditor(std::move(set)), mStrokes(std::move(strokes)), mEvery(std::max<size_t>(every, 1)) {}
 
 Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
+  auto since = [](const Stroke& s) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
+  };
+  // Everything the last frame drew of the interim nodes was already the interim chunks.
+  if (!mDone.empty() && mDone.back().interimHanded && !mDone.back().regenerated &&
+      !mDone.back().interimDrawn && scene.pendingReplacements() == 0) {
+    Stroke& s = mDone.back();
+    s.interimMs = since(s);
+    s.interimFrames = frame - s.startFrame;
+    s.interimDrawn = true;
+  }
   if (auto finished = mEditor.poll(scene)) {
     if (!finished->status) return finished->status;
     Stroke& s = mDone.back();
-    s.regenMs = finished->ms;
-    s.nodes = finished->nodes;
-    s.drawnNodes = finished->drawnNodes;
-    s.regenerated = true;
+    if (finished->what == LiveEditor::Finished::What::kInterim) {
+      s.interimHanded = true;
+    } else {
+      s.regenMs = finished->ms;
+      s.nodes = finished->nodes;
+      s.drawnNodes = finished->drawnNodes;
+      s.regenerated = true;
+    }
   }
   if (!mDone.empty() && mDone.back().regenerated && !mDone.back().swapped &&
       scene.pendingReplacements() == 0) {
     // Everything the last frame drew of the stroke's nodes was already the new chunks.
     Stroke& s = mDone.back();
-    s.latencyMs = std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
+    s.latencyMs = since(s);
     s.latencyFrames = frame - s.startFrame;
     s.swapped = true;
     ++mNext;
@@ -34,9 +49,13 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
 }
 
 void BenchEditor::addFigures(nlohmann::json& j) const {
-  std::vector<double> regen, latency, frames, nodes, drawn;
+  std::vector<double> regen, latency, frames, nodes, drawn, interim, interimFrames;
   size_t swapped = 0;
   for (const Stroke& s : mDone) {
+    if (s.interimDrawn) {
+      interim.push_back(s.interimMs);
+      interimFrames.push_back(double(s.interimFrames));
+    }
     if (!s.regenerated) continue;
     regen.push_back(s.regenMs);
     nodes.push_back(double(s.nodes));
@@ -59,6 +78,11 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
   j["edit_nodes_max"] = max(nodes);
   j["edit_resident_nodes_p50"] = percentile(drawn, 0.5);
   j["edit_resident_nodes_max"] = max(drawn);
+  j["edit_interim_drawn"] = interim.size();
+  j["edit_interim_latency_ms_p50"] = percentile(interim, 0.5);
+  j["edit_interim_latency_ms_max"] = max(interim);
+  j["edit_interim_latency_frames_p50"] = percentile(interimFrames, 0.5);
+  j["edit_interim_latency_frames_max"] = max(interimFrames);
 }
 
 }  // namespace terralod::cli

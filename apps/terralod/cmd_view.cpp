@@ -286,9 +286,14 @@ int runView(const ViewCommand& v) {
     if (editor) {
       if (auto done = editor->poll(scene)) {
         char text[160];
+        using What = LiveEditor::Finished::What;
         if (!done->status)
           brushing.status = done->status.error().message;
-        else if (done->stroke)
+        else if (done->what == What::kInterim)
+          std::snprintf(text, sizeof text,
+                        "regenerating %zu chunks (drawn at full resolution meanwhile)...",
+                        done->nodes);
+        else if (done->what == What::kStroke)
           std::snprintf(text, sizeof text, "stroke %zu: %zu chunks rebuilt in %.0f ms",
                         editor->strokes(), done->nodes, done->ms);
         else

@@ -24,7 +24,13 @@ void LiveEditor::start(Job job, std::function<Status()> work) {
 bool LiveEditor::submit(const TerrainEdit& stroke) {
   if (busy()) return false;
   start(Job::kStroke, [this, stroke]() -> Status {
-    mChanged = mSet.apply(std::vector<TerrainEdit>{stroke}, 0);
+    auto interim = [this](std::vector<VipmInterimNode> nodes) {
+      std::lock_guard lock(mInterimMutex);
+      mInterim = std::move(nodes);
+      mInterimMs = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
+      mInterimReady = true;
+    };
+    mChanged = mSet.apply(std::vector<TerrainEdit>{stroke}, 0, interim);
     if (!mChanged) return mChanged.error();
     return {};
   });
@@ -37,16 +43,44 @@ bool LiveEditor::save(const std::string& path) {
   return true;
 }
 
+namespace {
+
+// The tileset's level errors as drawn now, for replacements that do not change them.
+std::vector<double> currentLevelErrors(const ChunkTree& tree) {
+  std::vector<double> errors;
+  for (int level = 0; level < tree.levelCount(); ++level) errors.push_back(tree.levelError(level));
+  return errors;
+}
+
+}  // namespace
+
 std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
+  if (mInterimReady) {
+    Finished f;
+    f.what = Finished::What::kInterim;
+    std::vector<NodeReplacement> nodes;
+    {
+      std::lock_guard lock(mInterimMutex);
+      for (VipmInterimNode& n : mInterim)
+        nodes.push_back({n.node, std::move(n.record), std::move(n.bytes)});
+      mInterim.clear();
+      f.ms = mInterimMs;
+      mInterimReady = false;
+    }
+    f.nodes = nodes.size();
+    scene.replaceNodes(std::move(nodes), currentLevelErrors(scene.tree()));
+    f.drawnNodes = scene.pendingReplacements();
+    return f;
+  }
   if (!busy() || !mDone) return std::nullopt;
   mWorker.join();
   Finished f;
-  f.stroke = mJob == Job::kStroke;
+  f.what = mJob == Job::kStroke ? Finished::What::kStroke : Finished::What::kSave;
   f.status = mStatus;
   f.ms = mWorkMs;
   mJob = Job::kNone;
   if (!f.status) return f;
-  if (!f.stroke) {
+  if (f.what == Finished::What::kSave) {
     mUnsaved = false;
     return f;
   }

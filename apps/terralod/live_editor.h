@@ -1,12 +1,15 @@
 #pragma once
 // Brush strokes on a drawn VIPM tileset (the `view` brush, bench --edit-script): a stroke is
-// applied to the tileset's chunk set on a worker thread (VipmChunkSet::apply); once it is done,
-// poll() hands its rebuilt nodes to the scene, which swaps them in over the next frames. Saving
+// applied to the tileset's chunk set on a worker thread (VipmChunkSet::apply). The chunks it
+// reaches come first as their whole grids (interim: exact, made in milliseconds), which poll()
+// hands to the scene at once; once their progressive meshes are made, poll() hands those, and
+// the scene swaps each in over the next frames. Saving
 // writes the set back to the tileset on the worker (atomically: a save in progress never leaves
 // a file that fails verify). One job at a time; frames never wait for one.
 
 #include <atomic>
 #include <chrono>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
@@ -30,14 +33,19 @@ class LiveEditor {
   bool save(const std::string& path);
 
   struct Finished {
-    bool stroke = false;  ///< a stroke (else a save)
-    Status status;
+    enum class What : uint8_t {
+      kInterim,  ///< a stroke's chunks as whole grids (the stroke goes on)
+      kStroke,   ///< a stroke's chunks made
+      kSave
+    };
+    What what = What::kStroke;
+    Status status;          ///< (kInterim: always ok)
     double ms = 0.0;        ///< the job's own time on the worker (not until it was polled)
-    size_t nodes = 0;       ///< a stroke's rebuilt nodes
+    size_t nodes = 0;       ///< a stroke's nodes handed over
     size_t drawnNodes = 0;  ///< of those, the scene had drawn (or on its way): to swap
   };
-  /// Each frame, on the drawing thread: the job that finished since, if any (a stroke's nodes
-  /// already handed to `scene`).
+  /// Each frame, on the drawing thread: what finished since, if anything (a stroke's nodes
+  /// already handed to `scene`); a stroke's interim nodes before its made ones.
   std::optional<Finished> poll(TerrainScene& scene);
 
   size_t strokes() const { return mStrokes; }  ///< applied since it was made
@@ -54,6 +62,11 @@ class LiveEditor {
   std::atomic<bool> mDone{false};
   Status mStatus;
   Result<std::vector<uint32_t>> mChanged{std::vector<uint32_t>{}};
+  // A stroke's interim nodes, written by the worker before mInterimReady.
+  std::mutex mInterimMutex;
+  std::vector<VipmInterimNode> mInterim;
+  double mInterimMs = 0.0;
+  std::atomic<bool> mInterimReady{false};
   Clock::time_point mStart;
   double mWorkMs = 0.0;  // the job's own time, written by the worker before mDone
   size_t mStrokes = 0;

@@ -150,6 +150,10 @@ struct VipmChunkSetState {
     return {x0, y0, pointsFrom(x0, layout.cellsX, cells), pointsFrom(y0, layout.cellsY, cells)};
   }
 
+  // `nodes` as their whole grids, with their normal maps (VipmChunkSet::apply's interim).
+  std::vector<VipmInterimNode> interimNodes(const std::vector<uint32_t>& nodes,
+                                            unsigned threads) const;
+
   // Builds the leaves and roots marked in `dirty` (per node; all roots too when the roots'
   // level error changes), keeping what `reuse` has for them where no new stroke reaches, then
   // every node's fields and flange depths.
@@ -256,6 +260,28 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
   summary.reusedChunks = uint64_t(std::count(kept.begin(), kept.end(), uint8_t{1}));
 }
 
+std::vector<VipmInterimNode> VipmChunkSetState::interimNodes(const std::vector<uint32_t>& list,
+                                                             unsigned threads) const {
+  std::vector<VipmInterimNode> out(list.size());
+  parallelFor(list.size(), threads, [&](size_t k, unsigned) {
+    const uint32_t i = list[k];
+    const auto [x0, y0, w, h] = points(i);
+    const int32_t cells = i < rootCount ? kRoot : kLeaf;
+    VipmGridChunk grid =
+        buildVipmGridChunk(heights, materials, x0, y0, w, h, zStep, options.compressionLevel);
+    VipmInterimNode& n = out[k];
+    n.node = i;
+    n.record = nodes[i];  // its flange depth covers its neighbours' borders; its own is exact
+    takeMeshFields(n.record, grid.node);
+    n.bytes.bytes = std::move(grid.blob);
+    n.bytes.meshBytes = uint32_t(n.bytes.bytes.size());
+    const std::vector<uint8_t> normals =
+        buildVipmNormalMap(heights, x0, y0, cells, info.spacingX, info.spacingY);
+    n.bytes.bytes.insert(n.bytes.bytes.end(), normals.begin(), normals.end());
+  });
+  return out;
+}
+
 Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemInfo& info,
                                          Heightfield heights, MaterialMap materials,
                                          uint64_t filledVoids, Progress& progress) {
@@ -286,7 +312,8 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
 }
 
 Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> strokes,
-                                                  unsigned threads) {
+                                                  unsigned threads,
+                                                  const VipmInterimSink& interim) {
   VipmChunkSetState& s = *mState;
   const std::vector<TerrainEdit> list(strokes.begin(), strokes.end());
   const double sx = s.info.spacingX, sy = s.info.spacingY;
@@ -325,13 +352,20 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
 
   // What the strokes reach: a chunk's grid points grown by one (its normal map's central
   // differences); everything when the height step changes.
-  std::vector<uint8_t> dirty(s.nodes.size(), *zStep != s.zStep ? 1 : 0);
+  const bool newStep = *zStep != s.zStep;
+  std::vector<uint8_t> dirty(s.nodes.size(), newStep ? 1 : 0);
   s.zStep = *zStep;
+  std::vector<uint32_t> reached;
   for (size_t i = 0; i < s.nodes.size(); ++i)
     for (const auto& [w, unused] : saved) {
       const auto [x0, y0, width, height] = s.points(i);
-      if (windowMeets(w, x0, y0, width, height, 1)) dirty[i] = 1;
+      if (windowMeets(w, x0, y0, width, height, 1)) {
+        dirty[i] = 1;
+        reached.push_back(uint32_t(i));
+        break;
+      }
     }
+  if (interim && !newStep) interim(s.interimNodes(reached, threads ? threads : hardwareThreads()));
   const std::vector<NodeRecord> before = s.nodes;
   const std::vector<uint8_t> rebuilt = dirty;
   const double rootLevelBefore = s.rootLevelError;

@@ -285,6 +285,21 @@ VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials,
   return leaf;
 }
 
+VipmGridChunk buildVipmGridChunk(const Heightfield& heights, const MaterialMap& materials,
+                                 int32_t x0, int32_t y0, int32_t width, int32_t height,
+                                 double zStep, int compressionLevel) {
+  HeightQuantisation q;
+  const GridPatch patch = quantisedPatch(heights, materials, x0, y0, width, height, zStep, q);
+  CollapseOrder grid;  // no collapses
+  grid.gridTriangles = gridTriangulation(width, height);
+  const VipmChunkData stored = packChunk(patch, makeProgressiveMesh(patch, grid, 0.0), q);
+  VipmGridChunk chunk;
+  chunk.blob = encodeVipmChunk(stored, compressionLevel);
+  std::vector<double> vertexHeights;
+  chunk.node = storedNode(stored, vertexHeights);
+  return chunk;
+}
+
 VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
                            int32_t width, int32_t height, double zStep) {
   assert(width >= 2 && height >= 2 && width <= int32_t(kVipmMaxGridPoints) &&

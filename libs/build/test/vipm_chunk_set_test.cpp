@@ -15,6 +15,7 @@
 #include "terralod/materials/dem_classification.h"
 #include "terralod/materials/terrain_edits.h"
 #include "terralod/raster/dem_reader.h"
+#include "terralod/vipm/vipm_blob.h"
 
 namespace terralod {
 namespace {
@@ -114,6 +115,46 @@ TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
   o.edits = strokes;
   ASSERT_TRUE(buildTileset(o, progress, [](const std::string&) {}).ok());
   EXPECT_TRUE(readWholeFile(dir.file("written.tlod")) == readWholeFile(dir.file("built.tlod")));
+}
+
+TEST(VipmChunkSet, AStrokeHandsItsChunksAsWholeGridsBeforeMakingThem) {
+  // The interim an editor draws while the progressive meshes are made: every chunk the stroke
+  // reaches, as its whole grid (no collapses) on the edited heights, with its old flange depth.
+  const Source source = small();
+  NullProgress progress;
+  auto set =
+      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  ASSERT_TRUE(set.ok());
+  const std::vector<NodeRecord> before = set->nodes();
+  const std::vector<TerrainEdit> strokes = {{Brush::kRaise, 1000.0, 1000.0, 300.0, 40.0, 0}};
+  Heightfield edited = source.heights;
+  applyHeightEdits(strokes, source.info.spacingX, source.info.spacingY, edited);
+  std::vector<VipmInterimNode> interim;
+  auto changed = set->apply(
+      strokes, 2, [&](std::vector<VipmInterimNode> nodes) { interim = std::move(nodes); });
+  ASSERT_TRUE(changed.ok()) << changed.error().message;
+  ASSERT_GE(interim.size(), 2u);  // a leaf and its root at least
+  for (const VipmInterimNode& n : interim) {
+    EXPECT_NE(std::find(changed->begin(), changed->end(), n.node), changed->end()) << n.node;
+    const int32_t cells = n.node == 0 ? 128 : 64;
+    const int32_t x0 = int32_t(n.record.x) * cells, y0 = int32_t(n.record.y) * cells;
+    auto chunk =
+        loadVipmChunk(std::span<const uint8_t>(n.bytes.bytes.data(), n.bytes.meshBytes), "interim");
+    ASSERT_TRUE(chunk.ok()) << chunk.error().message;
+    const int32_t w = chunk->data.width, h = chunk->data.height;
+    EXPECT_EQ(w, std::min(cells, int32_t(source.info.columns) - 1 - x0) + 1);
+    EXPECT_EQ(chunk->data.collapseCount(), 0u);
+    EXPECT_EQ(chunk->data.vertexCount(), uint32_t(w * h));
+    EXPECT_EQ(chunk->data.triangleCount(), uint32_t(2 * (w - 1) * (h - 1)));
+    double worst = 0.0;
+    for (const auto& p : chunk->unpacked.positions)
+      worst = std::max(
+          worst, std::abs(double(p[2]) - double(edited(x0 + int32_t(p[0]), y0 + int32_t(p[1])))));
+    EXPECT_LE(worst, 0.5 * set->zStep() + 1e-3) << "node " << n.node;
+    EXPECT_EQ(n.record.maxSkirtDepth, before[n.node].maxSkirtDepth);
+    EXPECT_EQ(n.record.vertexCount, uint32_t(w * h));
+    EXPECT_GT(n.bytes.bytes.size(), n.bytes.meshBytes);  // its normal map follows
+  }
 }
 
 TEST(VipmChunkSet, ARefusedStrokeChangesNothing) {

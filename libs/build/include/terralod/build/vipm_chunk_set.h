@@ -6,6 +6,7 @@
 // writes the set as a tileset. The bytes are those of a build of the edited source.
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <vector>
@@ -21,6 +22,15 @@
 namespace terralod {
 
 struct VipmChunkSetState;
+
+/// A node as drawn while a stroke's chunks are made again (VipmChunkSet::apply).
+struct VipmInterimNode {
+  uint32_t node = 0;
+  NodeRecord record;
+  NodeBytes bytes;
+};
+/// Receives a stroke's interim nodes, on the thread that applies it.
+using VipmInterimSink = std::function<void(std::vector<VipmInterimNode>)>;
 
 /// A VIPM tileset's tree: 64-cell leaves under 128-cell roots over the DEM's cells.
 TreeLayout vipmTreeLayout(const DemInfo& info);
@@ -43,7 +53,13 @@ class VipmChunkSet {
   /// step does). Returns the nodes whose bytes or record changed, in node order. Fails, with
   /// nothing changed, when a stroke paints a material the set does not have or the relief
   /// outgrows 16-bit heights at --max-error.
-  Result<std::vector<uint32_t>> apply(std::span<const TerrainEdit> strokes, unsigned threads);
+  ///
+  /// With `interim`, first hands it every chunk the strokes reach as its whole grid
+  /// (buildVipmGridChunk, with its new normal map; record as before but for its mesh fields),
+  /// before the slow part: an editor draws those at once, at full resolution, until the
+  /// chunks are made. Not when the height step changes (then every chunk is made again).
+  Result<std::vector<uint32_t>> apply(std::span<const TerrainEdit> strokes, unsigned threads,
+                                      const VipmInterimSink& interim = {});
 
   /// Node records in tileset order (mesh fields and flange depths; no blob offsets).
   const std::vector<NodeRecord>& nodes() const;

@@ -108,6 +108,18 @@ Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& hei
                                const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
                                int32_t height, double zStep);
 
+/// A chunk's whole grid as a VIPM chunk without collapses: every grid point a vertex (heights
+/// on the tileset's step `zStep`), the grid's triangles, so it is exact up to that rounding.
+/// What an editor draws while a chunk's progressive mesh is made again (a few milliseconds,
+/// where the collapse order takes seconds): the blob and its node fields (as VipmLeaf's).
+struct VipmGridChunk {
+  std::vector<uint8_t> blob;
+  NodeRecord node;
+};
+VipmGridChunk buildVipmGridChunk(const Heightfield& heights, const MaterialMap& materials,
+                                 int32_t x0, int32_t y0, int32_t width, int32_t height,
+                                 double zStep, int compressionLevel);
+
 /// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of cells + 1
 /// texels over grid square [x0, x0 + cells]^2, texel (i, j) the central-difference normal of
 /// the source heights at grid point (x0 + i, y0 + j) (points outside the data take the nearest
