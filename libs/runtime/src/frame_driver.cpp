@@ -1,6 +1,8 @@
 #include "terralod/runtime/frame_driver.h"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 
 namespace terralod {
 
@@ -12,6 +14,19 @@ Result<std::unique_ptr<FrameDriver>> FrameDriver::create(const TilesetReader& ti
   std::unique_ptr<FrameDriver> driver(
       new FrameDriver(tileset, tree, std::move(kinds), runner, clock, std::move(options)));
   if (Status s = driver->loadRoots(); !s) return s.error();
+  // Roots are never evicted: when they alone fill the budget, nothing finer can ever load.
+  const uint64_t roots = driver->mResidency->counters().residentBytes;
+  if (roots >= driver->mOptions.cacheBytes && driver->mTree.levelCount() > 1 &&
+      driver->mOptions.log) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "%s: its %u roots alone take %.0f MB of the %.0f MB chunk budget, so no finer "
+                  "chunk will load; give a larger budget (--cache-mb %.0f or more)",
+                  tileset.name().c_str(), unsigned(tree.rootCount()), double(roots) / 1048576.0,
+                  double(driver->mOptions.cacheBytes) / 1048576.0,
+                  std::ceil(2.0 * double(roots) / 1048576.0 / 256.0) * 256.0);
+    driver->mOptions.log(text);
+  }
   return driver;
 }
 
