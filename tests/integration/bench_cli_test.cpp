@@ -75,12 +75,13 @@ TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {
 }
 
 TEST_F(BenchCli, AWarmStartLoadsTheFirstViewBeforeTheFirstFrame) {
-  // From the roots alone the low pass's first frames are drawn coarser while the view
-  // streams in (3 here); with --warm-start the first camera's chunks are loaded first (not a
-  // frame) and its first 30 frames all show what they want.
+  // From the roots alone the low pass's first frame is drawn coarser (its chunks are asked for
+  // only then); with --warm-start the first camera's chunks are loaded first (not a frame)
+  // and it shows what it wants. (Later frames depend on how fast the loader threads run
+  // beside the drawing: a benchmark's figure, not a test's.)
   auto run = [&](std::vector<std::string> extra) {
     std::vector<std::string> args = {
-        "bench",  sTileset->file("c.tlod"), "--auto-flight", "--size", "320x240", "--frames", "30",
+        "bench",  sTileset->file("c.tlod"), "--auto-flight", "--size", "320x240", "--frames", "1",
         "--json", sDir->file("w.json")};
     args.insert(args.end(), extra.begin(), extra.end());
     const RunResult r = runTerralod(args);
@@ -88,7 +89,7 @@ TEST_F(BenchCli, AWarmStartLoadsTheFirstViewBeforeTheFirstFrame) {
     return nlohmann::json::parse(readWholeFile(sDir->file("w.json")));
   };
   const auto cold = run({});
-  EXPECT_GT(cold["coarser_than_wanted_frames"].get<int>(), 0);
+  EXPECT_EQ(cold["coarser_than_wanted_frames"].get<int>(), 1);
   EXPECT_TRUE(cold["warm_start_ms"].is_null());
   const auto warm = run({"--warm-start"});
   EXPECT_EQ(warm["coarser_than_wanted_frames"].get<int>(), 0);

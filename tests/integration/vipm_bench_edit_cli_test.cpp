@@ -49,9 +49,11 @@ TEST_F(VipmBenchEditCli, StrokesDuringAFlightAreSwappedInAndNoFrameWaits) {
   EXPECT_GE(j["edit_resident_nodes_max"].get<double>(), 4.0);
   EXPECT_GT(j["edit_regen_ms_p50"].get<double>(), 0.0);
   EXPECT_GE(j["edit_latency_ms_p50"].get<double>(), j["edit_regen_ms_p50"].get<double>());
-  // Meanwhile the strokes' chunks were drawn as their whole grids, well before they were made.
+  // Meanwhile the large stroke's chunks were drawn as their whole grids, well before they were
+  // made (about 80 against 600 ms here; the small one's are made within a few frames, and
+  // its whole grids may not be drawn before that).
   EXPECT_GE(j["edit_interim_drawn"].get<int>(), 1) << j.dump(2);
-  EXPECT_LT(j["edit_interim_latency_ms_p50"].get<double>(), j["edit_latency_ms_p50"].get<double>());
+  EXPECT_LT(j["edit_interim_latency_ms_max"].get<double>(), j["edit_latency_ms_max"].get<double>());
   EXPECT_EQ(j["frames_waiting_on_io"], 0);
   EXPECT_EQ(j["load_failures"], 0);
 }
