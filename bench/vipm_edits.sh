@@ -45,7 +45,8 @@ fi
 # While flying: the same strokes, three of each size, applied during the synth's automatic
 # flight at 640×480 (bench --edit-script, one every 20 frames, after the one before is
 # drawn): regeneration on a worker thread, and the time from each stroke to its chunks drawn,
-# first as their whole grids (interim), then as their regenerated VIPMs.
+# first as their whole grids (interim), then as their regenerated VIPMs. The budget is raised
+# so that leaves load at all (the 4,096 roots alone take 1.3 GB).
 want flying && for leaves in 1 4 16; do
   python3 - "$leaves" >"flying$leaves.json" <<'PY'
 import json, sys
@@ -58,7 +59,7 @@ edits = [{"brush": "raise" if k % 2 == 0 else "lower",
           "radius": radius, "amount": 5} for k in range(3)]
 print(json.dumps({"edits": edits}))
 PY
-  "$terralod" bench s8193.tlod --auto-flight --size 640x480 --frames 120 \
+  "$terralod" bench s8193.tlod --auto-flight --size 640x480 --frames 120 --cache-mb 4096 \
     --edit-script "flying$leaves.json" --edit-every 20 --edit-source s8193.tif \
     --json "flying$leaves.out.json" >/dev/null
   python3 - "flying$leaves.out.json" "$leaves" <<'PY'

@@ -55,6 +55,13 @@ std::vector<double> currentLevelErrors(const ChunkTree& tree) {
 }  // namespace
 
 std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
+  if (mInterimReady && mDone) {
+    // The made chunks are ready too (a stroke made within a frame): the whole grids would only
+    // cost a frame and a decode more.
+    std::lock_guard lock(mInterimMutex);
+    mInterim.clear();
+    mInterimReady = false;
+  }
   if (mInterimReady) {
     Finished f;
     f.what = Finished::What::kInterim;
