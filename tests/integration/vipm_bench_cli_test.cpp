@@ -126,6 +126,11 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   EXPECT_GT(morphed["reconstruct_ms_p50"].get<double>(), 0.0);
   EXPECT_GE(morphed["reconstruct_ms_max"].get<double>(),
             morphed["reconstruct_ms_p50"].get<double>());
+  // The super-chunk blocks' memory beyond their chunks' (outside the budget): some, since a
+  // block makes all 16 texture layers with its first chunk, but a small part of the chunks'.
+  EXPECT_GT(morphed["block_spare_mb_max"].get<double>(), 0.0);
+  EXPECT_LT(morphed["block_spare_mb_max"].get<double>(),
+            0.25 * morphed["resident_mb_max"].get<double>());
 
   const auto unmorphed = bench({"--no-morph"});
   EXPECT_LE(unmorphed["max_error_px"].get<double>(), 2.0);

@@ -236,6 +236,7 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.evictions = frame->evictions;
     // Resident memory, every frame: GPU copies and decoded chunks waiting for upload.
     r.residentMB = double(scene.residency().counters().residentBytes) / double(1 << 20);
+    r.blockSpareMB = double(scene.vipmBlockSpareBytes()) / double(1 << 20);
     // A late split easing in is drawn above its morph schedule, i.e. coarser than wanted too.
     r.easing = frame->easing != 0;
     r.coarser = frame->selection.coarserThanWanted != 0 || r.easing;

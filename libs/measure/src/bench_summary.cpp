@@ -51,6 +51,9 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
     j["super_chunks"] = style.superChunks == VipmSuperChunks::kOn;
     j["super_chunk_calls_p50"] =
         percentile(column(f, [](const FrameRecord& r) { return double(r.superChunks); }), 0.5);
+    // Memory the budget does not count (docs/architecture.md "Super-chunks").
+    j["block_spare_mb_max"] =
+        percentile(column(f, [](const FrameRecord& r) { return r.blockSpareMB; }), 1.0);
     if (options.source && style.blots == VipmBlots::kOn) {
       j["blot_switch_mean_max"] =
           percentile(column(f, [](const FrameRecord& r) { return r.blotSwitch; }), 1.0);

@@ -35,6 +35,18 @@ bool VipmBlock::fits(const TextureLayer& normals) const {
          normals.mips.size() == mNormalLevels;
 }
 
+uint64_t VipmBlock::allocatedBytes() const {
+  uint64_t bytes = 0;
+  for (uint32_t unit : kUnit) bytes += mRanges.capacity() * unit;
+  uint64_t layer = 0;
+  for (uint32_t m = 0; m < mNormalLevels; ++m) layer += mipBytes(mNormalEncoding, mNormalSize, m);
+  for (uint32_t m = 0; m < mBlotLevels; ++m) {
+    const uint64_t side = std::max(mNormalSize >> m, 1u);
+    layer += side * side * 4;
+  }
+  return bytes + layer * kSlots;
+}
+
 bool VipmBlock::empty() const {
   return std::all_of(mMembers.begin(), mMembers.end(), [](auto* m) { return m == nullptr; });
 }

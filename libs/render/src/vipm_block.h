@@ -53,6 +53,10 @@ class VipmBlock {
   /// layer `slot`.
   void writeTextures(int slot, const TextureLayer& normals, std::span<const uint8_t> blot);
 
+  /// GPU memory the block holds: its vertex buffers (with their spare room) and all its
+  /// texture layers, used or not.
+  uint64_t allocatedBytes() const;
+
   /// The chunk drawn from `slot` now (the latest uploaded there), or null.
   VipmGpuChunk* member(int slot) const { return mMembers[size_t(slot)]; }
   void setMember(int slot, VipmGpuChunk* chunk) { mMembers[size_t(slot)] = chunk; }

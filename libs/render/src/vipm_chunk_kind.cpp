@@ -122,6 +122,13 @@ uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
   return bytes;
 }
 
+uint64_t VipmChunkKind::blockSpareBytes() const {
+  uint64_t blocks = 0, used = 0;
+  for (const auto& [key, block] : mBlocks) blocks += block->allocatedBytes();
+  for (const auto& [node, chunk] : mChunks) used += chunk->blockBytes();
+  return blocks > used ? blocks - used : 0;
+}
+
 void VipmChunkKind::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;

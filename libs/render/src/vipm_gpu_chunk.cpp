@@ -72,8 +72,9 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot
   // On the GPU (its vertices with their one-byte slot tags, its indices, its layers), plus the
   // CPU state (the payload's copy but its textures, which only the GPU keeps; the drawn
   // positions, materials and weights).
-  mGpuBytes = uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) +
-              indexCount * 2 + normalBytes;
+  mBlockBytes =
+      uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) + normalBytes;
+  mGpuBytes = mBlockBytes + indexCount * 2;
   mBytes = mGpuBytes + p.bytes() - p.textureBytes() + uint64_t(positionBytes) + mMaterials.size() +
            mWeightBytes.size() * sizeof(mWeightBytes[0]) + mWeights.size() * sizeof(mWeights[0]);
   update(0.0, Geomorph::kOff);

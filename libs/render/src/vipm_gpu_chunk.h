@@ -87,6 +87,8 @@ class VipmGpuChunk {
   uint64_t bytes() const { return mBytes; }
   /// GPU bytes alone.
   uint64_t gpuBytes() const { return mGpuBytes; }
+  /// Of those, the part in its block (its vertices and its texture layers).
+  uint64_t blockBytes() const { return mBlockBytes; }
 
  private:
   void uploadPositions(uint32_t first, uint32_t count);
@@ -135,7 +137,7 @@ class VipmGpuChunk {
   GlBuffer mIndexBuffer;
   uint64_t mIndexVersion = 0;
   uint64_t mSerial = 0;
-  uint64_t mBytes = 0, mGpuBytes = 0;
+  uint64_t mBytes = 0, mGpuBytes = 0, mBlockBytes = 0;
 };
 
 }  // namespace terralod

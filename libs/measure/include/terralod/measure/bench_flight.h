@@ -34,6 +34,7 @@ struct FrameRecord {
   uint64_t culledTriangles = 0;  ///< their triangles (skirts included when drawn)
   bool cullingActive = false;    ///< horizon culling tested chunks (the eye was above the terrain)
   double residentMB = 0;         ///< chunk memory after the frame (GPU copies and decoded chunks)
+  double blockSpareMB = 0;       ///< VIPM super-chunk blocks' memory beyond their chunks'
   bool coarser = false;          ///< drew a chunk whose wanted children were not resident, or
                                  ///< a late split still easing in from its parent's surface
   bool easing = false;           ///< drew a late split still easing in (part of `coarser`)

@@ -131,6 +131,9 @@ class TerrainScene {
   uint64_t gpuBytes() const {
     return mStore.residentBytes() + (mVipmKind ? mVipmKind->gpuBytes() : 0);
   }
+  /// VIPM tilesets: GPU memory the super-chunk blocks hold beyond their chunks' own (spare
+  /// vertex room, unused texture layers), which the chunk budget does not count.
+  uint64_t vipmBlockSpareBytes() const { return mVipmKind ? mVipmKind->blockSpareBytes() : 0; }
   /// Memory the resident chunks' occluder grids hold (horizon culling).
   uint64_t occluderBytes() const { return mDriver->occluderBytes(); }
   /// The renderer, for adding composited layers (TerrainRenderer::addLayer).

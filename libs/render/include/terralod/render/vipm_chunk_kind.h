@@ -93,6 +93,9 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   std::vector<FanTiming> takeFanTimings();
   /// GPU memory the uploaded chunks take.
   uint64_t gpuBytes() const { return mGpuBytes; }
+  /// GPU memory the super-chunk blocks hold beyond their chunks' own: spare vertex room and
+  /// texture layers no chunk uses (not counted in the chunk budget).
+  uint64_t blockSpareBytes() const;
 
  private:
   VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
