@@ -7,7 +7,7 @@
 #  2. Fans against flanges, and blots against --no-blots: the same low pass without --source,
 #     each pair run back to back (frame time, triangles, draw calls, fan CPU per change).
 #  3. The 8193² synth (1 m) at 1024×768, the first FRAMES frames of its low pass: VIPM with
-#     blots and super-chunks (the default), with --no-super-chunks, with --no-blots
+#     blots and super-chunks (the default; fans, then flanges), with --no-super-chunks, with --no-blots
 #     --no-super-chunks (per-chunk drawing), and the chunked LOD kind (draw calls, triangles,
 #     frame time); then VIPM's quality there with --source over the first QFRAMES frames (error,
 #     pops, holes, image pops; default 300).
@@ -74,7 +74,7 @@ if want synth; then
   flight=(--auto-flight --tau "$tau" --size 1024x768 --frames "$frames" --warm-start
     --cache-mb "${CACHE_MB:-4096}")
   echo "## 8193² synth, 1024×768"
-  for run in "vipm_super|s8193_vipm|--stitch fans" \
+  for run in "vipm_super|s8193_vipm|--stitch fans" "vipm_flanges|s8193_vipm|--stitch flanges" \
     "vipm_nosuper|s8193_vipm|--stitch fans --no-super-chunks" \
     "vipm_perchunk|s8193_vipm|--stitch fans --no-blots --no-super-chunks" "static|s8193_static|"; do
     IFS='|' read -r what tileset opts <<<"$run"
