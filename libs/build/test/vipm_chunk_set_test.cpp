@@ -45,6 +45,12 @@ BuildOptions options() {
   return o;
 }
 
+// A set built from `source` with the test options.
+Result<VipmChunkSet> buildSet(const Source& source) {
+  NullProgress progress;
+  return VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+}
+
 Source crater() {
   return read("crater_lake_0513.bt");
 }
@@ -55,9 +61,7 @@ Source small() {
 
 TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   const Source source = crater();
-  NullProgress progress;
-  auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  auto set = buildSet(source);
   ASSERT_TRUE(set.ok()) << set.error().message;
   const std::vector<NodeRecord> recordsBefore = set->nodes();
   std::vector<NodeBytes> bytesBefore;
@@ -79,6 +83,7 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
                   .ok());
   BuildOptions withStrokes = options();
   withStrokes.edits = strokes;
+  NullProgress progress;
   auto fresh =
       VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials, 0, progress);
   ASSERT_TRUE(fresh.ok()) << fresh.error().message;
@@ -101,9 +106,7 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
 // with those strokes writes, byte for byte (strokes recorded).
 TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
   const Source source = small();
-  NullProgress progress;
-  auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  auto set = buildSet(source);
   ASSERT_TRUE(set.ok());
   const std::vector<TerrainEdit> strokes = {{Brush::kLower, 2000.0, 2500.0, 400.0, 15.0, 0}};
   ASSERT_TRUE(set->apply(strokes, 2).ok());
@@ -113,6 +116,7 @@ TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {
   o.input = source.info.path;
   o.output = dir.file("built.tlod");
   o.edits = strokes;
+  NullProgress progress;
   ASSERT_TRUE(buildTileset(o, progress, [](const std::string&) {}).ok());
   EXPECT_TRUE(readWholeFile(dir.file("written.tlod")) == readWholeFile(dir.file("built.tlod")));
 }
@@ -121,9 +125,7 @@ TEST(VipmChunkSet, AStrokeHandsItsChunksAsWholeGridsBeforeMakingThem) {
   // The interim an editor draws while the progressive meshes are made: every chunk the stroke
   // reaches, as its whole grid (no collapses) on the edited heights, with its old flange depth.
   const Source source = small();
-  NullProgress progress;
-  auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  auto set = buildSet(source);
   ASSERT_TRUE(set.ok());
   const std::vector<NodeRecord> before = set->nodes();
   const std::vector<TerrainEdit> strokes = {{Brush::kRaise, 1000.0, 1000.0, 300.0, 40.0, 0}};
@@ -159,9 +161,7 @@ TEST(VipmChunkSet, AStrokeHandsItsChunksAsWholeGridsBeforeMakingThem) {
 
 TEST(VipmChunkSet, ARefusedStrokeChangesNothing) {
   const Source source = small();
-  NullProgress progress;
-  auto set =
-      VipmChunkSet::build(options(), source.info, source.heights, source.materials, 0, progress);
+  auto set = buildSet(source);
   ASSERT_TRUE(set.ok());
   const NodeBytes before = set->nodeBytes(2);
   auto refused =

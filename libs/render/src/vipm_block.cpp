@@ -35,16 +35,20 @@ bool VipmBlock::fits(const TextureLayer& normals) const {
          normals.mips.size() == mNormalLevels;
 }
 
-uint64_t VipmBlock::allocatedBytes() const {
-  uint64_t bytes = 0;
-  for (uint32_t unit : kUnit) bytes += mRanges.capacity() * unit;
+uint64_t VipmBlock::layerBytes() const {
   uint64_t layer = 0;
   for (uint32_t m = 0; m < mNormalLevels; ++m) layer += mipBytes(mNormalEncoding, mNormalSize, m);
   for (uint32_t m = 0; m < mBlotLevels; ++m) {
     const uint64_t side = std::max(mNormalSize >> m, 1u);
-    layer += side * side * 4;
+    layer += side * side * 4;  // RGBA8
   }
-  return bytes + layer * kSlots;
+  return layer;
+}
+
+uint64_t VipmBlock::allocatedBytes() const {
+  uint64_t vertexBytes = 0;
+  for (uint32_t unit : kUnit) vertexBytes += mRanges.capacity() * unit;
+  return vertexBytes + layerBytes() * kSlots;
 }
 
 bool VipmBlock::empty() const {

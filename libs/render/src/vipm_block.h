@@ -53,6 +53,8 @@ class VipmBlock {
   /// layer `slot`.
   void writeTextures(int slot, const TextureLayer& normals, std::span<const uint8_t> blot);
 
+  /// GPU memory of one layer: a normal map and a blot texture, with their mips.
+  uint64_t layerBytes() const;
   /// GPU memory the block holds: its vertex buffers (with their spare room) and all its
   /// texture layers, used or not.
   uint64_t allocatedBytes() const;

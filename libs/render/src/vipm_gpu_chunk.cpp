@@ -67,13 +67,11 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot
   // passes add encoded colours.
   mBlock.writeTextures(slot, p.normals, p.blot);
   mNormalSize = p.normals.size;
-  uint64_t normalBytes = p.blot.size() * 4 / 3;  // with its mips
-  for (const auto& mip : p.normals.mips) normalBytes += mip.size();
   // On the GPU (its vertices with their one-byte slot tags, its indices, its layers), plus the
   // CPU state (the payload's copy but its textures, which only the GPU keeps; the drawn
   // positions, materials and weights).
   mBlockBytes =
-      uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) + normalBytes;
+      uint64_t(positionBytes) + 2 * mMaterials.size() + uint64_t(weightBytes) + mBlock.layerBytes();
   mGpuBytes = mBlockBytes + indexCount * 2;
   mBytes = mGpuBytes + p.bytes() - p.textureBytes() + uint64_t(positionBytes) + mMaterials.size() +
            mWeightBytes.size() * sizeof(mWeightBytes[0]) + mWeights.size() * sizeof(mWeights[0]);
