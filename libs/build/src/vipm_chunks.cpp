@@ -345,10 +345,10 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   HeightQuantisation q;
   GridPatch patch = quantisedPatch(heights, materials, x0, y0, width, height, zStep, q);
   CollapseStart from;
+  // A root's points (<= 129 x 129) are its dense patch's ids.
+  auto id = [&](size_t i) { return uint16_t(joined.points[joined.indices[i]]); };
   for (size_t i = 0; i + 2 < joined.indices.size(); i += 3)
-    from.triangles.push_back({joined.points[joined.indices[i]],
-                              joined.points[joined.indices[i + 1]],
-                              joined.points[joined.indices[i + 2]]});
+    from.triangles.push_back({id(i), id(i + 1), id(i + 2)});
   for (size_t v = 0; v < joined.points.size(); ++v)
     assert(patch.vertexHeight(joined.points[v]) ==
            float(joined.zBase + double(joined.heights[v]) * zStep));

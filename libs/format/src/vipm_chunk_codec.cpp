@@ -3,6 +3,7 @@
 #include <meshoptimizer.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
 #include <cmath>
@@ -17,9 +18,10 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "terralod's format is little-endian");
 
 constexpr uint32_t kVipmMagic = 0x50564C54;  // "TLVP"
-constexpr uint16_t kVipmVersion = 1;
 constexpr size_t kVipmHeaderBytes = 48;
 constexpr uint64_t kMaxDecodedBytes = uint64_t{1} << 24;
+// Bytes per vertex: point, height, material (version 1: a u16 point; 2: a u32 point).
+constexpr size_t kVertexBytesV1 = 5, kVertexBytesV2 = 7;
 
 void pinIndexCodecVersion() {
   static std::once_flag once;
@@ -38,19 +40,33 @@ void getArray(ByteReader& r, std::vector<T>& values, size_t n) {
 
 }  // namespace
 
+uint16_t vipmChunkVersion(const VipmChunkData& c) {
+  return c.width <= kVipmMaxGridPoints && c.height <= kVipmMaxGridPoints ? 1 : 2;
+}
+
 std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& c, int compressionLevel) {
   pinIndexCodecVersion();
   const size_t n = c.vertexCount(), r = c.collapseCount();
   assert(c.heights.size() == n && c.materials.size() == n && c.errors.size() == r);
+  assert(c.width <= kVipmMaxUpperGridPoints && c.height <= kVipmMaxUpperGridPoints);
+  const uint16_t version = vipmChunkVersion(c);
   std::vector<uint8_t> stream(meshopt_encodeIndexBufferBound(c.indices.size(), n));
   stream.resize(
       meshopt_encodeIndexBuffer(stream.data(), stream.size(), c.indices.data(), c.indices.size()));
-  std::vector<uint8_t> raw(kVipmHeaderBytes + 5 * n + 4 * r + stream.size());
+  const size_t vertexBytes = version == 1 ? kVertexBytesV1 : kVertexBytesV2;
+  const size_t headerBytes = kVipmHeaderBytes + (version == 1 ? 0 : 4);
+  std::vector<uint8_t> raw(headerBytes + vertexBytes * n + 4 * r + stream.size());
   ByteWriter w(raw.data());
   w.put<uint32_t>(kVipmMagic);
-  w.put<uint16_t>(kVipmVersion);
-  w.put<uint8_t>(c.width);
-  w.put<uint8_t>(c.height);
+  w.put<uint16_t>(version);
+  if (version == 1) {
+    w.put<uint8_t>(uint8_t(c.width));
+    w.put<uint8_t>(uint8_t(c.height));
+  } else {
+    w.put<uint16_t>(0);  // reserved
+    w.put<uint16_t>(c.width);
+    w.put<uint16_t>(c.height);
+  }
   w.put<uint32_t>(uint32_t(n));
   w.put<uint32_t>(uint32_t(r));
   w.put<uint32_t>(c.triangleCount());
@@ -59,7 +75,11 @@ std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& c, int compressionLeve
   w.put<double>(c.zStep);
   w.put<float>(c.errorStep);
   w.put<float>(c.finestError);
-  putArray(w, c.points);
+  if (version == 1) {
+    for (uint32_t p : c.points) w.put<uint16_t>(uint16_t(p));
+  } else {
+    putArray(w, c.points);
+  }
   putArray(w, c.heights);
   putArray(w, c.materials);
   putArray(w, c.targets);
@@ -88,40 +108,59 @@ Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::
 
   ByteReader r(buffer.get());
   if (r.get<uint32_t>() != kVipmMagic) return bad("wrong magic");
-  if (r.get<uint16_t>() != kVipmVersion) return bad("unknown VIPM chunk version");
+  const uint16_t version = r.get<uint16_t>();
+  if (version != 1 && version != 2) return bad("unknown VIPM chunk version");
+  const size_t headerBytes = kVipmHeaderBytes + (version == 1 ? 0 : 4);
+  if (size < headerBytes) return bad("implausible size");
   VipmChunkData c;
-  c.width = r.get<uint8_t>();
-  c.height = r.get<uint8_t>();
+  uint32_t largest = kVipmMaxGridPoints;
+  if (version == 1) {
+    c.width = r.get<uint8_t>();
+    c.height = r.get<uint8_t>();
+  } else {
+    if (r.get<uint16_t>() != 0) return bad("reserved bytes are not zero");
+    c.width = r.get<uint16_t>();
+    c.height = r.get<uint16_t>();
+    largest = kVipmMaxUpperGridPoints;
+  }
   const uint32_t n = r.get<uint32_t>(), collapses = r.get<uint32_t>();
   const uint32_t triangles = r.get<uint32_t>(), streamBytes = r.get<uint32_t>();
   c.zBase = r.get<double>();
   c.zStep = r.get<double>();
   c.errorStep = r.get<float>();
   c.finestError = r.get<float>();
-  if (c.width < 2 || c.width > kVipmMaxGridPoints || c.height < 2 || c.height > kVipmMaxGridPoints)
+  if (c.width < 2 || c.width > largest || c.height < 2 || c.height > largest ||
+      (version == 2 && vipmChunkVersion(c) == 1))
     return bad("bad grid size");
-  const uint32_t points = uint32_t(c.width) * c.height;
-  if (n < 3 || n > points || collapses > n - 3) return bad("bad vertex or collapse count");
-  if (triangles == 0 || triangles > 2 * uint32_t(c.width - 1) * uint32_t(c.height - 1) ||
-      streamBytes < triangles)
+  const uint64_t points = uint64_t(c.width) * c.height;
+  // Every vertex a u16 index (a node's own vertices, not its grid's points).
+  if (n < 3 || n > points || n > 65536 || collapses > n - 3)
+    return bad("bad vertex or collapse count");
+  if (triangles == 0 || triangles > 2 * uint64_t(c.width - 1) * uint64_t(c.height - 1) ||
+      triangles > 2 * uint64_t(n) || streamBytes < triangles)
     return bad("bad triangle count");
   if (!std::isfinite(c.zBase) || !(c.zStep > 0) || !std::isfinite(c.zStep))
     return bad("bad height scale");
   if (!(c.errorStep > 0) || !std::isfinite(c.errorStep) || !(c.finestError >= 0) ||
       !std::isfinite(c.finestError))
     return bad("bad error scale");
-  if (kVipmHeaderBytes + 5 * uint64_t(n) + 4 * uint64_t(collapses) + streamBytes != size)
+  const uint64_t vertexBytes = version == 1 ? kVertexBytesV1 : kVertexBytesV2;
+  if (headerBytes + vertexBytes * n + 4 * uint64_t(collapses) + streamBytes != size)
     return bad("sizes do not match the data");
-  getArray(r, c.points, n);
+  if (version == 1) {
+    c.points.resize(n);
+    for (uint32_t& p : c.points) p = r.get<uint16_t>();
+  } else {
+    getArray(r, c.points, n);
+  }
   getArray(r, c.heights, n);
   getArray(r, c.materials, n);
   getArray(r, c.targets, collapses);
   getArray(r, c.errors, collapses);
-  std::vector<uint8_t> seen(points, 0);
-  for (uint16_t p : c.points) {
-    if (p >= points || seen[p]) return bad("bad vertex point");
-    seen[p] = 1;
-  }
+  std::vector<uint32_t> sorted(c.points);
+  std::sort(sorted.begin(), sorted.end());
+  if (sorted.back() >= points || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end())
+    return bad("bad vertex point");
   for (uint8_t m : c.materials)
     if (m >= 8) return bad("material out of range");
   for (uint32_t j = 0; j < collapses; ++j) {

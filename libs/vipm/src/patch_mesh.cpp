@@ -27,42 +27,68 @@ int64_t ceilDiv(int64_t a, int64_t b) {
 
 enum Side { kWest = 1, kEast = 2, kSouth = 4, kNorth = 8, kSeamX = 16, kSeamY = 32 };
 
-}  // namespace
+// A triangle of a patch (counter-clockwise, positive area) and its plane.
+struct Plane {
+  Point corners[3];
+  double za, gx, gy;
+  int64_t y0, y1, x0, x1;  // bounding box
 
-double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic, double limit) {
-  const Point a{patch.xOf(ia), patch.yOf(ia)};
-  const Point b{patch.xOf(ib), patch.yOf(ib)};
-  const Point c{patch.xOf(ic), patch.yOf(ic)};
-  const int64_t det = area2(a, b, c);
-  assert(det > 0);
-  const double za = patch.vertexHeight(ia), zb = patch.vertexHeight(ib),
-               zc = patch.vertexHeight(ic);
-  const double gx = ((zb - za) * double(c.y - a.y) - double(b.y - a.y) * (zc - za)) / double(det);
-  const double gy = (double(b.x - a.x) * (zc - za) - (zb - za) * double(c.x - a.x)) / double(det);
-  const Point corners[3] = {a, b, c};
-  const int64_t y0 = std::min({a.y, b.y, c.y}), y1 = std::max({a.y, b.y, c.y});
-  const int64_t bx0 = std::min({a.x, b.x, c.x}), bx1 = std::max({a.x, b.x, c.x});
-  double worst = 0.0;
-  for (int64_t y = y0; y <= y1; ++y) {
+  Plane(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic) {
+    const Point a{patch.xOf(ia), patch.yOf(ia)};
+    const Point b{patch.xOf(ib), patch.yOf(ib)};
+    const Point c{patch.xOf(ic), patch.yOf(ic)};
+    corners[0] = a;
+    corners[1] = b;
+    corners[2] = c;
+    const int64_t det = area2(a, b, c);
+    assert(det > 0);
+    za = patch.vertexHeight(ia);
+    const double zb = patch.vertexHeight(ib), zc = patch.vertexHeight(ic);
+    gx = ((zb - za) * double(c.y - a.y) - double(b.y - a.y) * (zc - za)) / double(det);
+    gy = (double(b.x - a.x) * (zc - za) - (zb - za) * double(c.x - a.x)) / double(det);
+    y0 = std::min({a.y, b.y, c.y});
+    y1 = std::max({a.y, b.y, c.y});
+    x0 = std::min({a.x, b.x, c.x});
+    x1 = std::max({a.x, b.x, c.x});
+  }
+  // The plane's height along row y, as a + b x.
+  double rowBase(int64_t y) const {
+    return za + gy * double(y - corners[0].y) - gx * double(corners[0].x);
+  }
+  double at(int64_t x, int64_t y) const { return rowBase(y) + gx * double(x); }
+  // The grid points of row y inside the closed triangle: [lo, hi] (empty when lo > hi). With
+  // `inside` false, a range that holds them and is never empty in [y0, y1] (the row's real
+  // extent rounded outward).
+  void row(int64_t y, int64_t& lo, int64_t& hi, bool inside = true) const {
     // Each counter-clockwise edge p -> q keeps the points with cross(q - p, s - p) >= 0,
     // which for this row is C - D x >= 0.
-    int64_t lo = bx0, hi = bx1;
+    lo = x0;
+    hi = x1;
     for (int e = 0; e < 3; ++e) {
       const Point p = corners[e], q = corners[(e + 1) % 3];
       const int64_t d = q.y - p.y;
       const int64_t cst = (q.x - p.x) * (y - p.y) + d * p.x;
       if (d > 0) {
-        hi = std::min(hi, floorDiv(cst, d));
+        hi = std::min(hi, inside ? floorDiv(cst, d) : ceilDiv(cst, d));
       } else if (d < 0) {
-        lo = std::max(lo, ceilDiv(cst, d));
+        lo = std::max(lo, inside ? ceilDiv(cst, d) : floorDiv(cst, d));
       } else if (cst < 0) {
         lo = hi + 1;
       }
     }
+  }
+};
+
+// Dense patches: the largest distance over the samples inside.
+double scannedError(const GridPatch& patch, const Plane& t, double limit) {
+  double worst = 0.0;
+  for (int64_t y = t.y0; y <= t.y1; ++y) {
+    int64_t lo, hi;
+    t.row(y, lo, hi);
     const float* row = patch.heights.data() + size_t(y) * size_t(patch.width);
-    const double rowBase = za + gy * double(y - a.y) - gx * double(a.x);
+    const double rowBase = t.rowBase(y);
     for (int64_t x = lo; x <= hi; ++x) {
-      const double d = std::abs(double(row[x]) - (rowBase + gx * double(x)));
+      const double d = std::abs(double(row[x]) - (rowBase + t.gx * double(x)));
       if (d > worst) {
         worst = d;
         if (worst > limit) return worst;
@@ -70,6 +96,56 @@ double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t 
     }
   }
   return worst;
+}
+
+// Sparse patches: a bound over the sample blocks the triangle reaches. Per block, the samples
+// inside lie in the rectangle of the block's rows and of the triangle's extent over them, so
+// each is within [lo - plane's top there, hi - plane's bottom there]. Exact with step 1.
+double blockError(const GridPatch& patch, const Plane& t, double limit) {
+  const SampleBlocks& s = patch.samples;
+  const int64_t step = s.step;
+  double worst = 0.0;
+  for (int64_t j = t.y0 / step; j * step <= t.y1; ++j) {
+    const int64_t ya = std::max(t.y0, j * step), yb = std::min(t.y1, j * step + step - 1);
+    int64_t lo, hi;
+    if (ya == yb) {
+      t.row(ya, lo, hi);
+    } else {
+      // The triangle's left and right edges are convex and concave in y, bent at its corners
+      // (grid rows): their extremes over [ya, yb] are at its ends or at a corner's row.
+      int64_t l, h;
+      t.row(ya, lo, hi, false);
+      t.row(yb, l, h, false);
+      lo = std::min(lo, l);
+      hi = std::max(hi, h);
+      for (const Point& c : t.corners)
+        if (c.y > ya && c.y < yb) {
+          t.row(c.y, l, h, false);
+          lo = std::min(lo, l);
+          hi = std::max(hi, h);
+        }
+    }
+    for (int64_t i = std::max<int64_t>(lo, 0) / step; i * step <= hi; ++i) {
+      const int64_t xa = std::max(lo, i * step), xb = std::min(hi, i * step + step - 1);
+      const size_t k = size_t(j) * size_t(s.columns) + size_t(i);
+      const double p[4] = {t.at(xa, ya), t.at(xb, ya), t.at(xa, yb), t.at(xb, yb)};
+      const double top = std::max({p[0], p[1], p[2], p[3]});
+      const double bottom = std::min({p[0], p[1], p[2], p[3]});
+      const double d = std::max(double(s.hi[k]) - bottom, top - double(s.lo[k]));
+      if (d > worst) {
+        worst = d;
+        if (worst > limit) return worst;
+      }
+    }
+  }
+  return worst;
+}
+
+}  // namespace
+
+double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic, double limit) {
+  const Plane t(patch, ia, ib, ic);
+  return patch.sparse() ? blockError(patch, t, limit) : scannedError(patch, t, limit);
 }
 
 PatchMesh::PatchMesh(const GridPatch& patch, MaterialRules rules,

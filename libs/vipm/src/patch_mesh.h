@@ -15,7 +15,8 @@
 namespace terralod {
 
 /// Largest |sample - plane| over the grid samples inside the closed triangle (a, b, c) of a
-/// patch (counter-clockwise, positive area). Stops early, returning a value > `limit`, once
+/// patch (counter-clockwise, positive area); for a sparse patch a bound on it over the sample
+/// blocks (exact when they are single samples). Stops early, returning a value > `limit`, once
 /// a sample exceeds `limit`.
 double triangleError(const GridPatch& patch, uint16_t a, uint16_t b, uint16_t c,
                      double limit = std::numeric_limits<double>::infinity());

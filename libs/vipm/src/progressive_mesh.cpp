@@ -41,10 +41,13 @@ ProgressiveMesh makeProgressiveMesh(const GridPatch& patch, const CollapseOrder&
     for (uint16_t v : tri) used[v] = 1;
   for (const Collapse& c : all) removed[c.vertex] = 1;
   for (uint32_t v = 0; v < n; ++v)
-    if (used[v] && !removed[v]) mesh.points.push_back(uint16_t(v));
-  for (size_t k = all.size(); k-- > applied;) mesh.points.push_back(all[k].vertex);
+    if (used[v] && !removed[v]) mesh.patchIds.push_back(uint16_t(v));
+  for (size_t k = all.size(); k-- > applied;) mesh.patchIds.push_back(all[k].vertex);
   std::vector<uint16_t> index(n, UINT16_MAX);
-  for (uint32_t i = 0; i < mesh.points.size(); ++i) index[mesh.points[i]] = uint16_t(i);
+  for (uint32_t i = 0; i < mesh.patchIds.size(); ++i) {
+    index[mesh.patchIds[i]] = uint16_t(i);
+    mesh.points.push_back(patch.gridPoint(mesh.patchIds[i]));
+  }
   for (size_t k = applied; k < all.size(); ++k) {
     mesh.targets.push_back(index[all[k].target]);
     mesh.errors.push_back(all[k].error);

@@ -24,13 +24,14 @@ void quantiseVertexHeights(GridPatch& patch, const HeightQuantisation& q) {
 VipmChunkData packChunk(const GridPatch& patch, const ProgressiveMesh& mesh,
                         const HeightQuantisation& q) {
   VipmChunkData c;
-  c.width = uint8_t(mesh.width);
-  c.height = uint8_t(mesh.height);
+  assert(mesh.patchIds.size() == mesh.points.size());
+  c.width = uint16_t(mesh.width);
+  c.height = uint16_t(mesh.height);
   c.zBase = q.zBase;
   c.zStep = q.zStep;
   c.finestError = mesh.finestError;
   c.points = mesh.points;
-  for (uint16_t p : mesh.points) {
+  for (uint16_t p : mesh.patchIds) {
     const double level = std::round((double(patch.vertexHeight(p)) - q.zBase) / q.zStep);
     c.heights.push_back(uint16_t(std::clamp(level, 0.0, 65535.0)));
     c.materials.push_back(patch.materials[p]);
@@ -63,7 +64,7 @@ UnpackedChunk unpackChunk(const VipmChunkData& c) {
   for (size_t i = 0; i + 2 < c.indices.size(); i += 3)
     m.triangles.push_back({c.indices[i], c.indices[i + 1], c.indices[i + 2]});
   for (uint32_t v = 0; v < c.vertexCount(); ++v) {
-    const uint16_t p = c.points[v];
+    const uint32_t p = c.points[v];
     u.positions.push_back(
         {float(p % c.width), float(p / c.width), float(c.zBase + double(c.heights[v]) * c.zStep)});
   }

@@ -200,6 +200,112 @@ TEST(CollapseOrder, StartsFromAGivenMeshAndKeepsSeamVerticesOnTheirSeams) {
   EXPECT_TRUE(triangleRemovals(mesh).ok());
 }
 
+// The sparse form of a dense patch (a node above the roots is one): its points the ones `used`
+// marks, in grid order, and its samples bounded over blocks of `step` x `step` points.
+struct SparseOf {
+  GridPatch patch;
+  std::vector<uint16_t> denseId;   // per sparse point
+  std::vector<uint16_t> sparseId;  // per dense point (used ones)
+};
+SparseOf sparseOf(const GridPatch& dense, const std::vector<uint8_t>& used, int32_t step) {
+  SparseOf s;
+  s.patch.width = dense.width;
+  s.patch.height = dense.height;
+  s.sparseId.assign(dense.pointCount(), UINT16_MAX);
+  for (uint32_t v = 0; v < dense.pointCount(); ++v) {
+    if (!used[v]) continue;
+    s.sparseId[v] = uint16_t(s.denseId.size());
+    s.denseId.push_back(uint16_t(v));
+    s.patch.pointX.push_back(dense.xOf(v));
+    s.patch.pointY.push_back(dense.yOf(v));
+    s.patch.heights.push_back(dense.heights[v]);
+    s.patch.materials.push_back(dense.materials[v]);
+  }
+  SampleBlocks& b = s.patch.samples;
+  b.step = step;
+  b.columns = (dense.width + step - 1) / step;
+  b.rows = (dense.height + step - 1) / step;
+  b.lo.assign(size_t(b.columns) * size_t(b.rows), INFINITY);
+  b.hi.assign(b.lo.size(), -INFINITY);
+  for (int32_t y = 0; y < dense.height; ++y)
+    for (int32_t x = 0; x < dense.width; ++x) {
+      const size_t k = size_t(y / step) * size_t(b.columns) + size_t(x / step);
+      b.lo[k] = std::min(b.lo[k], dense.heightAt(x, y));
+      b.hi[k] = std::max(b.hi[k], dense.heightAt(x, y));
+    }
+  return s;
+}
+
+// A root's start on the Crater Lake window: the first order's level at 2 m, seams at 16.
+struct SeamedStart {
+  GridPatch patch;
+  CollapseStart start;
+  std::vector<uint8_t> used;
+};
+SeamedStart seamedStart() {
+  SeamedStart s;
+  s.patch = test::demPatch("crater_lake_0513.bt", 192, 192, 1900, 2050, 33);
+  const CollapseOrder first = buildCollapseOrder(s.patch, MaterialRules::kOn);
+  size_t applied = 0;
+  while (applied < first.collapses.size() && first.collapses[applied].error <= 2.0f) ++applied;
+  s.start.triangles = meshAfter(first, applied, s.patch.pointCount());
+  s.start.seamX = s.start.seamY = 16;
+  s.used.assign(s.patch.pointCount(), 0);
+  for (const Tri& t : s.start.triangles)
+    for (uint16_t v : t) s.used[v] = 1;
+  return s;
+}
+
+CollapseStart sparseStart(const CollapseStart& dense, const SparseOf& s) {
+  CollapseStart out = dense;
+  for (Tri& t : out.triangles)
+    for (uint16_t& v : t) v = s.sparseId[v];
+  return out;
+}
+
+// With single-sample blocks a sparse patch is the dense one by other names: the same order.
+TEST(CollapseOrder, ASparsePatchOfSingleSamplesCollapsesAsTheDenseOne) {
+  const SeamedStart d = seamedStart();
+  const SparseOf s = sparseOf(d.patch, d.used, 1);
+  const CollapseOrder dense = buildCollapseOrder(d.patch, MaterialRules::kOff, d.start);
+  const CollapseOrder sparse =
+      buildCollapseOrder(s.patch, MaterialRules::kOff, sparseStart(d.start, s));
+  ASSERT_GT(dense.collapses.size(), 50u);
+  EXPECT_EQ(sparse.startError, dense.startError);
+  ASSERT_EQ(sparse.collapses.size(), dense.collapses.size());
+  for (size_t k = 0; k < dense.collapses.size(); ++k) {
+    EXPECT_EQ(s.denseId[sparse.collapses[k].vertex], dense.collapses[k].vertex) << k;
+    EXPECT_EQ(s.denseId[sparse.collapses[k].target], dense.collapses[k].target) << k;
+    EXPECT_EQ(sparse.collapses[k].error, dense.collapses[k].error) << k;
+  }
+  // Its progressive mesh names grid points, as the dense one's does.
+  const ProgressiveMesh a = makeProgressiveMesh(d.patch, dense, 0.0);
+  const ProgressiveMesh b = makeProgressiveMesh(s.patch, sparse, 0.0);
+  EXPECT_EQ(a.points, b.points);
+  EXPECT_EQ(a.triangles, b.triangles);
+}
+
+// Over coarser blocks the errors are bounds: every level's recorded error holds against every
+// sample, and they are looser than the exact ones (the blocks are alive).
+TEST(CollapseOrder, ASparsePatchsBlockErrorsBoundEverySample) {
+  const SeamedStart d = seamedStart();
+  const SparseOf s = sparseOf(d.patch, d.used, 4);
+  const CollapseOrder exact = buildCollapseOrder(d.patch, MaterialRules::kOff, d.start);
+  const CollapseOrder order =
+      buildCollapseOrder(s.patch, MaterialRules::kOff, sparseStart(d.start, s));
+  ASSERT_GT(order.collapses.size(), 50u);
+  EXPECT_GT(order.startError, exact.startError);
+  for (size_t k : {size_t(0), size_t(10), order.collapses.size() / 2, order.collapses.size()}) {
+    std::vector<uint16_t> to = test::unrenamed(d.patch.pointCount());
+    for (size_t j = 0; j < k; ++j)
+      to[s.denseId[order.collapses[j].vertex]] = s.denseId[order.collapses[j].target];
+    const Oracle o = bruteForce(d.patch, test::renamed(d.start.triangles, to));
+    const double recorded = k == 0 ? order.startError : order.collapses[k - 1].error;
+    EXPECT_LE(o.error, recorded + 1e-6) << "after " << k << " collapses";
+    EXPECT_TRUE(o.everySampleCovered);
+  }
+}
+
 // The three material rules hold for every collapse with them, and the first fails without
 // them (so the test can tell).
 TEST(CollapseOrder, MaterialRulesHoldAndAreAlive) {

@@ -51,7 +51,7 @@ TEST(VipmStorage, RoundTripsTheMeshWithErrorsRoundedUp) {
   }
   EXPECT_TRUE(std::is_sorted(u.mesh.errors.begin(), u.mesh.errors.end()));
   for (uint32_t v = 0; v < u.mesh.vertexCount(); ++v) {
-    const uint16_t p = u.mesh.points[v];
+    const uint32_t p = u.mesh.points[v];
     EXPECT_EQ(u.positions[v][2], s.patch.vertexHeights[p]);
     EXPECT_NEAR(u.positions[v][2], s.patch.heights[p], s.q.zStep / 2 + 1e-4);
   }
@@ -59,6 +59,45 @@ TEST(VipmStorage, RoundTripsTheMeshWithErrorsRoundedUp) {
   // Every level in less than plain buffers of the finest level take (8 bytes per vertex, 6 per
   // triangle).
   EXPECT_LT(s.blob.size(), 8 * s.mesh.vertexCount() + 6 * s.mesh.triangles.size());
+}
+
+// A node above the roots (a sparse patch wider than 129 points) is stored as version 2: its
+// points as 32-bit grid points; it reads back as it was, and damage never crashes the reader.
+TEST(VipmStorage, ANodeAboveTheRootsRoundTripsAsVersion2) {
+  test::SparseStart s = test::wavySparsePatch(512, 8, 4);
+  CollapseStart start;
+  start.triangles = s.triangles;
+  start.seamX = start.seamY = 256;
+  const HeightQuantisation q{-20.0, 1.0 / 64};
+  quantiseVertexHeights(s.patch, q);
+  const CollapseOrder order = buildCollapseOrder(s.patch, MaterialRules::kOff, start);
+  ASSERT_GT(order.collapses.size(), 1000u);
+  const ProgressiveMesh mesh = makeProgressiveMesh(s.patch, order, 0.0);
+  const VipmChunkData data = packChunk(s.patch, mesh, q);
+  EXPECT_EQ(vipmChunkVersion(data), 2);
+  const std::vector<uint8_t> blob = encodeVipmChunk(data, 3);
+  auto decoded = decodeVipmChunk(blob, "node");
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+  EXPECT_EQ(decoded->width, 513);
+  EXPECT_EQ(decoded->points, mesh.points);
+  EXPECT_EQ(*std::max_element(mesh.points.begin(), mesh.points.end()), 513u * 513u - 1);
+  EXPECT_EQ(encodeVipmChunk(*decoded, 3), blob);
+  const UnpackedChunk u = unpackChunk(*decoded);
+  EXPECT_TRUE(VipmLevels::reconstruct(u.mesh, u.materials).ok());
+  EXPECT_EQ(u.positions.back()[0], float(mesh.points.back() % 513));
+
+  // Damage is refused or reconstructs (checked), never a crash.
+  for (size_t n = 0; n < blob.size(); n += 11)
+    EXPECT_FALSE(decodeVipmChunk(std::span(blob).first(n), "c").ok());
+  std::mt19937 rng(11);
+  for (int i = 0; i < 300; ++i) {
+    std::vector<uint8_t> b = blob;
+    b[rng() % b.size()] ^= uint8_t(1u << (rng() % 8));
+    if (auto d = decodeVipmChunk(b, "c"); d.ok()) {
+      const UnpackedChunk damaged = unpackChunk(*d);
+      (void)VipmLevels::reconstruct(damaged.mesh, damaged.materials);
+    }
+  }
 }
 
 // Truncations and bit flips are refused or decode to something reconstruction checks; never

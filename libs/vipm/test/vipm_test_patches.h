@@ -2,6 +2,7 @@
 // Patches for the VIPM tests: windows of real DEMs with a simple material classification,
 // and synthetic ones.
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -43,6 +44,49 @@ inline GridPatch wavyPatch(int32_t w, int32_t h) {
       p.heights.push_back(float(10.0 * std::sin(x * 0.2) * std::cos(y * 0.15) + 0.05 * x * y));
   p.materials.assign(p.heights.size(), 0);
   return p;
+}
+
+/// A sparse patch over a wavy surface of `cells` + 1 points a side (a node above the roots):
+/// its points every `stride` grid points, its start their grid triangulation, its samples
+/// bounded over blocks of `step` points.
+struct SparseStart {
+  GridPatch patch;
+  std::vector<std::array<uint16_t, 3>> triangles;
+};
+inline SparseStart wavySparsePatch(int32_t cells, int32_t stride, int32_t step) {
+  SparseStart s;
+  GridPatch& p = s.patch;
+  p.width = p.height = cells + 1;
+  auto z = [](int32_t x, int32_t y) {
+    return float(10.0 * std::sin(x * 0.02) * std::cos(y * 0.015) + 0.0005 * x * y);
+  };
+  const int32_t n = cells / stride + 1;
+  for (int32_t j = 0; j < n; ++j)
+    for (int32_t i = 0; i < n; ++i) {
+      p.pointX.push_back(i * stride);
+      p.pointY.push_back(j * stride);
+      p.heights.push_back(z(i * stride, j * stride));
+      p.materials.push_back(0);
+    }
+  for (int32_t j = 0; j + 1 < n; ++j)
+    for (int32_t i = 0; i + 1 < n; ++i) {
+      const auto a = uint16_t(j * n + i), b = uint16_t(a + 1), c = uint16_t(a + n),
+                 d = uint16_t(c + 1);
+      s.triangles.push_back({a, b, d});
+      s.triangles.push_back({a, d, c});
+    }
+  SampleBlocks& blocks = p.samples;
+  blocks.step = step;
+  blocks.columns = blocks.rows = (cells + step) / step;
+  blocks.lo.assign(size_t(blocks.columns) * size_t(blocks.rows), INFINITY);
+  blocks.hi.assign(blocks.lo.size(), -INFINITY);
+  for (int32_t y = 0; y <= cells; ++y)
+    for (int32_t x = 0; x <= cells; ++x) {
+      const size_t k = size_t(y / step) * size_t(blocks.columns) + size_t(x / step);
+      blocks.lo[k] = std::min(blocks.lo[k], z(x, y));
+      blocks.hi[k] = std::max(blocks.hi[k], z(x, y));
+    }
+  return s;
 }
 
 /// The identity renaming of `n` vertices (for renamed()).

@@ -16,17 +16,22 @@
 
 namespace terralod {
 
-/// Grid points a side of a VIPM blob at most: 65 for a leaf, 129 for a fallback root (its four
-/// children's coarsest levels, no collapses).
+/// Grid points a side of a version 1 VIPM blob at most: 65 for a leaf, 129 for a root (its four
+/// children's coarsest levels joined).
 inline constexpr uint32_t kVipmMaxGridPoints = 129;
+/// Grid points a side of a version 2 blob at most: a node above the roots (upper levels of 256,
+/// 512, ... cells, at most 32768).
+inline constexpr uint32_t kVipmMaxUpperGridPoints = 32769;
 
 struct VipmChunkData {
-  uint8_t width = 0, height = 0;  ///< the chunk's grid points along x and y, 2..129
-  double zBase = 0.0;             ///< height = zBase + z * zStep (metres)
+  /// The chunk's grid points along x and y: 2..129 (stored as version 1) or up to 32769
+  /// (version 2, nodes above the roots).
+  uint16_t width = 0, height = 0;
+  double zBase = 0.0;  ///< height = zBase + z * zStep (metres)
   double zStep = 1.0;
   float errorStep = 1.0f;          ///< a collapse's error = its quantised error * errorStep
   float finestError = 0.0f;        ///< error of the finest level, metres
-  std::vector<uint16_t> points;    ///< per vertex: grid point y * width + x
+  std::vector<uint32_t> points;    ///< per vertex: grid point y * width + x
   std::vector<uint16_t> heights;   ///< per vertex: quantised height
   std::vector<uint8_t> materials;  ///< per vertex: material index, < 8
   std::vector<uint16_t> targets;   ///< per collapse j: the vertex that vertex N-1-j moves onto
@@ -37,6 +42,10 @@ struct VipmChunkData {
   uint32_t collapseCount() const { return uint32_t(targets.size()); }
   uint32_t triangleCount() const { return uint32_t(indices.size() / 3); }
 };
+
+/// Whether `chunk` is stored as version 1 (both sides at most kVipmMaxGridPoints; the form
+/// every leaf and root takes) or 2.
+uint16_t vipmChunkVersion(const VipmChunkData& chunk);
 
 /// Encodes; `compressionLevel` is zstd's.
 std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& chunk, int compressionLevel);

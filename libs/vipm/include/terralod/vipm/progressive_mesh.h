@@ -24,8 +24,11 @@ namespace terralod {
 
 struct ProgressiveMesh {
   int32_t width = 0, height = 0;  ///< the patch's points along x and y
-  /// Per vertex: its patch point (y * width + x), vertex order as above.
-  std::vector<uint16_t> points;
+  /// Per vertex: its grid point (y * width + x), vertex order as above.
+  std::vector<uint32_t> points;
+  /// Per vertex: the patch point it was made from (makeProgressiveMesh; the grid point for a
+  /// dense patch); empty in a mesh read back from a blob.
+  std::vector<uint16_t> patchIds;
   std::vector<uint16_t> targets;  ///< per runtime collapse: the vertex it moves onto
   std::vector<float> errors;      ///< per runtime collapse: metres, non-decreasing
   /// The finest level's triangles (vertex indices, counter-clockwise from above), ordered by
