@@ -90,6 +90,13 @@ void addBuildCommand(CLI::App& root, Runner& run) {
          "triangles far away). Default: 4 x --max-error; off: leaves simplify as far as the "
          "rules allow")
       ->check(positiveNumberOr("off"));
+  auto upperLevels = std::make_shared<std::string>();
+  cmd->add_option("--upper-levels", *upperLevels,
+                  "vipm: levels of nodes above the 128-cell roots (256, 512, ... cells), each "
+                  "its children's coarsest levels joined and simplified further, so that the far "
+                  "field draws few large nodes and only the top ones stay resident; 0 (the "
+                  "default for now) to 8, or auto: as many as make one top node")
+      ->check(CLI::Range(0, 8) | CLI::IsMember({"auto"}));
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -103,8 +110,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau,
-                 blotError] {
-    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError] {
+                 blotError, upperLevels] {
+    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError,
+           upperLevels] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
@@ -129,11 +137,17 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         }
         if (options->blotError.leafError(options->maxError) < options->maxError)
           return fail("--blot-error must be at least --max-error");
+        if (*upperLevels == "auto") {
+          options->vipmUpperLevels = -1;
+        } else if (!upperLevels->empty()) {
+          options->vipmUpperLevels = std::stoi(*upperLevels);  // checked
+        }
       } else {
         for (auto [given, name] : {std::pair{!options->materialsPath.empty(), "--materials"},
                                    std::pair{!options->palettePath.empty(), "--palette"},
                                    std::pair{*noRules, "--no-material-rules"},
-                                   std::pair{!blotError->empty(), "--blot-error"}})
+                                   std::pair{!blotError->empty(), "--blot-error"},
+                                   std::pair{!upperLevels->empty(), "--upper-levels"}})
           if (given) return fail(std::string(name) + " applies to --kind vipm only");
       }
       if (!options->palettePath.empty() && options->materialsPath.empty())

@@ -96,9 +96,8 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
   std::vector<NodeReplacement> nodes;
   for (uint32_t node : *mChanged) nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node)});
   f.nodes = nodes.size();
-  // The roots' level error may have moved; the leaves' is --max-error.
-  const std::vector<double> levelErrors = {mSet.rootLevelError(), scene.tree().levelError(1)};
-  scene.replaceNodes(std::move(nodes), levelErrors);
+  // The levels above the leaves may have moved their errors; the leaves' is --max-error.
+  scene.replaceNodes(std::move(nodes), mSet.levelErrors());
   f.drawnNodes = scene.pendingReplacements();
   return f;
 }

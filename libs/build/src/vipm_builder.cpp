@@ -150,7 +150,7 @@ Result<SourceData> readSource(const BuildOptions& options, Progress& progress,
   SourceData source;
   source.info = reader.info();
   summary.sourceSamples = uint64_t(source.info.columns) * uint64_t(source.info.rows);
-  const TreeLayout layout = vipmTreeLayout(source.info);
+  const TreeLayout layout = vipmTreeLayout(source.info);  // the 128-cell nodes
   if (layout.rootsX > 4096 || layout.rootsY > 4096)
     return makeError(source.info.path,
                      "is too large for a VIPM tileset (at most 524288 cells a side)");
@@ -183,7 +183,7 @@ namespace {
 Status writeChunkSet(TilesetWriter& writer, const VipmChunkSet& set, BuildSummary& summary) {
   const DemInfo& info = set.info();
   const BuildOptions& options = set.options();
-  const TreeLayout layout = vipmTreeLayout(info);
+  const TreeLayout& layout = set.layout();
   std::vector<NodeRecord> nodes = set.nodes();
   double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
   for (size_t i = 0; i < nodes.size(); ++i) {
@@ -203,7 +203,7 @@ Status writeChunkSet(TilesetWriter& writer, const VipmChunkSet& set, BuildSummar
     summary.vertices += n.vertexCount;
     summary.triangles += n.triangleCount;
   }
-  summary.levels = 2;
+  summary.levels = layout.levelCount();
   summary.chunks = nodes.size();
 
   TilesetHeader header;
@@ -211,17 +211,17 @@ Status writeChunkSet(TilesetWriter& writer, const VipmChunkSet& set, BuildSummar
   header.flags |= kTilesetTextured;
   header.textureMinTau = kVipmTextureTau;
   header.meshKind = MeshKind::kVipm;
-  header.levelCount = 2;
+  header.levelCount = uint32_t(layout.levelCount());
   header.leafCells = kVipmLeafCells;
-  header.rootCells = kVipmRootCells;
+  header.rootCells = uint32_t(layout.rootCells);
   header.rootsX = uint32_t(layout.rootsX);
   header.rootsY = uint32_t(layout.rootsY);
   header.sourceColumns = uint32_t(info.columns);
   header.sourceRows = uint32_t(info.rows);
   header.spacingX = info.spacingX;
   header.spacingY = info.spacingY;
-  header.levelError[0] = set.rootLevelError();
-  header.levelError[1] = options.maxError;
+  for (size_t level = 0; level < set.levelErrors().size(); ++level)
+    header.levelError[level] = set.levelErrors()[level];
   header.extentMin = {0.0, 0.0, zMin};
   header.extentMax = {layout.cellsX * info.spacingX, layout.cellsY * info.spacingY, zMax};
   header.filledVoids = summary.filledVoids;

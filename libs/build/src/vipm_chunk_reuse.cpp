@@ -11,11 +11,13 @@ namespace {
 // Whether `old` was built from this source with these options, but for the strokes after its
 // own (its recorded "edits" a prefix of options.edits).
 bool sameBuild(const TilesetReader& old, const BuildOptions& options, const DemInfo& info,
-               double zStep) {
+               const TreeLayout& layout, double zStep) {
   const TilesetHeader& h = old.header();
   if (h.meshKind != MeshKind::kVipm || h.sourceColumns != uint32_t(info.columns) ||
       h.sourceRows != uint32_t(info.rows) || h.spacingX != info.spacingX ||
-      h.spacingY != info.spacingY || h.levelError[1] != options.maxError)
+      h.spacingY != info.spacingY || h.levelCount != uint32_t(layout.levelCount()) ||
+      h.rootCells != uint32_t(layout.rootCells) ||
+      h.levelError[size_t(layout.depth)] != options.maxError)
     return false;
   auto recorded = recordedVipmBuildOptions(old);
   if (!recorded) return false;
@@ -45,10 +47,10 @@ bool sameBuild(const TilesetReader& old, const BuildOptions& options, const DemI
 }  // namespace
 
 std::optional<VipmChunkReuse> VipmChunkReuse::open(const BuildOptions& options, const DemInfo& info,
-                                                   double zStep) {
+                                                   const TreeLayout& layout, double zStep) {
   if (options.reuse.empty()) return std::nullopt;
   auto old = TilesetReader::openFile(options.reuse);
-  if (!old || !sameBuild(**old, options, info, zStep)) return std::nullopt;
+  if (!old || !sameBuild(**old, options, info, layout, zStep)) return std::nullopt;
   VipmChunkReuse reuse;
   const size_t kept = (*old)->metadata().edits.size();
   for (size_t i = kept; i < options.edits.size(); ++i)

@@ -24,29 +24,26 @@ int32_t pointsFrom(int32_t first, int32_t cells, int32_t side) {
   return std::min(side, cells - first) + 1;
 }
 
-// The height range of root (rx, ry)'s grid points.
-double rootRange(const Heightfield& h, const TreeLayout& layout, int32_t rx, int32_t ry) {
-  const int32_t x0 = rx * kRoot, y0 = ry * kRoot;
-  const int32_t w = pointsFrom(x0, layout.cellsX, kRoot), hh = pointsFrom(y0, layout.cellsY, kRoot);
+// The height range (lowest, highest) of the grid points [x0, x0 + width) x [y0, y0 + height).
+std::pair<float, float> pointRange(const Heightfield& h, int32_t x0, int32_t y0, int32_t width,
+                                   int32_t height) {
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-  for (int32_t y = y0; y < y0 + hh; ++y)
-    for (int32_t x = x0; x < x0 + w; ++x) {
+  for (int32_t y = y0; y < y0 + height; ++y)
+    for (int32_t x = x0; x < x0 + width; ++x) {
       lo = std::min(lo, h(x, y));
       hi = std::max(hi, h(x, y));
     }
-  return double(hi) - double(lo);
+  return {lo, hi};
 }
 
-// The tileset's height step for the largest root range, or why there is none.
-Result<double> tilesetZStep(const std::vector<double>& rootRanges, double maxError,
-                            const std::string& subject) {
-  const double range = *std::max_element(rootRanges.begin(), rootRanges.end());
+// The tileset's height step for the largest node range, or why there is none.
+Result<double> tilesetZStep(double range, double maxError, const std::string& subject) {
   const double zStep = vipmTilesetZStep(maxError, range);
   if (zStep <= maxError) return zStep;
   // Rounding alone would take half the error budget.
   char text[256];
   std::snprintf(text, sizeof text,
-                "--max-error %g m is too fine for 16-bit heights over a root's %.0f m of "
+                "--max-error %g m is too fine for 16-bit heights over a node's %.0f m of "
                 "relief; use at least %.3g m",
                 maxError, range, vipmTilesetZStep(range / 65000.0, range));
   return makeError(subject, text);
@@ -61,52 +58,60 @@ void takeMeshFields(NodeRecord& n, const NodeRecord& built) {
   n.triangleCount = built.triangleCount;
 }
 
-// How far each drawn chunk's border strays from the source samples, over all its levels.
-struct Deviations {
-  int32_t leavesX = 0, leavesY = 0, rootsX = 0, rootsY = 0;
-  std::vector<double> leaf, root, rootSeams;
-
-  double leafAt(int32_t x, int32_t y) const {
-    if (x < 0 || y < 0 || x >= leavesX || y >= leavesY) return 0.0;
-    return leaf[size_t(y) * size_t(leavesX) + size_t(x)];
+// How far each chunk's border strays from the source samples, over all its levels, by level
+// and place.
+class Deviations {
+ public:
+  explicit Deviations(const TreeLayout& layout) : mLayout(layout) {
+    for (int32_t l = 0; l < layout.levelCount(); ++l)
+      mLevels.emplace_back(size_t(layout.chunksX(l)) * size_t(layout.chunksY(l)), 0.0);
   }
-  double rootAt(int32_t x, int32_t y) const {
-    if (x < 0 || y < 0 || x >= rootsX || y >= rootsY) return 0.0;
-    return root[size_t(y) * size_t(rootsX) + size_t(x)];
+  double& at(int32_t level, int32_t x, int32_t y) {
+    return mLevels[size_t(level)][size_t(y) * size_t(mLayout.chunksX(level)) + size_t(x)];
   }
-  // A root and its leaves.
-  double familyAt(int32_t x, int32_t y) const {
-    double d = rootAt(x, y);
-    for (int32_t k = 0; k < 4; ++k) d = std::max(d, leafAt(2 * x + (k & 1), 2 * y + (k >> 1)));
+  double get(int32_t level, int32_t x, int32_t y) const {
+    if (x < 0 || y < 0 || x >= mLayout.chunksX(level) || y >= mLayout.chunksY(level)) return 0.0;
+    return mLevels[size_t(level)][size_t(y) * size_t(mLayout.chunksX(level)) + size_t(x)];
+  }
+  // The largest deviation of any chunk that can be drawn beside node n (level, x, y): one
+  // across a side, at any level, that is not n's ancestor.
+  double beside(int32_t level, int32_t x, int32_t y) const {
+    const int64_t c = mLayout.chunkCells(level);
+    const int64_t x0 = x * c, y0 = y * c, x1 = x0 + c, y1 = y0 + c;
+    double d = 0.0;
+    for (int32_t m = 0; m < mLayout.levelCount(); ++m) {
+      const int64_t cm = mLayout.chunkCells(m);
+      // Along the west and east sides (columns just outside), then the south and north.
+      for (const int64_t col : {x0 - 1, x1})
+        for (int64_t row = y0 / cm; row * cm < y1; ++row) {
+          if (col < 0 || (m <= level && col / cm == x0 / cm)) continue;  // n's ancestor
+          d = std::max(d, get(m, int32_t(col / cm), int32_t(row)));
+        }
+      for (const int64_t row : {y0 - 1, y1})
+        for (int64_t col = x0 / cm; col * cm < x1; ++col) {
+          if (row < 0 || (m <= level && row / cm == y0 / cm)) continue;
+          d = std::max(d, get(m, int32_t(col), int32_t(row / cm)));
+        }
+    }
     return d;
   }
+
+ private:
+  const TreeLayout& mLayout;
+  std::vector<std::vector<double>> mLevels;
 };
 
 // maxSkirtDepth of every node (docs/format.md "Node fields"): two borders drawn side by side
 // are at most their deviations apart, so a flange as deep as its own deviation plus the
-// largest of any chunk that can be drawn beside it closes the gap.
-void setFlangeDepths(std::vector<NodeRecord>& nodes, const Deviations& d, double zStep) {
-  static constexpr int32_t kDx[4] = {1, -1, 0, 0}, kDy[4] = {0, 0, 1, -1};
-  for (NodeRecord& n : nodes) {
-    if (n.level == 0) continue;
-    const int32_t x = int32_t(n.x), y = int32_t(n.y);
-    double outside = 0.0;
-    for (int k = 0; k < 4; ++k) {
-      const int32_t nx = x + kDx[k], ny = y + kDy[k];
-      outside = std::max(outside, d.leafAt(nx, ny));
-      if ((nx >> 1) != (x >> 1) || (ny >> 1) != (y >> 1))  // another root's
-        outside = std::max(outside, d.rootAt(nx >> 1, ny >> 1));
-    }
-    n.maxSkirtDepth = floatAbove(d.leafAt(x, y) + outside + zStep);
-  }
-  for (NodeRecord& n : nodes) {
-    if (n.level != 0) continue;
-    const int32_t x = int32_t(n.x), y = int32_t(n.y);
-    double outside = 0.0;
-    for (int k = 0; k < 4; ++k) outside = std::max(outside, d.familyAt(x + kDx[k], y + kDy[k]));
-    // Its children's shared sides: each side's polyline is within the seam deviation.
-    const double seams = 2.0 * d.rootSeams[size_t(y) * size_t(d.rootsX) + size_t(x)];
-    double depth = std::max(d.rootAt(x, y) + outside, seams) + zStep;
+// largest of any chunk that can be drawn beside it closes the gap. A node over seams (its
+// children's shared sides) covers both sides of them, and is at least as deep as its
+// children. Nodes are in level order, so children come after their parents.
+void setFlangeDepths(std::vector<NodeRecord>& nodes, const Deviations& d,
+                     const std::vector<double>& seams, double zStep) {
+  for (size_t i = nodes.size(); i-- > 0;) {
+    NodeRecord& n = nodes[i];
+    const int32_t level = n.level, x = int32_t(n.x), y = int32_t(n.y);
+    double depth = std::max(d.get(level, x, y) + d.beside(level, x, y), 2.0 * seams[i]) + zStep;
     for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
       depth = std::max(depth, double(nodes[n.firstChild + c].maxSkirtDepth));
     n.maxSkirtDepth = floatAbove(depth);
@@ -115,15 +120,20 @@ void setFlangeDepths(std::vector<NodeRecord>& nodes, const Deviations& d, double
 
 }  // namespace
 
-TreeLayout vipmTreeLayout(const DemInfo& info) {
+TreeLayout vipmTreeLayout(const DemInfo& info, int32_t upperLevels) {
   TreeLayout l;
   l.cellsX = info.columns - 1;
   l.cellsY = info.rows - 1;
   l.leafCells = kLeaf;
-  l.depth = 1;
-  l.rootCells = kRoot;
-  l.rootsX = (l.cellsX + kRoot - 1) / kRoot;
-  l.rootsY = (l.cellsY + kRoot - 1) / kRoot;
+  const int32_t roots = (std::max(l.cellsX, l.cellsY) + kRoot - 1) / kRoot;
+  if (upperLevels < 0) {
+    upperLevels = 0;
+    while ((int64_t{1} << upperLevels) < roots && upperLevels < kVipmMaxUpperLevels) ++upperLevels;
+  }
+  l.depth = 1 + upperLevels;
+  l.rootCells = kRoot << upperLevels;
+  l.rootsX = (l.cellsX + l.rootCells - 1) / l.rootCells;
+  l.rootsY = (l.cellsY + l.rootCells - 1) / l.rootCells;
   return l;
 }
 
@@ -133,37 +143,72 @@ struct VipmChunkSetState {
   TreeLayout layout;
   Heightfield heights;
   MaterialMap materials;
-  double zStep = 0.0, rootLevelError = 0.0;
+  double zStep = 0.0;
+  std::vector<double> levelErrors;  // per level; all negative before the first build
   std::vector<NodeRecord> nodes;
-  size_t rootCount = 0;
-  std::vector<VipmLeaf> leaves;
-  std::vector<VipmRoot> roots;
+  size_t innerCount = 0;         // nodes [0, innerCount) are above the leaves (level order)
+  std::vector<VipmLeaf> leaves;  // per leaf, node innerCount + k
+  std::vector<VipmRoot> inner;   // per node above the leaves
   std::vector<std::vector<uint8_t>> normalMaps;  // per node: its texture blob
-  std::vector<double> rootRanges;                // per root: its grid points' height range
+  std::vector<std::pair<float, float>> bounds;   // per inner node: its points' heights
   BuildSummary summary;
 
+  int32_t leafLevel() const { return layout.depth; }
+  int32_t cells(size_t i) const { return layout.chunkCells(nodes[i].level); }
   // The grid points of node i: south-west point and size.
   std::array<int32_t, 4> points(size_t i) const {
     const NodeRecord& n = nodes[i];
-    const int32_t cells = i < rootCount ? kRoot : kLeaf;
-    const int32_t x0 = int32_t(n.x) * cells, y0 = int32_t(n.y) * cells;
-    return {x0, y0, pointsFrom(x0, layout.cellsX, cells), pointsFrom(y0, layout.cellsY, cells)};
+    const int32_t c = cells(i);
+    const int32_t x0 = int32_t(n.x) * c, y0 = int32_t(n.y) * c;
+    return {x0, y0, pointsFrom(x0, layout.cellsX, c), pointsFrom(y0, layout.cellsY, c)};
+  }
+  // The children's coarsest levels, which node i (above the leaves) joins.
+  std::vector<const CoarseMesh*> childMeshes(size_t i) const {
+    const NodeRecord& n = nodes[i];
+    std::vector<const CoarseMesh*> children;
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c) {
+      const size_t k = n.firstChild + c;
+      children.push_back(k >= innerCount ? &leaves[k - innerCount].coarsest : &inner[k].coarsest);
+    }
+    return children;
+  }
+  // The height bounds of every node above the leaves: measured for the 128-cell ones whose
+  // `measure` mark is set, joined upward for the rest; the largest range of any of them.
+  double updateBounds(const std::vector<uint8_t>& measure) {
+    for (size_t i = innerCount; i-- > 0;) {
+      if (nodes[i].level == leafLevel() - 1) {
+        if (!measure[i]) continue;
+        const auto [x0, y0, w, h] = points(i);
+        bounds[i] = pointRange(heights, x0, y0, w, h);
+        continue;
+      }
+      const NodeRecord& n = nodes[i];
+      bounds[i] = {std::numeric_limits<float>::infinity(), -std::numeric_limits<float>::infinity()};
+      for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c) {
+        bounds[i].first = std::min(bounds[i].first, bounds[n.firstChild + c].first);
+        bounds[i].second = std::max(bounds[i].second, bounds[n.firstChild + c].second);
+      }
+    }
+    double range = 0.0;
+    for (size_t i = 0; i < innerCount; ++i)
+      range = std::max(range, double(bounds[i].second) - double(bounds[i].first));
+    return range;
   }
 
   // `nodes` as their whole grids, with their normal maps (VipmChunkSet::apply's interim).
   std::vector<VipmInterimNode> interimNodes(const std::vector<uint32_t>& nodes,
                                             unsigned threads) const;
 
-  // Builds the leaves and roots marked in `dirty` (per node; all roots too when the roots'
-  // level error changes), keeping what `reuse` has for them where no new stroke reaches, then
-  // every node's fields and flange depths.
+  // Builds the chunks marked in `dirty` (per node; all of a level too when its level error
+  // changes), keeping what `reuse` has for them where no new stroke reaches, then every
+  // node's fields and flange depths.
   void rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse, unsigned threads,
                Progress& progress);
 };
 
 void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse,
                                 unsigned threads, Progress& progress) {
-  const size_t leafCount = nodes.size() - rootCount;
+  const size_t leafCount = nodes.size() - innerCount;
   VipmLeafParams params;
   params.zStep = zStep;
   params.maxError = options.maxError;
@@ -176,20 +221,24 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
     const auto [x0, y0, w, h] = points(i);
     auto old = reuse ? reuse->clean(uint32_t(i), x0, y0, w, h) : std::nullopt;
     if (!old) return false;
-    auto chunk = reuseChunk(std::vector<uint8_t>(old->mesh().begin(), old->mesh().end()), heights,
-                            materials, x0, y0, w, h, zStep);
+    auto chunk =
+        reuseChunk(std::vector<uint8_t>(old->mesh().begin(), old->mesh().end()), x0, y0, w, h);
     if (!chunk) return false;
     out = std::move(*chunk);
     normalMaps[i].assign(old->texture().begin(), old->texture().end());
     kept[i] = 1;
     return true;
   };
-  const size_t dirtyLeaves = size_t(std::count(dirty.begin() + rootCount, dirty.end(), uint8_t{1}));
-  progress.begin("vipm chunks", dirtyLeaves + rootCount);
+  auto reuseLeaf = [&](std::vector<uint8_t> blob, int32_t x0, int32_t y0, int32_t w, int32_t h) {
+    return reuseVipmLeaf(std::move(blob), heights, materials, x0, y0, w, h, zStep);
+  };
+  const size_t dirtyLeaves =
+      size_t(std::count(dirty.begin() + innerCount, dirty.end(), uint8_t{1}));
+  progress.begin("vipm chunks", dirtyLeaves + innerCount);
   parallelFor(leafCount, threads, [&](size_t k, unsigned) {
-    const size_t i = rootCount + k;
+    const size_t i = innerCount + k;
     if (!dirty[i]) return;
-    if (!keep(i, reuseVipmLeaf, leaves[k])) {
+    if (!keep(i, reuseLeaf, leaves[k])) {
       const auto [x0, y0, w, h] = points(i);
       leaves[k] = buildVipmLeaf(heights, materials, x0, y0, w, h, params);
       normalMaps[i] = buildVipmNormalMap(heights, x0, y0, kLeaf, info.spacingX, info.spacingY);
@@ -197,63 +246,75 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
     }
     progress.advance(1);
   });
-  // The roots' level error: at least twice every leaf's coarsest error, so that a leaf draws
-  // its coarsest level where its root takes over (and levels stay ordered on flat ground too).
-  double largestCoarsest = 0.0;
-  for (const VipmLeaf& leaf : leaves)
-    largestCoarsest = std::max(largestCoarsest, double(leaf.coarsest.error));
-  const double levelError = 2.0 * std::max(largestCoarsest, options.maxError);
-  if (levelError != rootLevelError) std::fill(dirty.begin(), dirty.begin() + rootCount, 1);
-  rootLevelError = levelError;
-  // Roots are kept only while the roots' level error (every root's error floor) is what it
-  // was in the earlier build.
-  const bool keepRoots = reuse && reuse->rootLevelError() == rootLevelError;
-  parallelFor(rootCount, threads, [&](size_t r, unsigned) {
-    if (!dirty[r]) return progress.advance(1);
-    if (!(keepRoots && keep(r, reuseVipmRoot, roots[r]))) {
-      const NodeRecord& n = nodes[r];
-      std::vector<const CoarseMesh*> children;
-      for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
-        children.push_back(&leaves[n.firstChild + c - rootCount].coarsest);
-      const auto [x0, y0, w, h] = points(r);
-      roots[r] = buildVipmRoot(heights, materials, children, x0, y0, w, h, zStep, rootLevelError,
-                               options.compressionLevel);
-      normalMaps[r] = buildVipmNormalMap(heights, x0, y0, kRoot, info.spacingX, info.spacingY);
-      built[r] = 1;
+  // Level by level up from the leaves. The 128-cell nodes' error is twice the leaves' largest
+  // coarsest error (at least twice --max-error, so that levels stay ordered on flat ground
+  // too); each level above has twice the error of the one below, whose nodes stop collapsing
+  // there, so that a child draws its coarsest level where its parent takes over (a level's
+  // error is at least its children's coarsest errors, which may start above it).
+  levelErrors.resize(size_t(layout.levelCount()), -1.0);
+  levelErrors[size_t(leafLevel())] = options.maxError;
+  for (int32_t level = leafLevel() - 1; level >= 0; --level) {
+    double largestCoarsest = 0.0;
+    std::vector<size_t> members;
+    for (size_t i = 0; i < nodes.size(); ++i) {
+      if (nodes[i].level == level + 1)
+        largestCoarsest =
+            std::max(largestCoarsest, double(i >= innerCount ? leaves[i - innerCount].coarsest.error
+                                                             : inner[i].coarsest.error));
+      if (nodes[i].level == level) members.push_back(i);
     }
-    progress.advance(1);
-  });
+    const double below = levelErrors[size_t(level) + 1];
+    const double levelError = level + 1 == leafLevel() ? 2.0 * std::max(largestCoarsest, below)
+                                                       : std::max(largestCoarsest, 2.0 * below);
+    // Where this level's nodes stop: their parents' error, twice theirs; the top goes on.
+    const double lastError = level > 0 ? 2.0 * levelError : std::numeric_limits<double>::infinity();
+    if (levelError != levelErrors[size_t(level)])
+      for (size_t i : members) dirty[i] = 1;
+    levelErrors[size_t(level)] = levelError;
+    // Kept only while the level's error (every node's error floor) is what it was in the
+    // earlier build.
+    const bool keepLevel = reuse && reuse->levelError(level) == levelError;
+    const bool roots = level == leafLevel() - 1;
+    auto reuseNode = [&](std::vector<uint8_t> blob, int32_t x0, int32_t y0, int32_t w, int32_t h) {
+      return roots ? reuseVipmRoot(std::move(blob), heights, materials, x0, y0, w, h, zStep)
+                   : reuseVipmUpperNode(std::move(blob), heights, x0, y0, w, h, zStep);
+    };
+    parallelFor(members.size(), threads, [&](size_t k, unsigned) {
+      const size_t i = members[k];
+      if (!dirty[i]) return progress.advance(1);
+      if (!(keepLevel && keep(i, reuseNode, inner[i]))) {
+        const auto [x0, y0, w, h] = points(i);
+        const int32_t c = cells(i);
+        inner[i] = roots ? buildVipmRoot(heights, materials, childMeshes(i), x0, y0, w, h, zStep,
+                                         levelError, lastError, options.compressionLevel)
+                         : buildVipmUpperNode(heights, childMeshes(i), x0, y0, c, w, h, zStep,
+                                              levelError, lastError, options.compressionLevel);
+        normalMaps[i] = buildVipmNormalMap(heights, x0, y0, c, info.spacingX, info.spacingY);
+        built[i] = 1;
+      }
+      progress.advance(1);
+    });
+  }
   progress.end();
 
   // Every node's fields, and the flange depths from every chunk's deviations.
-  Deviations d;
-  d.leavesX = layout.chunksX(1);
-  d.leavesY = layout.chunksY(1);
-  d.rootsX = layout.rootsX;
-  d.rootsY = layout.rootsY;
-  d.leaf.assign(size_t(d.leavesX) * size_t(d.leavesY), 0.0);
-  d.root.assign(rootCount, 0.0);
-  d.rootSeams.assign(rootCount, 0.0);
+  Deviations d(layout);
+  std::vector<double> seams(nodes.size(), 0.0);
   summary.collapses = 0;
-  for (size_t k = 0; k < leafCount; ++k) {
-    NodeRecord& n = nodes[rootCount + k];
-    takeMeshFields(n, leaves[k].node);
-    d.leaf[size_t(n.y) * size_t(d.leavesX) + n.x] = leaves[k].borderDeviation;
-    summary.collapses += leaves[k].collapses;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    NodeRecord& n = nodes[i];
+    const bool leaf = i >= innerCount;
+    takeMeshFields(n, leaf ? leaves[i - innerCount].node : inner[i].node);
+    d.at(n.level, int32_t(n.x), int32_t(n.y)) =
+        leaf ? leaves[i - innerCount].borderDeviation : inner[i].borderDeviation;
+    if (!leaf) seams[i] = inner[i].seamDeviation;
+    summary.collapses += leaf ? leaves[i - innerCount].collapses : inner[i].collapses;
   }
-  for (size_t r = 0; r < rootCount; ++r) {
-    NodeRecord& n = nodes[r];
-    takeMeshFields(n, roots[r].node);
-    const size_t at = size_t(n.y) * size_t(layout.rootsX) + n.x;
-    d.root[at] = roots[r].borderDeviation;
-    d.rootSeams[at] = roots[r].seamDeviation;
-    summary.collapses += roots[r].collapses;
-  }
-  setFlangeDepths(nodes, d, zStep);
+  setFlangeDepths(nodes, d, seams, zStep);
 
   std::vector<double> leafSeconds;
   for (size_t k = 0; k < leafCount; ++k)
-    if (built[rootCount + k]) leafSeconds.push_back(leaves[k].seconds);
+    if (built[innerCount + k]) leafSeconds.push_back(leaves[k].seconds);
   std::sort(leafSeconds.begin(), leafSeconds.end());
   summary.chunkSecondsMedian = leafSeconds.empty() ? 0.0 : leafSeconds[leafSeconds.size() / 2];
   summary.chunkSecondsMax = leafSeconds.empty() ? 0.0 : leafSeconds.back();
@@ -266,7 +327,7 @@ std::vector<VipmInterimNode> VipmChunkSetState::interimNodes(const std::vector<u
   parallelFor(list.size(), threads, [&](size_t k, unsigned) {
     const uint32_t i = list[k];
     const auto [x0, y0, w, h] = points(i);
-    const int32_t cells = i < rootCount ? kRoot : kLeaf;
+    const int32_t c = cells(i);
     VipmGridChunk grid =
         buildVipmGridChunk(heights, materials, x0, y0, w, h, zStep, options.compressionLevel);
     VipmInterimNode& n = out[k];
@@ -276,7 +337,7 @@ std::vector<VipmInterimNode> VipmChunkSetState::interimNodes(const std::vector<u
     n.bytes.bytes = std::move(grid.blob);
     n.bytes.meshBytes = uint32_t(n.bytes.bytes.size());
     const std::vector<uint8_t> normals =
-        buildVipmNormalMap(heights, x0, y0, cells, info.spacingX, info.spacingY);
+        buildVipmNormalMap(heights, x0, y0, c, info.spacingX, info.spacingY);
     n.bytes.bytes.insert(n.bytes.bytes.end(), normals.begin(), normals.end());
   });
   return out;
@@ -289,22 +350,24 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
   s->summary.filledVoids = filledVoids;
   s->options = options;
   s->info = info;
-  s->layout = vipmTreeLayout(info);
+  s->layout = vipmTreeLayout(info, options.vipmUpperLevels);
   s->nodes = enumerateNodes(s->layout);
-  s->rootCount = size_t(s->layout.rootsX) * size_t(s->layout.rootsY);
-  for (size_t r = 0; r < s->rootCount; ++r)
-    s->rootRanges.push_back(
-        rootRange(heights, s->layout, int32_t(s->nodes[r].x), int32_t(s->nodes[r].y)));
-  auto zStep = tilesetZStep(s->rootRanges, options.maxError, info.path);
+  s->innerCount = size_t(std::count_if(s->nodes.begin(), s->nodes.end(), [&](const NodeRecord& n) {
+    return n.level < s->layout.depth;
+  }));
+  s->heights = std::move(heights);
+  s->bounds.resize(s->innerCount);
+  auto zStep = tilesetZStep(s->updateBounds(std::vector<uint8_t>(s->innerCount, 1)),
+                            options.maxError, info.path);
   if (!zStep) return zStep.error();
   s->zStep = *zStep;
-  s->heights = std::move(heights);
   s->materials = std::move(materials);
-  s->leaves.resize(s->nodes.size() - s->rootCount);
-  s->roots.resize(s->rootCount);
+  s->leaves.resize(s->nodes.size() - s->innerCount);
+  s->inner.resize(s->innerCount);
   s->normalMaps.resize(s->nodes.size());
-  s->rootLevelError = -1.0;  // none yet: every root is built
-  const std::optional<VipmChunkReuse> reuse = VipmChunkReuse::open(options, info, s->zStep);
+  // No level errors yet: every node is built.
+  const std::optional<VipmChunkReuse> reuse =
+      VipmChunkReuse::open(options, info, s->layout, s->zStep);
   const unsigned threads = options.threads ? options.threads : hardwareThreads();
   s->rebuild(std::vector<uint8_t>(s->nodes.size(), 1), reuse ? &*reuse : nullptr, threads,
              progress);
@@ -329,25 +392,25 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
     saved.emplace_back(w, std::move(before));
   }
   applyHeightEdits(list, sx, sy, s.heights);
-  std::vector<double> ranges = s.rootRanges;
-  for (size_t r = 0; r < s.rootCount; ++r)
+  const std::vector<std::pair<float, float>> boundsBefore = s.bounds;
+  std::vector<uint8_t> measure(s.innerCount, 0);
+  for (size_t i = 0; i < s.innerCount; ++i)
     for (const auto& [w, unused] : saved) {
-      const auto [x0, y0, width, height] = s.points(r);
-      if (windowMeets(w, x0, y0, width, height, 0))
-        ranges[r] = rootRange(s.heights, s.layout, int32_t(s.nodes[r].x), int32_t(s.nodes[r].y));
+      const auto [x0, y0, width, height] = s.points(i);
+      if (windowMeets(w, x0, y0, width, height, 0)) measure[i] = 1;
     }
-  auto zStep = tilesetZStep(ranges, s.options.maxError, s.info.path);
+  auto zStep = tilesetZStep(s.updateBounds(measure), s.options.maxError, s.info.path);
   if (!zStep) {
     for (auto it = saved.rbegin(); it != saved.rend(); ++it) {
       size_t k = 0;
       for (int32_t y = it->first.y0; y <= it->first.y1; ++y)
         for (int32_t x = it->first.x0; x <= it->first.x1; ++x) s.heights(x, y) = it->second[k++];
     }
+    s.bounds = boundsBefore;
     return zStep.error();
   }
   if (Status ok = applyPaintEdits(list, sx, sy, s.materials, s.info.path); !ok)
     return ok.error();  // not reached: every material was checked above
-  s.rootRanges = std::move(ranges);
   s.options.edits.insert(s.options.edits.end(), list.begin(), list.end());
 
   // What the strokes reach: a chunk's grid points grown by one (its normal map's central
@@ -365,16 +428,23 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
         break;
       }
     }
-  if (interim && !newStep) interim(s.interimNodes(reached, threads ? threads : hardwareThreads()));
+  if (interim && !newStep) {
+    // Nodes above the 128-cell ones keep their old meshes meanwhile (their whole grids would
+    // be millions of points).
+    std::vector<uint32_t> grids;
+    for (uint32_t i : reached)
+      if (s.nodes[i].level >= s.leafLevel() - 1) grids.push_back(i);
+    interim(s.interimNodes(grids, threads ? threads : hardwareThreads()));
+  }
   const std::vector<NodeRecord> before = s.nodes;
   const std::vector<uint8_t> rebuilt = dirty;
-  const double rootLevelBefore = s.rootLevelError;
+  const std::vector<double> levelErrorsBefore = s.levelErrors;
   NullProgress quiet;
   s.rebuild(dirty, nullptr, threads ? threads : hardwareThreads(), quiet);
   std::vector<uint32_t> changed;
   for (size_t i = 0; i < s.nodes.size(); ++i) {
-    const bool root = i < s.rootCount;
-    if (rebuilt[i] || (root && s.rootLevelError != rootLevelBefore) ||
+    const size_t level = s.nodes[i].level;
+    if (rebuilt[i] || s.levelErrors[level] != levelErrorsBefore[level] ||
         s.nodes[i].maxSkirtDepth != before[i].maxSkirtDepth)
       changed.push_back(uint32_t(i));
   }
@@ -393,7 +463,7 @@ const std::vector<NodeRecord>& VipmChunkSet::nodes() const {
 NodeBytes VipmChunkSet::nodeBytes(uint32_t node) const {
   const VipmChunkSetState& s = *mState;
   const std::vector<uint8_t>& mesh =
-      node < s.rootCount ? s.roots[node].blob : s.leaves[node - s.rootCount].blob;
+      node < s.innerCount ? s.inner[node].blob : s.leaves[node - s.innerCount].blob;
   NodeBytes b;
   b.bytes = mesh;
   b.meshBytes = uint32_t(mesh.size());
@@ -407,8 +477,11 @@ const std::vector<TerrainEdit>& VipmChunkSet::edits() const {
 double VipmChunkSet::zStep() const {
   return mState->zStep;
 }
-double VipmChunkSet::rootLevelError() const {
-  return mState->rootLevelError;
+const std::vector<double>& VipmChunkSet::levelErrors() const {
+  return mState->levelErrors;
+}
+const TreeLayout& VipmChunkSet::layout() const {
+  return mState->layout;
 }
 const MaterialMap& VipmChunkSet::materials() const {
   return mState->materials;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <unordered_map>
 
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
@@ -74,6 +75,11 @@ GridPatch sourcePatch(const Heightfield& heights, const MaterialMap& materials, 
   return patch;
 }
 
+// A dense patch's source heights by grid point.
+std::function<double(int32_t, int32_t)> denseSource(const GridPatch& patch) {
+  return [&patch](int32_t x, int32_t y) { return double(patch.heightAt(x, y)); };
+}
+
 // The source patch with its vertex heights rounded to the tileset's step, as a chunk is built
 // from (a base on that step at or below every sample).
 GridPatch quantisedPatch(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
@@ -113,6 +119,78 @@ bool hasSeams(int32_t width, int32_t height) {
   return width > kLeaf + 1 || height > kLeaf + 1;
 }
 
+// The source heights by grid point of a node whose south-west point is (x0, y0).
+std::function<double(int32_t, int32_t)> windowSource(const Heightfield& heights, int32_t x0,
+                                                     int32_t y0) {
+  return [&heights, x0, y0](int32_t x, int32_t y) { return double(heights(x0 + x, y0 + y)); };
+}
+
+// Closes the cracks of a joined mesh: its children's coarsest levels meet on their shared
+// sides with T-junctions (each side simplified on its own), and so do their own children's
+// inside them. Each open edge on a grid line inside the patch is split at the points the
+// other side has on it, by a fan from its triangle's opposite corner (as fan stitching draws
+// it): afterwards both sides hold the union of their points, and the mesh is a manifold whose
+// only open edges are on the patch's sides.
+void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& triangles) {
+  auto key = [](uint16_t a, uint16_t b) {
+    return (uint32_t(std::min(a, b)) << 16) | std::max(a, b);
+  };
+  auto inside = [&](int32_t c, int32_t size) { return c > 0 && c < size - 1; };
+  // The points on each line x = c (axis 0, by y) and y = c (axis 1, by x).
+  std::unordered_map<uint64_t, std::vector<std::pair<int32_t, uint16_t>>> lines;
+  for (uint32_t v = 0; v < patch.pointCount(); ++v) {
+    const int32_t x = patch.xOf(v), y = patch.yOf(v);
+    if (inside(x, patch.width)) lines[uint64_t(x) << 1].push_back({y, uint16_t(v)});
+    if (inside(y, patch.height)) lines[(uint64_t(y) << 1) | 1].push_back({x, uint16_t(v)});
+  }
+  for (auto& [unused, points] : lines) std::sort(points.begin(), points.end());
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    std::unordered_map<uint32_t, int> uses;
+    for (const auto& t : triangles)
+      for (int k = 0; k < 3; ++k) ++uses[key(t[size_t(k)], t[size_t(k + 1) % 3])];
+    std::vector<std::array<uint16_t, 3>> out;
+    out.reserve(triangles.size());
+    for (const auto& t : triangles) {
+      bool split = false;
+      for (int k = 0; k < 3 && !split; ++k) {
+        const uint16_t a = t[size_t(k)], b = t[size_t(k + 1) % 3], c = t[size_t(k + 2) % 3];
+        if (uses[key(a, b)] != 1) continue;
+        const int32_t ax = patch.xOf(a), ay = patch.yOf(a), bx = patch.xOf(b), by = patch.yOf(b);
+        uint64_t line;
+        int32_t from, to;
+        if (ax == bx && inside(ax, patch.width)) {
+          line = uint64_t(ax) << 1;
+          from = ay;
+          to = by;
+        } else if (ay == by && inside(ay, patch.height)) {
+          line = (uint64_t(ay) << 1) | 1;
+          from = ax;
+          to = bx;
+        } else {
+          continue;
+        }
+        const auto& points = lines[line];
+        std::vector<uint16_t> between;
+        for (const auto& [along, v] : points)
+          if (along > std::min(from, to) && along < std::max(from, to)) between.push_back(v);
+        if (between.empty()) continue;
+        if (from > to) std::reverse(between.begin(), between.end());
+        uint16_t previous = a;
+        for (uint16_t p : between) {
+          out.push_back({previous, p, c});
+          previous = p;
+        }
+        out.push_back({previous, b, c});
+        split = changed = true;
+      }
+      if (!split) out.push_back(t);
+    }
+    triangles = std::move(out);
+  }
+}
+
 // A stored chunk decoded and unpacked, with the patch it was built from.
 struct Stored {
   VipmChunkData data;
@@ -150,7 +228,7 @@ Result<VipmLeaf> reuseVipmLeaf(std::vector<uint8_t> blob, const Heightfield& hei
   leaf.node = s->node;
   leaf.coarsest = coarsestLevel(s->mesh, s->data, x0, y0);
   leaf.coarsest.error = coarsestError(s->data);
-  leaf.borderDeviation = borderDeviation(s->mesh, s->patch.heights, s->vertexHeights);
+  leaf.borderDeviation = borderDeviation(s->mesh, denseSource(s->patch), s->vertexHeights);
   leaf.collapses = s->data.collapseCount();
   return leaf;
 }
@@ -163,10 +241,33 @@ Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& hei
   VipmRoot root;
   root.blob = std::move(blob);
   root.node = s->node;
-  root.borderDeviation = borderDeviation(s->mesh, s->patch.heights, s->vertexHeights);
+  root.borderDeviation = borderDeviation(s->mesh, denseSource(s->patch), s->vertexHeights);
   root.seamDeviation = hasSeams(width, height) ? coarsestError(s->data) : 0.0;
   root.collapses = s->data.collapseCount();
+  root.coarsest = coarsestLevel(s->mesh, s->data, x0, y0);
+  root.coarsest.error = coarsestError(s->data);
   return root;
+}
+
+Result<VipmRoot> reuseVipmUpperNode(std::vector<uint8_t> blob, const Heightfield& heights,
+                                    int32_t x0, int32_t y0, int32_t width, int32_t height,
+                                    double zStep) {
+  auto decoded = decodeVipmChunk(blob, "reused chunk");
+  if (!decoded) return decoded.error();
+  const VipmChunkData& data = *decoded;
+  if (data.width != width || data.height != height || data.zStep != zStep)
+    return Error{"reused chunk: not the chunk it replaces"};
+  const ProgressiveMesh mesh = unpackChunk(data).mesh;
+  VipmRoot node;
+  node.blob = std::move(blob);
+  std::vector<double> vertexHeights;
+  node.node = storedNode(data, vertexHeights);
+  node.borderDeviation = borderDeviation(mesh, windowSource(heights, x0, y0), vertexHeights);
+  node.seamDeviation = 0.0;
+  node.collapses = data.collapseCount();
+  node.coarsest = coarsestLevel(mesh, data, x0, y0);
+  node.coarsest.error = coarsestError(data);
+  return node;
 }
 
 double vipmTilesetZStep(double maxError, double range) {
@@ -187,7 +288,8 @@ float floatAbove(double v) {
   return f;
 }
 
-double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& source,
+double borderDeviation(const ProgressiveMesh& mesh,
+                       const std::function<double(int32_t, int32_t)>& source,
                        const std::vector<double>& stored) {
   const int32_t w = mesh.width, h = mesh.height;
   // Sides: south, north (along x), west, east (along y). active[side][pos]: vertex or -1.
@@ -202,11 +304,12 @@ double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& so
     for (int32_t pos = 0; pos < length; ++pos) {
       const int32_t x = s < 2 ? pos : (s == 2 ? 0 : w - 1);
       const int32_t y = s < 2 ? (s == 0 ? 0 : h - 1) : pos;
-      sides[s].source.push_back(double(source[size_t(y) * w + x]));
+      sides[s].source.push_back(source(x, y));
     }
   }
   auto sideAndPos = [&](uint32_t vertex, int s) -> int32_t {
-    const int32_t x = mesh.points[vertex] % w, y = mesh.points[vertex] / w;
+    const int32_t x = int32_t(mesh.points[vertex] % uint32_t(w));
+    const int32_t y = int32_t(mesh.points[vertex] / uint32_t(w));
     switch (s) {
       case 0:
         return y == 0 ? x : -1;
@@ -279,7 +382,7 @@ VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials,
   // that the root joined from it is the same whether the leaf was built or kept.
   leaf.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
   leaf.coarsest.error = coarsestError(stored);
-  leaf.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
+  leaf.borderDeviation = borderDeviation(mesh, denseSource(patch), vertexHeights);
   leaf.collapses = stored.collapseCount();
   leaf.seconds = threadSeconds() - start;
   return leaf;
@@ -337,7 +440,7 @@ VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32
 VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
                        const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
                        int32_t width, int32_t height, double zStep, double levelError,
-                       int compressionLevel) {
+                       double lastError, int compressionLevel) {
   const double start = threadSeconds();
   const VipmChunkData joined = joinCoarsest(children, x0, y0, width, height, zStep);
   // The children's stored heights are round(h / zStep) zStep on the tileset's step; the
@@ -357,6 +460,7 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   assert(hasSeams(width, height) == (from.seamX >= 0 || from.seamY >= 0));
   // Every collapse waits for the root to take over (θ >= levelError).
   from.errorFloor = floatAbove(levelError);
+  from.lastError = floatBelow(lastError);
   CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
   const VipmChunkData stored = packChunk(patch, mesh, q);
@@ -365,19 +469,85 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   root.blob = encodeVipmChunk(stored, compressionLevel);
   std::vector<double> vertexHeights;
   root.node = storedNode(stored, vertexHeights);
-  root.borderDeviation = borderDeviation(mesh, patch.heights, vertexHeights);
+  root.borderDeviation = borderDeviation(mesh, denseSource(patch), vertexHeights);
   root.seamDeviation = hasSeams(width, height) ? coarsestError(stored) : 0.0;
   root.collapses = stored.collapseCount();
+  root.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
+  root.coarsest.error = coarsestError(stored);
   root.seconds = threadSeconds() - start;
   return root;
 }
 
+int32_t vipmUpperSampleStep(int32_t cells) {
+  return std::max(1, cells / 128);
+}
+
+VipmRoot buildVipmUpperNode(const Heightfield& heights,
+                            const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                            int32_t cells, int32_t width, int32_t height, double zStep,
+                            double levelError, double lastError, int compressionLevel) {
+  const double start = threadSeconds();
+  // The children's coarsest levels joined: points by grid coordinates (first use first), their
+  // stored heights as the vertices' (all on the tileset's step).
+  GridPatch patch;
+  patch.width = width;
+  patch.height = height;
+  CollapseStart from;
+  std::unordered_map<uint64_t, uint16_t> slot;
+  for (const CoarseMesh* c : children)
+    for (size_t i = 0; i + 2 < c->indices.size(); i += 3) {
+      std::array<uint16_t, 3> t;
+      for (size_t k = 0; k < 3; ++k) {
+        const uint32_t v = c->indices[i + k];
+        const int32_t x = int32_t(c->gridX[v]) - x0, y = int32_t(c->gridY[v]) - y0;
+        assert(x >= 0 && y >= 0 && x < width && y < height);
+        const auto [at, fresh] = slot.try_emplace(uint64_t(y) * uint64_t(width) + uint64_t(x),
+                                                  uint16_t(patch.pointX.size()));
+        if (fresh) {
+          assert(patch.pointX.size() < 65536);
+          patch.pointX.push_back(x);
+          patch.pointY.push_back(y);
+          patch.heights.push_back(heights(x0 + x, y0 + y));
+          patch.vertexHeights.push_back(float(c->heights[v]));
+          patch.materials.push_back(c->materials[v]);
+        }
+        t[k] = at->second;
+      }
+      from.triangles.push_back(t);
+    }
+  patch.samples = makeSampleBlocks(width, height, vipmUpperSampleStep(cells),
+                                   [&](int32_t x, int32_t y) { return heights(x0 + x, y0 + y); });
+  // Without cracks inside, its vertices move freely but for its own sides'.
+  closeCracks(patch, from.triangles);
+  from.errorFloor = floatAbove(levelError);
+  from.lastError = floatBelow(lastError);
+  const CollapseOrder order = buildCollapseOrder(patch, MaterialRules::kOff, from);
+  const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
+  const float lowest = *std::min_element(patch.vertexHeights.begin(), patch.vertexHeights.end());
+  const HeightQuantisation q{std::floor(double(lowest) / zStep) * zStep, zStep};
+  const VipmChunkData stored = packChunk(patch, mesh, q);
+
+  VipmRoot node;
+  node.blob = encodeVipmChunk(stored, compressionLevel);
+  std::vector<double> vertexHeights;
+  node.node = storedNode(stored, vertexHeights);
+  node.borderDeviation = borderDeviation(mesh, windowSource(heights, x0, y0), vertexHeights);
+  node.seamDeviation = 0.0;  // no seams: its cracks are closed
+  node.collapses = stored.collapseCount();
+  node.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
+  node.coarsest.error = coarsestError(stored);
+  node.seconds = threadSeconds() - start;
+  return node;
+}
+
 std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, int32_t y0,
                                         int32_t cells, double spacingX, double spacingY) {
-  // As a static tileset's normal layers are made (BlockTexels::normals).
-  const TexelTile tile =
-      centralDifferenceNormals(x0, y0, cells, spacingX, spacingY,
-                               [&](int32_t gx, int32_t gy) { return heights.at(gx, gy); });
+  // As a static tileset's normal layers are made (BlockTexels::normals), on the grid at the
+  // map's stride.
+  const int32_t n = int32_t(vipmNormalMapCells(uint32_t(cells))), stride = cells / n;
+  const TexelTile tile = centralDifferenceNormals(
+      x0 / stride, y0 / stride, n, spacingX * stride, spacingY * stride,
+      [&](int32_t gx, int32_t gy) { return heights.at(gx * stride, gy * stride); });
   ChunkTexture texture;
   texture.layers.push_back(encodeNormalLayer(tile, kTextureSourceLimited));
   return encodeTexture(texture);

@@ -40,6 +40,8 @@ Result<BuildOptions> recordedVipmBuildOptions(const TilesetReader& tileset) {
       options.blotError = BlotError::metres(*metres);
   }
   options.edits = m.edits;
+  // The levels above the 128-cell nodes, as the header has them.
+  options.vipmUpperLevels = int32_t(tileset.header().levelCount) - 2;
   return options;
 }
 

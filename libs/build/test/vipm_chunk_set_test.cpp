@@ -87,7 +87,7 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   auto fresh =
       VipmChunkSet::build(withStrokes, edited.info, edited.heights, edited.materials, 0, progress);
   ASSERT_TRUE(fresh.ok()) << fresh.error().message;
-  EXPECT_EQ(fresh->rootLevelError(), set->rootLevelError());
+  EXPECT_EQ(fresh->levelErrors(), set->levelErrors());
   for (uint32_t i = 0; i < recordsBefore.size(); ++i) {
     const NodeBytes now = set->nodeBytes(i);
     EXPECT_TRUE(now.bytes == fresh->nodeBytes(i).bytes) << "node " << i;

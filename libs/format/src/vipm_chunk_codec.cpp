@@ -181,7 +181,7 @@ Result<TextureLayer> decodeVipmNormalMap(std::span<const uint8_t> texture, uint3
   if (texture.empty()) return makeError(subject, "invalid texture: a VIPM chunk has no normal map");
   auto decoded = decodeTexture(texture, subject);
   if (!decoded) return decoded.error();
-  const uint32_t size = chunkCells + 1;
+  const uint32_t size = vipmNormalMapCells(chunkCells) + 1;
   if (decoded->layers.size() != 1 || decoded->layers[0].kind != TextureLayerKind::kNormal ||
       decoded->layers[0].encoding != TextureEncoding::kBc5 || decoded->layers[0].size != size)
     return makeError(subject,

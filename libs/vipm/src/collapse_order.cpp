@@ -125,6 +125,7 @@ CollapseOrder buildCollapseOrder(const GridPatch& patch, MaterialRules rules,
     const uint16_t v = e.vertex, u = best[v].target;
     running = std::max(running, e.error);
     const float recorded = roundUp(running);
+    if (recorded > start.lastError) break;  // every later one is at least as large
     if (start.spacing == GeomorphSpacing::kOn && recorded > start.bakedError) {
       // v's fan (u included) waits until this collapse has finished sliding.
       ring.clear();

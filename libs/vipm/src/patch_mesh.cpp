@@ -98,12 +98,49 @@ double scannedError(const GridPatch& patch, const Plane& t, double limit) {
   return worst;
 }
 
-// Sparse patches: a bound over the sample blocks the triangle reaches. Per block, the samples
-// inside lie in the rectangle of the block's rows and of the triangle's extent over them, so
-// each is within [lo - plane's top there, hi - plane's bottom there]. Exact with step 1.
+// The convex polygon of triangle t clipped to the rectangle [xa, xb] x [ya, yb] (grown by a
+// hair, so that it holds every grid point of both despite rounding), into `out`.
+void clipToRectangle(const Plane& t, double xa, double xb, double ya, double yb,
+                     std::vector<std::array<double, 2>>& out,
+                     std::vector<std::array<double, 2>>& scratch) {
+  constexpr double kHair = 1e-7;
+  out.clear();
+  for (const Point& c : t.corners) out.push_back({double(c.x), double(c.y)});
+  // Keep the side of each line where coordinate `axis` * sign >= bound * sign.
+  auto clip = [&](int axis, double bound, double sign) {
+    scratch.clear();
+    for (size_t k = 0; k < out.size(); ++k) {
+      const auto& p = out[k];
+      const auto& q = out[(k + 1) % out.size()];
+      const bool pin = (p[size_t(axis)] - bound) * sign >= 0,
+                 qin = (q[size_t(axis)] - bound) * sign >= 0;
+      if (pin) scratch.push_back(p);
+      if (pin != qin) {
+        const double f = (bound - p[size_t(axis)]) / (q[size_t(axis)] - p[size_t(axis)]);
+        std::array<double, 2> m{p[0] + f * (q[0] - p[0]), p[1] + f * (q[1] - p[1])};
+        m[size_t(axis)] = bound;
+        scratch.push_back(m);
+      }
+    }
+    out.swap(scratch);
+  };
+  clip(0, xa - kHair, 1.0);
+  if (!out.empty()) clip(0, xb + kHair, -1.0);
+  if (!out.empty()) clip(1, ya - kHair, 1.0);
+  if (!out.empty()) clip(1, yb + kHair, -1.0);
+}
+
+// Sparse patches: a bound over the sample blocks the triangle reaches. Each block's samples
+// are its plane plus a residual in [lo, hi]; those inside the triangle lie in the triangle
+// clipped to the block's rectangle, over which the block's plane above the triangle's is
+// extreme at the corners. Single-sample blocks are measured exactly.
 double blockError(const GridPatch& patch, const Plane& t, double limit) {
   const SampleBlocks& s = patch.samples;
   const int64_t step = s.step;
+  auto last = [step](int64_t block, int32_t points) {
+    return std::min<int64_t>(points - 1, block * step + step - 1);
+  };
+  thread_local std::vector<std::array<double, 2>> polygon, scratch;
   double worst = 0.0;
   for (int64_t j = t.y0 / step; j * step <= t.y1; ++j) {
     const int64_t ya = std::max(t.y0, j * step), yb = std::min(t.y1, j * step + step - 1);
@@ -125,13 +162,31 @@ double blockError(const GridPatch& patch, const Plane& t, double limit) {
           hi = std::max(hi, h);
         }
     }
+    const double cy = 0.5 * double(j * step + last(j, patch.height));
     for (int64_t i = std::max<int64_t>(lo, 0) / step; i * step <= hi; ++i) {
-      const int64_t xa = std::max(lo, i * step), xb = std::min(hi, i * step + step - 1);
       const size_t k = size_t(j) * size_t(s.columns) + size_t(i);
-      const double p[4] = {t.at(xa, ya), t.at(xb, ya), t.at(xa, yb), t.at(xb, yb)};
-      const double top = std::max({p[0], p[1], p[2], p[3]});
-      const double bottom = std::min({p[0], p[1], p[2], p[3]});
-      const double d = std::max(double(s.hi[k]) - bottom, top - double(s.lo[k]));
+      const double cx = 0.5 * double(i * step + last(i, patch.width));
+      auto above = [&](double x, double y) {  // the block's plane above the triangle's
+        return double(s.a[k]) + double(s.bx[k]) * (x - cx) + double(s.by[k]) * (y - cy) -
+               (t.za + t.gx * (x - double(t.corners[0].x)) + t.gy * (y - double(t.corners[0].y)));
+      };
+      double top, bottom;
+      if (step == 1) {
+        // One sample (inside the triangle: this row's exact range), as a dense patch measures it.
+        top = bottom = double(s.a[k]) - t.at(i, j);
+      } else {
+        clipToRectangle(t, double(i * step), double(last(i, patch.width)), double(j * step),
+                        double(last(j, patch.height)), polygon, scratch);
+        if (polygon.empty()) continue;
+        top = -std::numeric_limits<double>::infinity();
+        bottom = -top;
+        for (const auto& v : polygon) {
+          const double d = above(v[0], v[1]);
+          top = std::max(top, d);
+          bottom = std::min(bottom, d);
+        }
+      }
+      const double d = std::max(top + double(s.hi[k]), -(bottom + double(s.lo[k])));
       if (d > worst) {
         worst = d;
         if (worst > limit) return worst;
@@ -142,6 +197,65 @@ double blockError(const GridPatch& patch, const Plane& t, double limit) {
 }
 
 }  // namespace
+
+SampleBlocks makeSampleBlocks(int32_t width, int32_t height, int32_t step,
+                              const std::function<float(int32_t, int32_t)>& sample) {
+  SampleBlocks b;
+  b.step = step;
+  b.columns = (width + step - 1) / step;
+  b.rows = (height + step - 1) / step;
+  const size_t n = size_t(b.columns) * size_t(b.rows);
+  b.a.resize(n);
+  b.bx.resize(n);
+  b.by.resize(n);
+  b.lo.resize(n);
+  b.hi.resize(n);
+  std::vector<float> block(size_t(step) * size_t(step));
+  for (int32_t j = 0; j < b.rows; ++j)
+    for (int32_t i = 0; i < b.columns; ++i) {
+      const int32_t x0 = i * step, y0 = j * step;
+      const int32_t w = std::min(step, width - x0), h = std::min(step, height - y0);
+      for (int32_t y = 0; y < h; ++y)
+        for (int32_t x = 0; x < w; ++x)
+          block[size_t(y) * size_t(w) + size_t(x)] = sample(x0 + x, y0 + y);
+      auto at = [&](int32_t x, int32_t y) {
+        return double(block[size_t(y) * size_t(w) + size_t(x)]);
+      };
+      // Mean height, and mean slopes from the first to the last column and row.
+      double mean = 0.0, west = 0.0, east = 0.0, south = 0.0, north = 0.0;
+      for (int32_t y = 0; y < h; ++y)
+        for (int32_t x = 0; x < w; ++x) mean += at(x, y);
+      mean /= double(w) * double(h);
+      for (int32_t y = 0; y < h; ++y) {
+        west += at(0, y);
+        east += at(w - 1, y);
+      }
+      for (int32_t x = 0; x < w; ++x) {
+        south += at(x, 0);
+        north += at(x, h - 1);
+      }
+      const double bx = w > 1 ? (east - west) / double(h) / double(w - 1) : 0.0;
+      const double by = h > 1 ? (north - south) / double(w) / double(h - 1) : 0.0;
+      const size_t k = size_t(j) * size_t(b.columns) + size_t(i);
+      b.a[k] = float(mean);
+      b.bx[k] = float(bx);
+      b.by[k] = float(by);
+      // The residuals from the plane as stored (float), rounded outward.
+      const double cx = 0.5 * double(w - 1), cy = 0.5 * double(h - 1);
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (int32_t y = 0; y < h; ++y)
+        for (int32_t x = 0; x < w; ++x) {
+          const double r = at(x, y) - (double(b.a[k]) + double(b.bx[k]) * (double(x) - cx) +
+                                       double(b.by[k]) * (double(y) - cy));
+          lo = std::min(lo, r);
+          hi = std::max(hi, r);
+        }
+      b.lo[k] = std::nextafter(float(lo), -std::numeric_limits<float>::infinity());
+      b.hi[k] = std::nextafter(float(hi), std::numeric_limits<float>::infinity());
+      if (w == 1 && h == 1) b.lo[k] = b.hi[k] = 0.0f;  // one sample: its own plane, exactly
+    }
+  return b;
+}
 
 double triangleError(const GridPatch& patch, uint16_t ia, uint16_t ib, uint16_t ic, double limit) {
   const Plane t(patch, ia, ib, ic);

@@ -221,18 +221,8 @@ SparseOf sparseOf(const GridPatch& dense, const std::vector<uint8_t>& used, int3
     s.patch.heights.push_back(dense.heights[v]);
     s.patch.materials.push_back(dense.materials[v]);
   }
-  SampleBlocks& b = s.patch.samples;
-  b.step = step;
-  b.columns = (dense.width + step - 1) / step;
-  b.rows = (dense.height + step - 1) / step;
-  b.lo.assign(size_t(b.columns) * size_t(b.rows), INFINITY);
-  b.hi.assign(b.lo.size(), -INFINITY);
-  for (int32_t y = 0; y < dense.height; ++y)
-    for (int32_t x = 0; x < dense.width; ++x) {
-      const size_t k = size_t(y / step) * size_t(b.columns) + size_t(x / step);
-      b.lo[k] = std::min(b.lo[k], dense.heightAt(x, y));
-      b.hi[k] = std::max(b.hi[k], dense.heightAt(x, y));
-    }
+  s.patch.samples = makeSampleBlocks(dense.width, dense.height, step,
+                                     [&](int32_t x, int32_t y) { return dense.heightAt(x, y); });
   return s;
 }
 

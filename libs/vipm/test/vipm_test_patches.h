@@ -75,17 +75,7 @@ inline SparseStart wavySparsePatch(int32_t cells, int32_t stride, int32_t step) 
       s.triangles.push_back({a, b, d});
       s.triangles.push_back({a, d, c});
     }
-  SampleBlocks& blocks = p.samples;
-  blocks.step = step;
-  blocks.columns = blocks.rows = (cells + step) / step;
-  blocks.lo.assign(size_t(blocks.columns) * size_t(blocks.rows), INFINITY);
-  blocks.hi.assign(blocks.lo.size(), -INFINITY);
-  for (int32_t y = 0; y <= cells; ++y)
-    for (int32_t x = 0; x <= cells; ++x) {
-      const size_t k = size_t(y / step) * size_t(blocks.columns) + size_t(x / step);
-      blocks.lo[k] = std::min(blocks.lo[k], z(x, y));
-      blocks.hi[k] = std::max(blocks.hi[k], z(x, y));
-    }
+  p.samples = makeSampleBlocks(cells + 1, cells + 1, step, z);
   return s;
 }
 

@@ -67,6 +67,9 @@ struct BuildOptions {
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
   MaterialRules materialRules = MaterialRules::kOn;
   BlotError blotError;
+  /// Levels of nodes above the 128-cell roots (256, 512, ... cells; --upper-levels): -1, as
+  /// many as make one top node (at most kVipmMaxUpperLevels).
+  int32_t vipmUpperLevels = 0;
   /// Brush strokes applied to the heights and materials before anything is built, and
   /// recorded in the metadata ("edits"; `terralod edit`).
   std::vector<TerrainEdit> edits;

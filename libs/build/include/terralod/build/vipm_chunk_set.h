@@ -32,8 +32,15 @@ struct VipmInterimNode {
 /// Receives a stroke's interim nodes, on the thread that applies it.
 using VipmInterimSink = std::function<void(std::vector<VipmInterimNode>)>;
 
-/// A VIPM tileset's tree: 64-cell leaves under 128-cell roots over the DEM's cells.
-TreeLayout vipmTreeLayout(const DemInfo& info);
+/// Levels above the 128-cell roots at most: their top nodes are at most 32768 cells (version 2
+/// VIPM blobs).
+inline constexpr int32_t kVipmMaxUpperLevels = 8;
+
+/// A VIPM tileset's tree over the DEM's cells: 64-cell leaves under 128-cell nodes (the
+/// roots of the flat forest), and `upperLevels` levels of nodes above those (-1: as many as
+/// make one top node, at most kVipmMaxUpperLevels), so that its top nodes are 128 <<
+/// upperLevels cells. The leaves are at level depth, the 128-cell nodes at depth - 1.
+TreeLayout vipmTreeLayout(const DemInfo& info, int32_t upperLevels = 0);
 
 class VipmChunkSet {
  public:
@@ -49,15 +56,16 @@ class VipmChunkSet {
   ~VipmChunkSet();
 
   /// Applies `strokes` to the heights and materials and builds again every chunk they reach
-  /// (all roots when the roots' level error changes, everything when the tileset's height
+  /// (all of a level when its level error changes, everything when the tileset's height
   /// step does). Returns the nodes whose bytes or record changed, in node order. Fails, with
   /// nothing changed, when a stroke paints a material the set does not have or the relief
   /// outgrows 16-bit heights at --max-error.
   ///
-  /// With `interim`, first hands it every chunk the strokes reach as its whole grid
-  /// (buildVipmGridChunk, with its new normal map; record as before but for its mesh fields),
-  /// before the slow part: an editor draws those at once, at full resolution, until the
-  /// chunks are made. Not when the height step changes (then every chunk is made again).
+  /// With `interim`, first hands it every leaf and 128-cell node the strokes reach as its
+  /// whole grid (buildVipmGridChunk, with its new normal map; record as before but for its
+  /// mesh fields), before the slow part: an editor draws those at once, at full resolution,
+  /// until the chunks are made (nodes above them keep their old meshes meanwhile). Not when
+  /// the height step changes (then every chunk is made again).
   Result<std::vector<uint32_t>> apply(std::span<const TerrainEdit> strokes, unsigned threads,
                                       const VipmInterimSink& interim = {});
 
@@ -68,7 +76,9 @@ class VipmChunkSet {
   NodeBytes nodeBytes(uint32_t node) const;
   const std::vector<TerrainEdit>& edits() const;
   double zStep() const;
-  double rootLevelError() const;
+  /// Per level, top first: its error (the tileset header's levelError).
+  const std::vector<double>& levelErrors() const;
+  const TreeLayout& layout() const;
   const MaterialMap& materials() const;
   /// The options it was built with, their edits every stroke applied since.
   const BuildOptions& options() const;

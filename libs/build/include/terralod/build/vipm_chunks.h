@@ -4,6 +4,7 @@
 // Pure functions of their inputs (deterministic), used by buildVipmTileset.
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -58,9 +59,10 @@ struct VipmLeafParams {
 VipmLeaf buildVipmLeaf(const Heightfield& heights, const MaterialMap& materials, int32_t x0,
                        int32_t y0, int32_t width, int32_t height, const VipmLeafParams& params);
 
-/// The border deviation of `mesh` over all its levels (see VipmLeaf): `source` are the patch's
-/// source heights (row-major, mesh.width per row), `stored` every mesh vertex's stored height.
-double borderDeviation(const ProgressiveMesh& mesh, const std::vector<float>& source,
+/// The border deviation of `mesh` over all its levels (see VipmLeaf): `source(x, y)` the source
+/// height at the patch's grid point (x, y), `stored` every mesh vertex's stored height.
+double borderDeviation(const ProgressiveMesh& mesh,
+                       const std::function<double(int32_t, int32_t)>& source,
                        const std::vector<double>& stored);
 
 /// The children's coarsest meshes joined on the root's grid (points deduplicated, first use
@@ -73,7 +75,8 @@ VipmChunkData joinCoarsest(const std::vector<const CoarseMesh*>& children, int32
 /// coarsest levels joined and then simplified further without the material rules.
 struct VipmRoot {
   std::vector<uint8_t> blob;
-  NodeRecord node;  ///< as VipmLeaf's
+  NodeRecord node;      ///< as VipmLeaf's
+  CoarseMesh coarsest;  ///< what the node above joins
   /// As VipmLeaf's, over the root's outer sides.
   double borderDeviation = 0.0;
   /// A bound on the vertical distance between the source samples on the children's shared
@@ -91,10 +94,29 @@ struct VipmRoot {
 /// them (the centre and the sides' ends stay), and their errors are at least `levelError`
 /// (the roots' level error), so a root draws its children's coarsest levels until its own
 /// allowance passes the level error, and its first collapses geomorph in from there.
+/// Under upper levels its collapses stop at `lastError`, where its parent takes over.
 VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
                        const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
                        int32_t width, int32_t height, double zStep, double levelError,
-                       int compressionLevel);
+                       double lastError, int compressionLevel);
+
+/// Cells a side of the sample blocks an upper node's errors are bounded over: its cells / 128
+/// (so about 128 x 128 blocks a node, whatever its level).
+int32_t vipmUpperSampleStep(int32_t cells);
+
+/// Builds a node above the roots (256, 512, ... cells: `cells`), whose south-west grid point is
+/// (x0, y0), `width` x `height` points, from its children's coarsest levels: its finest level
+/// is them joined with their cracks closed (the T-junctions where they, and their own
+/// children inside them, meet: each open edge on a line inside is split at the other side's
+/// points there, as fan stitching draws them side by side), so it has no seams, and its
+/// collapses (without the material rules) move every vertex but its sides', wait for
+/// `levelError` and stop at `lastError`. Its grid is too large for a sample per point, so its
+/// errors are bounds over blocks of vipmUpperSampleStep(cells) points (SampleBlocks), and its
+/// vertices are stored as 32-bit grid points (blob version 2 once a side is over 129 points).
+VipmRoot buildVipmUpperNode(const Heightfield& heights,
+                            const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
+                            int32_t cells, int32_t width, int32_t height, double zStep,
+                            double levelError, double lastError, int compressionLevel);
 
 /// A leaf or root as buildVipmLeaf or buildVipmRoot made it, from its stored blob (an edit
 /// rebuilds only the chunks its strokes reach): the blob as it is, its node fields, and what
@@ -107,6 +129,10 @@ Result<VipmLeaf> reuseVipmLeaf(std::vector<uint8_t> blob, const Heightfield& hei
 Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& heights,
                                const MaterialMap& materials, int32_t x0, int32_t y0, int32_t width,
                                int32_t height, double zStep);
+/// As reuseVipmRoot, for a node above the roots.
+Result<VipmRoot> reuseVipmUpperNode(std::vector<uint8_t> blob, const Heightfield& heights,
+                                    int32_t x0, int32_t y0, int32_t width, int32_t height,
+                                    double zStep);
 
 /// A chunk's whole grid as a VIPM chunk without collapses: every grid point a vertex (heights
 /// on the tileset's step `zStep`), the grid's triangles, so it is exact up to that rounding.
@@ -120,12 +146,13 @@ VipmGridChunk buildVipmGridChunk(const Heightfield& heights, const MaterialMap& 
                                  int32_t x0, int32_t y0, int32_t width, int32_t height,
                                  double zStep, int compressionLevel);
 
-/// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of cells + 1
-/// texels over grid square [x0, x0 + cells]^2, texel (i, j) the central-difference normal of
-/// the source heights at grid point (x0 + i, y0 + j) (points outside the data take the nearest
-/// sample), mips by the default resampling (texture_encoder.h). A root (128 cells) and its
-/// leaves (64) store the same texels where they overlap: their light does not depend on
-/// their meshes. The encoded texture blob.
+/// A VIPM node's texture (docs/format.md "VIPM tilesets"): one BC5 normal layer of n + 1
+/// texels over grid square [x0, x0 + cells]^2, n = min(cells, 128) at a stride of cells / n
+/// points, texel (i, j) the central-difference normal of the source heights sampled at that
+/// stride at grid point (x0 + i stride, y0 + j stride) (points outside the data take the
+/// nearest sample), mips by the default resampling (texture_encoder.h). A root (128 cells)
+/// and its leaves (64) store the same texels where they overlap: their light does not depend
+/// on their meshes. The encoded texture blob.
 std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, int32_t y0,
                                         int32_t cells, double spacingX, double spacingY);
 

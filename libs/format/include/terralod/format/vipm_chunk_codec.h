@@ -54,9 +54,15 @@ std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& chunk, int compression
 /// collapse order's consistency with the triangles is checked when it is reconstructed.
 Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::string& subject);
 
+/// The cells a VIPM node's normal map spans a side: its own up to 128 (one texel per grid
+/// point), 128 above (one texel every chunkCells / 128 points).
+inline uint32_t vipmNormalMapCells(uint32_t chunkCells) {
+  return chunkCells < 128u ? chunkCells : 128u;
+}
+
 /// The texture blob of a VIPM node (docs/format.md "VIPM tilesets"): exactly one layer, a BC5
-/// normal map of `chunkCells` + 1 texels a side (one texel per grid point of the node's
-/// unclipped square, at leaf spacing), made from the source heights. Decodes and validates it;
+/// normal map of vipmNormalMapCells(`chunkCells`) + 1 texels a side over the node's unclipped
+/// square, made from the source heights. Decodes and validates it;
 /// `subject` names the chunk in errors ("<subject>: invalid texture: ...").
 Result<TextureLayer> decodeVipmNormalMap(std::span<const uint8_t> texture, uint32_t chunkCells,
                                          const std::string& subject);

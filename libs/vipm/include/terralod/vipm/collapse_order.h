@@ -33,6 +33,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "terralod/vipm/grid_patch.h"
@@ -92,6 +93,9 @@ struct CollapseStart {
   /// Collapses with an error up to this are applied at build time (makeProgressiveMesh's
   /// maxError): they never geomorph, so they hold no neighbour back.
   float bakedError = 0.0f;
+  /// The order ends before the first collapse whose error would exceed this (metres): a node
+  /// below the top of a VIPM tree stops where its parent takes over.
+  float lastError = std::numeric_limits<float>::infinity();
   GeomorphSpacing spacing = GeomorphSpacing::kOn;
 };
 

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 namespace terralod {
@@ -15,12 +16,22 @@ inline constexpr int32_t kVipmChunkCells = 64;
 
 /// The source samples of a sparse patch, as bounds over blocks of `step` x `step` grid points:
 /// block (i, j) holds the samples with x in [i step, (i + 1) step) and y in [j step,
-/// (j + 1) step), clipped to the patch. With step 1 each block is one sample.
+/// (j + 1) step), clipped to the patch. Each block has a plane, height a + bx (x - cx) +
+/// by (y - cy) with (cx, cy) the centre of its samples' rectangle, and the range [lo, hi] of
+/// its samples' heights above that plane (a slope inside a block costs nothing; a bound on
+/// plain heights would count it twice). With step 1 each block is one sample, exactly.
 struct SampleBlocks {
   int32_t step = 1;
   int32_t columns = 0, rows = 0;  ///< blocks along x and y
-  std::vector<float> lo, hi;      ///< per block (row-major, south row first): its samples' range
+  /// Per block (row-major, south row first).
+  std::vector<float> a, bx, by, lo, hi;
 };
+
+/// The blocks of `step` points over a patch of width x height points whose source height at
+/// point (x, y) is `sample(x, y)`: each block's plane by its mean and its mean slopes across
+/// (any plane bounds; a close one bounds tightly).
+SampleBlocks makeSampleBlocks(int32_t width, int32_t height, int32_t step,
+                              const std::function<float(int32_t, int32_t)>& sample);
 
 /// A patch is dense (a chunk: every grid point a possible vertex, ids y * width + x) or sparse
 /// (a node above the roots, whose grid is too large for that: ids index its own points, given
