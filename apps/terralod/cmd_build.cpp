@@ -94,8 +94,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--upper-levels", *upperLevels,
                   "vipm: levels of nodes above the 128-cell roots (256, 512, ... cells), each "
                   "its children's coarsest levels joined and simplified further, so that the far "
-                  "field draws few large nodes and only the top ones stay resident; 0 (the "
-                  "default for now) to 8, or auto: as many as make one top node")
+                  "field draws few large nodes and only the top ones stay resident (maps too "
+                  "large for their roots to stay in memory); 0 (the default: a flat forest of "
+                  "roots) to 8, or auto: as many as make one top node, at most 8")
       ->check(CLI::Range(0, 8) | CLI::IsMember({"auto"}));
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,

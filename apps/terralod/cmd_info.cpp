@@ -5,6 +5,7 @@
 
 #include "commands.h"
 #include "terralod/format/tileset_reader.h"
+#include "terralod/format/vipm_chunk_codec.h"
 
 namespace terralod::cli {
 namespace {
@@ -119,9 +120,9 @@ int printInfo(const std::string& path, bool json) {
               h.levelCount, h.rootsX, h.rootsY, h.rootCells, h.leafCells);
   if (h.textured() && h.meshKind == MeshKind::kVipm) {
     std::printf(
-        "  textures        normal maps only (BC5, one texel per grid point, from the source "
-        "heights: %u/%u texels a side for roots/leaves)\n",
-        h.rootCells + 1, h.leafCells + 1);
+        "  textures        normal maps only (BC5, one texel per grid point up to the 128-cell "
+        "roots, %u a side above, from the source heights)\n",
+        vipmNormalMapCells(h.rootCells) + 1);
   } else if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
     const auto& texture = metadata["texture"];
     std::printf("  textures        colour %s, normals from the DEM, sized for tau <= %.2f px\n",
@@ -147,7 +148,7 @@ int printInfo(const std::string& path, bool json) {
                     level.value("normal_size", 0u),
                     level.value("normal_source_limited", false) ? "*" : "");
       } else if (h.meshKind == MeshKind::kVipm) {
-        std::printf("  %5s/%u*", "-", (h.rootCells >> l) + 1);  // normal maps only
+        std::printf("  %5s/%u*", "-", vipmNormalMapCells(h.rootCells >> l) + 1);  // normals only
       }
     }
     std::printf("\n");

@@ -24,6 +24,12 @@ void printVipmChecks(const VipmVerifyStats& v) {
       (unsigned long long)v.fallbackSamples, v.fallbackMismatch,
       (unsigned long long)v.normalMapsChecked, (unsigned long long)v.normalTexels,
       v.worstNormalDeviation);
+  if (v.upperNodes > 0)
+    std::printf(
+        "  VIPM above the roots: %llu nodes, each at up to %u LODs against every sample and "
+        "its sides at every LOD; %llu join exactly their children's coarsest LODs' points\n",
+        (unsigned long long)v.upperNodes, unsigned(kVipmUpperLevelsVerified),
+        (unsigned long long)v.upperJoins);
 }
 
 }  // namespace

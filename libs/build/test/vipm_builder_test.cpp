@@ -81,6 +81,7 @@ BuildOptions vipmOptions(const std::string& input, const std::string& output) {
   o.kind = TilesetKind::kVipm;
   o.textures = false;
   o.threads = 2;
+  o.vipmUpperLevels = 0;  // the leaves and roots (vipm_upper_levels_test: the levels above)
   return o;
 }
 

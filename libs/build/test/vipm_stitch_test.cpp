@@ -12,6 +12,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
 #include <tuple>
@@ -50,6 +51,7 @@ struct Cases {
   size_t seamFans = 0;          // fans on a root's inner seam
   size_t fractionalPoints = 0;  // inserted points off the grid (geomorphing)
   size_t rootLeafBorders = 0;   // fans where a root meets leaves
+  size_t upperFans = 0;         // fans of nodes above the roots
 };
 
 class VipmStitch : public ::testing::Test {
@@ -61,6 +63,7 @@ class VipmStitch : public ::testing::Test {
     o.output = dir->file("crater.tlod");
     o.kind = TilesetKind::kVipm;
     o.threads = 2;
+    o.vipmUpperLevels = -1;  // 4 x 4 roots under two levels of nodes
     NullProgress progress;
     auto s = buildTileset(o, progress, [](const std::string&) {});
     ASSERT_TRUE(s.ok()) << s.error().message;
@@ -72,8 +75,9 @@ class VipmStitch : public ::testing::Test {
       const NodeRecord& r = tileset->nodes()[i];
       auto blob = tileset->readBlob(i);
       ASSERT_TRUE(blob.ok());
-      auto chunk = loadVipmChunk(*blob, "node",
-                                 r.level == 0 ? MaterialFade::kToTarget : MaterialFade::kKeep);
+      const bool leaf = r.level + 1u == h.levelCount;
+      auto chunk =
+          loadVipmChunk(*blob, "node", leaf ? MaterialFade::kKeep : MaterialFade::kToTarget);
       ASSERT_TRUE(chunk.ok()) << chunk.error().message;
       LoadedNode n;
       n.chunk = std::move(chunk).value();
@@ -81,7 +85,7 @@ class VipmStitch : public ::testing::Test {
       const int64_t cells = h.chunkCells(r.level);
       n.where = {int64_t(r.x) * cells,         int64_t(r.y) * cells,
                  n.chunk.data.zBase,           int32_t(n.chunk.data.width),
-                 int32_t(n.chunk.data.height), r.level == 0 ? int32_t(kStitchLineCells) : 0};
+                 int32_t(n.chunk.data.height), vipmSeamStep(uint32_t(cells))};
       n.stitcher = VipmStitcher(n.chunk.unpacked.mesh, n.where);
       nodes.push_back(std::move(n));
     }
@@ -92,7 +96,8 @@ class VipmStitch : public ::testing::Test {
     delete dir;
   }
 
-  // A random cut: each root whole or as its leaves, each at a random θ with geomorphing.
+  // A random cut: from the top, each node whole or as its children (more often above the
+  // 128-cell roots), each at a random θ with geomorphing.
   static std::vector<Drawn> randomCut(std::mt19937& rng) {
     std::vector<Drawn> cut;
     const TilesetHeader& h = tileset->header();
@@ -111,16 +116,17 @@ class VipmStitch : public ::testing::Test {
       }
       cut.push_back(std::move(d));
     };
-    const uint32_t roots = h.rootsX * h.rootsY;
-    for (uint32_t r = 0; r < roots; ++r) {
-      const NodeRecord& root = tileset->nodes()[r];
-      if (root.childMask == 0 || rng() % 2 == 0) {
-        add(r);
+    std::function<void(uint32_t)> visit = [&](uint32_t i) {
+      const NodeRecord& n = tileset->nodes()[i];
+      const bool upper = n.level + 2u < h.levelCount;
+      if (n.childMask == 0 || rng() % (upper ? 4 : 2) == 0) {
+        add(i);
       } else {
-        for (uint32_t c = root.firstChild; c < root.firstChild + std::popcount(root.childMask); ++c)
-          add(c);
+        for (uint32_t c = n.firstChild; c < n.firstChild + std::popcount(n.childMask); ++c)
+          visit(c);
       }
-    }
+    };
+    for (uint32_t r = 0; r < h.rootsX * h.rootsY; ++r) visit(r);
     return cut;
   }
 
@@ -184,8 +190,10 @@ class VipmStitch : public ::testing::Test {
               continue;
             ++lines;
             const double local = ca - double(axis == 0 ? n.where.cornerX : n.where.cornerY);
-            if (r.level == 0 && local == double(kStitchLineCells)) ++seams;
-            if (r.level == 0 && (local == 0.0 || local == double(kVipmRootCells))) ++leafSides;
+            const bool root = r.level + 2u == tileset->header().levelCount;
+            if (root && local == double(kStitchLineCells)) ++seams;
+            if (root && (local == 0.0 || local == double(kVipmRootCells))) ++leafSides;
+            if (r.level + 2u < tileset->header().levelCount) ++cases.upperFans;
           }
         }
         if (lines >= 2) ++cases.twoLineTriangles;
@@ -276,6 +284,7 @@ TEST_F(VipmStitch, EveryCutIsOneClosedSurfaceWithFansAndNotWithout) {
   EXPECT_GT(cases.seamFans, 0u);
   EXPECT_GT(cases.fractionalPoints, 0u);
   EXPECT_GT(cases.rootLeafBorders, 0u);
+  EXPECT_GT(cases.upperFans, 0u);
   std::printf("fanned %zu, two lines %zu, seams %zu, sliding points %zu, root-leaf %zu\n",
               cases.fannedTriangles, cases.twoLineTriangles, cases.seamFans, cases.fractionalPoints,
               cases.rootLeafBorders);

@@ -165,7 +165,8 @@ TEST(VipmUpperLevels, NodesAboveTheRootsJoinTheirChildrenAndBoundTheSource) {
     for (const auto& [edge, uses] : edges) {
       const auto [ax, ay, az] = edge.first;
       const auto [bx, by, bz] = edge.second;
-      const bool side = (ax == bx && (ax == n.x0 || ax == x1)) || (ay == by && (ay == n.y0 || ay == y1));
+      const bool side =
+          (ax == bx && (ax == n.x0 || ax == x1)) || (ay == by && (ay == n.y0 || ay == y1));
       if (!side) open += uses != 2;
     }
     EXPECT_EQ(open, 0);

@@ -140,7 +140,7 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   c.y0 = y0;
   if (mStitch == VipmStitch::kFans)
     c.stitcher = VipmStitcher(c.mesh, {x0, y0, c.zBase, c.mesh.width, c.mesh.height,
-                                       record.level == 0 ? int32_t(kStitchLineCells) : 0});
+                                       vipmSeamStep(uint32_t(h.chunkCells(record.level)))});
   c.maxX = std::min<int64_t>(x0 + h.chunkCells(record.level), mSource.columns() - 1);
   c.maxY = std::min<int64_t>(y0 + h.chunkCells(record.level), mSource.rows() - 1);
   c.truthMin = 1e300;

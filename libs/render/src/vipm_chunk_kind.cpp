@@ -94,23 +94,21 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   return loaded;
 }
 
-VipmChunkKind::BlockKey VipmChunkKind::blockKey(int64_t cornerX, int64_t cornerY,
-                                                uint32_t normalSize) {
-  const int64_t cells = std::max<int64_t>(int64_t(normalSize) - 1, 1);
-  const int64_t side = cells * VipmBlock::kSide;
-  return {normalSize, cornerX / side, cornerY / side};
+VipmChunkKind::BlockKey VipmChunkKind::blockKey(int64_t cornerX, int64_t cornerY, uint32_t cells) {
+  const int64_t side = int64_t(std::max(cells, 1u)) * VipmBlock::kSide;
+  return {cells, cornerX / side, cornerY / side};
 }
 
 uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
   const VipmChunkPayload& p = static_cast<const Payload&>(payload).chunk;
   const StitchChunk& where = p.stitcher.chunk();
-  const BlockKey key = blockKey(where.cornerX, where.cornerY, p.normals.size);
+  const BlockKey key = blockKey(where.cornerX, where.cornerY, p.cells);
   std::unique_ptr<VipmBlock>& block = mBlocks[key];
   if (!block)
     block = std::make_unique<VipmBlock>(p.normals.size, p.normals.encoding,
                                         uint32_t(p.normals.mips.size()));
   assert(block->fits(p.normals));  // one level's chunks: the same normal map size
-  const int64_t cells = int64_t(p.normals.size) - 1;
+  const int64_t cells = int64_t(p.cells);
   const int slot = int((where.cornerX / cells) % VipmBlock::kSide +
                        VipmBlock::kSide * ((where.cornerY / cells) % VipmBlock::kSide));
   auto chunk = std::make_unique<VipmGpuChunk>(p, *block, slot);
@@ -133,7 +131,7 @@ void VipmChunkKind::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;
   VipmGpuChunk& chunk = *it->second;
-  const BlockKey key = blockKey(chunk.cornerX(), chunk.cornerY(), chunk.normalSize());
+  const BlockKey key = blockKey(chunk.cornerX(), chunk.cornerY(), chunk.cells());
   VipmBlock& block = chunk.block();
   if (block.member(chunk.slot()) == &chunk) block.setMember(chunk.slot(), nullptr);
   mGpuBytes -= chunk.gpuBytes();

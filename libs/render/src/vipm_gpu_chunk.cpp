@@ -67,6 +67,7 @@ VipmGpuChunk::VipmGpuChunk(const VipmChunkPayload& p, VipmBlock& block, int slot
   // passes add encoded colours.
   mBlock.writeTextures(slot, p.normals, p.blot);
   mNormalSize = p.normals.size;
+  mCells = p.cells;
   // On the GPU (its vertices with their one-byte slot tags, its indices, its layers), plus the
   // CPU state (the payload's copy but its textures, which only the GPU keeps; the drawn
   // positions, materials and weights).

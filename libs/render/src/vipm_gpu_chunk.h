@@ -78,8 +78,12 @@ class VipmGpuChunk {
   uint64_t indexVersion() const { return mIndexVersion; }
   /// Different for every chunk made (a new chunk may take a released one's address).
   uint64_t serial() const { return mSerial; }
-  /// Texels a side of the normal map (chunk cells + 1: texel i on grid point i).
+  /// Texels a side of the normal map (vipmNormalMapCells(cells) + 1).
   uint32_t normalSize() const { return mNormalSize; }
+  /// The node's side in cells (unclipped).
+  uint32_t cells() const { return mCells; }
+  /// Grid cells between the normal map's texels: 1 up to a root, more above.
+  uint32_t texelCells() const { return mCells / std::max(mNormalSize - 1, 1u); }
   int32_t width() const { return mWidth; }
   int32_t height() const { return mHeight; }
   double zBase() const { return mZBase; }
@@ -129,6 +133,7 @@ class VipmGpuChunk {
   std::vector<Range> mRanges;
   uint32_t mFlangeFirst = 0;
   uint32_t mNormalSize = 0;
+  uint32_t mCells = 0;
   int32_t mWidth = 0, mHeight = 0;
   double mZBase = 0.0;
   VipmBlock& mBlock;

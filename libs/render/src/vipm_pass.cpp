@@ -100,6 +100,7 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   glProgramUniform1f(p, mProgram.uniformLocation("uZBase"), float(c.zBase()));
   glProgramUniform2f(p, mProgram.uniformLocation("uGridSize"), float(c.normalSize()),
                      float(c.normalSize()));
+  glProgramUniform1f(p, mProgram.uniformLocation("uTexelCells"), float(c.texelCells()));
   // World-space detail coordinates, reduced to one period in double at the chunk's corner.
   std::array<float, 2> origin{};
   for (int k = 0; k < 2; ++k) {
@@ -109,7 +110,9 @@ void VipmPass::setChunk(const ChunkTree& tree, const Draw& d) const {
   }
   glProgramUniform2f(p, mProgram.uniformLocation("uDetailOrigin"), origin[0], origin[1]);
   glProgramUniform1f(p, mProgram.uniformLocation("uLevel"), float(n.level));
-  glProgramUniform1i(p, mProgram.uniformLocation("uKind"), d.blot ? 2 : n.level == 0 ? 1 : 0);
+  // Colour by kind: a leaf, a root or above, a blot.
+  const bool leaf = int(n.level) + 1 == tree.levelCount();
+  glProgramUniform1i(p, mProgram.uniformLocation("uKind"), d.blot ? 2 : leaf ? 0 : 1);
   glProgramUniform1f(p, mProgram.uniformLocation("uMorph"), d.morph);
   glProgramUniform1i(p, mProgram.uniformLocation("uBlock"), 0);
   bindBlock(c.block(), c.vertices().first);
@@ -165,6 +168,7 @@ void VipmPass::drawBlock(const ChunkTree& tree, std::span<const Draw* const> mem
   glProgramUniform1i(p, at("uFlangeFrom"), GLint(batch.surfaceIndices / 3));
   const auto gridSize = float(members.front()->chunk->normalSize());
   glProgramUniform2f(p, at("uGridSize"), gridSize, gridSize);
+  glProgramUniform1f(p, at("uTexelCells"), float(members.front()->chunk->texelCells()));
   glProgramUniform1f(p, at("uLevel"), float(tree.node(members.front()->node).level));
   glProgramUniform1i(p, at("uKind"), 3);
   glProgramUniform1i(p, at("uPass"), 3);

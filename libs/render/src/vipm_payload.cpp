@@ -29,10 +29,11 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
                                            const MaterialAverages& averages) {
   auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
   if (!normals) return normals.error();
-  // A chunk wider than a leaf is a root: flanges on its children's shared sides too, and its
-  // collapses (without the rules) fade materials.
+  // A chunk wider than a leaf is a root or above: its collapses (without the rules) fade
+  // materials; a root has flanges and fans on its children's shared sides too.
   const bool root = chunkCells > uint32_t(kVipmChunkCells);
   const MaterialFade fade = root ? MaterialFade::kToTarget : MaterialFade::kKeep;
+  const int32_t seams = vipmSeamStep(chunkCells);
   auto loaded = loadVipmChunk(node.mesh(), subject, fade);
   if (!loaded) return loaded.error();
   const VipmChunkData& data = loaded->data;
@@ -45,17 +46,20 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
   p.positions = positionsAboveBase(*loaded);
   p.levels = std::move(loaded->levels);
   p.normals = std::move(normals).value();
-  p.flanges = makeFlanges(unpacked.mesh, flangeSides, root ? int32_t(kVipmChunkCells) : 0);
+  p.cells = chunkCells;
+  p.flanges = makeFlanges(unpacked.mesh, flangeSides, seams);
   p.fade = fade;
-  p.blot = makeBlotTexels(unpacked.mesh, unpacked.materials, averages, int32_t(chunkCells));
+  const uint32_t texels = vipmNormalMapCells(chunkCells);
+  p.blot = makeBlotTexels(unpacked.mesh, unpacked.materials, averages, int32_t(texels),
+                          int32_t(chunkCells / texels));
   p.materials = std::move(unpacked.materials);
   for (uint16_t top : p.flanges.tops) {
     const auto& t = p.positions[top];
     p.positions.push_back({t[0], t[1], t[2] - flangeDepth});
     p.materials.push_back(p.materials[top]);
   }
-  p.stitcher = VipmStitcher(unpacked.mesh, {cornerX, cornerY, data.zBase, data.width, data.height,
-                                            root ? int32_t(kStitchLineCells) : 0});
+  p.stitcher =
+      VipmStitcher(unpacked.mesh, {cornerX, cornerY, data.zBase, data.width, data.height, seams});
   p.mesh = std::move(unpacked.mesh);
   return p;
 }

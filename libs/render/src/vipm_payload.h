@@ -35,8 +35,9 @@ struct VipmChunkPayload final : ChunkPayload {
   VipmStitcher stitcher;
   double zBase = 0.0;
   int32_t width = 0, height = 0;  ///< grid points
-  /// The node's normal map: chunk cells + 1 texels a side over its unclipped square, texel i
-  /// on grid point i (docs/format.md "VIPM tilesets").
+  uint32_t cells = 0;             ///< the node's side in cells (unclipped)
+  /// The node's normal map: vipmNormalMapCells(cells) + 1 texels a side over its unclipped
+  /// square, texel i on grid point i times cells / that (docs/format.md "VIPM tilesets").
   TextureLayer normals;
   /// Its blot texture (vipm_blot.h): encoded RGBA bytes, texels as the normal map's.
   std::vector<uint8_t> blot;

@@ -32,7 +32,8 @@ uniform float uSlotZBase[16];
 uniform float uSlotMorph[16];
 uniform vec2 uEyeCells;        // the eye, grid cells from the anchor
 uniform vec2 uSpacing;         // metres per cell
-uniform vec2 uGridSize;        // the normal map's texels a side (chunk cells + 1, unclipped)
+uniform vec2 uGridSize;        // the normal map's texels a side (unclipped)
+uniform float uTexelCells;     // grid cells between its texels (1 up to a root)
 uniform vec2 uDetailOrigin;    // detail texture coordinate of the chunk's corner
 uniform vec2 uDetailScale;     // detail texture coordinate per cell
 uniform int uMaterial;         // the material pass's material, -1 in the whole-chunk pass
@@ -61,7 +62,8 @@ void main() {
   vec3 p = vec3((grid - uEyeCells) * uSpacing, height - uEyeHeight);
   vRelative = p;
   vHeight = p.z + uEyeHeight;
-  vNormalUv = (aPosition.xy + 0.5) / uGridSize;  // texel i's centre is on grid point i
+  // Texel i's centre is on grid point i uTexelCells.
+  vNormalUv = (aPosition.xy / uTexelCells + 0.5) / uGridSize;
   vDetailUv = uDetailOrigin + aPosition.xy * uDetailScale;
   // The weights sum to 1 (to the bytes' rounding).
   vWeight = uMaterial < 0 ? 0.0 : uMaterial < 4 ? aWeights0[uMaterial] : aWeights1[uMaterial - 4];

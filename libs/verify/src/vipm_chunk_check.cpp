@@ -336,7 +336,8 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
 }
 
 NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t y0,
-                                  const Heightfield& source, double spacingX, double spacingY) {
+                                  const Heightfield& source, double spacingX, double spacingY,
+                                  int64_t stride) {
   NormalMapCheck out;
   const uint32_t size = layer.size;
   const std::vector<uint8_t> stored =
@@ -347,12 +348,15 @@ NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t
   }
   // True (n + 1) / 2 per texel and channel, in 8-bit units.
   std::vector<double> truth(size_t(size) * size * 2);
-  auto h = [&](int64_t x, int64_t y) { return double(source.at(int32_t(x), int32_t(y))); };
+  // On the grid at the map's stride: its points' heights (the nearest inside the data).
+  auto h = [&](int64_t x, int64_t y) {
+    return double(source.at(int32_t(x * stride), int32_t(y * stride)));
+  };
   for (uint32_t j = 0; j < size; ++j)
     for (uint32_t i = 0; i < size; ++i) {
-      const int64_t gx = x0 + i, gy = y0 + j;
-      const double dx = (h(gx + 1, gy) - h(gx - 1, gy)) / (2.0 * spacingX);
-      const double dy = (h(gx, gy + 1) - h(gx, gy - 1)) / (2.0 * spacingY);
+      const int64_t gx = x0 / stride + i, gy = y0 / stride + j;
+      const double dx = (h(gx + 1, gy) - h(gx - 1, gy)) / (2.0 * spacingX * double(stride));
+      const double dy = (h(gx, gy + 1) - h(gx, gy - 1)) / (2.0 * spacingY * double(stride));
       const double len = std::sqrt(dx * dx + dy * dy + 1.0);
       double* t = truth.data() + (size_t(j) * size + i) * 2;
       t[0] = (-dx / len + 1.0) * 0.5 * 255.0;
@@ -386,6 +390,134 @@ NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t
           }
       }
   out.texels /= 2;
+  return out;
+}
+
+VipmChunkCheck checkVipmUpperNode(const VipmChunkData& chunk, int64_t x0, int64_t y0,
+                                  const Heightfield& source) {
+  VipmChunkCheck out;
+  const Grid g{chunk};
+  const uint32_t n = chunk.vertexCount(), r = chunk.collapseCount();
+  const int32_t w = chunk.width, h = chunk.height;
+  auto recorded = [&](uint32_t j) {  // the error after j collapses, as stored
+    return j == 0 ? double(chunk.finestError) : double(chunk.errors[j - 1]) * chunk.errorStep;
+  };
+  // The levels rasterised, ascending.
+  std::vector<uint32_t> checked;
+  for (uint32_t k = 0; k < kVipmUpperLevelsVerified; ++k)
+    checked.push_back(uint32_t(uint64_t(r) * k / (kVipmUpperLevelsVerified - 1)));
+  checked.erase(std::unique(checked.begin(), checked.end()), checked.end());
+  std::vector<uint16_t> rename(n);
+  for (uint32_t v = 0; v < n; ++v) rename[v] = uint16_t(v);
+  auto resolve = [&](uint16_t v) {
+    while (rename[v] != v) v = rename[v];
+    return v;
+  };
+  std::vector<bool> covered(size_t(w) * size_t(h));
+  uint32_t applied = 0;
+  for (uint32_t j : checked) {
+    for (; applied < j; ++applied) rename[n - 1 - applied] = chunk.targets[applied];
+    std::vector<uint16_t> now(n);
+    for (uint32_t v = 0; v < n; ++v) now[v] = resolve(uint16_t(v));
+    std::fill(covered.begin(), covered.end(), false);
+    double worst = 0.0;
+    for (const Triangle& t : levelTriangles(chunk, now)) {
+      const int64_t ax = g.x(t[0]), ay = g.y(t[0]), bx = g.x(t[1]), by = g.y(t[1]);
+      const int64_t cx = g.x(t[2]), cy = g.y(t[2]);
+      const int64_t area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+      if (area <= 0) {
+        addProblem(out, "a triangle is not counter-clockwise at level " + std::to_string(j));
+        continue;
+      }
+      const double za = g.z(t[0]), zb = g.z(t[1]), zc = g.z(t[2]);
+      for (int64_t py = std::min({ay, by, cy}); py <= std::max({ay, by, cy}); ++py)
+        for (int64_t px = std::min({ax, bx, cx}); px <= std::max({ax, bx, cx}); ++px) {
+          // Integer edge functions: points on an edge are inside.
+          const int64_t w0 = (bx - px) * (cy - py) - (by - py) * (cx - px);
+          const int64_t w1 = (cx - px) * (ay - py) - (cy - py) * (ax - px);
+          const int64_t w2 = area - w0 - w1;
+          if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+          const double z = (double(w0) * za + double(w1) * zb + double(w2) * zc) / double(area);
+          worst = std::max(worst, std::abs(double(source(int32_t(x0 + px), int32_t(y0 + py))) - z));
+          covered[size_t(py) * size_t(w) + size_t(px)] = true;
+        }
+    }
+    const uint64_t missed = uint64_t(std::count(covered.begin(), covered.end(), false));
+    out.uncovered += missed;
+    out.samples += covered.size();
+    ++out.levels;
+    if (j == 0) out.finestError = worst;
+    out.worstMargin = std::min(out.worstMargin, recorded(j) - worst);
+    if (worst > recorded(j) + kVerifySlack)
+      addProblem(out, "level " + std::to_string(j) + "'s error " + std::to_string(worst) +
+                          " m is over its recorded " + std::to_string(recorded(j)) + " m");
+    if (missed > 0)
+      addProblem(out, "level " + std::to_string(j) + " leaves " + std::to_string(missed) +
+                          " samples uncovered");
+    auto points = [&](std::vector<std::array<double, 3>>& to) {
+      std::vector<bool> used(n);
+      for (const Triangle& t : levelTriangles(chunk, now))
+        for (uint16_t v : t) used[v] = true;
+      for (uint32_t v = 0; v < n; ++v)
+        if (used[v]) to.push_back({double(x0 + g.x(v)), double(y0 + g.y(v)), g.z(v)});
+      std::sort(to.begin(), to.end());
+    };
+    if (j == 0) points(out.finestPoints);
+    if (j == r) points(out.coarsestPoints);
+  }
+  // Sides at every level: the active vertices on each, joined as collapses remove them.
+  for (int s = 0; s < 4; ++s) {
+    const int32_t length = s % 2 == 0 ? w : h;
+    auto position = [&](uint32_t v) -> int32_t {  // along side s, or -1
+      const int32_t x = g.x(v), y = g.y(v);
+      switch (s) {
+        case 0:
+          return y == 0 ? x : -1;
+        case 1:
+          return x == w - 1 ? y : -1;
+        case 2:
+          return y == h - 1 ? x : -1;
+        default:
+          return x == 0 ? y : -1;
+      }
+    };
+    std::vector<int32_t> active(size_t(length), -1);
+    for (uint32_t v = 0; v < n; ++v)
+      if (const int32_t p = position(v); p >= 0) active[size_t(p)] = int32_t(v);
+    SideEnvelope& e = out.sides[size_t(s)];
+    e.low.assign(size_t(length), std::numeric_limits<double>::infinity());
+    e.high.assign(size_t(length), -std::numeric_limits<double>::infinity());
+    auto segment = [&](int32_t a, int32_t b) {
+      const double za = g.z(uint32_t(active[size_t(a)])), zb = g.z(uint32_t(active[size_t(b)]));
+      for (int32_t p = a; p <= b; ++p) {
+        const double z = b == a ? za : za + (zb - za) * double(p - a) / double(b - a);
+        e.low[size_t(p)] = std::min(e.low[size_t(p)], z);
+        e.high[size_t(p)] = std::max(e.high[size_t(p)], z);
+      }
+    };
+    for (int32_t p = 0, previous = -1; p < length; ++p) {
+      if (active[size_t(p)] < 0) continue;
+      if (previous >= 0) segment(previous, p);
+      previous = p;
+    }
+    if (active.front() < 0 || active.back() < 0) {
+      addProblem(out, "a corner of its square is not a vertex");
+      continue;
+    }
+    for (uint32_t j = 0; j < r; ++j) {
+      const int32_t p = position(n - 1 - j);
+      if (p < 0) continue;
+      active[size_t(p)] = -1;
+      int32_t a = p, b = p;
+      while (a > 0 && active[size_t(a)] < 0) --a;
+      while (b + 1 < length && active[size_t(b)] < 0) ++b;
+      if (active[size_t(a)] < 0 || active[size_t(b)] < 0) {
+        addProblem(out, "a corner of its square collapses");
+        break;
+      }
+      segment(a, b);
+    }
+  }
   return out;
 }
 

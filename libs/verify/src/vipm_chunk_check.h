@@ -44,6 +44,9 @@ struct VipmChunkCheck {
   /// Roots: the largest vertical gap, at any level and grid point, between the two sides'
   /// polylines on the children's shared lines (x or y = 64), which its flanges must close.
   double seamGap = 0;
+  /// Nodes above the roots (checkVipmUpperNode): the finest and the coarsest level's vertices
+  /// (grid x, grid y, stored height), sorted.
+  std::vector<std::array<double, 3>> finestPoints, coarsestPoints;
   std::vector<std::string> problems;  ///< what is wrong, one line each (without the chunk name)
 };
 
@@ -60,18 +63,29 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& chunk, int64_t x0, int64_t y0
                               const Heightfield& source, const MaterialMap* materials,
                               MaterialRules promised);
 
+/// Checks a node above the roots (any size, version 2 blobs): at up to kVipmUpperLevelsVerified
+/// levels, its triangles (made by renaming, as checkVipmChunk does) rasterised over every
+/// source sample (true error against the recorded one, coverage), and at every level its
+/// sides' polylines (the envelopes, for the flanges). Fills levels, samples, uncovered,
+/// finestError, worstMargin, sides, finestPoints, coarsestPoints and problems; no dense
+/// heights, no material rules (nodes above the roots are simplified without them).
+VipmChunkCheck checkVipmUpperNode(const VipmChunkData& chunk, int64_t x0, int64_t y0,
+                                  const Heightfield& source);
+
 struct NormalMapCheck {
   uint64_t texels = 0;  ///< mip 0 texels compared
   double worst = 0;     ///< largest |stored - true| of a normal's x or y component
   std::string problem;  ///< the first texel out of tolerance, or ""
 };
 
-/// Checks a VIPM node's stored normal map (decodeVipmNormalMap's layer) whose texel (0, 0) is
-/// grid point (x0, y0): every mip 0 texel, BC5-decoded, against the unit normal of the source
-/// by central differences there (the nearest sample outside the data). The tolerance is what
+/// Checks a VIPM node's stored normal map (decodeVipmNormalMap's layer) whose texel (i, j) is
+/// grid point (x0 + i stride, y0 + j stride): every mip 0 texel, BC5-decoded, against the unit
+/// normal of the source by central differences there over the grid at that stride (the
+/// nearest sample outside the data). The tolerance is what
 /// BC5 can lose: per 4 x 4 block and channel, one step of its 8-value palette ((max - min of
 /// the block's true values) / 7) plus 2/255 for 8-bit rounding, in (n + 1) / 2 units.
 NormalMapCheck checkVipmNormalMap(const TextureLayer& layer, int64_t x0, int64_t y0,
-                                  const Heightfield& source, double spacingX, double spacingY);
+                                  const Heightfield& source, double spacingX, double spacingY,
+                                  int64_t stride = 1);
 
 }  // namespace terralod

@@ -100,10 +100,10 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
  private:
   VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
 
-  // A super-chunk's storage: the normal map size of its level's chunks and its place in the
-  // grid of 4 × 4 blocks of them.
+  // A super-chunk's storage: the cells of its level's chunks and its place in the grid of
+  // 4 × 4 blocks of them.
   using BlockKey = std::tuple<uint32_t, int64_t, int64_t>;
-  static BlockKey blockKey(int64_t cornerX, int64_t cornerY, uint32_t normalSize);
+  static BlockKey blockKey(int64_t cornerX, int64_t cornerY, uint32_t cells);
 
   const TilesetReader& mTileset;
   std::unique_ptr<VipmPass> mPass;

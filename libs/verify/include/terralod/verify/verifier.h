@@ -26,6 +26,11 @@ struct VerifyOptions {
   std::string materialsPath, palettePath;
 };
 
+/// LODs verify rasterises at most of a VIPM node above the roots (its finest, its coarsest and
+/// evenly spaced ones between): such a node spans up to 32768² samples, too many to check at
+/// each of its thousands of LODs.
+inline constexpr uint32_t kVipmUpperLevelsVerified = 6;
+
 /// What verify checked in a VIPM tileset (docs/format.md "VIPM tilesets") beyond the levels.
 struct VipmVerifyStats {
   uint64_t lods = 0;                 ///< chunk levels of detail checked, over all chunks
@@ -43,6 +48,8 @@ struct VipmVerifyStats {
   uint64_t normalMapsChecked = 0;   ///< nodes whose normal map was compared with the source
   uint64_t normalTexels = 0;        ///< texels compared there
   double worstNormalDeviation = 0;  ///< largest |stored - source| normal component (BC5 loss)
+  uint64_t upperNodes = 0;          ///< nodes above the roots (at kVipmUpperLevelsVerified LODs)
+  uint64_t upperJoins = 0;          ///< of those, whose finest points are their children's coarsest
 };
 
 struct LevelCheck {

@@ -28,9 +28,12 @@ using MaterialAverages = std::vector<std::array<float, 3>>;
 /// The linear mean of an sRGB image's texels (rgb: 3 bytes a texel).
 std::array<float, 3> linearMean(std::span<const uint8_t> rgb);
 
-/// Encoded bytes (RGBA, alpha 255; the shader decodes with ^2.2), (cells + 1)² texels, row 0
-/// south. `materials`: per vertex of `mesh`; a material without an average is black.
+/// Encoded bytes (RGBA, alpha 255; the shader decodes with ^2.2), (texels + 1)² texels, row 0
+/// south, texel (i, j) on grid point (i stride, j stride) (a node above the roots: one texel
+/// every stride points, as its normal map). `materials`: per vertex of `mesh`; a material
+/// without an average is black.
 std::vector<uint8_t> makeBlotTexels(const ProgressiveMesh& mesh, std::span<const uint8_t> materials,
-                                    const MaterialAverages& averages, int32_t cells);
+                                    const MaterialAverages& averages, int32_t texels,
+                                    int32_t stride = 1);
 
 }  // namespace terralod

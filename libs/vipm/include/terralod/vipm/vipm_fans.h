@@ -33,6 +33,14 @@ namespace terralod {
 /// Grid cells between the lines chunks can meet on (a VIPM leaf's side).
 inline constexpr int64_t kStitchLineCells = 64;
 
+/// The inner seams' spacing of a VIPM node of `chunkCells` cells: a 128-cell root joins its
+/// leaves' coarsest levels as they are (T-junctions on their shared sides, which its flanges
+/// and fans close), so kStitchLineCells; a leaf has none, and a node above the roots has its
+/// cracks closed when it is built: 0.
+inline int32_t vipmSeamStep(uint32_t chunkCells) {
+  return chunkCells == 2 * kStitchLineCells ? int32_t(kStitchLineCells) : 0;
+}
+
 /// A line x = at (axis 0, points ordered by y) or y = at (axis 1, ordered by x); grid cells.
 struct StitchLine {
   uint8_t axis = 0;

@@ -1,0 +1,83 @@
+// `build --kind vipm --upper-levels auto`: levels of nodes above the 128-cell roots. The
+// tileset verifies (the nodes above the roots at sampled levels, their joins, every flange
+// across levels), a far view draws a few large nodes where the flat forest draws every root,
+// and a flight down from far away draws within τ with no holes.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "cli_expectations.h"
+#include "cli_runner.h"
+
+namespace terralod::test {
+namespace {
+
+const std::string kCrater = testData("crater_lake_0513.bt");
+
+bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// "wrote X: N chunks, ..." -> N.
+int drawnChunks(const std::string& out) {
+  std::smatch m;
+  return std::regex_search(out, m, std::regex(R"(: (\d+) chunks,)")) ? std::stoi(m[1]) : -1;
+}
+
+TEST(VipmUpperLevelsCli, NodesAboveTheRootsVerifyAndDrawTheFarField) {
+  TempDir dir;
+  const std::string up = dir.file("up.tlod"), flat = dir.file("flat.tlod");
+  const RunResult built = runTerralod(
+      {"build", kCrater, "--kind", "vipm", "--upper-levels", "auto", "--threads", "2", "-o", up});
+  ASSERT_EQ(built.exitCode, 0) << built.err;
+  EXPECT_TRUE(has(built.out, "4 levels")) << built.out;
+  ASSERT_EQ(runTerralod({"build", kCrater, "--kind", "vipm", "--threads", "2", "-o", flat}).exitCode,
+            0);
+
+  const RunResult verified = runTerralod({"verify", up, "--source", kCrater, "--threads", "2"});
+  EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
+  EXPECT_TRUE(has(verified.out, "VIPM above the roots: 5 nodes")) << verified.out;
+  EXPECT_TRUE(has(verified.out, "5 join exactly their children's coarsest LODs' points"))
+      << verified.out;
+
+  // Far away: the four 256-cell nodes (or the top one), not the sixteen roots.
+  const std::vector<std::string> far = {"--eye", "5000,-30000,20000", "--target",
+                                        "5000,7000,1800", "--size", "320x240"};
+  auto render = [&](const std::string& tileset, const std::string& image) {
+    std::vector<std::string> args = {"render", tileset, "-o", dir.file(image)};
+    args.insert(args.end(), far.begin(), far.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return drawnChunks(r.out);
+  };
+  const int upper = render(up, "up.png"), roots = render(flat, "flat.png");
+  EXPECT_GE(upper, 1);
+  EXPECT_LE(upper, 4);
+  EXPECT_EQ(roots, 16);
+
+  // Down from far away, through every level: within τ, no holes, no frame waits.
+  std::ofstream(dir.file("down.json")) << R"({"fov_deg": 60, "size": [240, 180],
+    "frames": 40, "keyframes": [
+      {"eye": [5000, -30000, 20000], "target": [7500, 8000, 1900]},
+      {"eye": [5000, -5000, 6000], "target": [7500, 8000, 1900]},
+      {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  for (const char* stitch : {"flanges", "fans"}) {
+    SCOPED_TRACE(stitch);
+    const RunResult b =
+        runTerralod({"bench", up, "--flight", dir.file("down.json"), "--source", kCrater,
+                     "--stitch", stitch, "--json", dir.file("b.json")});
+    ASSERT_EQ(b.exitCode, 0) << b.err;
+    const auto j = nlohmann::json::parse(readWholeFile(dir.file("b.json")));
+    EXPECT_LE(j["max_error_px"].get<double>(), 2.0);
+    EXPECT_EQ(j["holes_total"].get<int>(), 0);
+    EXPECT_EQ(j["frames_waiting_on_io"].get<int>(), 0);
+    std::printf("%s: max error %.3f px, max pop %.3f px\n", stitch,
+                j["max_error_px"].get<double>(), j["max_pop_px"].get<double>());
+  }
+}
+
+}  // namespace
+}  // namespace terralod::test
