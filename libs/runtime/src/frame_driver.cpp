@@ -18,13 +18,16 @@ Result<std::unique_ptr<FrameDriver>> FrameDriver::create(const TilesetReader& ti
   const uint64_t roots = driver->mResidency->counters().residentBytes;
   if (roots >= driver->mOptions.cacheBytes && driver->mTree.levelCount() > 1 &&
       driver->mOptions.log) {
-    char text[320];
+    char text[420];
     std::snprintf(text, sizeof text,
                   "%s: its %u roots alone take %.0f MB of the %.0f MB chunk budget, so no finer "
-                  "chunk will load; give a larger budget (--cache-mb %.0f or more)",
+                  "chunk will load; give a larger budget (--cache-mb %.0f or more)%s",
                   tileset.name().c_str(), unsigned(tree.rootCount()), double(roots) / 1048576.0,
                   double(driver->mOptions.cacheBytes) / 1048576.0,
-                  std::ceil(2.0 * double(roots) / 1048576.0 / 256.0) * 256.0);
+                  std::ceil(2.0 * double(roots) / 1048576.0 / 256.0) * 256.0,
+                  tileset.header().meshKind == MeshKind::kVipm
+                      ? ", or rebuild it with --upper-levels auto (one top node stays resident)"
+                      : "");
     driver->mOptions.log(text);
   }
   return driver;

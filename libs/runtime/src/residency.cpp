@@ -16,6 +16,8 @@ Residency::Residency(const ChunkTree& tree, ChunkLoadFunction load, TaskRunner& 
       mLog(std::move(log)),
       mNodes(tree.nodes().size()),
       mDrawable(tree.nodes().size(), 0),
+      mLevelLargest(size_t(std::max(tree.levelCount(), 1)), 0),
+      mReservedBy(tree.nodes().size(), 0),
       mDoneMutex(std::make_shared<std::mutex>()),
       mDone(std::make_shared<std::vector<Finished>>()),
       mRunning(std::make_shared<size_t>(0)) {}
@@ -41,6 +43,27 @@ void Residency::adjustParent(uint32_t node, int delta) {
     mNodes[parent].busyChildren = uint32_t(int(mNodes[parent].busyChildren) + delta);
 }
 
+uint64_t Residency::reserve(uint32_t node) const {
+  // The largest of its level seen so far, else of the nearest level above seen (a level's
+  // chunks are about its parents' size), else of any.
+  for (size_t level = std::min<size_t>(mTree.node(node).level, mLevelLargest.size() - 1);;
+       --level) {
+    if (mLevelLargest[level] > 0) return mLevelLargest[level];
+    if (level == 0) return mLargest;
+  }
+}
+
+void Residency::noteChunkBytes(uint32_t node, uint64_t bytes) {
+  uint64_t& level =
+      mLevelLargest[std::min<size_t>(mTree.node(node).level, mLevelLargest.size() - 1)];
+  level = std::max(level, bytes);
+  mLargest = std::max(mLargest, bytes);
+}
+
+bool Residency::fits(uint32_t node) const {
+  return mCounters.residentBytes + mReserved + reserve(node) <= mOptions.budgetBytes;
+}
+
 void Residency::addBytes(int64_t delta) {
   mCounters.residentBytes = uint64_t(int64_t(mCounters.residentBytes) + delta);
   mCounters.residentBytesMax = std::max(mCounters.residentBytesMax, mCounters.residentBytes);
@@ -55,6 +78,9 @@ std::vector<ReadyChunk> Residency::collect() {
   for (Finished& f : done) {
     Node& n = mNodes[f.node];
     --mInFlight;
+    mReserved -= mReservedBy[f.node];
+    mReservedBy[f.node] = 0;
+    if (f.result) noteChunkBytes(f.node, f.result->bytes);
     if (f.refresh) {
       // Kept only while the node is still resident (an evicted one reloads the new bytes);
       // it stays refreshing until uploaded (markRefreshed).
@@ -109,6 +135,7 @@ void Residency::markResident(const ReadyChunk& chunk, uint64_t gpuBytes) {
   n.lastUsed = mFrame;
   mDrawable[chunk.node] = 1;
   addBytes(int64_t(gpuBytes));
+  noteChunkBytes(chunk.node, gpuBytes);
   mResident.push_back(chunk.node);
 }
 
@@ -122,6 +149,7 @@ void Residency::markLoadedNow(uint32_t node, uint64_t gpuBytes) {
   mDrawable[node] = 1;
   ++mCounters.loads;
   addBytes(int64_t(gpuBytes));
+  noteChunkBytes(node, gpuBytes);
   mResident.push_back(node);
 }
 
@@ -136,6 +164,7 @@ void Residency::request(uint32_t node, float priority) {
   if (n.requested != mFrame) n.priority = priority;
   n.priority = std::min(n.priority, priority);
   n.requested = mFrame;
+  if (n.state == ChunkState::kResident) n.lastUsed = mFrame;  // wanted: in use
   if (n.state == ChunkState::kAbsent || (n.state == ChunkState::kFailed && mFrame >= n.retryAt)) {
     n.state = ChunkState::kQueued;
     mQueue.push_back(node);
@@ -144,11 +173,16 @@ void Residency::request(uint32_t node, float priority) {
 
 std::vector<uint32_t> Residency::evict() {
   std::vector<uint32_t> evicted;
-  // Over the budget, or exactly at it while loads wait (dispatch starts them only below it:
-  // without room made here, a full budget would keep them waiting for good).
+  // Over the budget with the loads in flight, or without room for the most wanted load
+  // waiting (dispatch starts it only when it fits: without room made here, a full budget
+  // would keep it waiting for good).
   const auto overBudget = [this] {
-    return mCounters.residentBytes > mOptions.budgetBytes ||
-           (mCounters.residentBytes == mOptions.budgetBytes && !mQueue.empty());
+    if (mCounters.residentBytes + mReserved > mOptions.budgetBytes) return true;
+    if (mQueue.empty()) return false;
+    const uint32_t next = *std::min_element(
+        mQueue.begin(), mQueue.end(),
+        [&](uint32_t a, uint32_t b) { return mNodes[a].priority < mNodes[b].priority; });
+    return mNodes[next].requested == mFrame && !fits(next);
   };
   // Loaded chunks nobody asked for this frame go first.
   if (overBudget()) {
@@ -213,11 +247,12 @@ void Residency::dispatch() {
   std::stable_sort(mQueue.begin(), mQueue.end(),
                    [&](uint32_t a, uint32_t b) { return mNodes[a].priority < mNodes[b].priority; });
   size_t started = 0;
-  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight &&
-         mCounters.residentBytes < mOptions.budgetBytes) {
+  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight && fits(mQueue[started])) {
     const uint32_t node = mQueue[started++];
     mNodes[node].state = ChunkState::kLoading;
     adjustParent(node, +1);
+    mReservedBy[node] = reserve(node);
+    mReserved += mReservedBy[node];
     post(node, false);
   }
   mQueue.erase(mQueue.begin(), mQueue.begin() + std::ptrdiff_t(started));

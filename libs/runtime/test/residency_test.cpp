@@ -150,18 +150,20 @@ TEST_F(ResidencyTest, FailuresAreLoggedOnceAndRetriedWithBackoff) {
 
 TEST_F(ResidencyTest, EvictsLeastRecentlyUsedLeavesOfTheResidentSetUnderTheBudget) {
   ResidencyOptions o;
-  o.budgetBytes = 4 * kChunkBytes;
+  o.budgetBytes = 5 * kChunkBytes;
   auto r = make(o);
   loadRoot(*r);
   for (uint32_t c = 1; c <= 4; ++c) r->request(c, float(c));
   r->dispatch();
   mRunner.runAll();
-  uploadAll(*r);  // root + 4 children: 5 chunks, over budget by one
+  uploadAll(*r);  // root + 4 children: the budget
   EXPECT_TRUE(r->evict().empty()) << "chunks are not evicted in the frame they arrive";
   r->dispatch();
-  // This frame uses the root and children 2, 3 and 4; child 1 was last used before.
+  // This frame uses the root and children 2, 3 and 4 and wants a child of 2; child 1 was last
+  // used before: it makes room.
   r->touch(0);
   for (uint32_t c = 2; c <= 4; ++c) r->touch(c);
+  r->request(9, 1.0f);
   const auto evicted = r->evict();
   ASSERT_EQ(evicted, std::vector<uint32_t>{1});
   EXPECT_EQ(r->drawable()[1], 0);
@@ -171,7 +173,7 @@ TEST_F(ResidencyTest, EvictsLeastRecentlyUsedLeavesOfTheResidentSetUnderTheBudge
 
   // A chunk with resident children is never evicted before them, and the root never.
   r->request(5, 1.0f);  // child of node 1? no: node 1 is absent, so this is ignored
-  r->request(9, 1.0f);  // child of node 2
+  r->request(9, 1.0f);  // child of node 2, which now fits
   r->dispatch();
   mRunner.runAll();
   uploadAll(*r);
@@ -182,6 +184,46 @@ TEST_F(ResidencyTest, EvictsLeastRecentlyUsedLeavesOfTheResidentSetUnderTheBudge
     EXPECT_NE(e, 2u) << "node 2 has a resident child";
   }
   EXPECT_LE(r->counters().residentBytes, o.budgetBytes);
+}
+
+// Loads reserve room for what they bring: they start only while the resident chunks and the
+// loads in flight fit, so the budget holds.
+TEST_F(ResidencyTest, LoadsInFlightCountAgainstTheBudget) {
+  ResidencyOptions o;
+  o.budgetBytes = 3 * kChunkBytes;
+  o.maxInFlight = 8;
+  auto r = make(o);
+  loadRoot(*r);
+  for (uint32_t c = 1; c <= 4; ++c) r->request(c, float(c));
+  r->dispatch();
+  EXPECT_EQ(r->inFlight(), 2u) << "room for two more chunks of the root's size";
+  mRunner.runAll();
+  uploadAll(*r);
+  EXPECT_LE(r->counters().residentBytesMax, o.budgetBytes);
+}
+
+// A wanted chunk is in use: when what is wanted does not fit, nothing wanted is evicted to
+// load something else wanted (that would load and evict the same chunks every frame).
+TEST_F(ResidencyTest, WantedChunksAreNotEvictedForOtherWantedOnes) {
+  ResidencyOptions o;
+  o.budgetBytes = 3 * kChunkBytes;
+  auto r = make(o);
+  loadRoot(*r);
+  for (uint32_t c = 1; c <= 2; ++c) r->request(c, float(c));
+  r->dispatch();
+  mRunner.runAll();
+  uploadAll(*r);
+  r->dispatch();
+  for (int frame = 0; frame < 5; ++frame) {
+    r->touch(0);
+    for (uint32_t c = 1; c <= 4; ++c) r->request(c, float(c));
+    EXPECT_TRUE(r->evict().empty()) << "frame " << frame;
+    r->dispatch();
+    mRunner.runAll();
+    uploadAll(*r);
+  }
+  EXPECT_EQ(r->counters().evictions, 0u);
+  EXPECT_EQ(r->counters().loads, 3u);  // the root and the first two
 }
 
 TEST_F(ResidencyTest, NoNewLoadsStartOverTheBudget) {

@@ -9,6 +9,12 @@
 //     │                                                 └──error──► failed ──retry frame──►│ absent
 //     └──────────────────────────── evict (least recently used first) ◄────────────────────┘
 //
+// The budget holds what is resident or ready and what the loads in flight will bring: each
+// load reserves the largest chunk of its level seen so far (before the first, of the nearest
+// level above), so loads start only while that fits. A chunk that is drawn, an ancestor of one, or
+// wanted (requested) is in use and never evicted: when what a view wants does not fit, the frames
+// draw coarser instead of loading and evicting the same chunks over and over.
+//
 // The resident set is closed under parents: a chunk is requested only when its parent is
 // resident, and only chunks without resident (or loading) children are evicted. Selection can
 // therefore always walk from the roots to what it draws, and a chunk whose children are
@@ -113,7 +119,8 @@ class Residency {
   void returnReady(ReadyChunk chunk);
   /// `node` is in use this frame (drawn, or an ancestor of a drawn chunk).
   void touch(uint32_t node);
-  /// `node` is wanted: lower priority values load first. Needs a resident parent.
+  /// `node` is wanted: lower priority values load first. Needs a resident parent. A resident
+  /// one is in use this frame.
   void request(uint32_t node, float priority);
   /// Least recently used chunks to free to get under budget (not used this frame); the caller
   /// frees them and they become absent.
@@ -148,6 +155,10 @@ class Residency {
   void startRefreshes();
   void adjustParent(uint32_t node, int delta);
   void addBytes(int64_t delta);
+  // What a load of `node` reserves until it is collected.
+  uint64_t reserve(uint32_t node) const;
+  void noteChunkBytes(uint32_t node, uint64_t bytes);
+  bool fits(uint32_t node) const;
 
   const ChunkTree& mTree;
   ChunkLoadFunction mLoad;
@@ -156,10 +167,14 @@ class Residency {
   std::function<void(const std::string&)> mLog;
   std::vector<Node> mNodes;
   std::vector<uint8_t> mDrawable;
-  std::vector<uint32_t> mQueue;     // queued nodes
-  std::vector<uint32_t> mResident;  // resident nodes (for eviction)
-  std::vector<ReadyChunk> mReady;   // loaded, not yet uploaded
-  std::vector<uint32_t> mStale;     // invalidated nodes not settled yet
+  std::vector<uint64_t> mLevelLargest;  // per level: the largest chunk seen (bytes)
+  uint64_t mLargest = 0;                // of any level
+  uint64_t mReserved = 0;               // by the loads in flight
+  std::vector<uint64_t> mReservedBy;    // per node: its load's reservation
+  std::vector<uint32_t> mQueue;         // queued nodes
+  std::vector<uint32_t> mResident;      // resident nodes (for eviction)
+  std::vector<ReadyChunk> mReady;       // loaded, not yet uploaded
+  std::vector<uint32_t> mStale;         // invalidated nodes not settled yet
   uint64_t mFrame = 1;
   size_t mInFlight = 0;
   ResidencyCounters mCounters;
