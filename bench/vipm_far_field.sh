@@ -12,9 +12,15 @@
 #     frame time); then VIPM's quality there with --source over the first QFRAMES frames (error,
 #     pops, holes, image pops; default 300).
 #
+#  4. Levels above the roots (`build --upper-levels auto`): the 8193² synth's low pass against
+#     the flat forest at a large budget, then within CACHE_SMALL_MB (default 256), and the
+#     16385² synth flown within it (resident memory, frames waiting on IO, coarser frames,
+#     evictions).
+#
 #   bench/vipm_far_field.sh [FRAMES] [TAU]     defaults: 2000 2
 #
-# Scratch files: $BENCH_DIR/vipm_far_field. ONLY="crater zion synth" runs just those parts.
+# Scratch files: $BENCH_DIR/vipm_far_field. ONLY="crater zion synth upper" runs just those
+# parts (upper builds the 16385² synth: about 4 GB of memory and an hour of CPU).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 frames=${1:-2000}
@@ -92,5 +98,26 @@ if want synth; then
     echo "quality, $stitch: $(figures "$dir/synth_quality_$stitch.json" max_error_px max_pop_px \
       holes_total image_pop_mean blot_switch_mean_max draws_p50 super_chunk_calls_p50 \
       coarser_than_wanted_frames easing_frames frames_waiting_on_io warm_start_ms)"
+  done
+fi
+
+if want upper; then
+  small=${CACHE_SMALL_MB:-256}
+  [ -e "$dir/s8193.tif" ] || "$terralod" synth --size 8193 -o "$dir/s8193.tif" >/dev/null
+  [ -e "$dir/s8193_vipm.tlod" ] ||
+    "$terralod" build "$dir/s8193.tif" --kind vipm -o "$dir/s8193_vipm.tlod" >/dev/null
+  [ -e "$dir/s8193_up.tlod" ] || "$terralod" build "$dir/s8193.tif" --kind vipm \
+    --upper-levels auto -o "$dir/s8193_up.tlod" >/dev/null
+  [ -e "$dir/s16385.tif" ] || "$terralod" synth --size 16385 -o "$dir/s16385.tif" >/dev/null
+  [ -e "$dir/s16385_up.tlod" ] || "$terralod" build "$dir/s16385.tif" --kind vipm \
+    --upper-levels auto -o "$dir/s16385_up.tlod" >/dev/null
+  echo "## Levels above the roots, 1024×768"
+  for run in "flat_large|s8193_vipm|${CACHE_MB:-4096}" "up_large|s8193_up|${CACHE_MB:-4096}" \
+    "up_small|s8193_up|$small" "up16385_small|s16385_up|$small"; do
+    IFS='|' read -r what tileset cache <<<"$run"
+    "$terralod" bench "$dir/$tileset.tlod" --auto-flight --tau "$tau" --size 1024x768 \
+      --frames "$frames" --stitch fans --cache-mb "$cache" --json "$dir/upper_$what.json" >/dev/null
+    echo "$what: $(figures "$dir/upper_$what.json" frame_ms_p50 triangles_p50 draws_p50 \
+      resident_mb_max frames_waiting_on_io coarser_than_wanted_frames evictions loads)"
   done
 fi

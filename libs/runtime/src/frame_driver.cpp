@@ -42,6 +42,7 @@ FrameDriver::FrameDriver(const TilesetReader& tileset, const ChunkTree& tree, Ch
       mOptions(std::move(options)) {
   mSelected.reserve(mTree.nodes().size());
   mDrawnFrame.assign(mTree.nodes().size(), 0);
+  mAncestorFrame.assign(mTree.nodes().size(), 0);
   mEntryMorph.assign(mTree.nodes().size(), 0.0f);
   mOccluders.resize(mTree.nodes().size());
   // Runs on loader threads: reads the node's bytes and has its kind decode them. Touches
@@ -148,11 +149,21 @@ void FrameDriver::easeLateSplits(const SelectionOptions& selection, FrameComplet
 }
 
 void FrameDriver::requestWanted(const View& view, const SelectionOptions& selection) {
-  // In use: the drawn chunks and their ancestors. Wanted: the children of chunks drawn
-  // coarser than wanted (nearest first), then those of chunks close to splitting (prefetch).
+  // In use: the drawn chunks, their ancestors and every child of those ancestors (a chunk
+  // splits only while all its children are resident, those out of view too: evicting one
+  // would merge it, want the child again, load it, split and evict it, over and over).
+  // Wanted: the children of chunks drawn coarser than wanted (nearest first), then those of
+  // chunks close to splitting (prefetch).
   Residency& residency = *mResidency;
   for (const SelectedChunk& s : mSelected) {
-    for (uint32_t i = s.node; i != kNoNode; i = mTree.node(i).parent) residency.touch(i);
+    residency.touch(s.node);
+    for (uint32_t i = mTree.node(s.node).parent; i != kNoNode; i = mTree.node(i).parent) {
+      if (mAncestorFrame[i] == mFrame + 1) break;  // this ancestor's chain is done this frame
+      mAncestorFrame[i] = mFrame + 1;
+      residency.touch(i);
+      const ChunkNode& a = mTree.node(i);
+      for (uint32_t c = a.firstChild; c < a.firstChild + a.childCount; ++c) residency.touch(c);
+    }
     const ChunkNode& n = mTree.node(s.node);
     if (n.childCount == 0) continue;
     const double rho =

@@ -37,10 +37,11 @@ Flight recordedFlight(const ChunkTree& tree) {
   return parseFlight(flightToJson(flight), "flight.json").value();
 }
 
-// `renderMs`: what drawing each frame takes on the clock after its update.
+// `renderMs`: what drawing each frame takes on the clock after its update. `stillFrames` > 0:
+// the flight's first camera that many times instead.
 FlightRun fly(const std::string& path, FrameDriverOptions options,
               const std::function<void(const FrameDriver&, const ChunkTree&)>& check = {},
-              double renderMs = 0.0) {
+              double renderMs = 0.0, size_t stillFrames = 0) {
   auto reader = TilesetReader::openFile(path);
   EXPECT_TRUE(reader.ok()) << reader.error().message;
   const ChunkTree tree((*reader)->header(), (*reader)->nodes());
@@ -56,7 +57,9 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
   KindRuns runs;
   SelectionOptions selection;
   selection.tau = 2.0;
-  for (const Camera& camera : flightCameras(recordedFlight(tree))) {
+  std::vector<Camera> cameras = flightCameras(recordedFlight(tree));
+  if (stillFrames > 0) cameras.assign(stillFrames, cameras.front());
+  for (const Camera& camera : cameras) {
     run.stats.push_back((*driver)->update(makeView(camera).value(), selection));
     RecordedFrame frame;
     runs.split(tree, (*driver)->selected());
@@ -120,6 +123,27 @@ TEST(FrameDriver, ARecordedFlightLoadsSelectsAndEvictsTheSameEveryRun) {
   }
   EXPECT_EQ(uploads, a.counters.loads - a.counters.discarded - a.readyWaiting);
   EXPECT_EQ(releases, a.counters.evictions);
+}
+
+// A still camera that wants more than the budget settles: once loads stop, nothing is
+// evicted and loaded again (a split parent's children out of view stay resident with the
+// ones drawn; evicting them merged the parent, which wanted them again, over and over).
+TEST(FrameDriver, AStillCameraOverTheBudgetSettles) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_still.tlod"), kLevels);
+  FrameDriverOptions options = smallBudget();
+  options.cacheBytes = 40 * kBlobPayloadBytes;
+  size_t settledAt = 0;
+  const FlightRun run = fly(
+      path, options,
+      [&](const FrameDriver& driver, const ChunkTree&) {
+        if (settledAt == 0 && driver.residency().frame() > 60)
+          settledAt = driver.residency().counters().loads;
+      },
+      0.0, 120);
+  EXPECT_GT(run.counters.loads, 30u);  // it filled the budget
+  EXPECT_EQ(run.counters.loads, settledAt) << "loads after the first 60 frames";
+  EXPECT_GT(run.stats.back().selection.coarserThanWanted, 0u) << "the budget is too small";
+  EXPECT_LE(run.counters.residentBytesMax, options.cacheBytes);
 }
 
 TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {

@@ -117,7 +117,7 @@ class Residency {
   size_t stale() const;
   /// Gives a ready chunk back unused (e.g. the frame's upload budget ran out): kept for later.
   void returnReady(ReadyChunk chunk);
-  /// `node` is in use this frame (drawn, or an ancestor of a drawn chunk).
+  /// `node` is in use this frame (drawn, an ancestor of a drawn chunk, or a child of one).
   void touch(uint32_t node);
   /// `node` is wanted: lower priority values load first. Needs a resident parent. A resident
   /// one is in use this frame.
