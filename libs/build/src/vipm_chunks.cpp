@@ -171,9 +171,10 @@ void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& t
         } else {
           continue;
         }
-        const auto& points = lines[line];
+        const auto found = lines.find(line);
+        if (found == lines.end()) continue;
         std::vector<uint16_t> between;
-        for (const auto& [along, v] : points)
+        for (const auto& [along, v] : found->second)
           if (along > std::min(from, to) && along < std::max(from, to)) between.push_back(v);
         if (between.empty()) continue;
         if (from > to) std::reverse(between.begin(), between.end());
@@ -189,6 +190,26 @@ void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& t
     }
     triangles = std::move(out);
   }
+}
+
+// A root's or upper node's fields from its stored form: `mesh` is `stored` unpacked (the
+// coarsest level is read from it, triangles in stored order, so a node built and one kept
+// give the same), `source` the source heights by grid point, `seams` whether it holds its
+// children's shared sides (their deviation is its coarsest error).
+VipmRoot storedRoot(std::vector<uint8_t> blob, const VipmChunkData& stored,
+                    const ProgressiveMesh& mesh,
+                    const std::function<double(int32_t, int32_t)>& source, int32_t x0, int32_t y0,
+                    bool seams) {
+  VipmRoot root;
+  root.blob = std::move(blob);
+  std::vector<double> vertexHeights;
+  root.node = storedNode(stored, vertexHeights);
+  root.borderDeviation = borderDeviation(mesh, source, vertexHeights);
+  root.seamDeviation = seams ? coarsestError(stored) : 0.0;
+  root.collapses = stored.collapseCount();
+  root.coarsest = coarsestLevel(mesh, stored, x0, y0);
+  root.coarsest.error = coarsestError(stored);
+  return root;
 }
 
 // A stored chunk decoded and unpacked, with the patch it was built from.
@@ -238,15 +259,8 @@ Result<VipmRoot> reuseVipmRoot(std::vector<uint8_t> blob, const Heightfield& hei
                                int32_t height, double zStep) {
   auto s = readStored(blob, heights, materials, x0, y0, width, height, zStep);
   if (!s) return s.error();
-  VipmRoot root;
-  root.blob = std::move(blob);
-  root.node = s->node;
-  root.borderDeviation = borderDeviation(s->mesh, denseSource(s->patch), s->vertexHeights);
-  root.seamDeviation = hasSeams(width, height) ? coarsestError(s->data) : 0.0;
-  root.collapses = s->data.collapseCount();
-  root.coarsest = coarsestLevel(s->mesh, s->data, x0, y0);
-  root.coarsest.error = coarsestError(s->data);
-  return root;
+  return storedRoot(std::move(blob), s->data, s->mesh, denseSource(s->patch), x0, y0,
+                    hasSeams(width, height));
 }
 
 Result<VipmRoot> reuseVipmUpperNode(std::vector<uint8_t> blob, const Heightfield& heights,
@@ -257,17 +271,9 @@ Result<VipmRoot> reuseVipmUpperNode(std::vector<uint8_t> blob, const Heightfield
   const VipmChunkData& data = *decoded;
   if (data.width != width || data.height != height || data.zStep != zStep)
     return Error{"reused chunk: not the chunk it replaces"};
-  const ProgressiveMesh mesh = unpackChunk(data).mesh;
-  VipmRoot node;
-  node.blob = std::move(blob);
-  std::vector<double> vertexHeights;
-  node.node = storedNode(data, vertexHeights);
-  node.borderDeviation = borderDeviation(mesh, windowSource(heights, x0, y0), vertexHeights);
-  node.seamDeviation = 0.0;
-  node.collapses = data.collapseCount();
-  node.coarsest = coarsestLevel(mesh, data, x0, y0);
-  node.coarsest.error = coarsestError(data);
-  return node;
+  // No seams: its cracks are closed.
+  return storedRoot(std::move(blob), data, unpackChunk(data).mesh, windowSource(heights, x0, y0),
+                    x0, y0, false);
 }
 
 double vipmTilesetZStep(double maxError, double range) {
@@ -465,15 +471,9 @@ VipmRoot buildVipmRoot(const Heightfield& heights, const MaterialMap& materials,
   const ProgressiveMesh mesh = makeProgressiveMesh(patch, order, 0.0);  // none applied
   const VipmChunkData stored = packChunk(patch, mesh, q);
 
-  VipmRoot root;
-  root.blob = encodeVipmChunk(stored, compressionLevel);
-  std::vector<double> vertexHeights;
-  root.node = storedNode(stored, vertexHeights);
-  root.borderDeviation = borderDeviation(mesh, denseSource(patch), vertexHeights);
-  root.seamDeviation = hasSeams(width, height) ? coarsestError(stored) : 0.0;
-  root.collapses = stored.collapseCount();
-  root.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
-  root.coarsest.error = coarsestError(stored);
+  VipmRoot root =
+      storedRoot(encodeVipmChunk(stored, compressionLevel), stored, unpackChunk(stored).mesh,
+                 denseSource(patch), x0, y0, hasSeams(width, height));
   root.seconds = threadSeconds() - start;
   return root;
 }
@@ -527,15 +527,10 @@ VipmRoot buildVipmUpperNode(const Heightfield& heights,
   const HeightQuantisation q{std::floor(double(lowest) / zStep) * zStep, zStep};
   const VipmChunkData stored = packChunk(patch, mesh, q);
 
-  VipmRoot node;
-  node.blob = encodeVipmChunk(stored, compressionLevel);
-  std::vector<double> vertexHeights;
-  node.node = storedNode(stored, vertexHeights);
-  node.borderDeviation = borderDeviation(mesh, windowSource(heights, x0, y0), vertexHeights);
-  node.seamDeviation = 0.0;  // no seams: its cracks are closed
-  node.collapses = stored.collapseCount();
-  node.coarsest = coarsestLevel(unpackChunk(stored).mesh, stored, x0, y0);
-  node.coarsest.error = coarsestError(stored);
+  // No seams: its cracks are closed.
+  VipmRoot node =
+      storedRoot(encodeVipmChunk(stored, compressionLevel), stored, unpackChunk(stored).mesh,
+                 windowSource(heights, x0, y0), x0, y0, false);
   node.seconds = threadSeconds() - start;
   return node;
 }

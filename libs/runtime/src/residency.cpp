@@ -176,13 +176,12 @@ std::vector<uint32_t> Residency::evict() {
   // Over the budget with the loads in flight, or without room for the most wanted load
   // waiting (dispatch starts it only when it fits: without room made here, a full budget
   // would keep it waiting for good).
-  const auto overBudget = [this] {
+  const auto next = std::min_element(mQueue.begin(), mQueue.end(), [&](uint32_t a, uint32_t b) {
+    return mNodes[a].priority < mNodes[b].priority;
+  });
+  const auto overBudget = [&] {
     if (mCounters.residentBytes + mReserved > mOptions.budgetBytes) return true;
-    if (mQueue.empty()) return false;
-    const uint32_t next = *std::min_element(
-        mQueue.begin(), mQueue.end(),
-        [&](uint32_t a, uint32_t b) { return mNodes[a].priority < mNodes[b].priority; });
-    return mNodes[next].requested == mFrame && !fits(next);
+    return next != mQueue.end() && mNodes[*next].requested == mFrame && !fits(*next);
   };
   // Loaded chunks nobody asked for this frame go first.
   if (overBudget()) {

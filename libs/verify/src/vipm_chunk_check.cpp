@@ -421,7 +421,8 @@ VipmChunkCheck checkVipmUpperNode(const VipmChunkData& chunk, int64_t x0, int64_
     for (uint32_t v = 0; v < n; ++v) now[v] = resolve(uint16_t(v));
     std::fill(covered.begin(), covered.end(), false);
     double worst = 0.0;
-    for (const Triangle& t : levelTriangles(chunk, now)) {
+    const std::vector<Triangle> triangles = levelTriangles(chunk, now);
+    for (const Triangle& t : triangles) {
       const int64_t ax = g.x(t[0]), ay = g.y(t[0]), bx = g.x(t[1]), by = g.y(t[1]);
       const int64_t cx = g.x(t[2]), cy = g.y(t[2]);
       const int64_t area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
@@ -456,7 +457,7 @@ VipmChunkCheck checkVipmUpperNode(const VipmChunkData& chunk, int64_t x0, int64_
                           " samples uncovered");
     auto points = [&](std::vector<std::array<double, 3>>& to) {
       std::vector<bool> used(n);
-      for (const Triangle& t : levelTriangles(chunk, now))
+      for (const Triangle& t : triangles)
         for (uint16_t v : t) used[v] = true;
       for (uint32_t v = 0; v < n; ++v)
         if (used[v]) to.push_back({double(x0 + g.x(v)), double(y0 + g.y(v)), g.z(v)});

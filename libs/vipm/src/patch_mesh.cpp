@@ -27,6 +27,10 @@ int64_t ceilDiv(int64_t a, int64_t b) {
 
 enum Side { kWest = 1, kEast = 2, kSouth = 4, kNorth = 8, kSeamX = 16, kSeamY = 32 };
 
+// Which grid points of a row Plane::row gives: exactly those inside the triangle, or a range
+// that holds them, never empty within the triangle's rows (its real extent rounded outward).
+enum class RowRange : uint8_t { kInside, kOutward };
+
 // A triangle of a patch (counter-clockwise, positive area) and its plane.
 struct Plane {
   Point corners[3];
@@ -56,10 +60,10 @@ struct Plane {
     return za + gy * double(y - corners[0].y) - gx * double(corners[0].x);
   }
   double at(int64_t x, int64_t y) const { return rowBase(y) + gx * double(x); }
-  // The grid points of row y inside the closed triangle: [lo, hi] (empty when lo > hi). With
-  // `inside` false, a range that holds them and is never empty in [y0, y1] (the row's real
-  // extent rounded outward).
-  void row(int64_t y, int64_t& lo, int64_t& hi, bool inside = true) const {
+  // The grid points of row y in the closed triangle, [lo, hi] (empty when lo > hi), as `range`
+  // says.
+  void row(int64_t y, int64_t& lo, int64_t& hi, RowRange range = RowRange::kInside) const {
+    const bool inside = range == RowRange::kInside;
     // Each counter-clockwise edge p -> q keeps the points with cross(q - p, s - p) >= 0,
     // which for this row is C - D x >= 0.
     lo = x0;
@@ -151,13 +155,13 @@ double blockError(const GridPatch& patch, const Plane& t, double limit) {
       // The triangle's left and right edges are convex and concave in y, bent at its corners
       // (grid rows): their extremes over [ya, yb] are at its ends or at a corner's row.
       int64_t l, h;
-      t.row(ya, lo, hi, false);
-      t.row(yb, l, h, false);
+      t.row(ya, lo, hi, RowRange::kOutward);
+      t.row(yb, l, h, RowRange::kOutward);
       lo = std::min(lo, l);
       hi = std::max(hi, h);
       for (const Point& c : t.corners)
         if (c.y > ya && c.y < yb) {
-          t.row(c.y, l, h, false);
+          t.row(c.y, l, h, RowRange::kOutward);
           lo = std::min(lo, l);
           hi = std::max(hi, h);
         }
