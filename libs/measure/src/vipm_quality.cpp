@@ -199,11 +199,6 @@ std::vector<VipmQuality::Triangle> VipmQuality::triangles(
   return out;
 }
 
-std::vector<VipmQuality::Triangle> VipmQuality::surface(Chunk& c, const Drawn& d) {
-  const auto drawn = drawnPositions(c, d);
-  return triangles(c, drawn, nullptr);
-}
-
 bool VipmQuality::inView(const View& view, int64_t x, int64_t y, double z) const {
   const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
   for (const glm::dvec4& plane : view.planes)
@@ -230,10 +225,7 @@ void VipmQuality::rasterize(const Chunk& c, std::span<const Triangle> triangles,
   }
 }
 
-Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Drawn> chunks) {
-  // Surfaces on this thread (the chunks' level state is not thread-safe), measured in parallel.
-  std::vector<std::pair<const Chunk*, std::vector<Triangle>>> surfaces;
-  surfaces.reserve(chunks.size());
+Result<std::vector<VipmQuality::Surface>> VipmQuality::surfaces(std::span<const Drawn> chunks) {
   std::vector<Chunk*> states;
   std::vector<std::vector<std::array<float, 3>>> positions;
   for (const Drawn& d : chunks) {
@@ -243,9 +235,10 @@ Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Dra
     positions.push_back(drawnPositions(**c, d));
   }
   // With fans: every chunk's border points, then each chunk's fans, as the kind makes them.
+  const bool fanned = mStitch == VipmStitch::kFans;
   StitchTable table;
   std::vector<std::array<uint8_t, kMaxMaterials>> noWeights;
-  if (mStitch == VipmStitch::kFans) {
+  if (fanned) {
     for (size_t i = 0; i < states.size(); ++i) {
       noWeights.assign(positions[i].size(), {});
       states[i]->stitcher.addPoints(table, states[i]->levels.activeVertices(), positions[i],
@@ -253,23 +246,32 @@ Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Dra
     }
     table.finish();
   }
+  std::vector<Surface> out;
+  out.reserve(states.size());
   StitchFans fans;
   for (size_t i = 0; i < states.size(); ++i) {
     const Chunk& c = *states[i];
-    if (mStitch == VipmStitch::kFans) {
+    if (fanned) {
       const VipmPart& whole = c.levels.whole();
       c.stitcher.fan(table,
                      std::span(whole.indices).first(size_t(c.levels.drawnTriangles(whole)) * 3),
                      positions[i], fans);
     }
-    surfaces.emplace_back(
-        &c, triangles(c, positions[i], mStitch == VipmStitch::kFans ? &fans : nullptr));
+    out.push_back({&c, triangles(c, positions[i], fanned ? &fans : nullptr)});
   }
+  return out;
+}
+
+Result<double> VipmQuality::maxErrorPixels(const View& view, std::span<const Drawn> chunks) {
+  // Surfaces on this thread (the chunks' level state is not thread-safe), measured in parallel.
+  auto made = surfaces(chunks);
+  if (!made) return made.error();
+  const std::vector<Surface>& surfaces = *made;
   std::atomic<double> found{0.0};
   const auto spacing = mTree.spacing();
   parallelFor(surfaces.size(), mThreads, [&](size_t i, unsigned) {
     double worst = 0.0;
-    rasterize(*surfaces[i].first, surfaces[i].second, view, [&](int64_t x, int64_t y, double z) {
+    rasterize(*surfaces[i].chunk, surfaces[i].triangles, view, [&](int64_t x, int64_t y, double z) {
       const double truth = mSource(int32_t(x), int32_t(y));
       const glm::dvec3 p{double(x) * spacing[0], double(y) * spacing[1], truth};
       worst = std::max(
@@ -318,14 +320,19 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
   // not what this chunk's samples showed. A seam drawn from both sides inside one branch (a
   // root's children's sides, which need not match) has two layers before and after: the
   // lowest and the highest are compared.
+  // Both frames' surfaces as drawn (with fans, each frame's fans, made from its own chunks),
+  // rasterised where needed.
+  auto earlier = surfaces(previous);
+  if (!earlier) return earlier.error();
+  auto later = surfaces(current);
+  if (!later) return later.error();
   auto layersOf = [&](std::unordered_map<uint32_t, SampleLayers>& cache,
-                      const Drawn& d) -> Result<const SampleLayers*> {
+                      const std::vector<Surface>& made, std::span<const Drawn> frame,
+                      const Drawn& d) -> const SampleLayers* {
     if (const auto it = cache.find(d.node); it != cache.end()) return &it->second;
-    auto c = chunk(d.node);
-    if (!c) return c.error();
-    const auto triangles = surface(**c, d);
+    const Surface& surface = made[size_t(&d - frame.data())];
     SampleLayers& mine = cache[d.node];
-    rasterize(**c, triangles, view,
+    rasterize(*surface.chunk, surface.triangles, view,
               [&](int64_t x, int64_t y, double z) { keepLayer(mine, sampleKey(x, y), z); });
     return &mine;
   };
@@ -336,20 +343,16 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     std::vector<const SampleLayers*> then, now;
     for (const Drawn& e : previous) {
       if (unchanged.count(e.node) || !sameBranch(mTree, e.node, d->node)) continue;
-      auto layers = layersOf(earlierSurfaces, e);
-      if (!layers) return layers.error();
-      then.push_back(*layers);
+      then.push_back(layersOf(earlierSurfaces, *earlier, previous, e));
       for (const Drawn& n : current) {
         if (!sameBranch(mTree, n.node, e.node)) continue;
-        auto later = layersOf(laterSurfaces, n);
-        if (!later) return later.error();
-        if (std::find(now.begin(), now.end(), *later) == now.end()) now.push_back(*later);
+        const SampleLayers* layers = layersOf(laterSurfaces, *later, current, n);
+        if (std::find(now.begin(), now.end(), layers) == now.end()) now.push_back(layers);
       }
     }
     if (then.empty()) continue;  // newly in view: nothing it replaced
-    auto mine = layersOf(laterSurfaces, *d);
-    if (!mine) return mine.error();
-    for (const auto& [key, unused] : **mine) {
+    const SampleLayers* mine = layersOf(laterSurfaces, *later, current, *d);
+    for (const auto& [key, unused] : *mine) {
       Layers was, is;
       if (!layersAt(then, key, was) || !layersAt(now, key, is)) continue;
       const double moved = std::max(std::fabs(is.low - was.low), std::fabs(is.high - was.high));

@@ -115,16 +115,19 @@ uint64_t VipmChunkKind::upload(uint32_t node, const ChunkPayload& payload) {
   block->setMember(slot, chunk.get());
   const uint64_t bytes = chunk->bytes();
   mGpuBytes += chunk->gpuBytes();
-  if (auto& old = mChunks[node]) mGpuBytes -= old->gpuBytes();
+  mBlockBytesUsed += chunk->blockBytes();
+  if (auto& old = mChunks[node]) {
+    mGpuBytes -= old->gpuBytes();
+    mBlockBytesUsed -= old->blockBytes();
+  }
   mChunks[node] = std::move(chunk);  // an old chunk in the slot releases its vertices
   return bytes;
 }
 
 uint64_t VipmChunkKind::blockSpareBytes() const {
-  uint64_t blocks = 0, used = 0;
+  uint64_t blocks = 0;
   for (const auto& [key, block] : mBlocks) blocks += block->allocatedBytes();
-  for (const auto& [node, chunk] : mChunks) used += chunk->blockBytes();
-  return blocks > used ? blocks - used : 0;
+  return blocks > mBlockBytesUsed ? blocks - mBlockBytesUsed : 0;
 }
 
 void VipmChunkKind::release(uint32_t node) {
@@ -135,6 +138,7 @@ void VipmChunkKind::release(uint32_t node) {
   VipmBlock& block = chunk.block();
   if (block.member(chunk.slot()) == &chunk) block.setMember(chunk.slot(), nullptr);
   mGpuBytes -= chunk.gpuBytes();
+  mBlockBytesUsed -= chunk.blockBytes();
   mChunks.erase(it);
   if (block.empty()) mBlocks.erase(key);
 }

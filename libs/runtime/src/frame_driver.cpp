@@ -86,7 +86,14 @@ Status FrameDriver::loadRoots() {
     mResidency->markLoadedNow(root, bytes + grid);
     keepOccluders(root, std::move(loaded->occluders));
   }
+  noteSharedBytes();
   return {};
+}
+
+void FrameDriver::noteSharedBytes() {
+  uint64_t shared = 0;
+  for (const ChunkKind* kind : mKinds.all()) shared += kind->sharedBytes();
+  mResidency->setSharedBytes(shared);
 }
 
 void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
@@ -107,12 +114,15 @@ void FrameDriver::uploadReady(UploadLimit limit, UpdateStats& stats) {
       ++stats.deferredUploads;
       continue;
     }
+    const uint64_t sharedBefore = kind.sharedBytes();
     const uint64_t bytes = kind.upload(chunk.node, *chunk.chunk.payload);
+    const uint64_t sharedAfter = kind.sharedBytes();
+    const uint64_t grown = sharedAfter > sharedBefore ? sharedAfter - sharedBefore : 0;
     const OccluderGrid& grid = chunk.chunk.occluders;
     if (chunk.refresh)
       residency.markRefreshed(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
     else
-      residency.markResident(chunk, bytes + (grid.empty() ? 0 : grid.bytes()));
+      residency.markResident(chunk, bytes + (grid.empty() ? 0 : grid.bytes()), grown);
     keepOccluders(chunk.node, std::move(chunk.chunk.occluders));
     ++stats.uploads;
   }
@@ -178,6 +188,7 @@ void FrameDriver::requestWanted(const View& view, const SelectionOptions& select
 void FrameDriver::step(const View& view, const SelectionOptions& selection,
                        FrameCompleteness completeness, UploadLimit limit, UpdateStats& stats) {
   uploadReady(limit, stats);
+  noteSharedBytes();
 
   const double selectStart = mClock.nowMilliseconds();
   SelectionOptions options = selection;
@@ -192,6 +203,7 @@ void FrameDriver::step(const View& view, const SelectionOptions& selection,
     keepOccluders(node, {});
     ++stats.evictions;
   }
+  noteSharedBytes();
   mResidency->dispatch();
 }
 

@@ -64,6 +64,11 @@ bool Residency::fits(uint32_t node) const {
   return mCounters.residentBytes + mReserved + reserve(node) <= mOptions.budgetBytes;
 }
 
+void Residency::setSharedBytes(uint64_t bytes) {
+  addBytes(int64_t(bytes) - int64_t(mCounters.sharedBytes));
+  mCounters.sharedBytes = bytes;
+}
+
 void Residency::addBytes(int64_t delta) {
   mCounters.residentBytes = uint64_t(int64_t(mCounters.residentBytes) + delta);
   mCounters.residentBytesMax = std::max(mCounters.residentBytesMax, mCounters.residentBytes);
@@ -78,9 +83,15 @@ std::vector<ReadyChunk> Residency::collect() {
   for (Finished& f : done) {
     Node& n = mNodes[f.node];
     --mInFlight;
-    mReserved -= mReservedBy[f.node];
-    mReservedBy[f.node] = 0;
+    // A chunk now ready holds its decoded bytes, and still reserves what its upload may take
+    // beyond them (a kind's shared memory growing with it).
+    const uint64_t reserved = mReservedBy[f.node];
+    unreserve(f.node);
     if (f.result) noteChunkBytes(f.node, f.result->bytes);
+    if (f.result && !f.refresh && reserved > f.result->bytes) {
+      mReservedBy[f.node] = reserved - f.result->bytes;
+      mReserved += mReservedBy[f.node];
+    }
     if (f.refresh) {
       // Kept only while the node is still resident (an evicted one reloads the new bytes);
       // it stays refreshing until uploaded (markRefreshed).
@@ -126,16 +137,23 @@ void Residency::returnReady(ReadyChunk chunk) {
   mReady.push_back(std::move(chunk));
 }
 
-void Residency::markResident(const ReadyChunk& chunk, uint64_t gpuBytes) {
+void Residency::unreserve(uint32_t node) {
+  mReserved -= mReservedBy[node];
+  mReservedBy[node] = 0;
+}
+
+void Residency::markResident(const ReadyChunk& chunk, uint64_t gpuBytes, uint64_t sharedGrowth) {
   assert(mNodes[chunk.node].state == ChunkState::kReady);
+  unreserve(chunk.node);
   addBytes(-int64_t(chunk.chunk.bytes));
   Node& n = mNodes[chunk.node];
   n.state = ChunkState::kResident;
   n.gpuBytes = gpuBytes;
   n.lastUsed = mFrame;
   mDrawable[chunk.node] = 1;
-  addBytes(int64_t(gpuBytes));
-  noteChunkBytes(chunk.node, gpuBytes);
+  addBytes(int64_t(gpuBytes + sharedGrowth));
+  mCounters.sharedBytes += sharedGrowth;
+  noteChunkBytes(chunk.node, gpuBytes + sharedGrowth);
   mResident.push_back(chunk.node);
 }
 
@@ -192,6 +210,7 @@ std::vector<uint32_t> Residency::evict() {
         continue;
       }
       addBytes(-int64_t(r.chunk.bytes));
+      unreserve(r.node);
       ++mCounters.discarded;
       if (r.refresh) {  // the node stays resident with its old payload: decode it again later
         mNodes[r.node].refreshing = false;

@@ -11,6 +11,7 @@
 
 #include <cstring>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -124,9 +125,20 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
     EXPECT_EQ(static_cast<const BlobPayload&>(payload).node, node);
     uploadedFiller[node] = static_cast<const BlobPayload&>(payload).filler;
     mBackend.upload(node);
+    if (uploaded.insert(node).second) ++mGroupMembers[node / kGroup];
     return kBlobPayloadBytes;
   }
-  void release(uint32_t node) override { mBackend.release(node); }
+  void release(uint32_t node) override {
+    mBackend.release(node);
+    if (uploaded.erase(node) && --mGroupMembers[node / kGroup] == 0)
+      mGroupMembers.erase(node / kGroup);
+  }
+  /// Like super-chunk blocks: every group of kGroup consecutive nodes with a chunk uploaded
+  /// holds `sharedPerGroup` bytes besides them.
+  uint64_t sharedBytes() const override { return mGroupMembers.size() * sharedPerGroup; }
+  static constexpr uint32_t kGroup = 4;
+  uint64_t sharedPerGroup = 0;
+  std::set<uint32_t> uploaded;
   std::map<uint32_t, uint8_t> uploadedFiller;  ///< per node: its last upload's
   void addDraws(RecordedFrame& frame, std::span<const SelectedChunk> chunks) override {
     frame.draws.insert(frame.draws.end(), chunks.begin(), chunks.end());
@@ -135,6 +147,7 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
 
  private:
   RecordingBackend& mBackend;
+  std::map<uint32_t, uint32_t> mGroupMembers;  // per group with a chunk uploaded: how many
 };
 
 /// A FullTree of `levels` levels written as a tileset of blob chunks (mesh kind 7). The blob

@@ -29,6 +29,7 @@ struct FlightRun {
   ResidencyCounters counters;
   size_t readyWaiting = 0;              // loaded, not uploaded, at the end
   std::vector<uint64_t> residentBytes;  // after each update
+  std::vector<uint64_t> keptBytes;      // after each update: uploaded chunks plus shared
 };
 
 Flight recordedFlight(const ChunkTree& tree) {
@@ -38,10 +39,10 @@ Flight recordedFlight(const ChunkTree& tree) {
 }
 
 // `renderMs`: what drawing each frame takes on the clock after its update. `stillFrames` > 0:
-// the flight's first camera that many times instead.
+// the flight's first camera that many times instead. `sharedPerGroup`: BlobKind's.
 FlightRun fly(const std::string& path, FrameDriverOptions options,
               const std::function<void(const FrameDriver&, const ChunkTree&)>& check = {},
-              double renderMs = 0.0, size_t stillFrames = 0) {
+              double renderMs = 0.0, size_t stillFrames = 0, uint64_t sharedPerGroup = 0) {
   auto reader = TilesetReader::openFile(path);
   EXPECT_TRUE(reader.ok()) << reader.error().message;
   const ChunkTree tree((*reader)->header(), (*reader)->nodes());
@@ -49,6 +50,7 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
   FakeClock clock(&runner);
   RecordingBackend backend(clock);
   BlobKind kind(backend);
+  kind.sharedPerGroup = sharedPerGroup;
   ChunkKinds kinds;
   kinds.add(kind);
   auto driver = FrameDriver::create(**reader, tree, kinds, runner, clock, std::move(options));
@@ -69,6 +71,7 @@ FlightRun fly(const std::string& path, FrameDriverOptions options,
     }
     run.drawn.push_back(std::move(frame));
     run.residentBytes.push_back((*driver)->residency().counters().residentBytes);
+    run.keptBytes.push_back(kind.uploaded.size() * kBlobPayloadBytes + kind.sharedBytes());
     if (check) check(**driver, tree);
     clock.advance(renderMs);
     runner.runAll();  // the loads dispatched this frame finish before the next
@@ -172,6 +175,23 @@ TEST(FrameDriver, KeepsTheBudgetsAndTheResidentSetClosedUnderParents) {
   size_t fullFrames = 0;
   for (const UpdateStats& s : run.stats) fullFrames += s.uploads == 5 ? 1 : 0;
   EXPECT_GT(fullFrames, 0u) << "the upload budget never bit: nothing tested";
+}
+
+// What a kind holds besides its chunks (VIPM super-chunk blocks' spare room) is in the budget:
+// chunks plus shared memory stay within it every frame.
+TEST(FrameDriver, MemoryAKindSharesBetweenChunksCountsAgainstTheBudget) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_shared.tlod"), kLevels);
+  const FrameDriverOptions options = smallBudget();
+  const FlightRun run = fly(path, options, {}, 0.0, 0, kBlobPayloadBytes);
+  uint64_t keptMax = 0;
+  for (size_t f = 0; f < run.keptBytes.size(); ++f) {
+    EXPECT_LE(run.keptBytes[f], options.cacheBytes) << "frame " << f;
+    EXPECT_LE(run.residentBytes[f], options.cacheBytes) << "frame " << f;
+    keptMax = std::max(keptMax, run.keptBytes[f]);
+  }
+  EXPECT_GT(run.counters.evictions, 20u);
+  EXPECT_GT(run.counters.sharedBytes, 0u);
+  EXPECT_GT(keptMax, options.cacheBytes * 3 / 4) << "the budget never filled: nothing tested";
 }
 
 TEST(FrameDriver, SlowFramesGiveUploadsAShareOfTheirInterval) {

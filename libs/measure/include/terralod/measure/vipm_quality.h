@@ -16,7 +16,9 @@
 //  Chunks drawn alike in both (same node, same collapses, no geomorph or the same θ) are left
 //  out.
 // With fan stitching (VipmStitch::kFans) the error is measured on the fans too, made from the
-// frame's chunks as the kind makes them; pops compare each chunk's own triangles.
+// frame's chunks as the kind makes them, and pops compare each frame's chunks with their fans
+// (a merge into a node above the roots, whose children's cracks are closed as fans close them,
+// changes no height there).
 
 #include <array>
 #include <cstdint>
@@ -82,9 +84,14 @@ class VipmQuality {
   };
   // Decodes a chunk once. Not thread-safe.
   Result<Chunk*> chunk(uint32_t node);
-  // The chunk's surface triangles in state `d`, as the kind draws them (without fans). Not
-  // thread-safe.
-  std::vector<Triangle> surface(Chunk& c, const Drawn& d);
+  // A chunk's drawn triangles in one frame.
+  struct Surface {
+    const Chunk* chunk;
+    std::vector<Triangle> triangles;
+  };
+  // Each of `chunks` (one frame's) as the kind draws them, with their fans if stitched by
+  // fans. Not thread-safe.
+  Result<std::vector<Surface>> surfaces(std::span<const Drawn> chunks);
   // Sets the chunk's collapses for `d` and returns its vertices where the kind draws them.
   std::vector<std::array<float, 3>> drawnPositions(Chunk& c, const Drawn& d);
   // Its living triangles at `drawn`, those `fans` replace (if any) left out and the fans added.

@@ -94,8 +94,9 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   /// GPU memory the uploaded chunks take.
   uint64_t gpuBytes() const { return mGpuBytes; }
   /// GPU memory the super-chunk blocks hold beyond their chunks' own: spare vertex room and
-  /// texture layers no chunk uses (not counted in the chunk budget).
+  /// texture layers no chunk uses (counted in the budget as sharedBytes).
   uint64_t blockSpareBytes() const;
+  uint64_t sharedBytes() const override { return blockSpareBytes(); }
 
  private:
   VipmChunkKind(const TilesetReader& tileset, std::unique_ptr<VipmPass> pass);
@@ -110,6 +111,7 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   std::map<BlockKey, std::unique_ptr<VipmBlock>> mBlocks;  // before the chunks: they use them
   std::unordered_map<uint32_t, std::unique_ptr<VipmGpuChunk>> mChunks;
   uint64_t mGpuBytes = 0;
+  uint64_t mBlockBytesUsed = 0;  // the uploaded chunks' share of their blocks
   // Fans or no fans for every drawn chunk, after their levels are set.
   void stitch(const TerrainStyle& style, std::span<const VipmDraw> draws);
   std::vector<VipmDraw> mDraws;               // per frame, kept to avoid allocating

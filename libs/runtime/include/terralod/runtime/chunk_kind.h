@@ -64,6 +64,9 @@ class ChunkKind {
   virtual uint64_t upload(uint32_t node, const ChunkPayload& payload) = 0;
   /// Frees what upload() made for `node`.
   virtual void release(uint32_t node) = 0;
+  /// Memory the kind holds besides what upload() returned for its chunks: storage several
+  /// chunks share, with its room to spare. Counted against the budget with them.
+  virtual uint64_t sharedBytes() const { return 0; }
 };
 
 /// A kind that draws into a renderer's frame of type `Frame` (libs/render: TerrainFrame;

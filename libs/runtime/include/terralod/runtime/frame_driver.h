@@ -139,6 +139,8 @@ class FrameDriver {
   void step(const View& view, const SelectionOptions& selection, FrameCompleteness completeness,
             UploadLimit limit, UpdateStats& stats);
   void uploadReady(UploadLimit limit, UpdateStats& stats);
+  // Tells the residency what the kinds hold besides their chunks (after uploads and releases).
+  void noteSharedBytes();
   void easeLateSplits(const SelectionOptions& selection, FrameCompleteness completeness,
                       UpdateStats& stats);
   void requestWanted(const View& view, const SelectionOptions& selection);

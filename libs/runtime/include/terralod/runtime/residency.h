@@ -9,9 +9,11 @@
 //     │                                                 └──error──► failed ──retry frame──►│ absent
 //     └──────────────────────────── evict (least recently used first) ◄────────────────────┘
 //
-// The budget holds what is resident or ready and what the loads in flight will bring: each
-// load reserves the largest chunk of its level seen so far (before the first, of the nearest
-// level above), so loads start only while that fits. A chunk that is drawn, an ancestor of one, or
+// The budget holds what is resident or ready, what the kinds hold besides their chunks (shared
+// memory, e.g. VIPM super-chunk blocks' spare room), and what the loads in flight will bring:
+// each load reserves the largest chunk of its level seen so far, with the shared memory its
+// upload added (before the first, of the nearest level above), until its upload, so loads
+// start only while that fits. A chunk that is drawn, an ancestor of one, or
 // wanted (requested) is in use and never evicted: when what a view wants does not fit, the frames
 // draw coarser instead of loading and evicting the same chunks over and over.
 //
@@ -70,7 +72,8 @@ struct ResidencyCounters {
   uint64_t failures = 0;       ///< loads that failed (each retried later)
   uint64_t cancelled = 0;      ///< queued requests dropped because nobody wanted them any more
   uint64_t discarded = 0;      ///< loaded chunks dropped unused (budget)
-  uint64_t residentBytes = 0;  ///< now: resident plus ready
+  uint64_t residentBytes = 0;  ///< now: resident plus ready plus shared
+  uint64_t sharedBytes = 0;    ///< now: what the kinds hold besides their chunks (setSharedBytes)
   uint64_t residentBytesMax = 0;
 };
 
@@ -102,10 +105,15 @@ class Residency {
   // --- once per frame, on the render thread, in this order ---
   /// Collects finished loads; returns those now ready, most wanted first.
   std::vector<ReadyChunk> collect();
-  /// The caller put a ready chunk on the GPU, taking `gpuBytes`, and dropped its payload.
-  void markResident(const ReadyChunk& chunk, uint64_t gpuBytes);
+  /// The caller put a ready chunk on the GPU, taking `gpuBytes`, and dropped its payload;
+  /// the kind's shared memory grew by `sharedGrowth` with it (counted now, and in what later
+  /// loads of its level reserve).
+  void markResident(const ReadyChunk& chunk, uint64_t gpuBytes, uint64_t sharedGrowth = 0);
   /// The same for a chunk from loadNow().
   void markLoadedNow(uint32_t node, uint64_t gpuBytes);
+  /// What the kinds hold now besides their chunks (ChunkKind::sharedBytes): counted in the
+  /// budget with them.
+  void setSharedBytes(uint64_t bytes);
   /// A refreshed chunk was uploaded in place of the old one, now holding `gpuBytes`.
   void markRefreshed(const ReadyChunk& chunk, uint64_t gpuBytes);
   /// The node's bytes changed (an edit): a resident chunk is decoded again on a loader thread
@@ -157,6 +165,8 @@ class Residency {
   void addBytes(int64_t delta);
   // What a load of `node` reserves until it is collected.
   uint64_t reserve(uint32_t node) const;
+  // Drops what `node` reserves.
+  void unreserve(uint32_t node);
   void noteChunkBytes(uint32_t node, uint64_t bytes);
   bool fits(uint32_t node) const;
 
