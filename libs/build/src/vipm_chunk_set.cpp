@@ -12,6 +12,7 @@
 #include "terralod/build/vipm_chunks.h"
 #include "terralod/core/parallel.h"
 #include "terralod/materials/terrain_edits.h"
+#include "terralod/vipm/collapse_order.h"
 #include "vipm_cells.h"
 #include "vipm_chunk_reuse.h"
 
@@ -266,8 +267,12 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
     const double below = levelErrors[size_t(level) + 1];
     const double levelError = level + 1 == leafLevel() ? 2.0 * std::max(largestCoarsest, below)
                                                        : std::max(largestCoarsest, 2.0 * below);
-    // Where this level's nodes stop: their parents' error, twice theirs; the top goes on.
-    const double lastError = level > 0 ? 2.0 * levelError : std::numeric_limits<double>::infinity();
+    // Where this level's nodes stop: their parents' error (twice theirs) over the geomorph's
+    // span, so that their last collapses have finished geomorphing (at kMorphSpan times their
+    // error) where the parent takes over with its finest level, their coarsest; the top goes
+    // on.
+    const double lastError =
+        level > 0 ? 2.0 * levelError / kMorphSpan : std::numeric_limits<double>::infinity();
     if (levelError != levelErrors[size_t(level)])
       for (size_t i : members) dirty[i] = 1;
     levelErrors[size_t(level)] = levelError;

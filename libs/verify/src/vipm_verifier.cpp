@@ -14,6 +14,7 @@
 #include "terralod/materials/dem_classification.h"
 #include "terralod/materials/material_raster.h"
 #include "terralod/materials/terrain_edits.h"
+#include "terralod/vipm/collapse_order.h"
 #include "vipm_chunk_check.h"
 
 namespace terralod {
@@ -30,6 +31,7 @@ struct Checked {
   double lastError = 0;                         // recorded error of its coarsest LOD
   // Nodes above the roots: their finest level's points; every node but leaves: its coarsest's.
   std::vector<std::array<double, 3>> finestPoints, coarsestPoints;
+  bool geomorphs = false;  // it has collapses (its last one geomorphs)
 };
 
 // The source's materials as the tileset's metadata says they were made; nullopt when they
@@ -197,6 +199,7 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
       out.coarsestPoints = std::move(c.coarsestPoints);
       out.lastError = chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
                                              : double(chunk->finestError);
+      out.geomorphs = chunk->collapseCount() != 0;
       if (chunk->collapseCount() != 0 &&
           double(chunk->errors.front()) * chunk->errorStep < h.levelError[n.level])
         addFailure(name(i) + ": its first collapse's error is below its level's error " +
@@ -228,7 +231,8 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
            chunk->collapseCount() ? double(chunk->errors.back()) * chunk->errorStep
                                   : double(chunk->finestError),
            {},
-           std::move(coarsestPoints)};
+           std::move(coarsestPoints),
+           chunk->collapseCount() != 0};
     checkRecord(i, *chunk);
     // A root draws its children's coarsest LODs until its allowance passes its level error.
     if (n.level == rootLevel && chunk->collapseCount() != 0 &&
@@ -291,6 +295,14 @@ Status verifyVipmTileset(const TilesetReader& tileset, const Heightfield& height
           addFailure(name(c) + ": coarsest LOD's error " + std::to_string(checked[c].lastError) +
                      " m is over its parent level's error " +
                      std::to_string(h.levelError[n.level]) + " m");
+        // Its last collapse finishes geomorphing at kMorphSpan times its error: by then its
+        // parent takes over, or the child still slides where the parent stands still.
+        else if (checked[c].geomorphs &&
+                 checked[c].lastError > h.levelError[n.level] / kMorphSpan + slack)
+          addFailure(name(c) + ": last collapse's error " + std::to_string(checked[c].lastError) +
+                     " m is over its parent level's error over the geomorph's span (" +
+                     std::to_string(h.levelError[n.level] / kMorphSpan) +
+                     " m): it would still be geomorphing where its parent takes over");
         if (nodes[c].maxSkirtDepth > n.maxSkirtDepth)
           addFailure(name(i) + ": its flanges are shallower than child " + std::to_string(c) +
                      "'s");
