@@ -70,7 +70,8 @@ done
 if want synth; then
   [ -e "$dir/s8193.tif" ] || "$terralod" synth --size 8193 -o "$dir/s8193.tif" >/dev/null
   [ -e "$dir/s8193_vipm.tlod" ] ||
-    "$terralod" build "$dir/s8193.tif" --kind vipm -o "$dir/s8193_vipm.tlod" >/dev/null
+    "$terralod" build "$dir/s8193.tif" --kind vipm --upper-levels 0 \
+      -o "$dir/s8193_vipm.tlod" >/dev/null
   [ -e "$dir/s8193_static.tlod" ] ||
     "$terralod" build "$dir/s8193.tif" --no-texture -o "$dir/s8193_static.tlod" >/dev/null
   # Every root stays resident (about 1.3 GB here, over the default 512 MB budget: leaves would
@@ -105,7 +106,8 @@ if want upper; then
   small=${CACHE_SMALL_MB:-256}
   [ -e "$dir/s8193.tif" ] || "$terralod" synth --size 8193 -o "$dir/s8193.tif" >/dev/null
   [ -e "$dir/s8193_vipm.tlod" ] ||
-    "$terralod" build "$dir/s8193.tif" --kind vipm -o "$dir/s8193_vipm.tlod" >/dev/null
+    "$terralod" build "$dir/s8193.tif" --kind vipm --upper-levels 0 \
+      -o "$dir/s8193_vipm.tlod" >/dev/null
   [ -e "$dir/s8193_up.tlod" ] || "$terralod" build "$dir/s8193.tif" --kind vipm \
     --upper-levels auto -o "$dir/s8193_up.tlod" >/dev/null
   [ -e "$dir/s16385.tif" ] || "$terralod" synth --size 16385 -o "$dir/s16385.tif" >/dev/null

@@ -95,8 +95,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "vipm: levels of nodes above the 128-cell roots (256, 512, ... cells), each "
                   "its children's coarsest levels joined and simplified further, so that the far "
                   "field draws few large nodes and only the top ones stay resident (maps too "
-                  "large for their roots to stay in memory); 0 (the default: a flat forest of "
-                  "roots) to 8, or auto: as many as make one top node, at most 8")
+                  "large for their roots to stay in memory); 0 (a flat forest of roots) to 8, or "
+                  "auto: as many as make one top node, at most 8. Default: auto for maps of "
+                  "more than 256 roots (over 2048 cells a side), 0 below")
       ->check(CLI::Range(0, 8) | CLI::IsMember({"auto"}));
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
@@ -139,7 +140,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         if (options->blotError.leafError(options->maxError) < options->maxError)
           return fail("--blot-error must be at least --max-error");
         if (*upperLevels == "auto") {
-          options->vipmUpperLevels = -1;
+          options->vipmUpperLevels = kVipmUpperLevelsAuto;
         } else if (!upperLevels->empty()) {
           options->vipmUpperLevels = std::stoi(*upperLevels);  // checked
         }

@@ -127,7 +127,12 @@ TreeLayout vipmTreeLayout(const DemInfo& info, int32_t upperLevels) {
   l.cellsY = info.rows - 1;
   l.leafCells = kLeaf;
   const int32_t roots = (std::max(l.cellsX, l.cellsY) + kRoot - 1) / kRoot;
-  if (upperLevels < 0) {
+  if (upperLevels == kVipmUpperLevelsBySize) {
+    const int64_t flatRoots =
+        int64_t((l.cellsX + kRoot - 1) / kRoot) * int64_t((l.cellsY + kRoot - 1) / kRoot);
+    upperLevels = flatRoots > kVipmFlatRootsMax ? kVipmUpperLevelsAuto : 0;
+  }
+  if (upperLevels == kVipmUpperLevelsAuto) {
     upperLevels = 0;
     while ((int64_t{1} << upperLevels) < roots && upperLevels < kVipmMaxUpperLevels) ++upperLevels;
   }

@@ -42,7 +42,7 @@ BuildOptions options() {
   BuildOptions o;
   o.kind = TilesetKind::kVipm;
   o.threads = 2;
-  o.vipmUpperLevels = -1;  // strokes remake the nodes above the roots too
+  o.vipmUpperLevels = kVipmUpperLevelsAuto;  // strokes remake the nodes above the roots too
   return o;
 }
 

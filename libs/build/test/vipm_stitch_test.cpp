@@ -63,7 +63,7 @@ class VipmStitch : public ::testing::Test {
     o.output = dir->file("crater.tlod");
     o.kind = TilesetKind::kVipm;
     o.threads = 2;
-    o.vipmUpperLevels = -1;  // 4 x 4 roots under two levels of nodes
+    o.vipmUpperLevels = kVipmUpperLevelsAuto;  // 4 x 4 roots under two levels of nodes
     NullProgress progress;
     auto s = buildTileset(o, progress, [](const std::string&) {});
     ASSERT_TRUE(s.ok()) << s.error().message;

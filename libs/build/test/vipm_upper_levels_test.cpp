@@ -17,6 +17,7 @@
 #include "load_heights.h"
 #include "temp_dir.h"
 #include "terralod/build/builder.h"
+#include "terralod/build/vipm_chunk_set.h"
 #include "terralod/build/vipm_chunks.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/format/vipm_chunk_codec.h"
@@ -97,7 +98,8 @@ TEST(VipmUpperLevels, NodesAboveTheRootsJoinTheirChildrenAndBoundTheSource) {
   o.textures = false;
   o.threads = 2;
   o.maxError = 2.0;
-  o.vipmUpperLevels = -1;  // 4 x 4 roots: two levels above them, one 512-cell top node
+  o.vipmUpperLevels =
+      kVipmUpperLevelsAuto;  // 4 x 4 roots: two levels above them, one 512-cell top node
   NullProgress progress;
   auto built = buildTileset(o, progress, [](const std::string&) {});
   ASSERT_TRUE(built.ok()) << built.error().message;
@@ -196,4 +198,24 @@ TEST(VipmUpperLevels, NodesAboveTheRootsJoinTheirChildrenAndBoundTheSource) {
 
 }  // namespace
 }  // namespace upper_levels_test
+}  // namespace terralod
+
+namespace terralod {
+namespace {
+
+// By default a map gets levels above its roots once it has more than kVipmFlatRootsMax of
+// them; a smaller one stays a flat forest (all its roots resident).
+TEST(VipmUpperLevels, ByDefaultOnlyMapsOfManyRootsGetLevelsAboveThem) {
+  DemInfo info;
+  info.columns = info.rows = 2049;  // 16 x 16 roots
+  EXPECT_EQ(vipmTreeLayout(info, kVipmUpperLevelsBySize).depth, 1);
+  EXPECT_EQ(vipmTreeLayout(info, kVipmUpperLevelsAuto).depth, 5);  // one 2048-cell top node
+  info.columns = 2177;                                             // 17 x 16 roots
+  EXPECT_EQ(vipmTreeLayout(info, kVipmUpperLevelsBySize).depth, 6);
+  EXPECT_EQ(vipmTreeLayout(info, kVipmUpperLevelsBySize).rootsX, 1);
+  EXPECT_EQ(vipmTreeLayout(info, 0).depth, 1);
+  EXPECT_EQ(BuildOptions{}.vipmUpperLevels, kVipmUpperLevelsBySize);
+}
+
+}  // namespace
 }  // namespace terralod

@@ -47,6 +47,14 @@ struct BlotError {
   double leafError(double maxError) const;
 };
 
+/// BuildOptions::vipmUpperLevels: as many levels as make one top node.
+inline constexpr int32_t kVipmUpperLevelsAuto = -1;
+/// BuildOptions::vipmUpperLevels, the default: kVipmUpperLevelsAuto for maps of more than
+/// kVipmFlatRootsMax 128-cell roots, none for smaller ones (whose roots all stay resident in
+/// little memory: 256 roots of the 8193² synth are 83 MB, a sixth of the default budget).
+inline constexpr int32_t kVipmUpperLevelsBySize = -2;
+inline constexpr int64_t kVipmFlatRootsMax = 256;
+
 struct BuildOptions {
   std::string input;
   std::string output;
@@ -67,9 +75,11 @@ struct BuildOptions {
   std::string palettePath;    ///< JSON palette naming the raster's classes (optional)
   MaterialRules materialRules = MaterialRules::kOn;
   BlotError blotError;
-  /// Levels of nodes above the 128-cell roots (256, 512, ... cells; --upper-levels): -1, as
-  /// many as make one top node (at most kVipmMaxUpperLevels).
-  int32_t vipmUpperLevels = 0;
+  /// Levels of nodes above the 128-cell roots (256, 512, ... cells; --upper-levels): N,
+  /// kVipmUpperLevelsAuto (as many as make one top node, at most kVipmMaxUpperLevels) or
+  /// kVipmUpperLevelsBySize (the default: auto for maps of more than kVipmFlatRootsMax roots,
+  /// none below).
+  int32_t vipmUpperLevels = kVipmUpperLevelsBySize;
   /// Brush strokes applied to the heights and materials before anything is built, and
   /// recorded in the metadata ("edits"; `terralod edit`).
   std::vector<TerrainEdit> edits;

@@ -37,8 +37,8 @@ using VipmInterimSink = std::function<void(std::vector<VipmInterimNode>)>;
 inline constexpr int32_t kVipmMaxUpperLevels = 8;
 
 /// A VIPM tileset's tree over the DEM's cells: 64-cell leaves under 128-cell nodes (the
-/// roots of the flat forest), and `upperLevels` levels of nodes above those (-1: as many as
-/// make one top node, at most kVipmMaxUpperLevels), so that its top nodes are 128 <<
+/// roots of the flat forest), and `upperLevels` levels of nodes above those (or
+/// kVipmUpperLevelsAuto, kVipmUpperLevelsBySize), so that its top nodes are 128 <<
 /// upperLevels cells. The leaves are at level depth, the 128-cell nodes at depth - 1.
 TreeLayout vipmTreeLayout(const DemInfo& info, int32_t upperLevels = 0);
 
