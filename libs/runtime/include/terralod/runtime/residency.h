@@ -163,7 +163,8 @@ class Residency {
   void startRefreshes();
   void adjustParent(uint32_t node, int delta);
   void addBytes(int64_t delta);
-  // What a load of `node` reserves until it is collected.
+  // What a load of `node` reserves: all of it until it is collected, then what its upload may
+  // add beyond its decoded bytes until it is uploaded or dropped.
   uint64_t reserve(uint32_t node) const;
   // Drops what `node` reserves.
   void unreserve(uint32_t node);
