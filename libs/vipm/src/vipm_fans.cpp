@@ -86,8 +86,7 @@ void StitchFans::clear() {
 }
 
 void quantizeDrawn(std::array<float, 3>& p) {
-  // x, y: 15 bits for up to 32768 cells (the largest node's frame) and 8 below the point.
-  constexpr double kXy = 256.0, kZ = 1024.0;
+  constexpr double kXy = 65536.0, kZ = 1024.0;
   p[0] = float(std::round(double(p[0]) * kXy) / kXy);
   p[1] = float(std::round(double(p[1]) * kXy) / kXy);
   p[2] = float(std::round(double(p[2]) * kZ) / kZ);

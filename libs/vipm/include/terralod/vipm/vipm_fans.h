@@ -90,9 +90,7 @@ struct StitchChunk {
 };
 
 /// Rounds a geomorphing vertex's position so that moving it between chunks' frames is exact
-/// in float: x, y to 2^-8 cells (exact in any node's frame, up to 32768 cells: with 2^-16, a
-/// leaf's geomorphing point fanned into a node of 512 cells or more was rounded there, and a
-/// sliver opened), z to 2^-10 m (exact while |z| < 16 km above zBase).
+/// in float: x, y to 2^-16 cells, z to 2^-10 m (exact while |z| < 16 km above zBase).
 void quantizeDrawn(std::array<float, 3>& position);
 
 /// The fans of a chunk at one frame.
