@@ -168,8 +168,8 @@ void FrameDriver::requestWanted(const View& view, const SelectionOptions& select
   for (const SelectedChunk& s : mSelected) {
     residency.touch(s.node);
     for (uint32_t i = mTree.node(s.node).parent; i != kNoNode; i = mTree.node(i).parent) {
-      if (mAncestorFrame[i] == mFrame + 1) break;  // this ancestor's chain is done this frame
-      mAncestorFrame[i] = mFrame + 1;
+      if (mAncestorFrame[i] == mFrame) break;  // this ancestor's chain is done this step
+      mAncestorFrame[i] = mFrame;
       residency.touch(i);
       const ChunkNode& a = mTree.node(i);
       for (uint32_t c = a.firstChild; c < a.firstChild + a.childCount; ++c) residency.touch(c);

@@ -157,7 +157,7 @@ class FrameDriver {
   // Late splits: a chunk whose children arrived after its split distance hands over to them
   // at the parent's surface (t = 1), easing to their scheduled morph over a few frames.
   std::vector<uint64_t> mDrawnFrame;
-  std::vector<uint64_t> mAncestorFrame;  // per node: the step requestWanted last walked it
+  std::vector<uint64_t> mAncestorFrame;  // per node: the mFrame requestWanted last walked it
   std::vector<float> mEntryMorph;
   uint64_t mFrame = 2;
   double mUploadBudget = 0.0;      // this frame's, milliseconds
