@@ -22,13 +22,20 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
   if (auto finished = mEditor.poll(scene)) {
     if (!finished->status) return finished->status;
     Stroke& s = mDone.back();
-    if (finished->what == LiveEditor::Finished::What::kInterim) {
+    using What = LiveEditor::Finished::What;
+    if (finished->what == What::kInterim) {
       s.interimHanded = true;
-    } else {
+    } else if (finished->what == What::kNear || !s.regenerated) {
+      // The leaves and roots (with levels above them, before those; else all at once).
       s.regenMs = finished->ms;
       s.nodes = finished->nodes;
       s.drawnNodes = finished->drawnNodes;
       s.regenerated = true;
+      s.finished = finished->what == What::kStroke;
+    } else {
+      s.upperMs = finished->ms;
+      s.upperNodes = finished->nodes;
+      s.finished = true;
     }
   }
   if (!mDone.empty() && mDone.back().regenerated && !mDone.back().swapped &&
@@ -40,7 +47,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     s.swapped = true;
     ++mNext;
   }
-  const bool idle = mDone.empty() || mDone.back().swapped;
+  const bool idle = mDone.empty() || (mDone.back().swapped && mDone.back().finished);
   if (idle && mNext < mStrokes.size() && frame >= (mNext + 1) * mEvery) {
     mDone.push_back({Clock::now(), frame});
     mEditor.submit(mStrokes[mNext]);
@@ -49,12 +56,17 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
 }
 
 void BenchEditor::addFigures(nlohmann::json& j) const {
-  std::vector<double> regen, latency, frames, nodes, drawn, interim, interimFrames;
+  std::vector<double> regen, latency, frames, nodes, drawn, interim, interimFrames, upper,
+      upperNodes;
   size_t swapped = 0;
   for (const Stroke& s : mDone) {
     if (s.interimDrawn) {
       interim.push_back(s.interimMs);
       interimFrames.push_back(double(s.interimFrames));
+    }
+    if (s.upperNodes > 0) {
+      upper.push_back(s.upperMs);
+      upperNodes.push_back(double(s.upperNodes));
     }
     if (!s.regenerated) continue;
     regen.push_back(s.regenMs);
@@ -78,6 +90,10 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
   j["edit_nodes_max"] = max(nodes);
   j["edit_resident_nodes_p50"] = percentile(drawn, 0.5);
   j["edit_resident_nodes_max"] = max(drawn);
+  j["edit_upper_strokes"] = upper.size();
+  j["edit_upper_ms_p50"] = percentile(upper, 0.5);
+  j["edit_upper_ms_max"] = max(upper);
+  j["edit_upper_nodes_p50"] = percentile(upperNodes, 0.5);
   j["edit_interim_drawn"] = interim.size();
   j["edit_interim_latency_ms_p50"] = percentile(interim, 0.5);
   j["edit_interim_latency_ms_max"] = max(interim);

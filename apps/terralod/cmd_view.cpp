@@ -293,6 +293,10 @@ int runView(const ViewCommand& v) {
           std::snprintf(text, sizeof text,
                         "regenerating %zu chunks (drawn at full resolution meanwhile)...",
                         done->nodes);
+        else if (done->what == What::kNear)
+          std::snprintf(text, sizeof text,
+                        "stroke %zu: %zu chunks rebuilt in %.0f ms; the levels above them...",
+                        editor->strokes() + 1, done->nodes, done->ms);
         else if (done->what == What::kStroke)
           std::snprintf(text, sizeof text, "stroke %zu: %zu chunks rebuilt in %.0f ms",
                         editor->strokes(), done->nodes, done->ms);

@@ -30,7 +30,14 @@ bool LiveEditor::submit(const TerrainEdit& stroke) {
       mInterimMs = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
       mInterimReady = true;
     };
-    mChanged = mSet.apply(std::vector<TerrainEdit>{stroke}, 0, interim);
+    auto near = [this](std::vector<VipmInterimNode> nodes, const std::vector<double>& errors) {
+      std::lock_guard lock(mInterimMutex);
+      mNear = std::move(nodes);
+      mNearLevelErrors = errors;
+      mNearMs = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
+      mNearReady = true;
+    };
+    mChanged = mSet.apply(std::vector<TerrainEdit>{stroke}, 0, interim, near);
     if (!mChanged) return mChanged.error();
     return {};
   });
@@ -55,7 +62,7 @@ std::vector<double> currentLevelErrors(const ChunkTree& tree) {
 }  // namespace
 
 std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
-  if (mInterimReady && mDone) {
+  if (mInterimReady && (mDone || mNearReady)) {
     // The made chunks are ready too (a stroke made within a frame): the whole grids would only
     // cost a frame and a decode more.
     std::lock_guard lock(mInterimMutex);
@@ -76,6 +83,25 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
     }
     f.nodes = nodes.size();
     scene.replaceNodes(std::move(nodes), currentLevelErrors(scene.tree()));
+    f.drawnNodes = scene.pendingReplacements();
+    return f;
+  }
+  if (mNearReady) {
+    Finished f;
+    f.what = Finished::What::kNear;
+    std::vector<NodeReplacement> nodes;
+    std::vector<double> errors;
+    {
+      std::lock_guard lock(mInterimMutex);
+      for (VipmInterimNode& n : mNear)
+        nodes.push_back({n.node, std::move(n.record), std::move(n.bytes)});
+      mNear.clear();
+      errors = std::move(mNearLevelErrors);
+      f.ms = mNearMs;
+      mNearReady = false;
+    }
+    f.nodes = nodes.size();
+    scene.replaceNodes(std::move(nodes), errors);
     f.drawnNodes = scene.pendingReplacements();
     return f;
   }

@@ -3,7 +3,8 @@
 // applied to the tileset's chunk set on a worker thread (VipmChunkSet::apply). The chunks it
 // reaches come first as their whole grids (interim: exact, made in milliseconds), which poll()
 // hands to the scene at once; once their progressive meshes are made, poll() hands those, and
-// the scene swaps each in over the next frames. Saving
+// the scene swaps each in over the next frames: the leaves and 128-cell nodes first (near),
+// then the nodes above them, which take seconds. Saving
 // writes the set back to the tileset on the worker (atomically: a save in progress never leaves
 // a file that fails verify). One job at a time; frames never wait for one.
 
@@ -35,17 +36,18 @@ class LiveEditor {
   struct Finished {
     enum class What : uint8_t {
       kInterim,  ///< a stroke's chunks as whole grids (the stroke goes on)
-      kStroke,   ///< a stroke's chunks made
+      kNear,     ///< a stroke's leaves and 128-cell nodes made (the stroke goes on)
+      kStroke,   ///< a stroke's chunks made (the rest of them)
       kSave
     };
     What what = What::kStroke;
-    Status status;          ///< (kInterim: always ok)
+    Status status;          ///< (kInterim, kNear: always ok)
     double ms = 0.0;        ///< the job's own time on the worker (not until it was polled)
     size_t nodes = 0;       ///< a stroke's nodes handed over
     size_t drawnNodes = 0;  ///< of those, the scene had drawn (or on its way): to swap
   };
   /// Each frame, on the drawing thread: what finished since, if anything (a stroke's nodes
-  /// already handed to `scene`); a stroke's interim nodes before its made ones.
+  /// already handed to `scene`); a stroke's interim nodes, then its near ones, then the rest.
   std::optional<Finished> poll(TerrainScene& scene);
 
   size_t strokes() const { return mStrokes; }  ///< applied since it was made
@@ -67,6 +69,11 @@ class LiveEditor {
   std::vector<VipmInterimNode> mInterim;
   double mInterimMs = 0.0;
   std::atomic<bool> mInterimReady{false};
+  // A stroke's leaves and roots as made, with their level errors, before mNearReady.
+  std::vector<VipmInterimNode> mNear;
+  std::vector<double> mNearLevelErrors;
+  double mNearMs = 0.0;
+  std::atomic<bool> mNearReady{false};
   Clock::time_point mStart;
   double mWorkMs = 0.0;  // the job's own time, written by the worker before mDone
   size_t mStrokes = 0;

@@ -16,8 +16,9 @@ namespace {
 class VipmBenchEditCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    const RunResult built =
-        runTerralod({"build", kDem, "--kind", "vipm", "--threads", "2", "-o", mTileset});
+    // With levels above the roots, which a stroke remakes after its leaves and roots.
+    const RunResult built = runTerralod({"build", kDem, "--kind", "vipm", "--upper-levels", "auto",
+                                         "--threads", "2", "-o", mTileset});
     ASSERT_EQ(built.exitCode, 0) << built.err;
     // Down towards the south-west rim, and strokes where it looks: one over 4 x 4 leaves,
     // then one inside a leaf (each starts once the one before is drawn, so the flight is long
@@ -54,6 +55,10 @@ TEST_F(VipmBenchEditCli, StrokesDuringAFlightAreSwappedInAndNoFrameWaits) {
   // its whole grids may not be drawn before that).
   EXPECT_GE(j["edit_interim_drawn"].get<int>(), 1) << j.dump(2);
   EXPECT_LT(j["edit_interim_latency_ms_max"].get<double>(), j["edit_latency_ms_max"].get<double>());
+  // The nodes above the roots came after the leaves and roots were drawn.
+  EXPECT_EQ(j["edit_upper_strokes"], 2) << j.dump(2);
+  EXPECT_GT(j["edit_upper_ms_p50"].get<double>(), j["edit_regen_ms_p50"].get<double>());
+  EXPECT_GE(j["edit_upper_nodes_p50"].get<double>(), 1.0);
   EXPECT_EQ(j["frames_waiting_on_io"], 0);
   EXPECT_EQ(j["load_failures"], 0);
 }

@@ -206,14 +206,23 @@ struct VipmChunkSetState {
                                             unsigned threads) const;
 
   // Builds the chunks marked in `dirty` (per node; all of a level too when its level error
-  // changes), keeping what `reuse` has for them where no new stroke reaches, then every
-  // node's fields and flange depths.
+  // changes) from the leaves up to level `top`, keeping what `reuse` has for them where no
+  // new stroke reaches, then every node's fields and flange depths.
   void rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse, unsigned threads,
-               Progress& progress);
+               Progress& progress, int32_t top = 0);
+
+  // The nodes whose record or bytes differ from `before` (records, level errors): rebuilt
+  // (`rebuilt`), on a level whose error moved, or with another flange depth.
+  std::vector<uint32_t> changedSince(const std::vector<NodeRecord>& before,
+                                     const std::vector<double>& levelErrorsBefore,
+                                     const std::vector<uint8_t>& rebuilt) const;
+
+  // Node i's record and bytes, as handed to a drawing thread.
+  VipmInterimNode handover(uint32_t i) const;
 };
 
 void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse,
-                                unsigned threads, Progress& progress) {
+                                unsigned threads, Progress& progress, int32_t top) {
   const size_t leafCount = nodes.size() - innerCount;
   VipmLeafParams params;
   params.zStep = zStep;
@@ -240,7 +249,10 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
   };
   const size_t dirtyLeaves =
       size_t(std::count(dirty.begin() + innerCount, dirty.end(), uint8_t{1}));
-  progress.begin("vipm chunks", dirtyLeaves + innerCount);
+  const size_t innerBuilt =
+      size_t(std::count_if(nodes.begin(), nodes.begin() + ptrdiff_t(innerCount),
+                           [&](const NodeRecord& n) { return int32_t(n.level) >= top; }));
+  progress.begin("vipm chunks", dirtyLeaves + innerBuilt);
   parallelFor(leafCount, threads, [&](size_t k, unsigned) {
     const size_t i = innerCount + k;
     if (!dirty[i]) return;
@@ -259,7 +271,7 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
   // error is at least its children's coarsest errors, which may start above it).
   levelErrors.resize(size_t(layout.levelCount()), -1.0);
   levelErrors[size_t(leafLevel())] = options.maxError;
-  for (int32_t level = leafLevel() - 1; level >= 0; --level) {
+  for (int32_t level = leafLevel() - 1; level >= top; --level) {
     double largestCoarsest = 0.0;
     std::vector<size_t> members;
     for (size_t i = 0; i < nodes.size(); ++i) {
@@ -353,6 +365,30 @@ std::vector<VipmInterimNode> VipmChunkSetState::interimNodes(const std::vector<u
   return out;
 }
 
+std::vector<uint32_t> VipmChunkSetState::changedSince(const std::vector<NodeRecord>& before,
+                                                      const std::vector<double>& levelErrorsBefore,
+                                                      const std::vector<uint8_t>& rebuilt) const {
+  std::vector<uint32_t> changed;
+  for (size_t i = 0; i < nodes.size(); ++i) {
+    const size_t level = nodes[i].level;
+    if (rebuilt[i] || levelErrors[level] != levelErrorsBefore[level] ||
+        nodes[i].maxSkirtDepth != before[i].maxSkirtDepth)
+      changed.push_back(uint32_t(i));
+  }
+  return changed;
+}
+
+VipmInterimNode VipmChunkSetState::handover(uint32_t i) const {
+  const std::vector<uint8_t>& mesh = i < innerCount ? inner[i].blob : leaves[i - innerCount].blob;
+  VipmInterimNode n;
+  n.node = i;
+  n.record = nodes[i];
+  n.bytes.bytes = mesh;
+  n.bytes.meshBytes = uint32_t(mesh.size());
+  n.bytes.bytes.insert(n.bytes.bytes.end(), normalMaps[i].begin(), normalMaps[i].end());
+  return n;
+}
+
 Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemInfo& info,
                                          Heightfield heights, MaterialMap materials,
                                          uint64_t filledVoids, Progress& progress) {
@@ -385,8 +421,8 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
 }
 
 Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> strokes,
-                                                  unsigned threads,
-                                                  const VipmInterimSink& interim) {
+                                                  unsigned threads, const VipmInterimSink& interim,
+                                                  const VipmNearSink& near) {
   VipmChunkSetState& s = *mState;
   const std::vector<TerrainEdit> list(strokes.begin(), strokes.end());
   const double sx = s.info.spacingX, sy = s.info.spacingY;
@@ -446,19 +482,31 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
       if (s.nodes[i].level >= s.leafLevel() - 1) grids.push_back(i);
     interim(s.interimNodes(grids, threads ? threads : hardwareThreads()));
   }
-  const std::vector<NodeRecord> before = s.nodes;
-  const std::vector<uint8_t> rebuilt = dirty;
-  const std::vector<double> levelErrorsBefore = s.levelErrors;
+  const unsigned workers = threads ? threads : hardwareThreads();
   NullProgress quiet;
-  s.rebuild(dirty, nullptr, threads ? threads : hardwareThreads(), quiet);
-  std::vector<uint32_t> changed;
-  for (size_t i = 0; i < s.nodes.size(); ++i) {
-    const size_t level = s.nodes[i].level;
-    if (rebuilt[i] || s.levelErrors[level] != levelErrorsBefore[level] ||
-        s.nodes[i].maxSkirtDepth != before[i].maxSkirtDepth)
-      changed.push_back(uint32_t(i));
+  // The nodes above the roots take seconds (their collapses are measured over thousands of
+  // cells each); with `near`, the leaves and roots are made and handed over first.
+  const int32_t rootLevel = s.leafLevel() - 1;
+  const bool twoStages = near && rootLevel > 0;
+  std::vector<NodeRecord> before = s.nodes;
+  std::vector<double> levelErrorsBefore = s.levelErrors;
+  if (twoStages) {
+    std::vector<uint8_t> nearDirty = dirty;
+    for (size_t i = 0; i < s.innerCount; ++i)
+      if (int32_t(s.nodes[i].level) < rootLevel) nearDirty[i] = 0;
+    s.rebuild(nearDirty, nullptr, workers, quiet, rootLevel);
+    std::vector<VipmInterimNode> made;
+    for (uint32_t i : s.changedSince(before, levelErrorsBefore, nearDirty))
+      made.push_back(s.handover(i));
+    near(std::move(made), s.levelErrors);
+    for (size_t i = 0; i < s.nodes.size(); ++i)
+      if (int32_t(s.nodes[i].level) >= rootLevel) dirty[i] = 0;
+    before = s.nodes;
+    levelErrorsBefore = s.levelErrors;
   }
-  return changed;
+  const std::vector<uint8_t> rebuilt = dirty;
+  s.rebuild(dirty, nullptr, workers, quiet);
+  return s.changedSince(before, levelErrorsBefore, rebuilt);
 }
 
 VipmChunkSet::VipmChunkSet(std::unique_ptr<VipmChunkSetState> state) : mState(std::move(state)) {}
@@ -472,13 +520,7 @@ const std::vector<NodeRecord>& VipmChunkSet::nodes() const {
 
 NodeBytes VipmChunkSet::nodeBytes(uint32_t node) const {
   const VipmChunkSetState& s = *mState;
-  const std::vector<uint8_t>& mesh =
-      node < s.innerCount ? s.inner[node].blob : s.leaves[node - s.innerCount].blob;
-  NodeBytes b;
-  b.bytes = mesh;
-  b.meshBytes = uint32_t(mesh.size());
-  b.bytes.insert(b.bytes.end(), s.normalMaps[node].begin(), s.normalMaps[node].end());
-  return b;
+  return s.handover(node).bytes;
 }
 
 const std::vector<TerrainEdit>& VipmChunkSet::edits() const {

@@ -115,6 +115,56 @@ TEST(VipmChunkSet, StrokesAppliedLaterGiveTheBuildOfTheEditedSource) {
   }
 }
 
+// An editor gets a stroke's leaves and roots first, then what changed above them: together
+// every node a stroke changes, and the same set as applying it in one go.
+TEST(VipmChunkSet, LeavesAndRootsAreHandedOverBeforeTheLevelsAboveThem) {
+  const Source source = crater();
+  auto once = buildSet(source);
+  auto staged = buildSet(source);
+  ASSERT_TRUE(once.ok() && staged.ok());
+  const int32_t rootLevel = staged->layout().depth - 1;
+  ASSERT_GT(rootLevel, 0);  // levels above the roots
+  const std::vector<TerrainEdit> strokes = {{Brush::kRaise, 5000.0, 7000.0, 300.0, 50.0, 0}};
+  auto all = once->apply(strokes, 2);
+  ASSERT_TRUE(all.ok());
+
+  std::vector<VipmInterimNode> near;
+  std::vector<double> nearErrors;
+  auto above = staged->apply(strokes, 2, {},
+                             [&](std::vector<VipmInterimNode> nodes, const std::vector<double>& e) {
+                               near = std::move(nodes);
+                               nearErrors = e;
+                             });
+  ASSERT_TRUE(above.ok());
+  ASSERT_FALSE(near.empty());
+  ASSERT_FALSE(above->empty());
+  std::vector<uint32_t> handed;
+  for (const VipmInterimNode& n : near) {
+    EXPECT_GE(int32_t(n.record.level), rootLevel) << "node " << n.node;
+    handed.push_back(n.node);
+  }
+  EXPECT_TRUE(std::any_of(above->begin(), above->end(), [&](uint32_t i) {
+    return int32_t(staged->nodes()[i].level) < rootLevel;
+  }));
+  // Handed over either way: every node the one-go apply changed.
+  for (uint32_t i : *all)
+    EXPECT_TRUE(std::find(handed.begin(), handed.end(), i) != handed.end() ||
+                std::binary_search(above->begin(), above->end(), i))
+        << "node " << i;
+  // A leaf or root handed first and not again is final as handed.
+  for (const VipmInterimNode& n : near)
+    if (!std::binary_search(above->begin(), above->end(), n.node)) {
+      EXPECT_TRUE(n.bytes.bytes == staged->nodeBytes(n.node).bytes) << "node " << n.node;
+      EXPECT_EQ(n.record.maxSkirtDepth, staged->nodes()[n.node].maxSkirtDepth);
+    }
+  for (int32_t level = rootLevel; level <= staged->layout().depth; ++level)
+    EXPECT_EQ(nearErrors[size_t(level)], staged->levelErrors()[size_t(level)]);
+  for (uint32_t i = 0; i < once->nodes().size(); ++i) {
+    EXPECT_TRUE(once->nodeBytes(i).bytes == staged->nodeBytes(i).bytes) << "node " << i;
+    EXPECT_EQ(once->nodes()[i].maxSkirtDepth, staged->nodes()[i].maxSkirtDepth) << "node " << i;
+  }
+}
+
 // What an editor writes back: the set after its strokes, as the tileset a build of the source
 // with those strokes writes, byte for byte (strokes recorded).
 TEST(VipmChunkSet, AnEditedSetIsWrittenAsTheBuildWithItsStrokes) {

@@ -31,6 +31,10 @@ struct VipmInterimNode {
 };
 /// Receives a stroke's interim nodes, on the thread that applies it.
 using VipmInterimSink = std::function<void(std::vector<VipmInterimNode>)>;
+/// Receives a stroke's leaves and 128-cell nodes as made, with the level errors to draw them
+/// at (those above the roots as before), on the thread that applies it.
+using VipmNearSink =
+    std::function<void(std::vector<VipmInterimNode>, const std::vector<double>& levelErrors)>;
 
 /// Levels above the 128-cell roots at most: their top nodes are at most 32768 cells (version 2
 /// VIPM blobs).
@@ -66,8 +70,14 @@ class VipmChunkSet {
   /// mesh fields), before the slow part: an editor draws those at once, at full resolution,
   /// until the chunks are made (nodes above them keep their old meshes meanwhile). Not when
   /// the height step changes (then every chunk is made again).
+  ///
+  /// With `near`, on a tileset with nodes above the 128-cell ones, hands it the leaves and
+  /// 128-cell nodes that changed as soon as they are made (milliseconds), before the nodes
+  /// above them (seconds: their collapses are measured over thousands of cells); returns only
+  /// what changed after that.
   Result<std::vector<uint32_t>> apply(std::span<const TerrainEdit> strokes, unsigned threads,
-                                      const VipmInterimSink& interim = {});
+                                      const VipmInterimSink& interim = {},
+                                      const VipmNearSink& near = {});
 
   /// Node records in tileset order (mesh fields and flange depths; no blob offsets).
   const std::vector<NodeRecord>& nodes() const;
