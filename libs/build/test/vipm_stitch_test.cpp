@@ -36,6 +36,10 @@ struct LoadedNode {
   VipmStitcher stitcher;
 };
 
+// Sliding points are rounded as coarsely as in a tileset of 32768-cell nodes (2^-8 cells),
+// the case where a point most often lands on another's place or a span's end.
+constexpr uint32_t kCoarsestRounding = 32768;
+
 // A drawn chunk: its node, collapses applied and where its vertices are drawn.
 struct Drawn {
   uint32_t node = 0;
@@ -83,9 +87,13 @@ class VipmStitch : public ::testing::Test {
       n.chunk = std::move(chunk).value();
       n.own = positionsAboveBase(n.chunk);
       const int64_t cells = h.chunkCells(r.level);
-      n.where = {int64_t(r.x) * cells,         int64_t(r.y) * cells,
-                 n.chunk.data.zBase,           int32_t(n.chunk.data.width),
-                 int32_t(n.chunk.data.height), vipmSeamStep(uint32_t(cells))};
+      n.where = {int64_t(r.x) * cells,
+                 int64_t(r.y) * cells,
+                 n.chunk.data.zBase,
+                 int32_t(n.chunk.data.width),
+                 int32_t(n.chunk.data.height),
+                 vipmSeamStep(uint32_t(cells)),
+                 kCoarsestRounding};
       n.stitcher = VipmStitcher(n.chunk.unpacked.mesh, n.where);
       nodes.push_back(std::move(n));
     }
@@ -112,7 +120,7 @@ class VipmStitch : public ::testing::Test {
         d.levels.setApplied(w.applied);
         morphPositions(mesh, w, theta, n.own, d.drawn);
         for (uint32_t j = w.applied; j < w.morphing; ++j)
-          quantizeDrawn(d.drawn[mesh.vertexCount() - 1 - j]);
+          roundStitchPoint(d.drawn[mesh.vertexCount() - 1 - j], n.where);
       }
       cut.push_back(std::move(d));
     };
@@ -271,7 +279,7 @@ TEST_F(VipmStitch, EveryCutIsOneClosedSurfaceWithFansAndNotWithout) {
     const Closure with = closure(surface(drawn, true, cases), cellsX, cellsY);
     EXPECT_EQ(with.unmatched, 0u);
     EXPECT_NEAR(with.area, cellsX * cellsY, 1e-6 * cellsX * cellsY);
-    // Nothing turned over but slivers dying under a geomorph (a vertex rounded to 2^-16 cells
+    // Nothing turned over but slivers dying under a geomorph (a vertex rounded to 2^-8 cells
     // a hair from its target's place).
     EXPECT_LT(with.negativeArea, 1e-3);
     Cases ignored;

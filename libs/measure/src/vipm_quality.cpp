@@ -138,9 +138,14 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
   const auto [x0, y0] = chunkCellOrigin(h, record);
   c.x0 = x0;
   c.y0 = y0;
-  if (mStitch == VipmStitch::kFans)
-    c.stitcher = VipmStitcher(c.mesh, {x0, y0, c.zBase, c.mesh.width, c.mesh.height,
-                                       vipmSeamStep(uint32_t(h.chunkCells(record.level)))});
+  c.where = {x0,
+             y0,
+             c.zBase,
+             c.mesh.width,
+             c.mesh.height,
+             vipmSeamStep(uint32_t(h.chunkCells(record.level))),
+             uint32_t(h.chunkCells(0))};
+  if (mStitch == VipmStitch::kFans) c.stitcher = VipmStitcher(c.mesh, c.where);
   c.maxX = std::min<int64_t>(x0 + h.chunkCells(record.level), mSource.columns() - 1);
   c.maxY = std::min<int64_t>(y0 + h.chunkCells(record.level), mSource.rows() - 1);
   c.truthMin = 1e300;
@@ -162,7 +167,8 @@ std::vector<std::array<float, 3>> VipmQuality::drawnPositions(Chunk& c, const Dr
   if (window.morphing > window.applied) {
     morphPositions(c.mesh, window, d.morphTheta, c.own, drawn);
     const uint32_t n = c.mesh.vertexCount();
-    for (uint32_t j = window.applied; j < window.morphing; ++j) quantizeDrawn(drawn[n - 1 - j]);
+    for (uint32_t j = window.applied; j < window.morphing; ++j)
+      roundStitchPoint(drawn[n - 1 - j], c.where);
   }
   return drawn;
 }

@@ -74,11 +74,11 @@ Result<LoadedChunk> VipmChunkKind::decode(const ChunkBlob& blob) const {
   const TilesetHeader& h = mTileset.header();
   const NodeRecord& record = blob.record;  // an edit's, when the node was replaced
   const auto start = std::chrono::steady_clock::now();
-  auto decoded =
-      decodeVipmPayload(blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
-                        uint32_t(h.chunkCells(record.level)), flangeSides(h, record),
-                        record.maxSkirtDepth, int64_t(record.x) * h.chunkCells(record.level),
-                        int64_t(record.y) * h.chunkCells(record.level), mPass->averages());
+  auto decoded = decodeVipmPayload(
+      blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node),
+      uint32_t(h.chunkCells(record.level)), flangeSides(h, record), record.maxSkirtDepth,
+      int64_t(record.x) * h.chunkCells(record.level),
+      int64_t(record.y) * h.chunkCells(record.level), uint32_t(h.chunkCells(0)), mPass->averages());
   if (!decoded) return decoded.error();
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -149,7 +149,8 @@ void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   if (morphs) {
     morphPositions(mMesh, window, morphTheta, std::span(mOwn).first(n), std::span(mDrawn).first(n));
     // Exact in every chunk's frame, so fans elsewhere put these points where they are drawn.
-    for (uint32_t j = window.applied; j < window.morphing; ++j) quantizeDrawn(mDrawn[n - 1 - j]);
+    for (uint32_t j = window.applied; j < window.morphing; ++j)
+      roundStitchPoint(mDrawn[n - 1 - j], mStitcher.chunk());
   }
   mWindow = window;
   if (morphed || morphs) {

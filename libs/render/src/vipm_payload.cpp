@@ -26,6 +26,7 @@ uint64_t VipmChunkPayload::textureBytes() const {
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
                                            float flangeDepth, int64_t cornerX, int64_t cornerY,
+                                           uint32_t largestCells,
                                            const MaterialAverages& averages) {
   auto normals = decodeVipmNormalMap(node.texture(), chunkCells, subject);
   if (!normals) return normals.error();
@@ -58,8 +59,8 @@ Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::str
     p.positions.push_back({t[0], t[1], t[2] - flangeDepth});
     p.materials.push_back(p.materials[top]);
   }
-  p.stitcher =
-      VipmStitcher(unpacked.mesh, {cornerX, cornerY, data.zBase, data.width, data.height, seams});
+  p.stitcher = VipmStitcher(
+      unpacked.mesh, {cornerX, cornerY, data.zBase, data.width, data.height, seams, largestCells});
   p.mesh = std::move(unpacked.mesh);
   return p;
 }

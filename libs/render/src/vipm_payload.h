@@ -51,11 +51,12 @@ struct VipmChunkPayload final : ChunkPayload {
 /// Decodes a VIPM node's bytes (its blob and its texture blob; `subject` names it in errors)
 /// into a payload. `chunkCells`: the node's side in cells (its normal map has one more texel);
 /// `flangeSides`: FlangeSide bits of the sides that get flanges, `flangeDepth` metres;
-/// `cornerX`, `cornerY`: the node's south-west grid point; `averages`: the materials' average
-/// colours, for its blot texture.
+/// `cornerX`, `cornerY`: the node's south-west grid point; `largestCells`: the tileset's top
+/// node's side (StitchChunk); `averages`: the materials' average colours, for its blot
+/// texture.
 Result<VipmChunkPayload> decodeVipmPayload(const NodeBytes& node, const std::string& subject,
                                            uint32_t chunkCells, uint8_t flangeSides,
                                            float flangeDepth, int64_t cornerX, int64_t cornerY,
-                                           const MaterialAverages& averages);
+                                           uint32_t largestCells, const MaterialAverages& averages);
 
 }  // namespace terralod

@@ -85,10 +85,33 @@ void StitchFans::clear() {
   materials.clear();
 }
 
-void quantizeDrawn(std::array<float, 3>& p) {
-  constexpr double kXy = 65536.0, kZ = 1024.0;
-  p[0] = float(std::round(double(p[0]) * kXy) / kXy);
-  p[1] = float(std::round(double(p[1]) * kXy) / kXy);
+double stitchQuantum(uint32_t largestCells) {
+  // Values below 2^bits are exact in float at 2^(bits-24); one bit to spare.
+  int bits = 7;
+  while ((uint64_t(1) << bits) < largestCells) ++bits;
+  return std::ldexp(1.0, bits - 23);
+}
+
+void roundStitchPoint(std::array<float, 3>& p, const StitchChunk& chunk) {
+  auto onLine = [&](float local, int32_t points) {
+    if (local == 0.0f || local == float(points - 1)) return true;
+    return chunk.seamStep > 0 && local == std::floor(local) &&
+           int64_t(local) % chunk.seamStep == 0 && local > 0.0f && local < float(points - 1);
+  };
+  const bool onX = onLine(p[0], chunk.width), onY = onLine(p[1], chunk.height);
+  if (!onX && !onY) return;
+  const double q = stitchQuantum(chunk.largestCells);
+  // A point sliding along a line never lands on a place where spans end (a chunk's corner,
+  // a multiple of kStitchLineCells): a span holds only the points strictly inside it, so
+  // one side would keep it and the other not.
+  auto along = [&](float& a) {
+    const double rounded = std::round(double(a) / q) * q;
+    const bool end = std::fmod(rounded, double(kStitchLineCells)) == 0.0;
+    a = float(end && rounded != double(a) ? rounded + (double(a) < rounded ? -q : q) : rounded);
+  };
+  constexpr double kZ = 1024.0;
+  if (onX) along(p[1]);
+  if (onY) along(p[0]);
   p[2] = float(std::round(double(p[2]) * kZ) / kZ);
 }
 

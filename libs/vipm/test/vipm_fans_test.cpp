@@ -175,15 +175,33 @@ TEST(VipmFans, TheSignatureFollowsWhatTheFansAreMadeOf) {
   EXPECT_NE(a.stitcher.signature(table, 0), a.stitcher.signature(table, 1));
 }
 
-TEST(VipmFans, QuantizedPositionsMoveBetweenFramesExactly) {
-  std::array<float, 3> p{37.123456f, 12.987654f, 812.34567f};
-  quantizeDrawn(p);
-  for (int64_t offset : {-64, 64, 128, -128}) {
-    const double moved = double(p[0]) + double(offset);
-    EXPECT_EQ(double(float(moved)), moved);
+TEST(VipmFans, RoundedPointsOnLinesMoveIntoTheLargestFrameExactly) {
+  // A leaf at (8192, 4096) of a tileset whose top node has 8192 cells; a point on its south
+  // side (y = 0) moves into the frames of its neighbours up to the top node's.
+  for (uint32_t largest : {128u, 8192u, 32768u}) {
+    const StitchChunk leaf{8192, 4096, 1000.0, 65, 65, 0, largest};
+    std::array<float, 3> p{37.123456f, 0.0f, 812.34567f};
+    roundStitchPoint(p, leaf);
+    for (int64_t corner :
+         {int64_t(8192 - 64), int64_t(8192 + 64), int64_t(8192 - 128), int64_t(0)}) {
+      const double local = double(leaf.cornerX) + double(p[0]) - double(corner);
+      if (local > double(largest)) continue;
+      EXPECT_EQ(double(float(local)), local) << largest << " " << corner;
+    }
+    const double z = double(p[2]) + 1000.0 - 1024.0;
+    EXPECT_EQ(double(float(z)), z);
+    EXPECT_NEAR(p[0], 37.123456f, stitchQuantum(largest));
   }
-  const double z = double(p[2]) + 1000.0 - 1024.0;
-  EXPECT_EQ(double(float(z)), z);
+  // Off the lines a vertex is left where it is (rounding could move it onto one).
+  const StitchChunk root{0, 0, 0.0, 129, 129, 64, 8192};
+  std::array<float, 3> inner{63.9999f, 12.3456789f, 5.4321f};
+  const auto before = inner;
+  roundStitchPoint(inner, root);
+  EXPECT_EQ(inner, before);
+  std::array<float, 3> seam{64.0f, 12.3456789f, 5.4321f};  // on the root's inner seam
+  roundStitchPoint(seam, root);
+  EXPECT_NE(seam[1], before[1]);
+  EXPECT_EQ(seam[0], 64.0f);
 }
 
 }  // namespace

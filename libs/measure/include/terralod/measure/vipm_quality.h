@@ -71,6 +71,7 @@ class VipmQuality {
   struct Chunk {
     ProgressiveMesh mesh;
     VipmLevels levels;
+    StitchChunk where;  // where it lies, for rounding its geomorphing points as drawn
     VipmStitcher stitcher;
     std::vector<uint8_t> materials;
     std::vector<std::array<float, 3>> own;  // grid x, grid y, metres above zBase

@@ -16,8 +16,8 @@
 //
 // Positions must be exact for both sides to rasterise the same edges: a point is given in
 // absolute grid cells and metres (doubles), and the chunk that inserts it converts it to its
-// own frame; geomorphing vertices are rounded (quantizeDrawn) so that every conversion is
-// exact in float.
+// own frame; geomorphing vertices on the lines are rounded (roundStitchPoint) so that every
+// conversion is exact in float.
 
 #include <array>
 #include <cstdint>
@@ -80,18 +80,28 @@ class StitchTable {
 };
 
 /// Where a chunk lies: its south-west grid point and its zBase (positions are relative to
-/// them), its grid points, and its inner seams' spacing (blot roots: every kStitchLineCells;
-/// 0: none).
+/// them), its grid points, its inner seams' spacing (blot roots: every kStitchLineCells;
+/// 0: none), and the cells of the tileset's largest node (the widest frame a point of this
+/// chunk can be fanned into).
 struct StitchChunk {
   int64_t cornerX = 0, cornerY = 0;
   double zBase = 0.0;
   int32_t width = 0, height = 0;
   int32_t seamStep = 0;
+  uint32_t largestCells = 2 * kStitchLineCells;
 };
 
-/// Rounds a geomorphing vertex's position so that moving it between chunks' frames is exact
-/// in float: x, y to 2^-16 cells, z to 2^-10 m (exact while |z| < 16 km above zBase).
-void quantizeDrawn(std::array<float, 3>& position);
+/// The step a geomorphing point on a line is rounded to along it (cells): the finest that is
+/// exact in float in a frame of `largestCells` cells, with a bit to spare (2^-16 for 128-cell
+/// roots, 2^-10 for an 8192-cell node).
+double stitchQuantum(uint32_t largestCells);
+
+/// Rounds a geomorphing vertex (in its chunk's frame) that lies on one of the chunk's lines,
+/// so that moving it into any other chunk's frame is exact in float: along the line to
+/// stitchQuantum, z to 2^-10 m (exact while |z| < 16 km above zBase). Vertices off the lines
+/// never enter the table and are left as they are: rounding them could put them onto a line
+/// or turn a thin triangle over.
+void roundStitchPoint(std::array<float, 3>& position, const StitchChunk& chunk);
 
 /// The fans of a chunk at one frame.
 struct StitchFans {
