@@ -42,24 +42,31 @@ if want edit; then
     { echo "DIFFERENT bytes from --rebuild-all" && exit 1; }
 fi
 
-# While flying: the same strokes, three of each size, applied during the synth's automatic
-# flight at 640×480 (bench --edit-script, one every 20 frames, after the one before is
-# drawn): regeneration on a worker thread, and the time from each stroke to its chunks drawn,
-# first as their whole grids (interim), then as their regenerated VIPMs. The budget is raised
-# so that leaves load at all (the 4,096 roots alone take 1.3 GB).
+# While flying: the same strokes, three of each size 128 m apart, applied during a low flight
+# over them at 640×480 (bench --edit-script, one every 20 frames, after the one before is
+# drawn and made): regeneration on a worker thread, and the time from each stroke to its
+# chunks drawn, first as their whole grids (interim), then as their regenerated VIPMs (the
+# leaves and roots; the nodes above them are made after, edit_upper_*). The flight passes a
+# few hundred metres over the strokes, so that their leaves are drawn (the automatic flight's
+# low pass is kilometres away from the middle of the map, where only upper nodes are drawn).
+cat >over_strokes.json <<'JSON'
+{"fov_deg": 60, "size": [640, 480], "frames": 200, "keyframes": [
+  {"eye": [3950, 3400, 1250], "target": [4000, 4000, 910]},
+  {"eye": [4150, 3900, 1100], "target": [4150, 4400, 910]}]}
+JSON
 want flying && for leaves in 1 4 16; do
   python3 - "$leaves" >"flying$leaves.json" <<'PY'
 import json, sys
 leaves = int(sys.argv[1])
-# Centres along the map's middle, where the automatic flight passes; radii as above.
+# Centres around the middle of the map, under the flight; radii as above.
 radius = {1: 20, 4: 40, 16: 100}[leaves]
 centre = {1: [4000, 4000], 4: [4096, 4096], 16: [4096, 4096]}[leaves]
 edits = [{"brush": "raise" if k % 2 == 0 else "lower",
-          "center": [centre[0] + 1024 * (k - 1), centre[1] + 1024 * (k - 1)],
+          "center": [centre[0] + 128 * (k - 1), centre[1] + 128 * (k - 1)],
           "radius": radius, "amount": 5} for k in range(3)]
 print(json.dumps({"edits": edits}))
 PY
-  "$terralod" bench s8193.tlod --auto-flight --size 640x480 --frames 120 --cache-mb 4096 \
+  "$terralod" bench s8193.tlod --flight over_strokes.json --cache-mb 4096 \
     --edit-script "flying$leaves.json" --edit-every 20 --edit-source s8193.tif \
     --json "flying$leaves.out.json" >/dev/null
   python3 - "flying$leaves.out.json" "$leaves" <<'PY'
@@ -67,6 +74,7 @@ import json, sys
 j = json.load(open(sys.argv[1]))
 keys = ["edit_strokes", "edit_swapped", "edit_nodes_p50", "edit_resident_nodes_max",
         "edit_regen_ms_p50", "edit_regen_ms_max", "edit_latency_ms_p50", "edit_latency_ms_max",
+        "edit_upper_strokes", "edit_upper_ms_p50", "edit_upper_ms_max", "edit_upper_nodes_p50",
         "edit_latency_frames_p50", "edit_latency_frames_max", "edit_interim_drawn",
         "edit_interim_latency_ms_p50", "edit_interim_latency_ms_max",
         "edit_interim_latency_frames_p50", "edit_interim_latency_frames_max", "frame_ms_p50",

@@ -1,5 +1,7 @@
 #include "bench_editor.h"
 
+#include <algorithm>
+
 #include "terralod/measure/bench_flight.h"
 
 namespace terralod::cli {
@@ -11,9 +13,14 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
   auto since = [](const Stroke& s) {
     return std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
   };
+  // Whether the stroke's last nodes handed over to swap are drawn (others' may still come).
+  auto swapped = [&](const Stroke& s) {
+    return std::none_of(s.toSwap.begin(), s.toSwap.end(),
+                        [&](uint32_t node) { return scene.residency().stale(node); });
+  };
   // Everything the last frame drew of the interim nodes was already the interim chunks.
   if (!mDone.empty() && mDone.back().interimHanded && !mDone.back().regenerated &&
-      !mDone.back().interimDrawn && scene.pendingReplacements() == 0) {
+      !mDone.back().interimDrawn && swapped(mDone.back())) {
     Stroke& s = mDone.back();
     s.interimMs = since(s);
     s.interimFrames = frame - s.startFrame;
@@ -25,11 +32,13 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     using What = LiveEditor::Finished::What;
     if (finished->what == What::kInterim) {
       s.interimHanded = true;
+      s.toSwap = finished->toSwap;
     } else if (finished->what == What::kNear || !s.regenerated) {
       // The leaves and roots (with levels above them, before those; else all at once).
       s.regenMs = finished->ms;
       s.nodes = finished->nodes;
       s.drawnNodes = finished->drawnNodes;
+      s.toSwap = finished->toSwap;
       s.regenerated = true;
       s.finished = finished->what == What::kStroke;
     } else {
@@ -39,7 +48,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     }
   }
   if (!mDone.empty() && mDone.back().regenerated && !mDone.back().swapped &&
-      scene.pendingReplacements() == 0) {
+      swapped(mDone.back())) {
     // Everything the last frame drew of the stroke's nodes was already the new chunks.
     Stroke& s = mDone.back();
     s.latencyMs = since(s);
@@ -49,7 +58,9 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
   }
   const bool idle = mDone.empty() || (mDone.back().swapped && mDone.back().finished);
   if (idle && mNext < mStrokes.size() && frame >= (mNext + 1) * mEvery) {
-    mDone.push_back({Clock::now(), frame});
+    Stroke& s = mDone.emplace_back();
+    s.start = Clock::now();
+    s.startFrame = frame;
     mEditor.submit(mStrokes[mNext]);
   }
   return {};

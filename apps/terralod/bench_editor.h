@@ -36,7 +36,8 @@ class BenchEditor {
     double regenMs = 0.0, latencyMs = 0.0, interimMs = 0.0, upperMs = 0.0;
     size_t latencyFrames = 0, interimFrames = 0, nodes = 0, drawnNodes = 0, upperNodes = 0;
     bool interimHanded = false, interimDrawn = false, regenerated = false, swapped = false;
-    bool finished = false;  // the stroke's job is over (its nodes above the roots made too)
+    bool finished = false;         // the stroke's job is over (its nodes above the roots made too)
+    std::vector<uint32_t> toSwap;  // its nodes last handed over that the scene had to swap
   };
 
   LiveEditor mEditor;

@@ -59,6 +59,18 @@ std::vector<double> currentLevelErrors(const ChunkTree& tree) {
   return errors;
 }
 
+// Hands `nodes` to the scene and notes them in `f`, with those it has to swap.
+void handOver(TerrainScene& scene, std::vector<NodeReplacement> nodes,
+              std::span<const double> levelErrors, LiveEditor::Finished& f) {
+  std::vector<uint32_t> ids;
+  for (const NodeReplacement& n : nodes) ids.push_back(n.node);
+  f.nodes = nodes.size();
+  scene.replaceNodes(std::move(nodes), levelErrors);
+  for (uint32_t node : ids)
+    if (scene.residency().stale(node)) f.toSwap.push_back(node);
+  f.drawnNodes = f.toSwap.size();
+}
+
 }  // namespace
 
 std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
@@ -81,9 +93,7 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
       f.ms = mInterimMs;
       mInterimReady = false;
     }
-    f.nodes = nodes.size();
-    scene.replaceNodes(std::move(nodes), currentLevelErrors(scene.tree()));
-    f.drawnNodes = scene.pendingReplacements();
+    handOver(scene, std::move(nodes), currentLevelErrors(scene.tree()), f);
     return f;
   }
   if (mNearReady) {
@@ -100,9 +110,7 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
       f.ms = mNearMs;
       mNearReady = false;
     }
-    f.nodes = nodes.size();
-    scene.replaceNodes(std::move(nodes), errors);
-    f.drawnNodes = scene.pendingReplacements();
+    handOver(scene, std::move(nodes), errors, f);
     return f;
   }
   if (!busy() || !mDone) return std::nullopt;
@@ -121,10 +129,8 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
   mUnsaved = true;
   std::vector<NodeReplacement> nodes;
   for (uint32_t node : *mChanged) nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node)});
-  f.nodes = nodes.size();
   // The levels above the leaves may have moved their errors; the leaves' is --max-error.
-  scene.replaceNodes(std::move(nodes), mSet.levelErrors());
-  f.drawnNodes = scene.pendingReplacements();
+  handOver(scene, std::move(nodes), mSet.levelErrors(), f);
   return f;
 }
 

@@ -41,10 +41,11 @@ class LiveEditor {
       kSave
     };
     What what = What::kStroke;
-    Status status;          ///< (kInterim, kNear: always ok)
-    double ms = 0.0;        ///< the job's own time on the worker (not until it was polled)
-    size_t nodes = 0;       ///< a stroke's nodes handed over
-    size_t drawnNodes = 0;  ///< of those, the scene had drawn (or on its way): to swap
+    Status status;                 ///< (kInterim, kNear: always ok)
+    double ms = 0.0;               ///< the job's own time on the worker (not until it was polled)
+    size_t nodes = 0;              ///< a stroke's nodes handed over
+    size_t drawnNodes = 0;         ///< of those, the scene had drawn (or on its way): to swap
+    std::vector<uint32_t> toSwap;  ///< those nodes
   };
   /// Each frame, on the drawing thread: what finished since, if anything (a stroke's nodes
   /// already handed to `scene`); a stroke's interim nodes, then its near ones, then the rest.

@@ -299,9 +299,15 @@ void Residency::invalidate(uint32_t node) {
   n.stale = true;
 }
 
+bool Residency::stale(uint32_t node) const {
+  const Node& n = mNodes[node];
+  const bool held = n.state == ChunkState::kResident || n.state == ChunkState::kLoading ||
+                    n.state == ChunkState::kReady;
+  return held && (n.stale || n.refreshing);
+}
+
 size_t Residency::stale() const {
-  return size_t(std::count_if(mStale.begin(), mStale.end(),
-                              [&](uint32_t i) { return mNodes[i].stale || mNodes[i].refreshing; }));
+  return size_t(std::count_if(mStale.begin(), mStale.end(), [&](uint32_t i) { return stale(i); }));
 }
 
 void Residency::startRefreshes() {

@@ -87,6 +87,29 @@ TEST_F(ResidencyTest, RequestsLoadByPriorityWithinTheInFlightLimit) {
   EXPECT_EQ(r->counters().residentBytes, 3 * kChunkBytes);
 }
 
+TEST_F(ResidencyTest, AReplacedNodeIsPendingOnlyWhileItsOldChunkIsHeld) {
+  auto r = make({});
+  loadRoot(*r);
+  r->request(1, 1.0f);
+  r->dispatch();
+  mRunner.runAll();
+  uploadAll(*r);
+  r->invalidate(1);  // resident: decoded again, drawn until the refresh lands
+  r->invalidate(2);  // absent: simply loads the new bytes when wanted
+  EXPECT_TRUE(r->stale(1));
+  EXPECT_FALSE(r->stale(2));
+  EXPECT_EQ(r->stale(), 1u);
+  r->dispatch();
+  EXPECT_EQ(mRunner.runAll(), 1u);
+  auto ready = r->collect();
+  ASSERT_EQ(ready.size(), 1u);
+  EXPECT_TRUE(ready[0].refresh);
+  EXPECT_TRUE(r->stale(1));  // until uploaded
+  r->markRefreshed(ready[0], kChunkBytes);
+  EXPECT_FALSE(r->stale(1));
+  EXPECT_EQ(r->stale(), 0u);
+}
+
 TEST_F(ResidencyTest, RequestsNobodyRenewsAreCancelled) {
   ResidencyOptions o;
   o.maxInFlight = 1;

@@ -123,6 +123,8 @@ class Residency {
   void invalidate(uint32_t node);
   /// Nodes invalidated whose new bytes are not uploaded yet (resident, loading or ready).
   size_t stale() const;
+  /// Whether `node` is one of those.
+  bool stale(uint32_t node) const;
   /// Gives a ready chunk back unused (e.g. the frame's upload budget ran out): kept for later.
   void returnReady(ReadyChunk chunk);
   /// `node` is in use this frame (drawn, an ancestor of a drawn chunk, or a child of one).
