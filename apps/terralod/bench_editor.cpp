@@ -44,6 +44,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     } else {
       s.upperMs = finished->ms;
       s.upperNodes = finished->nodes;
+      s.inPlace = finished->inPlace;
       s.finished = true;
     }
   }
@@ -68,7 +69,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
 
 void BenchEditor::addFigures(nlohmann::json& j) const {
   std::vector<double> regen, latency, frames, nodes, drawn, interim, interimFrames, upper,
-      upperNodes;
+      upperNodes, inPlace;
   size_t swapped = 0;
   for (const Stroke& s : mDone) {
     if (s.interimDrawn) {
@@ -78,6 +79,7 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
     if (s.upperNodes > 0) {
       upper.push_back(s.upperMs);
       upperNodes.push_back(double(s.upperNodes));
+      inPlace.push_back(double(s.inPlace));
     }
     if (!s.regenerated) continue;
     regen.push_back(s.regenMs);
@@ -105,6 +107,7 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
   j["edit_upper_ms_p50"] = percentile(upper, 0.5);
   j["edit_upper_ms_max"] = max(upper);
   j["edit_upper_nodes_p50"] = percentile(upperNodes, 0.5);
+  j["edit_upper_in_place_max"] = max(inPlace);
   j["edit_interim_drawn"] = interim.size();
   j["edit_interim_latency_ms_p50"] = percentile(interim, 0.5);
   j["edit_interim_latency_ms_max"] = max(interim);

@@ -23,7 +23,9 @@ class BenchEditor {
   /// "edit_latency_frames_p50/max", "edit_nodes_p50/max" (leaves and roots rebuilt per
   /// stroke) and "edit_resident_nodes_p50/max" (of those, the ones the scene had to swap);
   /// "edit_upper_strokes", "edit_upper_ms_p50/max" and "edit_upper_nodes_p50" (strokes that
-  /// changed nodes above the roots: stroke to those made, and how many); and
+  /// changed nodes above the roots: stroke to those made, and how many) with
+  /// "edit_upper_in_place_max" (of those, drawn nodes whose record alone changed, updated in
+  /// place); and
   /// "edit_interim_drawn" (strokes whose whole-grid chunks were all drawn before their made
   /// ones came) with "edit_interim_latency_ms_p50/max" and "_frames_p50/max" into `summary`.
   void addFigures(nlohmann::json& summary) const;
@@ -35,6 +37,7 @@ class BenchEditor {
     size_t startFrame = 0;
     double regenMs = 0.0, latencyMs = 0.0, interimMs = 0.0, upperMs = 0.0;
     size_t latencyFrames = 0, interimFrames = 0, nodes = 0, drawnNodes = 0, upperNodes = 0;
+    size_t inPlace = 0;  // of the upper hand-over, drawn nodes that took a new record in place
     bool interimHanded = false, interimDrawn = false, regenerated = false, swapped = false;
     bool finished = false;         // the stroke's job is over (its nodes above the roots made too)
     std::vector<uint32_t> toSwap;  // its nodes last handed over that the scene had to swap

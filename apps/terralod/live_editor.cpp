@@ -1,10 +1,13 @@
 #include "live_editor.h"
 
+#include <algorithm>
+
 #include "terralod/build/vipm_builder.h"
 
 namespace terralod::cli {
 
-LiveEditor::LiveEditor(VipmChunkSet set) : mSet(std::move(set)) {}
+LiveEditor::LiveEditor(VipmChunkSet set)
+    : mSet(std::move(set)), mHandedVersion(mSet.nodes().size(), 0) {}
 
 LiveEditor::~LiveEditor() {
   if (mWorker.joinable()) mWorker.join();
@@ -32,6 +35,8 @@ bool LiveEditor::submit(const TerrainEdit& stroke) {
     };
     auto near = [this](std::vector<VipmInterimNode> nodes, const std::vector<double>& errors) {
       std::lock_guard lock(mInterimMutex);
+      mNearVersions.clear();
+      for (const VipmInterimNode& n : nodes) mNearVersions.push_back(mSet.bytesVersion(n.node));
       mNear = std::move(nodes);
       mNearLevelErrors = errors;
       mNearMs = std::chrono::duration<double, std::milli>(Clock::now() - mStart).count();
@@ -62,13 +67,19 @@ std::vector<double> currentLevelErrors(const ChunkTree& tree) {
 // Hands `nodes` to the scene and notes them in `f`, with those it has to swap.
 void handOver(TerrainScene& scene, std::vector<NodeReplacement> nodes,
               std::span<const double> levelErrors, LiveEditor::Finished& f) {
-  std::vector<uint32_t> ids;
-  for (const NodeReplacement& n : nodes) ids.push_back(n.node);
+  std::vector<uint32_t> ids, records;
+  for (const NodeReplacement& n : nodes) {
+    ids.push_back(n.node);
+    if (n.part == ReplacedPart::kRecord && scene.residency().state(n.node) == ChunkState::kResident)
+      records.push_back(n.node);
+  }
   f.nodes = nodes.size();
   scene.replaceNodes(std::move(nodes), levelErrors);
   for (uint32_t node : ids)
     if (scene.residency().stale(node)) f.toSwap.push_back(node);
   f.drawnNodes = f.toSwap.size();
+  f.inPlace = size_t(std::count_if(records.begin(), records.end(),
+                                   [&](uint32_t node) { return !scene.residency().stale(node); }));
 }
 
 }  // namespace
@@ -87,8 +98,10 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
     std::vector<NodeReplacement> nodes;
     {
       std::lock_guard lock(mInterimMutex);
-      for (VipmInterimNode& n : mInterim)
+      for (VipmInterimNode& n : mInterim) {
+        mHandedVersion[n.node] = kWholeGrid;
         nodes.push_back({n.node, std::move(n.record), std::move(n.bytes)});
+      }
       mInterim.clear();
       f.ms = mInterimMs;
       mInterimReady = false;
@@ -103,8 +116,11 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
     std::vector<double> errors;
     {
       std::lock_guard lock(mInterimMutex);
-      for (VipmInterimNode& n : mNear)
+      for (size_t k = 0; k < mNear.size(); ++k) {
+        VipmInterimNode& n = mNear[k];
+        mHandedVersion[n.node] = mNearVersions[k];
         nodes.push_back({n.node, std::move(n.record), std::move(n.bytes)});
+      }
       mNear.clear();
       errors = std::move(mNearLevelErrors);
       f.ms = mNearMs;
@@ -128,7 +144,15 @@ std::optional<LiveEditor::Finished> LiveEditor::poll(TerrainScene& scene) {
   ++mStrokes;
   mUnsaved = true;
   std::vector<NodeReplacement> nodes;
-  for (uint32_t node : *mChanged) nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node)});
+  for (uint32_t node : *mChanged) {
+    // Bytes the scene has already (the build's, or handed since) and a new record: a flange
+    // depth moved beside the stroke, which drawn chunks take in place.
+    const uint32_t version = mSet.bytesVersion(node);
+    const ReplacedPart part =
+        mHandedVersion[node] == version ? ReplacedPart::kRecord : ReplacedPart::kBytes;
+    mHandedVersion[node] = version;
+    nodes.push_back({node, mSet.nodes()[node], mSet.nodeBytes(node), part});
+  }
   // The levels above the leaves may have moved their errors; the leaves' is --max-error.
   handOver(scene, std::move(nodes), mSet.levelErrors(), f);
   return f;

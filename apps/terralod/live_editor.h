@@ -46,6 +46,7 @@ class LiveEditor {
     size_t nodes = 0;              ///< a stroke's nodes handed over
     size_t drawnNodes = 0;         ///< of those, the scene had drawn (or on its way): to swap
     std::vector<uint32_t> toSwap;  ///< those nodes
+    size_t inPlace = 0;            ///< drawn nodes whose record alone changed, updated in place
   };
   /// Each frame, on the drawing thread: what finished since, if anything (a stroke's nodes
   /// already handed to `scene`); a stroke's interim nodes, then its near ones, then the rest.
@@ -75,6 +76,11 @@ class LiveEditor {
   std::vector<double> mNearLevelErrors;
   double mNearMs = 0.0;
   std::atomic<bool> mNearReady{false};
+  std::vector<uint32_t> mNearVersions;  // their VipmChunkSet::bytesVersion
+  // Per node, the bytes version the scene was handed (drawing thread): a node changed again
+  // with the same version changed only its record. kWholeGrid: an interim grid.
+  static constexpr uint32_t kWholeGrid = ~uint32_t{0};
+  std::vector<uint32_t> mHandedVersion;
   Clock::time_point mStart;
   double mWorkMs = 0.0;  // the job's own time, written by the worker before mDone
   size_t mStrokes = 0;

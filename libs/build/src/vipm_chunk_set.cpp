@@ -156,6 +156,7 @@ struct VipmChunkSetState {
   std::vector<VipmLeaf> leaves;  // per leaf, node innerCount + k
   std::vector<VipmRoot> inner;   // per node above the leaves
   std::vector<std::vector<uint8_t>> normalMaps;  // per node: its texture blob
+  std::vector<uint32_t> bytesVersion;            // per node: times made again since the build
   std::vector<std::pair<float, float>> bounds;   // per inner node: its points' heights
   BuildSummary summary;
 
@@ -256,6 +257,7 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
   parallelFor(leafCount, threads, [&](size_t k, unsigned) {
     const size_t i = innerCount + k;
     if (!dirty[i]) return;
+    ++bytesVersion[i];
     if (!keep(i, reuseLeaf, leaves[k])) {
       const auto [x0, y0, w, h] = points(i);
       leaves[k] = buildVipmLeaf(heights, materials, x0, y0, w, h, params);
@@ -304,6 +306,7 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
     parallelFor(members.size(), threads, [&](size_t k, unsigned) {
       const size_t i = members[k];
       if (!dirty[i]) return progress.advance(1);
+      ++bytesVersion[i];
       if (!(keepLevel && keep(i, reuseNode, inner[i]))) {
         const auto [x0, y0, w, h] = points(i);
         const int32_t c = cells(i);
@@ -411,12 +414,14 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
   s->leaves.resize(s->nodes.size() - s->innerCount);
   s->inner.resize(s->innerCount);
   s->normalMaps.resize(s->nodes.size());
+  s->bytesVersion.assign(s->nodes.size(), 0);
   // No level errors yet: every node is built.
   const std::optional<VipmChunkReuse> reuse =
       VipmChunkReuse::open(options, info, s->layout, s->zStep);
   const unsigned threads = options.threads ? options.threads : hardwareThreads();
   s->rebuild(std::vector<uint8_t>(s->nodes.size(), 1), reuse ? &*reuse : nullptr, threads,
              progress);
+  s->bytesVersion.assign(s->nodes.size(), 0);
   return VipmChunkSet(std::move(s));
 }
 
@@ -521,6 +526,10 @@ const std::vector<NodeRecord>& VipmChunkSet::nodes() const {
 NodeBytes VipmChunkSet::nodeBytes(uint32_t node) const {
   const VipmChunkSetState& s = *mState;
   return s.handover(node).bytes;
+}
+
+uint32_t VipmChunkSet::bytesVersion(uint32_t node) const {
+  return mState->bytesVersion[node];
 }
 
 const std::vector<TerrainEdit>& VipmChunkSet::edits() const {

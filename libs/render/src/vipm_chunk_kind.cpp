@@ -130,6 +130,13 @@ uint64_t VipmChunkKind::blockSpareBytes() const {
   return blocks > mBlockBytesUsed ? blocks - mBlockBytesUsed : 0;
 }
 
+bool VipmChunkKind::updateRecord(uint32_t node, const NodeRecord& record) {
+  auto it = mChunks.find(node);
+  if (it == mChunks.end()) return false;
+  it->second->setFlangeDepth(record.maxSkirtDepth);
+  return true;
+}
+
 void VipmChunkKind::release(uint32_t node) {
   auto it = mChunks.find(node);
   if (it == mChunks.end()) return;

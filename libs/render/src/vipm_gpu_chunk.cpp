@@ -83,6 +83,19 @@ VipmGpuChunk::~VipmGpuChunk() {
   mBlock.release(mVertices);
 }
 
+void VipmGpuChunk::setFlangeDepth(float depth) {
+  if (depth == mFlangeDepth) return;
+  mFlangeDepth = depth;
+  const uint32_t n = mMesh.vertexCount();
+  for (size_t k = 0; k < mFlanges.tops.size(); ++k) {
+    mOwn[n + k] = mOwn[mFlanges.tops[k]];
+    mOwn[n + k][2] -= depth;
+    mDrawn[n + k] = mDrawn[mFlanges.tops[k]];
+    mDrawn[n + k][2] -= depth;
+  }
+  uploadPositions(n, uint32_t(mFlanges.tops.size()));
+}
+
 void VipmGpuChunk::uploadPositions(uint32_t first, uint32_t count) {
   if (count == 0) return;
   mBlock.writePositions(mVertices, first, std::span(mDrawn).subspan(first, count));

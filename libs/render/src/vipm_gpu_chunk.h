@@ -31,6 +31,9 @@ class VipmGpuChunk {
   /// The collapses `theta` chooses, geomorphed as `morphTheta` says (bench: an earlier frame's
   /// level geomorphed for this frame).
   void update(double theta, double morphTheta, Geomorph geomorph);
+  /// Hangs the flanges `depth` metres below their tops (an edit moved the node's flange
+  /// depth, not its mesh), uploading the flange vertices.
+  void setFlangeDepth(float depth);
 
   struct Range {
     int material = kWholeChunk;

@@ -245,11 +245,15 @@ HorizonCullingStats FrameDriver::cullHidden(const View& view, std::span<const Se
 void FrameDriver::replaceNodes(std::vector<NodeReplacement> nodes) {
   for (NodeReplacement& r : nodes) {
     const uint32_t node = r.node;
+    // A new record alone: an uploaded chunk with no refresh coming takes it in place.
+    const bool inPlace = r.part == ReplacedPart::kRecord &&
+                         mResidency->state(node) == ChunkState::kResident &&
+                         !mResidency->stale(node) && kindOf(node).updateRecord(node, r.record);
     {
       std::lock_guard lock(mReplacements->mutex);
       mReplacements->nodes[node] = std::make_shared<const NodeReplacement>(std::move(r));
     }
-    mResidency->invalidate(node);
+    if (!inPlace) mResidency->invalidate(node);
   }
 }
 

@@ -133,6 +133,14 @@ class BlobKind final : public DrawnChunkKind<RecordedFrame> {
     if (uploaded.erase(node) && --mGroupMembers[node / kGroup] == 0)
       mGroupMembers.erase(node / kGroup);
   }
+  /// With `takesRecords`, an uploaded chunk takes a new record in place (kept here).
+  bool updateRecord(uint32_t node, const NodeRecord& record) override {
+    if (!takesRecords || !uploaded.count(node)) return false;
+    recordsInPlace[node] = record;
+    return true;
+  }
+  bool takesRecords = false;
+  std::map<uint32_t, NodeRecord> recordsInPlace;
   /// Like super-chunk blocks: every group of kGroup consecutive nodes with a chunk uploaded
   /// holds `sharedPerGroup` bytes besides them.
   uint64_t sharedBytes() const override { return mGroupMembers.size() * sharedPerGroup; }

@@ -435,5 +435,60 @@ TEST(FrameDriver, ReplacedNodesAreSwappedInWhileTheOldOnesAreDrawn) {
   EXPECT_EQ(kind.uploadedFiller[0], 0xAB);  // the root: resident throughout, so swapped
 }
 
+// A new record alone (an edit moved a flange depth beside it): a drawn chunk whose kind can
+// takes it in place, with nothing decoded or uploaded again; otherwise it is swapped in as
+// new bytes would be.
+TEST(FrameDriver, ANewRecordAloneIsTakenInPlaceWhereTheKindCan) {
+  const std::string path = writeBlobTileset(tilesetPath("driver_record.tlod"), kLevels);
+  auto reader = TilesetReader::openFile(path).value();
+  const ChunkTree tree(reader->header(), reader->nodes());
+  for (const bool takes : {true, false}) {
+    SCOPED_TRACE(takes ? "the kind takes records" : "the kind does not");
+    InlineRunner runner;
+    FakeClock clock(&runner);
+    RecordingBackend backend(clock);
+    BlobKind kind(backend);
+    kind.takesRecords = takes;
+    ChunkKinds kinds;
+    kinds.add(kind);
+    auto driver = FrameDriver::create(*reader, tree, kinds, runner, clock, smallBudget()).value();
+    SelectionOptions selection;
+    selection.tau = 2.0;
+    const std::vector<Camera> cameras = flightCameras(recordedFlight(tree));
+    for (size_t f = 0; f < 60; ++f) {
+      driver->update(makeView(cameras[f]).value(), selection);
+      runner.runAll();
+    }
+    const Residency& r = driver->residency();
+    std::vector<NodeReplacement> edit;
+    std::vector<uint32_t> drawn;
+    for (const SelectedChunk& c : driver->selected()) {
+      NodeReplacement n;
+      n.node = c.node;
+      n.record = reader->nodes()[c.node];
+      n.record.maxSkirtDepth += 7.0f;
+      n.bytes.bytes = blobFor(c.node);
+      n.bytes.meshBytes = uint32_t(n.bytes.bytes.size());
+      n.part = ReplacedPart::kRecord;
+      edit.push_back(std::move(n));
+      drawn.push_back(c.node);
+    }
+    ASSERT_GT(drawn.size(), 1u);
+    const uint64_t loads = r.counters().loads;
+    driver->replaceNodes(std::move(edit));
+    if (takes) {
+      EXPECT_EQ(driver->pendingReplacements(), 0u);
+      for (uint32_t node : drawn)
+        EXPECT_EQ(kind.recordsInPlace[node].maxSkirtDepth,
+                  reader->nodes()[node].maxSkirtDepth + 7.0f)
+            << node;
+    } else {
+      EXPECT_EQ(driver->pendingReplacements(), drawn.size());
+      EXPECT_TRUE(kind.recordsInPlace.empty());
+    }
+    EXPECT_EQ(r.counters().loads, loads);
+  }
+}
+
 }  // namespace
 }  // namespace terralod

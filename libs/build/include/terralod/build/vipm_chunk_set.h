@@ -81,6 +81,9 @@ class VipmChunkSet {
 
   /// Node records in tileset order (mesh fields and flange depths; no blob offsets).
   const std::vector<NodeRecord>& nodes() const;
+  /// How many times `node`'s bytes were made again since the build (0: as built); a node
+  /// changed with the same count changed only its record (a flange depth, a level's error).
+  uint32_t bytesVersion(uint32_t node) const;
   /// A node's mesh blob followed by its texture blob (the normal map), as a tileset stores
   /// them.
   NodeBytes nodeBytes(uint32_t node) const;

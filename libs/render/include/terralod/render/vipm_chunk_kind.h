@@ -69,6 +69,8 @@ class VipmChunkKind final : public DrawnChunkKind<TerrainFrame> {
   UploadRoom prepare(const ChunkPayload&) override { return UploadRoom::kReady; }
   uint64_t upload(uint32_t node, const ChunkPayload& payload) override;
   void release(uint32_t node) override;
+  /// A new flange depth hangs the chunk's flanges again (its mesh is the same).
+  bool updateRecord(uint32_t node, const NodeRecord& record) override;
   void addDraws(TerrainFrame& frame, std::span<const SelectedChunk> chunks) override;
 
   /// Draws `chunks`, each at its own θ (geomorphed at its morphTheta when frame.selection.morph

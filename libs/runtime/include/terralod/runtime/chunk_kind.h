@@ -64,6 +64,9 @@ class ChunkKind {
   virtual uint64_t upload(uint32_t node, const ChunkPayload& payload) = 0;
   /// Frees what upload() made for `node`.
   virtual void release(uint32_t node) = 0;
+  /// An edit changed the record of uploaded `node` but not its bytes: takes the new record
+  /// in place and returns true, or returns false and the driver decodes the chunk again.
+  virtual bool updateRecord(uint32_t /*node*/, const NodeRecord& /*record*/) { return false; }
   /// Memory the kind holds besides what upload() returned for its chunks: storage several
   /// chunks share, with its room to spare. Counted against the budget with them.
   virtual uint64_t sharedBytes() const { return 0; }

@@ -76,10 +76,17 @@ struct UpdateStats {
 };
 
 /// A node's new bytes and record (an edit: VipmChunkSet::apply).
+/// What an edit changed of a node.
+enum class ReplacedPart : uint8_t {
+  kBytes,   ///< its bytes (and record): drawn chunks are decoded again
+  kRecord,  ///< only its record (e.g. a flange depth): a drawn chunk takes it in place
+};
+
 struct NodeReplacement {
   uint32_t node = 0;
   NodeRecord record;
-  NodeBytes bytes;
+  NodeBytes bytes;  ///< the node's bytes now (for loads to come), changed or not
+  ReplacedPart part = ReplacedPart::kBytes;
 };
 
 class FrameDriver {
@@ -106,8 +113,9 @@ class FrameDriver {
 
   /// Nodes whose bytes and records changed (an edit): later loads read these, and resident
   /// ones are decoded again on the loader threads and swapped in by a later update (the old
-  /// ones are drawn until then: no frame waits for them). The tree's boxes are the caller's
-  /// (ChunkTree::updateNode).
+  /// ones are drawn until then: no frame waits for them); a resident one whose record alone
+  /// changed (ReplacedPart::kRecord) takes it in place if its kind can
+  /// (ChunkKind::updateRecord). The tree's boxes are the caller's (ChunkTree::updateNode).
   void replaceNodes(std::vector<NodeReplacement> nodes);
   /// Replaced nodes whose new bytes are not drawn yet (resident, loading or waiting).
   size_t pendingReplacements() const { return mResidency->stale(); }
