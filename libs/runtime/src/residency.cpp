@@ -265,7 +265,8 @@ void Residency::dispatch() {
   std::stable_sort(mQueue.begin(), mQueue.end(),
                    [&](uint32_t a, uint32_t b) { return mNodes[a].priority < mNodes[b].priority; });
   size_t started = 0;
-  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight && fits(mQueue[started])) {
+  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight &&
+         mReady.size() < mOptions.maxReady && fits(mQueue[started])) {
     const uint32_t node = mQueue[started++];
     mNodes[node].state = ChunkState::kLoading;
     adjustParent(node, +1);

@@ -110,6 +110,30 @@ TEST_F(ResidencyTest, AReplacedNodeIsPendingOnlyWhileItsOldChunkIsHeld) {
   EXPECT_EQ(r->stale(), 0u);
 }
 
+TEST_F(ResidencyTest, NoLoadStartsWhileTheUploadBacklogIsFull) {
+  ResidencyOptions o;
+  o.maxInFlight = 4;
+  o.maxReady = 2;
+  auto r = make(o);
+  loadRoot(*r);
+  for (uint32_t node = 1; node <= 3; ++node) r->request(node, float(node));
+  r->dispatch();
+  EXPECT_EQ(mRunner.runAll(), 3u);
+  // The frame's upload budget ran out: all three wait, and a new request waits behind them.
+  for (ReadyChunk& c : r->collect()) r->returnReady(std::move(c));
+  EXPECT_EQ(r->readyWaiting(), 3u);
+  r->request(4, 1.0f);
+  r->dispatch();
+  EXPECT_EQ(r->state(4), ChunkState::kQueued);
+  EXPECT_EQ(r->inFlight(), 0u);
+  // Uploaded: it starts.
+  uploadAll(*r);
+  r->request(4, 1.0f);
+  r->dispatch();
+  EXPECT_EQ(r->state(4), ChunkState::kLoading);
+  EXPECT_EQ(mRunner.runAll(), 1u);
+}
+
 TEST_F(ResidencyTest, RequestsNobodyRenewsAreCancelled) {
   ResidencyOptions o;
   o.maxInFlight = 1;

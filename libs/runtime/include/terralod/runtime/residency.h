@@ -62,7 +62,11 @@ enum class ChunkState : uint8_t { kAbsent, kQueued, kLoading, kReady, kResident,
 struct ResidencyOptions {
   uint64_t budgetBytes = uint64_t{512} << 20;  ///< resident (GPU) plus decoded-not-uploaded
   unsigned maxInFlight = 4;                    ///< loads running at once
-  uint32_t retryFrames = 30;                   ///< first retry of a failed chunk; doubles
+  /// Decoded chunks waiting for their upload at most: no load starts while this many wait
+  /// (a backlog would hold chunks decoded for an older view in line ahead of what is wanted
+  /// now, an edit's new bytes too).
+  unsigned maxReady = 8;
+  uint32_t retryFrames = 30;  ///< first retry of a failed chunk; doubles
 };
 
 struct ResidencyCounters {
