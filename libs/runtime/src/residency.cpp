@@ -193,13 +193,15 @@ std::vector<uint32_t> Residency::evict() {
   std::vector<uint32_t> evicted;
   // Over the budget with the loads in flight, or without room for the most wanted load
   // waiting (dispatch starts it only when it fits: without room made here, a full budget
-  // would keep it waiting for good).
+  // would keep it waiting for good) when it could start (not while the uploads are behind:
+  // room made then would be taken back by what is evicted, wanted again, and so on).
   const auto next = std::min_element(mQueue.begin(), mQueue.end(), [&](uint32_t a, uint32_t b) {
     return mNodes[a].priority < mNodes[b].priority;
   });
   const auto overBudget = [&] {
     if (mCounters.residentBytes + mReserved > mOptions.budgetBytes) return true;
-    return next != mQueue.end() && mNodes[*next].requested == mFrame && !fits(*next);
+    return next != mQueue.end() && mNodes[*next].requested == mFrame &&
+           mReady.size() < mOptions.maxReady && !fits(*next);
   };
   // Loaded chunks nobody asked for this frame go first.
   if (overBudget()) {

@@ -308,6 +308,45 @@ TEST_F(ResidencyTest, AFullBudgetMakesRoomForWhatIsWanted) {
   mRunner.runAll();  // the residency waits for its loads when it goes
 }
 
+// While the uploads are behind (maxReady waiting), a wanted load could not start anyway:
+// no room is made for it, or what is evicted for it would be wanted back meanwhile.
+TEST_F(ResidencyTest, NoRoomIsMadeForALoadThatCouldNotStart) {
+  ResidencyOptions o;
+  o.budgetBytes = 4 * kChunkBytes;
+  o.maxReady = 1;
+  auto r = make(o);
+  loadRoot(*r);
+  for (uint32_t c = 1; c <= 2; ++c) r->request(c, float(c));
+  r->dispatch();
+  mRunner.runAll();
+  uploadAll(*r);
+  r->dispatch();
+  r->request(3, 1.0f);
+  r->dispatch();
+  mRunner.runAll();
+  for (ReadyChunk& c : r->collect()) r->returnReady(std::move(c));  // no upload this frame
+  EXPECT_EQ(r->counters().residentBytes, o.budgetBytes);
+  // Next frame child 2 is no longer used and child 4 is wanted: it waits for the upload.
+  r->touch(0);
+  r->touch(1);
+  r->request(3, 1.0f);
+  r->request(4, 2.0f);
+  EXPECT_TRUE(r->evict().empty());
+  r->dispatch();
+  EXPECT_EQ(r->state(2), ChunkState::kResident);
+  EXPECT_EQ(r->state(4), ChunkState::kQueued);
+  // Uploaded: room is made and it starts.
+  uploadAll(*r);
+  r->touch(0);
+  r->touch(1);
+  r->touch(3);
+  r->request(4, 2.0f);
+  EXPECT_EQ(r->evict(), std::vector<uint32_t>{2});
+  r->dispatch();
+  EXPECT_EQ(r->state(4), ChunkState::kLoading);
+  mRunner.runAll();
+}
+
 TEST_F(ResidencyTest, SelectionDrawsTheResidentParentUntilItsChildrenArrive) {
   ResidencyOptions o;
   o.maxInFlight = 8;
