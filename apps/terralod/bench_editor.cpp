@@ -14,13 +14,13 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     return std::chrono::duration<double, std::milli>(Clock::now() - s.start).count();
   };
   // Whether the stroke's last nodes handed over to swap are drawn (others' may still come).
-  auto swapped = [&](const Stroke& s) {
+  auto drawnNew = [&](const Stroke& s) {
     return std::none_of(s.toSwap.begin(), s.toSwap.end(),
                         [&](uint32_t node) { return scene.residency().stale(node); });
   };
   // Everything the last frame drew of the interim nodes was already the interim chunks.
   if (!mDone.empty() && mDone.back().interimHanded && !mDone.back().regenerated &&
-      !mDone.back().interimDrawn && swapped(mDone.back())) {
+      !mDone.back().interimDrawn && drawnNew(mDone.back())) {
     Stroke& s = mDone.back();
     s.interimMs = since(s);
     s.interimFrames = frame - s.startFrame;
@@ -37,7 +37,6 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
       // The leaves and roots (with levels above them, before those; else all at once).
       s.regenMs = finished->ms;
       s.nodes = finished->nodes;
-      s.drawnNodes = finished->drawnNodes;
       s.toSwap = finished->toSwap;
       s.regenerated = true;
       s.finished = finished->what == What::kStroke;
@@ -49,7 +48,7 @@ Status BenchEditor::beforeFrame(size_t frame, TerrainScene& scene) {
     }
   }
   if (!mDone.empty() && mDone.back().regenerated && !mDone.back().swapped &&
-      swapped(mDone.back())) {
+      drawnNew(mDone.back())) {
     // Everything the last frame drew of the stroke's nodes was already the new chunks.
     Stroke& s = mDone.back();
     s.latencyMs = since(s);
@@ -84,7 +83,7 @@ void BenchEditor::addFigures(nlohmann::json& j) const {
     if (!s.regenerated) continue;
     regen.push_back(s.regenMs);
     nodes.push_back(double(s.nodes));
-    drawn.push_back(double(s.drawnNodes));
+    drawn.push_back(double(s.toSwap.size()));
     if (!s.swapped) continue;
     ++swapped;
     latency.push_back(s.latencyMs);

@@ -36,7 +36,7 @@ class BenchEditor {
     Clock::time_point start;
     size_t startFrame = 0;
     double regenMs = 0.0, latencyMs = 0.0, interimMs = 0.0, upperMs = 0.0;
-    size_t latencyFrames = 0, interimFrames = 0, nodes = 0, drawnNodes = 0, upperNodes = 0;
+    size_t latencyFrames = 0, interimFrames = 0, nodes = 0, upperNodes = 0;
     size_t inPlace = 0;  // of the upper hand-over, drawn nodes that took a new record in place
     bool interimHanded = false, interimDrawn = false, regenerated = false, swapped = false;
     bool finished = false;         // the stroke's job is over (its nodes above the roots made too)

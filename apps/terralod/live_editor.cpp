@@ -77,7 +77,6 @@ void handOver(TerrainScene& scene, std::vector<NodeReplacement> nodes,
   scene.replaceNodes(std::move(nodes), levelErrors);
   for (uint32_t node : ids)
     if (scene.residency().stale(node)) f.toSwap.push_back(node);
-  f.drawnNodes = f.toSwap.size();
   f.inPlace = size_t(std::count_if(records.begin(), records.end(),
                                    [&](uint32_t node) { return !scene.residency().stale(node); }));
 }

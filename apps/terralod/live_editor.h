@@ -44,8 +44,7 @@ class LiveEditor {
     Status status;                 ///< (kInterim, kNear: always ok)
     double ms = 0.0;               ///< the job's own time on the worker (not until it was polled)
     size_t nodes = 0;              ///< a stroke's nodes handed over
-    size_t drawnNodes = 0;         ///< of those, the scene had drawn (or on its way): to swap
-    std::vector<uint32_t> toSwap;  ///< those nodes
+    std::vector<uint32_t> toSwap;  ///< of those, the ones the scene had drawn or on its way
     size_t inPlace = 0;            ///< drawn nodes whose record alone changed, updated in place
   };
   /// Each frame, on the drawing thread: what finished since, if anything (a stroke's nodes

@@ -200,8 +200,8 @@ std::vector<uint32_t> Residency::evict() {
   });
   const auto overBudget = [&] {
     if (mCounters.residentBytes + mReserved > mOptions.budgetBytes) return true;
-    return next != mQueue.end() && mNodes[*next].requested == mFrame &&
-           mReady.size() < mOptions.maxReady && !fits(*next);
+    return next != mQueue.end() && mNodes[*next].requested == mFrame && !uploadsBehind() &&
+           !fits(*next);
   };
   // Loaded chunks nobody asked for this frame go first.
   if (overBudget()) {
@@ -267,8 +267,8 @@ void Residency::dispatch() {
   std::stable_sort(mQueue.begin(), mQueue.end(),
                    [&](uint32_t a, uint32_t b) { return mNodes[a].priority < mNodes[b].priority; });
   size_t started = 0;
-  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight &&
-         mReady.size() < mOptions.maxReady && fits(mQueue[started])) {
+  while (started < mQueue.size() && mInFlight < mOptions.maxInFlight && !uploadsBehind() &&
+         fits(mQueue[started])) {
     const uint32_t node = mQueue[started++];
     mNodes[node].state = ChunkState::kLoading;
     adjustParent(node, +1);

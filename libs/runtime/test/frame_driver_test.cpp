@@ -348,6 +348,20 @@ TEST(KindRuns, GroupsAMixedSelectionByKindInSelectionOrder) {
 namespace terralod {
 namespace {
 
+// A driver over the blob kind with the small budget, for the edit tests.
+struct BlobDriver {
+  BlobDriver(const TilesetReader& reader, const ChunkTree& tree) {
+    kinds.add(kind);
+    driver = FrameDriver::create(reader, tree, kinds, runner, clock, smallBudget()).value();
+  }
+  InlineRunner runner;
+  FakeClock clock{&runner};
+  RecordingBackend backend{clock};
+  BlobKind kind{backend};
+  ChunkKinds kinds;
+  std::unique_ptr<FrameDriver> driver;
+};
+
 // An edit's nodes (replaceNodes): resident ones are decoded again on the loader threads and
 // swapped in by a later update while their old payload keeps being drawn; absent ones load
 // the new bytes when wanted; every replaced node's last upload is its new bytes.
@@ -355,13 +369,10 @@ TEST(FrameDriver, ReplacedNodesAreSwappedInWhileTheOldOnesAreDrawn) {
   const std::string path = writeBlobTileset(tilesetPath("driver_replace.tlod"), kLevels);
   auto reader = TilesetReader::openFile(path).value();
   const ChunkTree tree(reader->header(), reader->nodes());
-  InlineRunner runner;
-  FakeClock clock(&runner);
-  RecordingBackend backend(clock);
-  BlobKind kind(backend);
-  ChunkKinds kinds;
-  kinds.add(kind);
-  auto driver = FrameDriver::create(*reader, tree, kinds, runner, clock, smallBudget()).value();
+  BlobDriver rig(*reader, tree);
+  InlineRunner& runner = rig.runner;
+  BlobKind& kind = rig.kind;
+  FrameDriver* driver = rig.driver.get();
   SelectionOptions selection;
   selection.tau = 2.0;
   const std::vector<Camera> cameras = flightCameras(recordedFlight(tree));
@@ -444,14 +455,11 @@ TEST(FrameDriver, ANewRecordAloneIsTakenInPlaceWhereTheKindCan) {
   const ChunkTree tree(reader->header(), reader->nodes());
   for (const bool takes : {true, false}) {
     SCOPED_TRACE(takes ? "the kind takes records" : "the kind does not");
-    InlineRunner runner;
-    FakeClock clock(&runner);
-    RecordingBackend backend(clock);
-    BlobKind kind(backend);
+    BlobDriver rig(*reader, tree);
+    InlineRunner& runner = rig.runner;
+    BlobKind& kind = rig.kind;
     kind.takesRecords = takes;
-    ChunkKinds kinds;
-    kinds.add(kind);
-    auto driver = FrameDriver::create(*reader, tree, kinds, runner, clock, smallBudget()).value();
+    FrameDriver* driver = rig.driver.get();
     SelectionOptions selection;
     selection.tau = 2.0;
     const std::vector<Camera> cameras = flightCameras(recordedFlight(tree));

@@ -52,6 +52,14 @@ class ResidencyTest : public ::testing::Test {
     for (ReadyChunk& c : r.collect()) r.markResident(c, kChunkBytes);
   }
 
+  // The root's children 1..last loaded and uploaded (nearest first).
+  void loadChildren(Residency& r, uint32_t last) {
+    for (uint32_t c = 1; c <= last; ++c) r.request(c, float(c));
+    r.dispatch();
+    mRunner.runAll();
+    uploadAll(r);
+  }
+
   FullTree mFull;
   ChunkTree mTree;
   InlineRunner mRunner;
@@ -90,10 +98,7 @@ TEST_F(ResidencyTest, RequestsLoadByPriorityWithinTheInFlightLimit) {
 TEST_F(ResidencyTest, AReplacedNodeIsPendingOnlyWhileItsOldChunkIsHeld) {
   auto r = make({});
   loadRoot(*r);
-  r->request(1, 1.0f);
-  r->dispatch();
-  mRunner.runAll();
-  uploadAll(*r);
+  loadChildren(*r, 1);
   r->invalidate(1);  // resident: decoded again, drawn until the refresh lands
   r->invalidate(2);  // absent: simply loads the new bytes when wanted
   EXPECT_TRUE(r->stale(1));
@@ -291,10 +296,7 @@ TEST_F(ResidencyTest, AFullBudgetMakesRoomForWhatIsWanted) {
   o.budgetBytes = 3 * kChunkBytes;
   auto r = make(o);
   loadRoot(*r);
-  for (uint32_t c = 1; c <= 2; ++c) r->request(c, float(c));
-  r->dispatch();
-  mRunner.runAll();
-  uploadAll(*r);  // root + 2 children: exactly the budget
+  loadChildren(*r, 2);  // root + 2 children: exactly the budget
   EXPECT_TRUE(r->evict().empty()) << "nothing is wanted: nothing to make room for";
   r->dispatch();
   // Next frame child 2 is no longer used and child 3 is wanted.
@@ -316,10 +318,7 @@ TEST_F(ResidencyTest, NoRoomIsMadeForALoadThatCouldNotStart) {
   o.maxReady = 1;
   auto r = make(o);
   loadRoot(*r);
-  for (uint32_t c = 1; c <= 2; ++c) r->request(c, float(c));
-  r->dispatch();
-  mRunner.runAll();
-  uploadAll(*r);
+  loadChildren(*r, 2);
   r->dispatch();
   r->request(3, 1.0f);
   r->dispatch();

@@ -1,6 +1,7 @@
 #include "terralod/vipm/vipm_fans.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <tuple>
 
@@ -86,17 +87,16 @@ void StitchFans::clear() {
 }
 
 double stitchQuantum(uint32_t largestCells) {
-  // Values below 2^bits are exact in float at 2^(bits-24); one bit to spare.
-  int bits = 7;
-  while ((uint64_t(1) << bits) < largestCells) ++bits;
+  // Values up to 2^bits are exact in float at 2^(bits-24); one bit to spare.
+  const int bits = std::max(7, int(std::bit_width(std::max(largestCells, 1u) - 1)));
   return std::ldexp(1.0, bits - 23);
 }
 
 void roundStitchPoint(std::array<float, 3>& p, const StitchChunk& chunk) {
+  // Its sides, or an inner seam (a vertex's own coordinates lie within its sides).
   auto onLine = [&](float local, int32_t points) {
     if (local == 0.0f || local == float(points - 1)) return true;
-    return chunk.seamStep > 0 && local == std::floor(local) &&
-           int64_t(local) % chunk.seamStep == 0 && local > 0.0f && local < float(points - 1);
+    return chunk.seamStep > 0 && local == std::floor(local) && int64_t(local) % chunk.seamStep == 0;
   };
   const bool onX = onLine(p[0], chunk.width), onY = onLine(p[1], chunk.height);
   if (!onX && !onY) return;

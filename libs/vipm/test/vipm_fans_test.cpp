@@ -192,6 +192,9 @@ TEST(VipmFans, RoundedPointsOnLinesMoveIntoTheLargestFrameExactly) {
     EXPECT_EQ(double(float(z)), z);
     EXPECT_NEAR(p[0], 37.123456f, stitchQuantum(largest));
   }
+  EXPECT_EQ(stitchQuantum(128), std::ldexp(1.0, -16));
+  EXPECT_EQ(stitchQuantum(129), std::ldexp(1.0, -15));
+  EXPECT_EQ(stitchQuantum(8192), std::ldexp(1.0, -10));
   // Off the lines a vertex is left where it is (rounding could move it onto one).
   const StitchChunk root{0, 0, 0.0, 129, 129, 64, 8192};
   std::array<float, 3> inner{63.9999f, 12.3456789f, 5.4321f};

@@ -75,13 +75,13 @@ struct UpdateStats {
   uint32_t easing = 0;           ///< chunks drawn above their morph schedule (late splits)
 };
 
-/// A node's new bytes and record (an edit: VipmChunkSet::apply).
 /// What an edit changed of a node.
 enum class ReplacedPart : uint8_t {
   kBytes,   ///< its bytes (and record): drawn chunks are decoded again
   kRecord,  ///< only its record (e.g. a flange depth): a drawn chunk takes it in place
 };
 
+/// A node's new bytes and record (an edit: VipmChunkSet::apply).
 struct NodeReplacement {
   uint32_t node = 0;
   NodeRecord record;

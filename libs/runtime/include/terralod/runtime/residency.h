@@ -167,6 +167,8 @@ class Residency {
   };
   void post(uint32_t node, bool refresh);
   void startRefreshes();
+  // ResidencyOptions::maxReady decoded chunks wait for an upload: no load starts meanwhile.
+  bool uploadsBehind() const { return mReady.size() >= mOptions.maxReady; }
   void adjustParent(uint32_t node, int delta);
   void addBytes(int64_t delta);
   // What a load of `node` reserves: all of it until it is collected, then what its upload may
