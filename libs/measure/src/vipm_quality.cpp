@@ -161,7 +161,7 @@ Result<VipmQuality::Chunk*> VipmQuality::chunk(uint32_t node) {
 
 std::vector<std::array<float, 3>> VipmQuality::drawnPositions(Chunk& c, const Drawn& d) {
   // What VipmGpuChunk::update draws for θ (the collapses θ chooses, geomorphed at morphTheta).
-  const MorphWindow window = morphWindow(c.mesh.errors, d.theta, mGeomorph);
+  const MorphWindow window = morphWindow(c.mesh.errors, d.theta, d.morphTheta, mGeomorph);
   c.levels.setApplied(window.applied);
   std::vector<std::array<float, 3>> drawn = c.own;
   if (window.morphing > window.applied) {
@@ -296,8 +296,8 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
   auto same = [&](const Drawn& a, const Drawn& b) -> Result<bool> {
     auto c = chunk(a.node);
     if (!c) return c.error();
-    const MorphWindow wa = morphWindow((*c)->mesh.errors, a.theta, mGeomorph);
-    const MorphWindow wb = morphWindow((*c)->mesh.errors, b.theta, mGeomorph);
+    const MorphWindow wa = morphWindow((*c)->mesh.errors, a.theta, a.morphTheta, mGeomorph);
+    const MorphWindow wb = morphWindow((*c)->mesh.errors, b.theta, b.morphTheta, mGeomorph);
     return wa.applied == wb.applied && wa.morphing == wb.morphing &&
            (wa.morphing == wa.applied || a.morphTheta == b.morphTheta);
   };

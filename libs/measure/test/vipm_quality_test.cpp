@@ -88,10 +88,10 @@ TEST_F(VipmQualityTest, CollapsesPopWithoutGeomorphingAndNotWithIt) {
   double worstOn = 0.0, worstOff = 0.0, worstStep = 0.0;
   SelectionOptions options;
   options.tau = 2.0;
-  // A descent in 3 m steps: chunks' θ shrink, collapses are undone along the way.
+  // A descent in 12 m steps: chunks' θ shrink, collapses are undone along the way.
   View previous = view(0.3, 0.1, 800.0);
   for (int i = 1; i <= 60; ++i) {
-    const View current = view(0.3, 0.1, 800.0 - 3.0 * i);
+    const View current = view(0.3, 0.1, 800.0 - 12.0 * i);
     std::vector<SelectedChunk> selection;
     selectChunks(*mTree, previous, options, selection);
     const auto before = VipmQuality::drawn(*mTree, previous, options.tau, selection);
@@ -107,9 +107,9 @@ TEST_F(VipmQualityTest, CollapsesPopWithoutGeomorphingAndNotWithIt) {
     previous = current;
   }
   EXPECT_GT(worstOff, 0.5);
-  // Geomorphing is continuous in θ: only a collapse entering the geomorph within the step is
-  // left, a fraction of the step.
-  EXPECT_LT(worstOn, 0.1) << worstOn << " vs " << worstOff;
+  // Geomorphing is continuous in θ: last frame's collapses carried on to this frame's θ (those
+  // entering or leaving the geomorph within the step too) draw what this frame draws.
+  EXPECT_LT(worstOn, 1e-3) << worstOn << " vs " << worstOff;
   // The surface does move between the frames while it geomorphs.
   EXPECT_GT(worstStep, 10 * worstOn) << worstStep << " vs " << worstOn;
 }

@@ -139,6 +139,13 @@ MorphWindow morphWindow(std::span<const float> errors, double theta, Geomorph ge
   return {collapsesWithin(errors, theta / kMorphSpan), collapsesWithin(errors, theta)};
 }
 
+MorphWindow morphWindow(std::span<const float> errors, double theta, double morphTheta,
+                        Geomorph geomorph) {
+  if (geomorph == Geomorph::kOff) return morphWindow(errors, theta, geomorph);
+  return {collapsesWithin(errors, std::min(theta, morphTheta) / kMorphSpan),
+          collapsesWithin(errors, std::max(theta, morphTheta))};
+}
+
 void morphPositions(const ProgressiveMesh& mesh, const MorphWindow& window, double theta,
                     std::span<const std::array<float, 3>> own,
                     std::span<std::array<float, 3>> drawn) {
