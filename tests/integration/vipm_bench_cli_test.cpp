@@ -135,10 +135,11 @@ TEST_F(VipmBenchCli, MeasuresTheDrawnSurfaceAndReportsVipmFigures) {
   const auto unmorphed = bench({"--no-morph"});
   EXPECT_LE(unmorphed["max_error_px"].get<double>(), 2.0);
   EXPECT_GT(unmorphed["max_pop_px"].get<double>(), 0.5);
-  // What geomorphing leaves: a collapse applied last frame that geomorphs again now (its
-  // vertex a step off its target). This descent is fast (1.5 % of the height a frame), so
-  // the step is not small; the auto flight's 0.5 % leaves about 0.005 px on Crater Lake.
-  EXPECT_LT(morphed["max_pop_px"].get<double>(), unmorphed["max_pop_px"].get<double>() / 4);
+  // Geomorphing leaves no pop of its own, however fast the descent (1.5 % of the height a
+  // frame): last frame's collapses carry on to this frame's θ. (The measure used to cut short
+  // the collapses entering or leaving the geomorph within a step: up to a quarter of the
+  // pops without geomorphing here.) The roots keep their children's seams: no merge pops.
+  EXPECT_LT(morphed["max_pop_px"].get<double>(), 0.01);
 }
 
 TEST_F(VipmBenchCli, CountsPixelsWhoseMaterialChangesWithTheLevel) {

@@ -1,7 +1,8 @@
 // `build --kind vipm --upper-levels auto`: levels of nodes above the 128-cell roots. The
 // tileset verifies (the nodes above the roots at sampled levels, their joins, every flange
 // across levels), a far view draws a few large nodes where the flat forest draws every root,
-// and a flight down from far away draws within τ with no holes.
+// a flight down from far away draws within τ with no holes, and merges into the nodes above
+// the roots do not pop with fans.
 
 #include <gtest/gtest.h>
 
@@ -76,6 +77,26 @@ TEST(VipmUpperLevelsCli, NodesAboveTheRootsVerifyAndDrawTheFarField) {
     std::printf("%s: max error %.3f px, max pop %.3f px\n", stitch, j["max_error_px"].get<double>(),
                 j["max_pop_px"].get<double>());
   }
+
+  // Down over the rim through two merges into 256-cell nodes (frames 24 and 27). With fans
+  // the roots draw exactly the closed seams their parent starts from: no pop. With flanges
+  // they keep the T-junctions their parent closes, and the merge moves the surface there.
+  std::ofstream(dir.file("rim.json")) << R"({"fov_deg": 60, "size": [320, 240],
+    "frames": 60, "keyframes": [
+      {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
+      {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+      {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  auto rimPop = [&](const char* stitch) {
+    const RunResult b = runTerralod({"bench", up, "--flight", dir.file("rim.json"), "--source",
+                                     kCrater, "--stitch", stitch, "--json", dir.file("r.json")});
+    EXPECT_EQ(b.exitCode, 0) << b.err;
+    const auto j = nlohmann::json::parse(readWholeFile(dir.file("r.json")));
+    EXPECT_LE(j["max_error_px"].get<double>(), 2.0) << stitch;
+    return j["max_pop_px"].get<double>();
+  };
+  const double fans = rimPop("fans"), flanges = rimPop("flanges");
+  EXPECT_LE(fans, 0.1);
+  EXPECT_GT(flanges, 0.3);
 }
 
 }  // namespace

@@ -148,7 +148,7 @@ void VipmGpuChunk::morphMaterials(const MorphWindow& previous, const MorphWindow
 
 void VipmGpuChunk::update(double theta, double morphTheta, Geomorph geomorph) {
   const uint32_t n = mMesh.vertexCount();
-  const MorphWindow window = morphWindow(mMesh.errors, theta, morphTheta, geomorph);
+  const MorphWindow window = morphWindow(mMesh.errors, theta, geomorph);
   const MorphWindow previous = mWindow;
   const bool levelChanged = window.applied != mLevels.applied() || !mFlangesValid;
   mLevels.setApplied(window.applied);

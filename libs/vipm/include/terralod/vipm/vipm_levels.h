@@ -97,10 +97,12 @@ struct MorphWindow {
 /// With morphing off, collapses with error <= theta are applied and none morphs.
 enum class Geomorph : uint8_t { kOn, kOff };
 MorphWindow morphWindow(std::span<const float> errors, double theta, Geomorph geomorph);
-/// The state `theta` chose geomorphed on to `morphTheta` (an earlier frame's chunk for this
-/// frame's camera): with geomorphing on, the window spanning both, so a collapse moving at
-/// either keeps moving (drawn at morphTheta, one finished there sits on its target and one
-/// not begun on its own position); with it off, what `theta` chose, which cannot move.
+/// The positions `theta` chose geomorphed on to `morphTheta` (the pop measure: an earlier
+/// frame's chunk for this frame's camera): with geomorphing on, the window spanning both, so
+/// a collapse moving at either keeps moving (drawn at morphTheta, one finished there sits on
+/// its target and one not begun on its own position); with it off, what `theta` chose, which
+/// cannot move. (Not for materials: a corner takes its target's material when its collapse
+/// is applied, a change of state the material pop measure counts.)
 MorphWindow morphWindow(std::span<const float> errors, double theta, double morphTheta,
                         Geomorph geomorph);
 
