@@ -81,6 +81,7 @@ int runBench(const BenchCommand& b) {
       TerrainScene::create(std::move(tileset).value(), sceneOptions(b.options, false, **context));
   if (!created) return fail(created.error().message);
   TerrainScene& scene = **created;
+  style->stitch = stitchFor(b.options, scene.tileset().header());
   auto cameras = camerasFor(b.options, scene.tree());
   if (!cameras) return fail(cameras.error().message);
   if (cameras->empty()) return fail("the flight has no frames");

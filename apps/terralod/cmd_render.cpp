@@ -50,6 +50,7 @@ int runRender(const RenderCommand& r) {
   auto scene =
       TerrainScene::create(std::move(tileset).value(), sceneOptions(r.options, true, **context));
   if (!scene) return fail(scene.error().message);
+  style->stitch = stitchFor(r.options, (*scene)->tileset().header());
   auto cameras = camerasFor(r.options, (*scene)->tree());
   if (!cameras) return fail(cameras.error().message);
   if (cameras->empty()) return fail("the flight has no frames");

@@ -181,6 +181,7 @@ int runView(const ViewCommand& v) {
   if (!start) return fail(start.error().message);
   auto baseStyle = terrainStyle(v.options);
   if (!baseStyle) return fail(baseStyle.error().message);
+  baseStyle->stitch = stitchFor(v.options, scene.tileset().header());
   const std::vector<Camera> played = playback ? flightCameras(*playback) : std::vector<Camera>{};
 
   IMGUI_CHECKVERSION();

@@ -8,6 +8,7 @@
 #include "cli_checks.h"
 #include "cli_values.h"
 #include "terralod/runtime/overview.h"
+#include "terralod/vipm/vipm_fans.h"
 
 namespace terralod::cli {
 
@@ -35,11 +36,13 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--no-skirts", o.noSkirts,
              "Leave out the skirts, and VIPM chunks' flanges or fans (shows the cracks they hide)");
   c.add_option("--stitch", o.stitch,
-               "How VIPM chunks close their borders: flanges (hanging below every border) or fans "
+               "How VIPM chunks close their borders: flanges (hanging below every border), fans "
                "(border triangles replaced by fans onto both sides' vertices: the same edges on "
-               "both sides, nothing below the surface)")
+               "both sides, nothing below the surface), or auto: fans on tilesets with levels "
+               "above the roots (whose nodes close their children's seams, so only fans merge "
+               "into them without a pop), flanges on others")
       ->capture_default_str()
-      ->check(CLI::IsMember({"flanges", "fans"}));
+      ->check(CLI::IsMember({"auto", "flanges", "fans"}));
   c.add_flag("--no-blots", o.noBlots,
              "VIPM tilesets: draw every chunk one pass per material, also far ones (by default "
              "a chunk where a cell covers less than a pixel is a blot, one pass in its "
@@ -104,6 +107,14 @@ SceneOptions sceneOptions(const RenderOptions& o, bool complete, GlContext& cont
   return s;
 }
 
+VipmStitch stitchFor(const RenderOptions& o, const TilesetHeader& header) {
+  if (o.stitch == "fans") return VipmStitch::kFans;
+  if (o.stitch == "flanges") return VipmStitch::kFlanges;
+  const bool upperLevels =
+      header.meshKind == MeshKind::kVipm && header.chunkCells(0) > 2 * kStitchLineCells;
+  return upperLevels ? VipmStitch::kFans : VipmStitch::kFlanges;
+}
+
 Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   TerrainStyle style;
   auto background = parseColor(o.background, "--background");
@@ -112,7 +123,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.wireframe = o.wireframe;
   style.chunkBoxes = o.chunkBoxes;
   style.skirts = !o.noSkirts;
-  style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;
+  style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;  // auto: below
   style.blots = o.noBlots ? VipmBlots::kOff : VipmBlots::kOn;
   style.superChunks = o.noSuperChunks ? VipmSuperChunks::kOff : VipmSuperChunks::kOn;
   style.textures = !o.noTextures;

@@ -25,9 +25,9 @@ struct RenderOptions {
   std::string background = "9CC3E6";
   bool wireframe = false, noMorph = false, noSkirts = false, noTextures = false;
   bool chunkBoxes = false;
-  bool noBlots = false;            ///< --no-blots: VIPM chunks never drawn as blots
-  bool noSuperChunks = false;      ///< --no-super-chunks: every VIPM blot in its own call
-  std::string stitch = "flanges";  ///< --stitch: VIPM borders, "flanges" or "fans"
+  bool noBlots = false;         ///< --no-blots: VIPM chunks never drawn as blots
+  bool noSuperChunks = false;   ///< --no-super-chunks: every VIPM blot in its own call
+  std::string stitch = "auto";  ///< --stitch: VIPM borders, "auto", "flanges" or "fans"
   std::string colorBy = "relief";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   double haze = 1.0;        ///< --haze K: aerial perspective strength, 0 off
@@ -49,6 +49,9 @@ void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera
 /// The selection options and style the command line asks for (values already validated).
 Result<SelectionOptions> selectionOptions(const RenderOptions& options);
 Result<TerrainStyle> terrainStyle(const RenderOptions& options);
+/// How VIPM borders are stitched on the tileset with `header` (--stitch; auto: fans where the
+/// tileset has levels above the 128-cell roots, flanges elsewhere).
+VipmStitch stitchFor(const RenderOptions& options, const TilesetHeader& header);
 
 /// Reads and parses a flight file; errors name it.
 Result<Flight> readFlightFile(const std::string& path);
