@@ -61,6 +61,7 @@ int runRender(const RenderCommand& r) {
   const size_t every = size_t(r.every) * std::max<size_t>(1, (rendered + kContactSheetFrames - 1) /
                                                                  kContactSheetFrames);
   std::optional<Framebuffer> target;
+  bool warnedCoarser = false;  // once per run
   for (size_t i = 0; i < cameras->size(); i += size_t(r.every)) {
     auto view = makeView((*cameras)[i]);
     if (!view) return fail("frame " + std::to_string(i) + ": " + view.error().message);
@@ -68,6 +69,16 @@ int runRender(const RenderCommand& r) {
       return fail(s.error().message);
     auto frame = (*scene)->renderFrame(*view, *selection, *style);
     if (!frame) return fail(frame.error().message);
+    if (frame->selection.coarserThanWanted > 0 && !warnedCoarser) {
+      // A complete frame still coarser than it wants: the rest did not fit or failed to load.
+      const std::string where = flight ? "frame " + std::to_string(i) + ": " : "";
+      std::fprintf(stderr,
+                   "terralod: warning: %s%u chunks drawn coarser than --tau allows: the finer "
+                   "chunks they want did not fit the %g MB budget or could not be read (give a "
+                   "larger --cache-mb)\n",
+                   where.c_str(), frame->selection.coarserThanWanted, r.options.cacheMB);
+      warnedCoarser = true;
+    }
     const Image image = target->readPixels();
     const std::string path = flight ? framePath(r.framesDir, i) : r.output;
     if (Status written = flight ? writePng(image, path) : writeImage(image, path); !written)

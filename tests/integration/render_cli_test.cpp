@@ -44,6 +44,22 @@ TEST_F(RenderCli, OneViewBecomesAPngOfTerrain) {
   EXPECT_GT(distinctColours(*image), 50u) << "a blank or single-colour image";
 }
 
+// A view whose chunks do not fit the budget is drawn coarser than τ allows, and says so.
+TEST_F(RenderCli, AViewThatDoesNotFitTheBudgetSaysSo) {
+  auto render = [&](const std::string& cacheMB) {
+    return runTerralod({"render", mDir.file("c.tlod"), "-o", mDir.file("b.png"), "--size",
+                        "640x480", "--eye", "6500,4500,2300", "--target", "8800,7500,1900", "--tau",
+                        "0.5", "--cache-mb", cacheMB});
+  };
+  const RunResult tight = render("0.5"), roomy = render("512");
+  ASSERT_EQ(tight.exitCode, 0) << tight.err;
+  ASSERT_EQ(roomy.exitCode, 0) << roomy.err;
+  const std::string warning = "chunks drawn coarser than --tau allows";
+  EXPECT_NE(tight.err.find(warning), std::string::npos) << tight.err;
+  EXPECT_NE(tight.err.find("0.5 MB budget"), std::string::npos) << tight.err;
+  EXPECT_EQ(roomy.err.find(warning), std::string::npos) << roomy.err;
+}
+
 // The name says the format: .jpg and .jpeg (any case) are JPEG, not PNG bytes under a JPEG name.
 TEST_F(RenderCli, JpegNamesGetJpegBytes) {
   for (const char* name : {"v.jpg", "v.JPEG"}) {
