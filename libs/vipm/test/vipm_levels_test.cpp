@@ -143,24 +143,36 @@ TEST(MorphProgress, StartsAndStopsAtRest) {
   }
 }
 
+// Every vertex's own position (grid x, y, height).
+std::vector<std::array<float, 3>> ownPositions(const Built& b) {
+  std::vector<std::array<float, 3>> own;
+  for (uint16_t p : b.mesh.points)
+    own.push_back({float(b.patch.xOf(p)), float(b.patch.yOf(p)), b.patch.heights[p]});
+  return own;
+}
+
+// Where each vertex is drawn for window `w` geomorphed at `morphTheta`: a vertex removed by an
+// applied collapse resolves through the targets to the one drawn in its place.
+std::vector<std::array<float, 3>> drawnFor(const ProgressiveMesh& m,
+                                           const std::vector<std::array<float, 3>>& own,
+                                           const MorphWindow& w, double morphTheta) {
+  std::vector<std::array<float, 3>> drawn = own;
+  morphPositions(m, w, morphTheta, own, drawn);
+  std::vector<std::array<float, 3>> out(m.vertexCount());
+  for (uint32_t v = 0; v < m.vertexCount(); ++v) {
+    uint32_t x = v;
+    while (x >= m.vertexCount() - w.applied) x = m.targets[m.vertexCount() - 1 - x];
+    out[v] = drawn[x];
+  }
+  return out;
+}
+
 TEST(MorphPositions, MoveContinuouslyOntoTheTargetsAtTheWindowsEdges) {
   const Built b = build(1.0);
   const ProgressiveMesh& m = b.mesh;
-  std::vector<std::array<float, 3>> own;
-  for (uint16_t p : m.points)
-    own.push_back({float(b.patch.xOf(p)), float(b.patch.yOf(p)), b.patch.heights[p]});
-  // Resolves a vertex through applied collapses to the one drawn in its place.
+  const auto own = ownPositions(b);
   auto drawnAt = [&](double theta, Geomorph g) {
-    const MorphWindow w = morphWindow(m.errors, theta, g);
-    std::vector<std::array<float, 3>> drawn = own;
-    morphPositions(m, w, theta, own, drawn);
-    std::vector<std::array<float, 3>> out(m.vertexCount());
-    for (uint32_t v = 0; v < m.vertexCount(); ++v) {
-      uint32_t x = v;
-      while (x >= m.vertexCount() - w.applied) x = m.targets[m.vertexCount() - 1 - x];
-      out[v] = drawn[x];
-    }
-    return out;
+    return drawnFor(m, own, morphWindow(m.errors, theta, g), theta);
   };
   // Sweeping theta finely (0.02 % steps, 0.1 % of a morph span), every vertex's drawn
   // position changes little between steps with morphing, and jumps somewhere without it.
@@ -188,24 +200,14 @@ TEST(MorphPositions, AnEarlierStateGeomorphedOnDrawsWhatTheNewThetaDraws) {
   // within the step (what the measure did before, up to 0.5 px on a fast descent).
   const Built b = build(1.0);
   const ProgressiveMesh& m = b.mesh;
-  std::vector<std::array<float, 3>> own;
-  for (uint16_t p : m.points)
-    own.push_back({float(b.patch.xOf(p)), float(b.patch.yOf(p)), b.patch.heights[p]});
+  const auto own = ownPositions(b);
   auto drawnAt = [&](const MorphWindow& w, double morphTheta) {
-    std::vector<std::array<float, 3>> drawn = own;
-    morphPositions(m, w, morphTheta, own, drawn);
-    std::vector<std::array<float, 3>> out(m.vertexCount());
-    for (uint32_t v = 0; v < m.vertexCount(); ++v) {
-      uint32_t x = v;
-      while (x >= m.vertexCount() - w.applied) x = m.targets[m.vertexCount() - 1 - x];
-      out[v] = drawn[x];
-    }
-    return out;
+    return drawnFor(m, own, w, morphTheta);
   };
-  auto farthest = [&](const auto& a, const auto& b) {
+  auto farthest = [&](const auto& p, const auto& q) {
     double worst = 0.0;
     for (uint32_t v = 0; v < m.vertexCount(); ++v)
-      for (int k = 0; k < 3; ++k) worst = std::max(worst, double(std::abs(a[v][k] - b[v][k])));
+      for (int k = 0; k < 3; ++k) worst = std::max(worst, double(std::abs(p[v][k] - q[v][k])));
     return worst;
   };
   double carriedOn = 0.0, unmorphed = 0.0, cutShort = 0.0;
