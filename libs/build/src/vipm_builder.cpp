@@ -255,7 +255,7 @@ Result<BuildSummary> buildVipmTileset(const BuildOptions& options, Progress& pro
   // Stage: the chunks.
   const auto meshStart = Clock::now();
   auto set = VipmChunkSet::build(options, source->info, std::move(source->heights),
-                                 std::move(source->materials), summary.filledVoids, progress);
+                                 std::move(source->materials), summary.filledVoids, progress, warn);
   if (!set) return set.error();
   const BuildSummary& built = set->summary();
   summary.collapses = built.collapses;

@@ -1,11 +1,13 @@
 #include "terralod/build/vipm_chunk_set.h"
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <optional>
+#include <string>
 
 #include "terralod/build/chunk_pass.h"
 #include "terralod/build/tree_layout.h"
@@ -119,6 +121,13 @@ void setFlangeDepths(std::vector<NodeRecord>& nodes, const Deviations& d,
   }
 }
 
+// Why a level `above` the roots could not be built.
+std::string tooDenseNodes(int32_t above) {
+  return "its nodes of " + std::to_string(kRoot << above) + " cells would keep more than " +
+         std::to_string(kVipmMaxNodeVertices) +
+         " vertices (the terrain simplifies too little above the roots)";
+}
+
 }  // namespace
 
 TreeLayout vipmTreeLayout(const DemInfo& info, int32_t upperLevels) {
@@ -209,8 +218,11 @@ struct VipmChunkSetState {
   // Builds the chunks marked in `dirty` (per node; all of a level too when its level error
   // changes) from the leaves up to level `top`, keeping what `reuse` has for them where no
   // new stroke reaches, then every node's fields and flange depths.
-  void rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse, unsigned threads,
-               Progress& progress, int32_t top = 0);
+  // Fails (tooDenseLevel set) where a node above the roots would join more vertices than a
+  // node can hold.
+  Status rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse, unsigned threads,
+                 Progress& progress, int32_t top = 0);
+  int32_t tooDenseLevel = -1;  // the level whose join was too large in the last rebuild
 
   // The nodes whose record or bytes differ from `before` (records, level errors): rebuilt
   // (`rebuilt`), on a level whose error moved, or with another flange depth.
@@ -222,8 +234,9 @@ struct VipmChunkSetState {
   VipmInterimNode handover(uint32_t i) const;
 };
 
-void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse,
-                                unsigned threads, Progress& progress, int32_t top) {
+Status VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse* reuse,
+                                  unsigned threads, Progress& progress, int32_t top) {
+  tooDenseLevel = -1;
   const size_t leafCount = nodes.size() - innerCount;
   VipmLeafParams params;
   params.zStep = zStep;
@@ -303,22 +316,37 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
       return roots ? reuseVipmRoot(std::move(blob), heights, materials, x0, y0, w, h, zStep)
                    : reuseVipmUpperNode(std::move(blob), heights, x0, y0, w, h, zStep);
     };
+    std::atomic<bool> tooDense{false};
     parallelFor(members.size(), threads, [&](size_t k, unsigned) {
       const size_t i = members[k];
-      if (!dirty[i]) return progress.advance(1);
+      if (!dirty[i] || tooDense) return progress.advance(1);
       ++bytesVersion[i];
       if (!(keepLevel && keep(i, reuseNode, inner[i]))) {
         const auto [x0, y0, w, h] = points(i);
         const int32_t c = cells(i);
-        inner[i] = roots ? buildVipmRoot(heights, materials, childMeshes(i), x0, y0, w, h, zStep,
-                                         levelError, lastError, options.compressionLevel)
-                         : buildVipmUpperNode(heights, childMeshes(i), x0, y0, c, w, h, zStep,
-                                              levelError, lastError, options.compressionLevel);
+        if (roots) {
+          inner[i] = buildVipmRoot(heights, materials, childMeshes(i), x0, y0, w, h, zStep,
+                                   levelError, lastError, options.compressionLevel);
+        } else if (auto node =
+                       buildVipmUpperNode(heights, childMeshes(i), x0, y0, c, w, h, zStep,
+                                          levelError, lastError, options.compressionLevel)) {
+          inner[i] = std::move(*node);
+        } else {
+          tooDense = true;
+          return progress.advance(1);
+        }
         normalMaps[i] = buildVipmNormalMap(heights, x0, y0, c, info.spacingX, info.spacingY);
         built[i] = 1;
       }
       progress.advance(1);
     });
+    if (tooDense) {
+      progress.end();
+      tooDenseLevel = level;
+      const int32_t above = leafLevel() - 1 - level;  // this level's place above the roots
+      return makeError(info.path, tooDenseNodes(above) + "; build with --upper-levels " +
+                                      std::to_string(above - 1) + " or fewer");
+    }
   }
   progress.end();
 
@@ -344,6 +372,7 @@ void VipmChunkSetState::rebuild(std::vector<uint8_t> dirty, const VipmChunkReuse
   summary.chunkSecondsMedian = leafSeconds.empty() ? 0.0 : leafSeconds[leafSeconds.size() / 2];
   summary.chunkSecondsMax = leafSeconds.empty() ? 0.0 : leafSeconds.back();
   summary.reusedChunks = uint64_t(std::count(kept.begin(), kept.end(), uint8_t{1}));
+  return {};
 }
 
 std::vector<VipmInterimNode> VipmChunkSetState::interimNodes(const std::vector<uint32_t>& list,
@@ -394,7 +423,8 @@ VipmInterimNode VipmChunkSetState::handover(uint32_t i) const {
 
 Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemInfo& info,
                                          Heightfield heights, MaterialMap materials,
-                                         uint64_t filledVoids, Progress& progress) {
+                                         uint64_t filledVoids, Progress& progress,
+                                         const std::function<void(const std::string&)>& warn) {
   auto s = std::make_unique<VipmChunkSetState>();
   s->summary.filledVoids = filledVoids;
   s->options = options;
@@ -419,8 +449,21 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
   const std::optional<VipmChunkReuse> reuse =
       VipmChunkReuse::open(options, info, s->layout, s->zStep);
   const unsigned threads = options.threads ? options.threads : hardwareThreads();
-  s->rebuild(std::vector<uint8_t>(s->nodes.size(), 1), reuse ? &*reuse : nullptr, threads,
-             progress);
+  Status built = s->rebuild(std::vector<uint8_t>(s->nodes.size(), 1), reuse ? &*reuse : nullptr,
+                            threads, progress);
+  const bool chosen = options.vipmUpperLevels == kVipmUpperLevelsAuto ||
+                      options.vipmUpperLevels == kVipmUpperLevelsBySize;
+  if (!built && chosen && s->tooDenseLevel >= 0) {
+    // Levels chosen by size: as many as the terrain allows, the too dense one and those above
+    // it left out.
+    BuildOptions fewer = options;
+    fewer.vipmUpperLevels = s->layout.depth - 2 - s->tooDenseLevel;
+    warn(info.path + ": " + tooDenseNodes(fewer.vipmUpperLevels + 1) + "; building with " +
+         std::to_string(fewer.vipmUpperLevels) + " levels above the roots instead");
+    return build(fewer, info, std::move(s->heights), std::move(s->materials), filledVoids, progress,
+                 warn);
+  }
+  if (!built) return built.error();
   s->bytesVersion.assign(s->nodes.size(), 0);
   return VipmChunkSet(std::move(s));
 }
@@ -499,7 +542,8 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
     std::vector<uint8_t> nearDirty = dirty;
     for (size_t i = 0; i < s.innerCount; ++i)
       if (int32_t(s.nodes[i].level) < rootLevel) nearDirty[i] = 0;
-    s.rebuild(nearDirty, nullptr, workers, quiet, rootLevel);
+    if (Status ok = s.rebuild(nearDirty, nullptr, workers, quiet, rootLevel); !ok)
+      return ok.error();
     std::vector<VipmInterimNode> made;
     for (uint32_t i : s.changedSince(before, levelErrorsBefore, nearDirty))
       made.push_back(s.handover(i));
@@ -510,7 +554,7 @@ Result<std::vector<uint32_t>> VipmChunkSet::apply(std::span<const TerrainEdit> s
     levelErrorsBefore = s.levelErrors;
   }
   const std::vector<uint8_t> rebuilt = dirty;
-  s.rebuild(dirty, nullptr, workers, quiet);
+  if (Status ok = s.rebuild(dirty, nullptr, workers, quiet); !ok) return ok.error();
   return s.changedSince(before, levelErrorsBefore, rebuilt);
 }
 

@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
@@ -482,11 +483,19 @@ int32_t vipmUpperSampleStep(int32_t cells) {
   return std::max(1, cells / 128);
 }
 
-VipmRoot buildVipmUpperNode(const Heightfield& heights,
-                            const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
-                            int32_t cells, int32_t width, int32_t height, double zStep,
-                            double levelError, double lastError, int compressionLevel) {
+std::optional<VipmRoot> buildVipmUpperNode(const Heightfield& heights,
+                                           const std::vector<const CoarseMesh*>& children,
+                                           int32_t x0, int32_t y0, int32_t cells, int32_t width,
+                                           int32_t height, double zStep, double levelError,
+                                           double lastError, int compressionLevel) {
   const double start = threadSeconds();
+  {
+    std::unordered_set<uint64_t> joined;
+    for (const CoarseMesh* c : children)
+      for (uint32_t v : c->indices)
+        joined.insert(uint64_t(c->gridY[v]) << 32 | uint64_t(c->gridX[v]));
+    if (joined.size() > kVipmMaxNodeVertices) return std::nullopt;
+  }
   // The children's coarsest levels joined: points by grid coordinates (first use first), their
   // stored heights as the vertices' (all on the tileset's step).
   GridPatch patch;
@@ -504,7 +513,7 @@ VipmRoot buildVipmUpperNode(const Heightfield& heights,
         const auto [at, fresh] = slot.try_emplace(uint64_t(y) * uint64_t(width) + uint64_t(x),
                                                   uint16_t(patch.pointX.size()));
         if (fresh) {
-          assert(patch.pointX.size() < 65536);
+          assert(patch.pointX.size() < kVipmMaxNodeVertices);
           patch.pointX.push_back(x);
           patch.pointY.push_back(y);
           patch.heights.push_back(heights(x0 + x, y0 + y));

@@ -10,7 +10,9 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <filesystem>
 #include <map>
+#include <random>
 #include <set>
 #include <tuple>
 
@@ -25,6 +27,7 @@
 #include "terralod/vipm/collapse_order.h"
 #include "terralod/vipm/vipm_levels.h"
 #include "terralod/vipm/vipm_storage.h"
+#include "test_terrain.h"
 
 namespace terralod {
 namespace upper_levels_test {
@@ -215,6 +218,56 @@ TEST(VipmUpperLevels, ByDefaultOnlyMapsOfManyRootsGetLevelsAboveThem) {
   EXPECT_EQ(vipmTreeLayout(info, kVipmUpperLevelsBySize).rootsX, 1);
   EXPECT_EQ(vipmTreeLayout(info, 0).depth, 1);
   EXPECT_EQ(BuildOptions{}.vipmUpperLevels, kVipmUpperLevelsBySize);
+}
+
+// Terrain too rough to simplify (steps far above --max-error) keeps every point up to the
+// roots, so a 256-cell node would join 257² points, more than a node can index. An explicit
+// level count fails in one line and writes nothing; levels chosen by the map's size leave that
+// level out, say so, and build.
+TEST(VipmUpperLevels, NodesTooDenseToHoldAreLeftOutOrRefused) {
+  test::TempDir dir;
+  Heightfield noise(257, 257);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  for (int32_t y = 0; y < 257; ++y)
+    for (int32_t x = 0; x < 257; ++x)  // a checkerboard of 50 m steps, roughened
+      noise(x, y) = 1000.0f + 50.0f * float((x + y) % 2) + 10.0f * unit(rng);
+  test::writeGeoTiff(noise, dir.file("noise.tif"), 10.0);
+  BuildOptions o;
+  o.input = dir.file("noise.tif");
+  o.kind = TilesetKind::kVipm;
+  o.maxError = 0.05;
+  o.threads = 2;
+  NullProgress progress;
+  std::vector<std::string> warnings;
+  auto warn = [&](const std::string& line) { warnings.push_back(line); };
+
+  o.output = dir.file("one.tlod");
+  o.vipmUpperLevels = 1;
+  auto refused = buildTileset(o, progress, warn);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.error().message.find("noise.tif: its nodes of 256 cells would keep more than "
+                                         "65536 vertices"),
+            std::string::npos)
+      << refused.error().message;
+  EXPECT_NE(refused.error().message.find("--upper-levels 0 or fewer"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(o.output));
+
+  o.output = dir.file("auto.tlod");
+  o.vipmUpperLevels = kVipmUpperLevelsAuto;
+  auto built = buildTileset(o, progress, warn);
+  ASSERT_TRUE(built.ok()) << built.error().message;
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("building with 0 levels above the roots instead"), std::string::npos)
+      << warnings[0];
+  auto tileset = TilesetReader::openFile(o.output);
+  ASSERT_TRUE(tileset.ok()) << tileset.error().message;
+  EXPECT_EQ((*tileset)->header().chunkCells(0), 128);  // a flat forest of 2 x 2 roots
+  for (uint32_t i = 0; i < (*tileset)->nodes().size(); ++i) {
+    auto bytes = (*tileset)->readNode(i);
+    ASSERT_TRUE(bytes.ok());
+    EXPECT_TRUE(decodeVipmChunk(bytes->mesh(), "node").ok()) << i;
+  }
 }
 
 }  // namespace

@@ -51,10 +51,14 @@ class VipmChunkSet {
   /// Builds every chunk of `heights` (void-filled, options.edits applied) and `materials`
   /// (paint applied) with `options` (zStep, rules, blot error, compression; options.reuse:
   /// chunks kept). Fails when the heights' relief needs a step coarser than --max-error.
-  /// `filledVoids`: how many source samples were voids (recorded in the header).
-  static Result<VipmChunkSet> build(const BuildOptions& options, const DemInfo& info,
-                                    Heightfield heights, MaterialMap materials,
-                                    uint64_t filledVoids, Progress& progress);
+  /// `filledVoids`: how many source samples were voids (recorded in the header). Fails where
+  /// nodes above the roots would hold too many vertices (terrain too rough for their errors),
+  /// unless options.vipmUpperLevels is chosen by size: then the levels from that one up are
+  /// left out, and `warn` says so.
+  static Result<VipmChunkSet> build(
+      const BuildOptions& options, const DemInfo& info, Heightfield heights, MaterialMap materials,
+      uint64_t filledVoids, Progress& progress,
+      const std::function<void(const std::string&)>& warn = [](const std::string&) {});
   VipmChunkSet(VipmChunkSet&&) noexcept;
   VipmChunkSet& operator=(VipmChunkSet&&) noexcept;
   ~VipmChunkSet();

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "terralod/format/texture_codec.h"
@@ -113,10 +114,14 @@ int32_t vipmUpperSampleStep(int32_t cells);
 /// `levelError` and stop at `lastError`. Its grid is too large for a sample per point, so its
 /// errors are bounds over blocks of vipmUpperSampleStep(cells) points (SampleBlocks), and its
 /// vertices are stored as 32-bit grid points (blob version 2 once a side is over 129 points).
-VipmRoot buildVipmUpperNode(const Heightfield& heights,
-                            const std::vector<const CoarseMesh*>& children, int32_t x0, int32_t y0,
-                            int32_t cells, int32_t width, int32_t height, double zStep,
-                            double levelError, double lastError, int compressionLevel);
+/// Nothing when the join has more than kVipmMaxNodeVertices vertices (a u16 index each): on
+/// terrain too rough for the level's error its children hardly simplify.
+inline constexpr size_t kVipmMaxNodeVertices = 65536;
+std::optional<VipmRoot> buildVipmUpperNode(const Heightfield& heights,
+                                           const std::vector<const CoarseMesh*>& children,
+                                           int32_t x0, int32_t y0, int32_t cells, int32_t width,
+                                           int32_t height, double zStep, double levelError,
+                                           double lastError, int compressionLevel);
 
 /// A leaf or root as buildVipmLeaf or buildVipmRoot made it, from its stored blob (an edit
 /// rebuilds only the chunks its strokes reach): the blob as it is, its node fields, and what
