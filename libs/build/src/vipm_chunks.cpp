@@ -13,6 +13,7 @@
 
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
+#include "terralod/vipm/vipm_fans.h"
 #include "terralod/vipm/vipm_storage.h"
 #include "vipm_cells.h"
 
@@ -130,8 +131,9 @@ std::function<double(int32_t, int32_t)> windowSource(const Heightfield& heights,
 // sides with T-junctions (each side simplified on its own), and so do their own children's
 // inside them. Each open edge on a grid line inside the patch is split at the points the
 // other side has on it, by a fan from its triangle's opposite corner (as fan stitching draws
-// it): afterwards both sides hold the union of their points, and the mesh is a manifold whose
-// only open edges are on the patch's sides.
+// it, the edge on the finest line first where a triangle has two): afterwards both sides hold
+// the union of their points, and the mesh is a manifold whose only open edges are on the
+// patch's sides.
 void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& triangles) {
   auto key = [](uint16_t a, uint16_t b) {
     return (uint32_t(std::min(a, b)) << 16) | std::max(a, b);
@@ -154,40 +156,55 @@ void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& t
     std::vector<std::array<uint16_t, 3>> out;
     out.reserve(triangles.size());
     for (const auto& t : triangles) {
-      bool split = false;
-      for (int k = 0; k < 3 && !split; ++k) {
-        const uint16_t a = t[size_t(k)], b = t[size_t(k + 1) % 3], c = t[size_t(k + 2) % 3];
+      // The open edge to split first: on the finest line, as fan stitching cuts a corner
+      // (stitchLineOrder; a line inside the node has as many trailing zero bits locally as
+      // in the map, the node's corner being a multiple of its cells).
+      int chosen = -1;
+      uint32_t chosenOrder = 0;
+      std::vector<uint16_t> between, at;
+      for (int k = 0; k < 3; ++k) {
+        const uint16_t a = t[size_t(k)], b = t[size_t(k + 1) % 3];
         if (uses[key(a, b)] != 1) continue;
         const int32_t ax = patch.xOf(a), ay = patch.yOf(a), bx = patch.xOf(b), by = patch.yOf(b);
-        uint64_t line;
+        StitchLine line;
         int32_t from, to;
         if (ax == bx && inside(ax, patch.width)) {
-          line = uint64_t(ax) << 1;
+          line = {0, ax};
           from = ay;
           to = by;
         } else if (ay == by && inside(ay, patch.height)) {
-          line = (uint64_t(ay) << 1) | 1;
+          line = {1, ay};
           from = ax;
           to = bx;
         } else {
           continue;
         }
-        const auto found = lines.find(line);
+        const auto found = lines.find((uint64_t(line.at) << 1) | line.axis);
         if (found == lines.end()) continue;
-        std::vector<uint16_t> between;
+        at.clear();
         for (const auto& [along, v] : found->second)
-          if (along > std::min(from, to) && along < std::max(from, to)) between.push_back(v);
-        if (between.empty()) continue;
-        if (from > to) std::reverse(between.begin(), between.end());
-        uint16_t previous = a;
-        for (uint16_t p : between) {
-          out.push_back({previous, p, c});
-          previous = p;
+          if (along > std::min(from, to) && along < std::max(from, to)) at.push_back(v);
+        if (at.empty()) continue;
+        if (from > to) std::reverse(at.begin(), at.end());
+        if (chosen < 0 || stitchLineOrder(line) < chosenOrder) {
+          chosen = k;
+          chosenOrder = stitchLineOrder(line);
+          between.swap(at);
         }
-        out.push_back({previous, b, c});
-        split = changed = true;
       }
-      if (!split) out.push_back(t);
+      if (chosen < 0) {
+        out.push_back(t);
+        continue;
+      }
+      const uint16_t a = t[size_t(chosen)], b = t[size_t(chosen + 1) % 3],
+                     c = t[size_t(chosen + 2) % 3];
+      uint16_t previous = a;
+      for (uint16_t p : between) {
+        out.push_back({previous, p, c});
+        previous = p;
+      }
+      out.push_back({previous, b, c});
+      changed = true;
     }
     triangles = std::move(out);
   }

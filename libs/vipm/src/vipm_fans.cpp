@@ -288,14 +288,24 @@ void VipmStitcher::fan(const StitchTable& table, std::span<const uint16_t> livin
     for (uint32_t guard = 0; !stack.empty() && guard < 4 * mMaxTriangles + 16; ++guard) {
       const Tri piece = stack.back();
       stack.pop_back();
-      bool split = false;
-      for (int e = 0; e < 3 && !split; ++e) {
-        const Corner& a = piece[size_t(e)];
-        const Corner& b = piece[size_t((e + 1) % 3)];
-        const Corner& apex = piece[size_t((e + 2) % 3)];
-        const Inside in = inside(a, b);
-        if (in.points.empty()) continue;
-        split = replaced = true;
+      // The edge to split first: on the finest line (stitchLineOrder), so that a corner
+      // piece is cut as the node above closed it when it was built.
+      int chosen = -1;
+      Inside in;
+      for (int e = 0; e < 3; ++e) {
+        const Inside at = inside(piece[size_t(e)], piece[size_t((e + 1) % 3)]);
+        if (!at.points.empty() &&
+            (chosen < 0 || stitchLineOrder(at.line->line) < stitchLineOrder(in.line->line))) {
+          chosen = e;
+          in = at;
+        }
+      }
+      const bool split = chosen >= 0;
+      if (split) {
+        replaced = true;
+        const Corner& a = piece[size_t(chosen)];
+        const Corner& b = piece[size_t((chosen + 1) % 3)];
+        const Corner& apex = piece[size_t((chosen + 2) % 3)];
         // a, p1, ..., pk, b in order from a to b: pieces (a, p1, apex) ... (pk, b, apex).
         Corner previous = a;
         const size_t k = in.points.size();

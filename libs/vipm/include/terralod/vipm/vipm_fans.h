@@ -20,6 +20,7 @@
 // conversion is exact in float.
 
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <span>
 #include <unordered_map>
@@ -47,6 +48,17 @@ struct StitchLine {
   int64_t at = 0;
   bool operator==(const StitchLine&) const = default;
 };
+
+/// Which of a triangle's edges on lines is split first, lowest first: the finer line (fewer
+/// trailing zero bits in its coordinate: a root's inner seam before the side between roots,
+/// that before a 256-cell node's side, ...; the map's edge, 0, last), then x = c before y = c.
+/// Fans and the joins of the nodes above the roots (which close their children's seams the
+/// same way when they are built) cut a corner triangle alike, so children drawn with fans show
+/// exactly the surface their parent starts from.
+inline uint32_t stitchLineOrder(const StitchLine& line) {
+  const uint32_t rank = line.at == 0 ? 64u : uint32_t(std::countr_zero(uint64_t(line.at)));
+  return 2 * rank + line.axis;
+}
 
 /// A drawn vertex on a line, in absolute coordinates, with what the splatting draws there.
 struct StitchPoint {
