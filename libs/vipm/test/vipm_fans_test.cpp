@@ -207,5 +207,18 @@ TEST(VipmFans, RoundedPointsOnLinesMoveIntoTheLargestFrameExactly) {
   EXPECT_EQ(seam[0], 64.0f);
 }
 
+// A corner triangle is cut on its finer line first, as the joins above the roots close it: a
+// root's inner seam (64) before the side between roots (128), that before a 256-cell node's
+// side; x = c before y = c on lines alike; the map's edge last.
+TEST(StitchLineOrder, FinerLinesFirstThenXBeforeY) {
+  const auto order = [](uint8_t axis, int64_t at) { return stitchLineOrder({axis, at}); };
+  EXPECT_LT(order(0, 64), order(0, 128));
+  EXPECT_LT(order(1, 192), order(0, 256));  // 192 = 3 x 64: a 64-cell line
+  EXPECT_LT(order(0, 128), order(1, 128));
+  EXPECT_LT(order(1, 64), order(0, 128));
+  EXPECT_EQ(order(0, 64), order(0, 192));
+  EXPECT_LT(order(0, 1 << 20), order(0, 0));
+}
+
 }  // namespace
 }  // namespace terralod
