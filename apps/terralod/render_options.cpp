@@ -123,7 +123,6 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   style.wireframe = o.wireframe;
   style.chunkBoxes = o.chunkBoxes;
   style.skirts = !o.noSkirts;
-  style.stitch = o.stitch == "fans" ? VipmStitch::kFans : VipmStitch::kFlanges;  // auto: below
   style.blots = o.noBlots ? VipmBlots::kOff : VipmBlots::kOn;
   style.superChunks = o.noSuperChunks ? VipmSuperChunks::kOff : VipmSuperChunks::kOn;
   style.textures = !o.noTextures;

@@ -46,7 +46,8 @@ SceneOptions sceneOptions(const RenderOptions& options, bool complete, GlContext
 /// Registers the shared options on `command`.
 void addRenderOptions(CLI::App& command, RenderOptions& options, bool withCamera);
 
-/// The selection options and style the command line asks for (values already validated).
+/// The selection options and style the command line asks for (values already validated;
+/// the style's stitching depends on the tileset too: stitchFor).
 Result<SelectionOptions> selectionOptions(const RenderOptions& options);
 Result<TerrainStyle> terrainStyle(const RenderOptions& options);
 /// How VIPM borders are stitched on the tileset with `header` (--stitch; auto: fans where the

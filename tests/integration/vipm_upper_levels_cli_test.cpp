@@ -86,7 +86,7 @@ TEST(VipmUpperLevelsCli, NodesAboveTheRootsVerifyAndDrawTheFarField) {
       {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
       {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
       {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
-  auto rim = [&](const std::string& tileset, const char* stitch, const char* flight) {
+  auto bench = [&](const std::string& tileset, const char* stitch, const char* flight) {
     const RunResult b = runTerralod({"bench", tileset, "--flight", dir.file(flight), "--source",
                                      kCrater, "--stitch", stitch, "--json", dir.file("r.json")});
     EXPECT_EQ(b.exitCode, 0) << b.err;
@@ -101,11 +101,11 @@ TEST(VipmUpperLevelsCli, NodesAboveTheRootsVerifyAndDrawTheFarField) {
     "frames": 2, "keyframes": [
       {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
       {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]}]})";
-  const auto fans = rim(up, "auto", "rim.json"), flanges = rim(up, "flanges", "rim.json");
+  const auto fans = bench(up, "auto", "rim.json"), flanges = bench(up, "flanges", "rim.json");
   EXPECT_EQ(fans["stitch"], "fans");
   EXPECT_LE(fans["max_pop_px"].get<double>(), 0.1);
   EXPECT_GT(flanges["max_pop_px"].get<double>(), 0.3);
-  EXPECT_EQ(rim(flat, "auto", "still.json")["stitch"], "flanges");
+  EXPECT_EQ(bench(flat, "auto", "still.json")["stitch"], "flanges");
 }
 
 }  // namespace

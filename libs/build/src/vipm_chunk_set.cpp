@@ -455,7 +455,8 @@ Result<VipmChunkSet> VipmChunkSet::build(const BuildOptions& options, const DemI
                       options.vipmUpperLevels == kVipmUpperLevelsBySize;
   if (!built && chosen && s->tooDenseLevel >= 0) {
     // Levels chosen by size: as many as the terrain allows, the too dense one and those above
-    // it left out.
+    // it left out (everything is built again, leaves too: the tree's levels change, and this
+    // happens only on terrain too rough for them).
     BuildOptions fewer = options;
     fewer.vipmUpperLevels = s->layout.depth - 2 - s->tooDenseLevel;
     warn(info.path + ": " + tooDenseNodes(fewer.vipmUpperLevels + 1) + "; building with " +

@@ -9,7 +9,6 @@
 #include <limits>
 #include <numeric>
 #include <unordered_map>
-#include <unordered_set>
 
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
@@ -155,13 +154,14 @@ void closeCracks(const GridPatch& patch, std::vector<std::array<uint16_t, 3>>& t
       for (int k = 0; k < 3; ++k) ++uses[key(t[size_t(k)], t[size_t(k + 1) % 3])];
     std::vector<std::array<uint16_t, 3>> out;
     out.reserve(triangles.size());
+    std::vector<uint16_t> between, at;  // the chosen edge's points, a candidate's
     for (const auto& t : triangles) {
       // The open edge to split first: on the finest line, as fan stitching cuts a corner
       // (stitchLineOrder; a line inside the node has as many trailing zero bits locally as
       // in the map, the node's corner being a multiple of its cells).
       int chosen = -1;
       uint32_t chosenOrder = 0;
-      std::vector<uint16_t> between, at;
+      between.clear();
       for (int k = 0; k < 3; ++k) {
         const uint16_t a = t[size_t(k)], b = t[size_t(k + 1) % 3];
         if (uses[key(a, b)] != 1) continue;
@@ -506,15 +506,9 @@ std::optional<VipmRoot> buildVipmUpperNode(const Heightfield& heights,
                                            int32_t height, double zStep, double levelError,
                                            double lastError, int compressionLevel) {
   const double start = threadSeconds();
-  {
-    std::unordered_set<uint64_t> joined;
-    for (const CoarseMesh* c : children)
-      for (uint32_t v : c->indices)
-        joined.insert(uint64_t(c->gridY[v]) << 32 | uint64_t(c->gridX[v]));
-    if (joined.size() > kVipmMaxNodeVertices) return std::nullopt;
-  }
   // The children's coarsest levels joined: points by grid coordinates (first use first), their
-  // stored heights as the vertices' (all on the tileset's step).
+  // stored heights as the vertices' (all on the tileset's step); nothing if they are more than
+  // a node can index.
   GridPatch patch;
   patch.width = width;
   patch.height = height;
@@ -530,7 +524,7 @@ std::optional<VipmRoot> buildVipmUpperNode(const Heightfield& heights,
         const auto [at, fresh] = slot.try_emplace(uint64_t(y) * uint64_t(width) + uint64_t(x),
                                                   uint16_t(patch.pointX.size()));
         if (fresh) {
-          assert(patch.pointX.size() < kVipmMaxNodeVertices);
+          if (patch.pointX.size() == kVipmMaxNodeVertices) return std::nullopt;
           patch.pointX.push_back(x);
           patch.pointY.push_back(y);
           patch.heights.push_back(heights(x0 + x, y0 + y));
