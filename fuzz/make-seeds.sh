@@ -106,5 +106,14 @@ withMode 2 "$work/g.tif" "$r/terrarium_rgb.tif"
 translate -srcwin 0 0 16 16 -b 1 -a_nodata 128 "$data/loadersgl_terrarium_256.png" "$work/h.tif"
 withMode 0 "$work/h.tif" "$r/byte_no_crs_voids.tif"
 
+# Vegetation files and LDI blobs: written by a test of libs/vegetation (a small valid .tlv, as
+# given and with checksums to recompute, and LDI blobs stored and as payloads), so this needs a
+# build: VEGETATION_TESTS names the test executable (default build/release's). Inputs the
+# target found bugs with (found_*) are kept.
+vegetationTests=${VEGETATION_TESTS:-build/release/tests/vegetation_tests}
+mkdir -p "$out/tlv_reader_fuzzer"
+TERRALOD_TLV_SEEDS="$PWD/$out/tlv_reader_fuzzer" "$vegetationTests" \
+  --gtest_filter='VegetationFuzzSeeds.*' >"$work/seeds.log" || { cat "$work/seeds.log"; exit 1; }
+
 du -sh "$out"
 for d in "$out"/*; do echo "$(basename "$d"): $(ls "$d" | wc -l) seeds"; done

@@ -13,6 +13,8 @@ packages=(
   # rasters, meshes, compression (libopenmesh-dev: only bench/bench_vipm_openmesh, the VIPM
   # generation benchmark)
   libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev libopenmesh-dev
+  # ray casting for the vegetation baker (terralod vegetation bake)
+  libembree-dev
   # math, CLI, JSON, images
   libglm-dev libcli11-dev nlohmann-json3-dev libstb-dev
   # OpenGL 4.5 core through EGL (headless) and GLFW (windows), Dear ImGui

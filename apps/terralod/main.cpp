@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   addViewCommand(app, run);
   addClassifyCommand(app, run);
   addEditCommand(app, run);
+  addVegetationCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,84 @@
+// terralod vegetation render-tile V.tlv --tile K --resolution R --direction D [--view ldi|top]
+//   -o OUT.png
+
+#include <cmath>
+#include <cstdio>
+
+#include "commands.h"
+#include "terralod/render/image.h"
+#include "terralod/vegetation/ldi_baker.h"
+#include "terralod/vegetation/ldi_picture.h"
+#include "terralod/vegetation/vegetation_file.h"
+#include "vegetation_commands.h"
+
+namespace terralod::cli {
+namespace {
+
+constexpr std::array<uint8_t, 3> kSoil = {92, 76, 58};
+
+Image toImage(veg::LdiPicture p) {
+  return Image{p.width, p.height, std::move(p.rgba)};
+}
+
+// Looks straight down on the tile and a quarter tile around it, the tile's outline drawn.
+veg::LdiCamera topDownCamera(float tileSize, float tileHeight, uint32_t pixelsAcrossTile) {
+  const float margin = 0.25f * tileSize, extent = tileSize + 2 * margin;
+  veg::LdiCamera c;
+  c.pixelSize = tileSize / float(pixelsAcrossTile);
+  c.width = c.height = uint32_t(std::ceil(extent / c.pixelSize));
+  c.origin = {-margin, -margin, 0};
+  c.axisU = {1, 0, 0};
+  c.axisV = {0, 1, 0};
+  c.direction = {0, 0, -1};
+  c.depthMin = -(tileHeight + 0.01f);
+  c.depthMax = 0.01f;
+  return c;
+}
+
+void drawOutline(Image& image, const veg::LdiCamera& c, float tileSize) {
+  auto toPixel = [&](float metres) {
+    return int(std::lround((metres - c.origin.x) / c.pixelSize));
+  };
+  const int lo = toPixel(0), hi = toPixel(tileSize);
+  auto put = [&](int x, int y) {
+    if (x < 0 || y < 0 || x >= image.width || y >= image.height) return;
+    uint8_t* p = &image.rgba[(size_t(image.height - 1 - y) * image.width + x) * 4];
+    p[0] = p[1] = p[2] = 255;
+  };
+  for (int k = lo; k <= hi; ++k) put(k, lo), put(k, hi), put(lo, k), put(hi, k);
+}
+
+}  // namespace
+
+int runVegetationRenderTile(const RenderTileOptions& o) {
+  if (auto format = imageFormatFor(o.output); !format) return fail(format.error().message);
+  auto opened = veg::VegetationReader::openPathOrUrl(o.input);
+  if (!opened) return fail(opened.error().message);
+  const veg::VegetationReader& r = **opened;
+  const veg::BakeSettings& s = r.header().settings;
+  Image image;
+  if (o.view == "ldi") {
+    auto ldi = r.readLdi(o.tile, o.resolution, o.direction);
+    if (!ldi) return fail(ldi.error().message);
+    image = toImage(veg::compositeLdi(*ldi, kSoil, false));
+  } else {
+    // The plants are made again from the file's seed and placement, and ray cast.
+    const std::vector<veg::PrototileContent> tiles(r.header().tiles.begin(),
+                                                   r.header().tiles.end());
+    const veg::PlantLibrary plants(s.seed);
+    const veg::ContextScene scene(tiles, veg::contextAround(o.tile, s.seed), s.tileSize, plants);
+    const veg::LdiCamera camera =
+        topDownCamera(s.tileSize, s.tileHeight, s.resolutions[o.resolution]);
+    veg::SamplingSettings sampling;
+    sampling.centreTileOnly = false;
+    veg::Lighting lighting;
+    uint64_t rays = 0;
+    image = toImage(veg::compositeLdi(scene.bake(camera, sampling, lighting, rays), kSoil, false));
+    drawOutline(image, camera, s.tileSize);
+  }
+  if (Status written = writeImage(image, o.output); !written) return fail(written.error().message);
+  std::printf("terralod: wrote %s (%dx%d)\n", o.output.c_str(), image.width, image.height);
+  return 0;
+}
+
+}  // namespace terralod::cli

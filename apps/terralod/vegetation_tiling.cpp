@@ -1,0 +1,67 @@
+// terralod vegetation tiling [--size N] [--seed S] [-o FIGURE.png] [--json]
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "commands.h"
+#include "terralod/vegetation/tiling_statistics.h"
+#include "vegetation_commands.h"
+
+namespace terralod::cli {
+namespace {
+
+nlohmann::json statsJson(const veg::TileGrid& grid, const veg::Autocorrelation& a) {
+  const veg::NeighbourStats n = veg::neighbourStats(grid);
+  return {{"prototiles", grid.prototileCount},
+          {"same_east", n.sameEast},
+          {"same_north", n.sameNorth},
+          {"same_expected", n.sameEitherExpected},
+          {"with_same_neighbour", n.withSameNeighbour},
+          {"with_same_neighbour_expected", n.withSameNeighbourExpected},
+          {"largest_clump", n.largestClump},
+          {"mean_clump", n.meanClump},
+          {"autocorrelation_max_off_origin", a.maxAbsOffOrigin},
+          {"autocorrelation_mean_on_axes", a.meanAbsOnAxes},
+          {"autocorrelation_mean_off_axes", a.meanAbsOffAxes}};
+}
+
+}  // namespace
+
+int runVegetationTiling(const VegetationTilingOptions& o) {
+  veg::TilingFigureOptions f;
+  f.seed = o.seed;
+  f.largeTiles = o.size;
+  f.maxLag = int(std::min<uint32_t>(16, o.size / 4));
+  const veg::TilingFigure figure = veg::tilingFigure(f);
+  if (!o.output.empty())
+    if (Status s = veg::writePng(o.output, figure.image); !s) return fail(s.error().message);
+  const nlohmann::json ours =
+      statsJson(veg::toGrid(veg::WangTiling(o.size, o.size, o.seed)), figure.ours);
+  const nlohmann::json other =
+      statsJson(veg::hierarchicalTiling(o.size, o.size, o.seed), figure.comparison);
+  if (o.json) {
+    std::printf("%s\n", nlohmann::json{{"size", o.size},
+                                       {"seed", o.seed},
+                                       {"max_lag", f.maxLag},
+                                       {"stochastic_wang", ours},
+                                       {"robinson_style_hierarchical", other}}
+                            .dump(2)
+                            .c_str());
+    return 0;
+  }
+  for (const auto& [name, j] : {std::pair{"stochastic Wang (8 prototiles)", ours},
+                                std::pair{"Robinson-style hierarchical (16 types)", other}})
+    std::printf(
+        "%ux%u %s: same prototile east %.4f, north %.4f (chance %.4f); largest clump %llu, "
+        "mean %.2f; autocorrelation up to lag %d: max %.4f off the origin, mean %.4f on the "
+        "axes, %.4f off them\n",
+        o.size, o.size, name, j["same_east"].get<double>(), j["same_north"].get<double>(),
+        j["same_expected"].get<double>(), j["largest_clump"].get<unsigned long long>(),
+        j["mean_clump"].get<double>(), f.maxLag, j["autocorrelation_max_off_origin"].get<double>(),
+        j["autocorrelation_mean_on_axes"].get<double>(),
+        j["autocorrelation_mean_off_axes"].get<double>());
+  if (!o.output.empty()) std::printf("terralod: wrote %s\n", o.output.c_str());
+  return 0;
+}
+
+}  // namespace terralod::cli
