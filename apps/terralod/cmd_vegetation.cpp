@@ -91,9 +91,9 @@ void addRenderTile(CLI::App& parent, Runner& run) {
       "or its plants ray cast from above in their context (--view top)");
   auto o = std::make_shared<RenderTileOptions>();
   cmd->add_option("file", o->input, ".tlv file or http(s):// URL")->required();
-  cmd->add_option("--tile", o->tile, "Prototile 0-7")
+  cmd->add_option("--tile", o->tile, "Prototile 0-7, or all: the 8 on one sheet, 4 a row")
       ->capture_default_str()
-      ->check(wholeNumber<int>(0, 7));
+      ->check(CLI::IsMember({"0", "1", "2", "3", "4", "5", "6", "7", "all"}));
   cmd->add_option("--resolution", o->resolution, "Resolution 0-6 (0: the finest, nearest ring)")
       ->capture_default_str()
       ->check(wholeNumber<int>(0, 6));
@@ -125,6 +125,12 @@ void addPlacement(CLI::App& parent, Runner& run) {
       ->check(wholeNumber<uint32_t>(1, 10000));
   cmd->add_option("--tiling", o->tiling, "Tiles across x tiles up")->capture_default_str();
   cmd->add_option("--density-png", o->densityPng, "Density over the tile square (as in points)");
+  cmd->add_flag("--plain", o->plain,
+                "The paper's plain round-robin: no pass over the edges and corners first");
+  cmd->add_option("--band", o->band,
+                  "Metres from an edge counted as near it (default: twice the largest packing "
+                  "radius)")
+      ->check(positiveNumber());
   cmd->callback([&run, o] { run = [o] { return runVegetationPlacement(*o); }; });
 }
 
@@ -143,6 +149,10 @@ void addTiling(CLI::App& parent, Runner& run) {
       ->check(wholeNumber<uint64_t>());
   cmd->add_option("-o,--output", o->output, "PNG of the comparison");
   cmd->add_flag("--json", o->json, "Print JSON");
+  cmd->add_option("--time", o->timeSize,
+                  "Also lay an N x N tiling by the scanline and look every tile up alone, timed "
+                  "(one byte a tile: 10000 takes 100 MB)")
+      ->check(wholeNumber<uint32_t>(1, 30000));
   cmd->callback([&run, o] { run = [o] { return runVegetationTiling(*o); }; });
 }
 

@@ -30,6 +30,8 @@ struct VegetationPlacementOptions {
   float tileSize = 0;
   uint64_t seed = 1;
   uint32_t seeds = 1;
+  bool plain = false;  ///< the paper's plain round-robin (no edges and corners first)
+  double band = 0;     ///< metres (0: twice the largest packing radius)
 };
 int runVegetationPlacement(const VegetationPlacementOptions& options);
 
@@ -38,12 +40,14 @@ struct VegetationTilingOptions {
   uint64_t seed = 1;
   std::string output;  ///< the Figure-4 comparison picture (PNG), if given
   bool json = false;
+  uint32_t timeSize = 0;  ///< also lay and look up a tiling this many tiles a side, timed
 };
 int runVegetationTiling(const VegetationTilingOptions& options);
 
 struct RenderTileOptions {
   std::string input, output, view = "ldi";  ///< ldi | top
-  int tile = 0, resolution = 0, direction = 0;
+  std::string tile = "0";                   ///< 0..7 or all (a sheet of the 8)
+  int resolution = 0, direction = 0;
 };
 int runVegetationRenderTile(const RenderTileOptions& options);
 

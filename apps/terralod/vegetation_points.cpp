@@ -141,13 +141,14 @@ int runVegetationPlacement(const VegetationPlacementOptions& o) {
   for (uint64_t seed = o.seed; seed < o.seed + o.seeds; ++seed) {
     auto scene = veg::vegetationScene(o.scene, tileSize, seed);
     if (!scene) return fail(scene.error().message);
+    scene->placement.edgesAndCornersFirst = !o.plain;
     const veg::PlantLibrary plants(seed);
     NullProgress quiet;
     const veg::Placement placed = veg::placeObjects(
         scene->placement, [&](veg::Species s, int v) { return plants.tightRadius(s, v); }, quiet);
     tileSide = scene->placement.tileSize;
     const veg::WangTiling tiling(size->first, size->second, seed);
-    const veg::PlacementReport r = veg::checkPlacement(placed.tiles, tileSide, tiling);
+    const veg::PlacementReport r = veg::checkPlacement(placed.tiles, tileSide, tiling, o.band);
     const std::vector<double> d = veg::foldedDensity(
         veg::tilingPoints(placed.tiles, tileSide, tiling), tileSide, kDensityBins);
     for (size_t i = 0; i < d.size(); ++i) density[i] += d[i] / o.seeds;

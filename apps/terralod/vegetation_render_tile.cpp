@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "commands.h"
+#include "terralod/render/contact_sheet.h"
 #include "terralod/render/image.h"
 #include "terralod/vegetation/ldi_baker.h"
 #include "terralod/vegetation/ldi_picture.h"
@@ -48,6 +49,29 @@ void drawOutline(Image& image, const veg::LdiCamera& c, float tileSize) {
   for (int k = lo; k <= hi; ++k) put(k, lo), put(k, hi), put(lo, k), put(hi, k);
 }
 
+// One prototile's picture (RenderTileOptions::view).
+Result<Image> renderTile(const veg::VegetationReader& r, const RenderTileOptions& o, int tile,
+                         const veg::PlantLibrary& plants) {
+  const veg::BakeSettings& s = r.header().settings;
+  if (o.view == "ldi") {
+    auto ldi = r.readLdi(tile, o.resolution, o.direction);
+    if (!ldi) return ldi.error();
+    return toImage(veg::compositeLdi(*ldi, kSoil, false));
+  }
+  // The plants are made again from the file's seed and placement, and ray cast.
+  const std::vector<veg::PrototileContent> tiles(r.header().tiles.begin(), r.header().tiles.end());
+  const veg::ContextScene scene(tiles, veg::contextAround(tile, s.seed), s.tileSize, plants);
+  const veg::LdiCamera camera =
+      topDownCamera(s.tileSize, s.tileHeight, s.resolutions[o.resolution]);
+  veg::SamplingSettings sampling;
+  sampling.centreTileOnly = false;
+  uint64_t rays = 0;
+  Image image =
+      toImage(veg::compositeLdi(scene.bake(camera, sampling, veg::Lighting{}, rays), kSoil, false));
+  drawOutline(image, camera, s.tileSize);
+  return image;
+}
+
 }  // namespace
 
 int runVegetationRenderTile(const RenderTileOptions& o) {
@@ -55,27 +79,18 @@ int runVegetationRenderTile(const RenderTileOptions& o) {
   auto opened = veg::VegetationReader::openPathOrUrl(o.input);
   if (!opened) return fail(opened.error().message);
   const veg::VegetationReader& r = **opened;
-  const veg::BakeSettings& s = r.header().settings;
-  Image image;
-  if (o.view == "ldi") {
-    auto ldi = r.readLdi(o.tile, o.resolution, o.direction);
-    if (!ldi) return fail(ldi.error().message);
-    image = toImage(veg::compositeLdi(*ldi, kSoil, false));
-  } else {
-    // The plants are made again from the file's seed and placement, and ray cast.
-    const std::vector<veg::PrototileContent> tiles(r.header().tiles.begin(),
-                                                   r.header().tiles.end());
-    const veg::PlantLibrary plants(s.seed);
-    const veg::ContextScene scene(tiles, veg::contextAround(o.tile, s.seed), s.tileSize, plants);
-    const veg::LdiCamera camera =
-        topDownCamera(s.tileSize, s.tileHeight, s.resolutions[o.resolution]);
-    veg::SamplingSettings sampling;
-    sampling.centreTileOnly = false;
-    veg::Lighting lighting;
-    uint64_t rays = 0;
-    image = toImage(veg::compositeLdi(scene.bake(camera, sampling, lighting, rays), kSoil, false));
-    drawOutline(image, camera, s.tileSize);
+  // Pictures from above make the plants again from the file's seed; LDIs need none.
+  const veg::PlantLibrary plants =
+      o.view == "top" ? veg::PlantLibrary(r.header().settings.seed) : veg::PlantLibrary({});
+  std::vector<Image> pictures;
+  for (int tile = 0; tile < veg::kPrototiles; ++tile) {
+    if (o.tile != "all" && o.tile != std::to_string(tile)) continue;
+    auto picture = renderTile(r, o, tile, plants);
+    if (!picture) return fail(picture.error().message);
+    pictures.push_back(std::move(*picture));
   }
+  const Image image = pictures.size() == 1 ? std::move(pictures[0])
+                                           : makeContactSheet(pictures, 4, pictures[0].width);
   if (Status written = writeImage(image, o.output); !written) return fail(written.error().message);
   std::printf("terralod: wrote %s (%dx%d)\n", o.output.c_str(), image.width, image.height);
   return 0;

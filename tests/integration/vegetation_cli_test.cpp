@@ -139,6 +139,43 @@ TEST(VegetationCli, ReadsTheFileByRangesOverHttp) {
   EXPECT_TRUE(fs::exists(png));
 }
 
+// "edges 0.693 (62%)" -> 62
+double percentAfter(const std::string& out, const std::string& label) {
+  const size_t at = out.find(label);
+  EXPECT_NE(at, std::string::npos) << out;
+  const size_t open = out.find('(', at);
+  return std::stod(out.substr(open + 1));
+}
+
+TEST(VegetationCli, PlacingEdgesFirstFillsTheRimThePaperLeavesSparse) {
+  const std::vector<std::string> args = {"vegetation", "placement", "--scene",  "sunflowers",
+                                         "--seeds",    "4",         "--tiling", "16x16",
+                                         "--band",     "0.25"};
+  const RunResult ours = runTerralod(args);
+  std::vector<std::string> plainArgs = args;
+  plainArgs.push_back("--plain");
+  const RunResult plain = runTerralod(plainArgs);
+  ASSERT_EQ(ours.exitCode, 0) << ours.err;
+  ASSERT_EQ(plain.exitCode, 0) << plain.err;
+  EXPECT_NE(ours.out.find("overlaps: tight 0, packing 0"), std::string::npos) << ours.out;
+  // Within a quarter metre of the edges: the plain round-robin leaves a sparse line.
+  EXPECT_LT(percentAfter(plain.out, "edges"), 80) << plain.out;
+  EXPECT_GT(percentAfter(ours.out, "edges"), 90) << ours.out;
+}
+
+TEST(VegetationCli, TilingShowsNoStructureWhereTheHierarchicalOneIsPlaid) {
+  TempDir dir;
+  const fs::path png = dir.path() / "fig4.png";
+  const RunResult r =
+      runTerralod({"vegetation", "tiling", "--size", "64", "--json", "-o", png.string()});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_LT(j["stochastic_wang"]["autocorrelation_max_off_origin"].get<double>(), 0.1);
+  EXPECT_GT(j["robinson_style_hierarchical"]["autocorrelation_mean_on_axes"].get<double>(), 0.1);
+  EXPECT_NEAR(j["stochastic_wang"]["same_east"].get<double>(), 0.125, 0.03);
+  EXPECT_TRUE(readPng(png.string()));
+}
+
 TEST(VegetationCli, BadInputGetsOneLineAndWritesNothing) {
   TempDir dir;
   const fs::path junk = dir.path() / "junk.tlv";

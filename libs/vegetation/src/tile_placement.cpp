@@ -13,7 +13,12 @@
 namespace terralod::veg {
 namespace {
 
+constexpr float kCornerBoxScale = 1.0f;
 enum Side { kNorth = 0, kEast = 1, kSouth = 2, kWest = 3 };
+
+// Where a dart may land: anywhere in its tile, across its south or west edge line (within the
+// dart's tight radius of it, either side), or in a corner box (within mCornerBox of two edges).
+enum class DartArea { kAnywhere, kAcrossSouth, kAcrossWest, kCorner };
 constexpr Side opposite(Side s) {
   return Side((s + 2) % 4);
 }
@@ -145,9 +150,8 @@ class Placer {
     return last;
   }
 
-  // A dart anywhere in the tile, or `along` its south or west edge (crossing it).
   PlacedObject dart(const SpeciesMix* mix, RandomStream& rng, const TightRadiusOf& tightRadius,
-                    std::optional<Side> along) {
+                    DartArea area) {
     PlacedObject o;
     o.species = mix->species;
     o.version = uint8_t(rng.below(uint32_t(versionCount(mix->species))));
@@ -157,8 +161,14 @@ class Placer {
     o.packingRadius = o.tightRadius * std::max(1.0f, mix->packingFactor);
     o.x = float(rng.uniform(0, mS.tileSize));
     o.y = float(rng.uniform(0, mS.tileSize));
-    if (along) {  // within the tight radius of the south or west edge line, either side
-      (*along == kSouth ? o.y : o.x) = float(rng.uniform(-o.tightRadius, o.tightRadius));
+    if (area == DartArea::kCorner) {
+      const uint32_t corner = rng.below(4);
+      const float u = float(rng.uniform(0, mCornerBox)), v = float(rng.uniform(0, mCornerBox));
+      o.x = corner & 1 ? mS.tileSize - u : u;
+      o.y = corner & 2 ? mS.tileSize - v : v;
+    } else if (area != DartArea::kAnywhere) {
+      (area == DartArea::kAcrossSouth ? o.y : o.x) =
+          float(rng.uniform(-o.tightRadius, o.tightRadius));
     }
     return o;
   }
@@ -166,11 +176,11 @@ class Placer {
   // One visit: up to attemptsPerVisit darts of one species; true when one was kept. A
   // species that finds no room is marked full in `full`.
   bool visit(int home, uint32_t& full, RandomStream& rng, const TightRadiusOf& tightRadius,
-             std::optional<Side> along = std::nullopt) {
+             DartArea area = DartArea::kAnywhere) {
     const SpeciesMix* mix = pickSpecies(rng, full);
     for (uint32_t a = 0; a < mS.attemptsPerVisit; ++a) {
       ++mDarts;
-      const PlacedObject o = dart(mix, rng, tightRadius, along);
+      const PlacedObject o = dart(mix, rng, tightRadius, area);
       const std::vector<Copy> copies = copiesOf(home, o);
       if (copies.empty()) continue;
       if (!std::all_of(copies.begin(), copies.end(), [&](const Copy& c) { return copyFits(o, c); }))
@@ -212,8 +222,31 @@ class Placer {
     for (size_t left = classes.size(); left > 0;)
       for (EdgeClass& c : classes) {
         if (c.done) continue;
-        if (!visit(c.tile, c.full, rng, tightRadius, c.side) && c.full == allFull) {
+        const DartArea area = c.side == kSouth ? DartArea::kAcrossSouth : DartArea::kAcrossWest;
+        if (!visit(c.tile, c.full, rng, tightRadius, area) && c.full == allFull) {
           c.done = true;
+          --left;
+        }
+      }
+  }
+
+  // Then the corners: a dart there is tested against the prototiles across both edges, so
+  // among the rest it rarely finds room once they fill. Each prototile in turn gets darts
+  // within twice the largest packing radius of two of its edges, until none fits.
+  void placeCorners(RandomStream& rng, const TightRadiusOf& tightRadius) {
+    for (const SpeciesMix& m : mS.mix)
+      for (int v = 0; v < versionCount(m.species); ++v)
+        mCornerBox = std::max(mCornerBox, kCornerBoxScale * tightRadius(m.species, v) * m.maxScale *
+                                              std::max(1.0f, m.packingFactor));
+    mCornerBox = std::min(mCornerBox, mS.tileSize / 2);
+    // A tile's corners are done when a visit finds no room (for any species: the smallest
+    // would otherwise pack the corners tighter than the interior, where every species mixes).
+    std::array<bool, kWangPrototiles> done{};
+    for (int left = kWangPrototiles; left > 0;)
+      for (int k = 0; k < kWangPrototiles; ++k) {
+        uint32_t full = 0;
+        if (!done[k] && !visit(k, full, rng, tightRadius, DartArea::kCorner)) {
+          done[k] = true;
           --left;
         }
       }
@@ -221,7 +254,10 @@ class Placer {
 
   Placement run(const TightRadiusOf& tightRadius, Progress& progress) {
     RandomStream rng(mS.seed);
-    placeEdges(rng, tightRadius);
+    if (mS.edgesAndCornersFirst) {
+      placeEdges(rng, tightRadius);
+      placeCorners(rng, tightRadius);
+    }
     std::array<bool, kWangPrototiles> done{};
     std::array<uint32_t, kWangPrototiles> full{};
     const uint32_t allFull = (1u << mS.mix.size()) - 1;
@@ -243,6 +279,7 @@ class Placer {
   const PlacementSettings& mS;
   std::vector<PrototileContent> mTiles;
   float mMaxPacking = 0;
+  float mCornerBox = 0;
   uint64_t mDarts = 0;
 };
 

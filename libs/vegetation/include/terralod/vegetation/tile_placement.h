@@ -39,6 +39,9 @@ struct PlacementSettings {
   float tileSize = 4;
   std::vector<SpeciesMix> mix;  ///< at most 32
   uint32_t attemptsPerVisit = 10000;
+  /// Fill the edges, then the corners, before the rest (below); off: the paper's plain
+  /// round-robin over the prototiles (the switch that shows what the order does).
+  bool edgesAndCornersFirst = true;
   uint64_t seed = 1;
 };
 
