@@ -78,7 +78,8 @@ struct Copy {
 
 class Placer {
  public:
-  Placer(const PlacementSettings& s) : mS(s), mTiles(kWangPrototiles) {
+  Placer(const PlacementSettings& s, uint32_t edgeTarget)
+      : mS(s), mTiles(kWangPrototiles), mEdgeTarget(edgeTarget) {
     for (int k = 0; k < kWangPrototiles; ++k) mTiles[k].edges = prototileEdges(k);
   }
 
@@ -202,13 +203,15 @@ class Placer {
   // its colour, which filled tiles rarely offer, so thrown among the rest they stay few and
   // every tile edge shows as a sparse line. Each of the 4 edge colours (2 for south/north
   // edges, 2 for west/east) is visited in turn, darts thrown across its line in a prototile
-  // with that colour on its south or west side, until no species finds room.
+  // with that colour on its south or west side, until no species finds room or the colour
+  // has mEdgeTarget plants (saturated, an edge would pack a denser line than the field).
   void placeEdges(RandomStream& rng, const TightRadiusOf& tightRadius) {
     struct EdgeClass {
       Side side;
       int tile;  // a prototile with this colour on `side`
       uint32_t full = 0;
       bool done = false;
+      uint32_t placed = 0;
     };
     std::vector<EdgeClass> classes;
     for (Side side : {kSouth, kWest})
@@ -223,7 +226,9 @@ class Placer {
       for (EdgeClass& c : classes) {
         if (c.done) continue;
         const DartArea area = c.side == kSouth ? DartArea::kAcrossSouth : DartArea::kAcrossWest;
-        if (!visit(c.tile, c.full, rng, tightRadius, area) && c.full == allFull) {
+        const bool kept = visit(c.tile, c.full, rng, tightRadius, area);
+        c.placed += kept;
+        if ((!kept && c.full == allFull) || c.placed >= mEdgeTarget) {
           c.done = true;
           --left;
         }
@@ -280,6 +285,7 @@ class Placer {
   std::vector<PrototileContent> mTiles;
   float mMaxPacking = 0;
   float mCornerBox = 0;
+  uint32_t mEdgeTarget;
   uint64_t mDarts = 0;
 };
 
@@ -288,7 +294,26 @@ class Placer {
 Placement placeObjects(const PlacementSettings& settings, const TightRadiusOf& tightRadius,
                        Progress& progress) {
   assert(!settings.mix.empty() && settings.tileSize > 0);
-  return Placer(settings).run(tightRadius, progress);
+  if (!settings.edgesAndCornersFirst) return Placer(settings, 0).run(tightRadius, progress);
+  // How many plants the field holds along an edge line: a plain placement (another seed)
+  // measures the density and the mean tight radius; a plant crosses the line when its centre
+  // is within its tight radius of it. The edge pass places kEdgeShare of that, and leaves the
+  // rest to the round-robin, whose darts cross edges too.
+  constexpr double kEdgeShare = 0.8;
+  PlacementSettings plain = settings;
+  plain.edgesAndCornersFirst = false;
+  plain.seed = settings.seed ^ 0x5bd1e995ull;
+  NullProgress quiet;
+  const Placement probe = Placer(plain, 0).run(tightRadius, quiet);
+  double count = 0, tight = 0;
+  for (const PrototileContent& t : probe.tiles)
+    for (const PlacedObject& o : t.objects)
+      if (centredIn(o, settings.tileSize)) count += 1, tight += o.tightRadius;
+  const double density = count / (kWangPrototiles * double(settings.tileSize) * settings.tileSize);
+  const double meanTight = count > 0 ? tight / count : 0;
+  const auto edgeTarget =
+      uint32_t(std::lround(kEdgeShare * density * settings.tileSize * 2 * meanTight));
+  return Placer(settings, std::max(1u, edgeTarget)).run(tightRadius, progress);
 }
 
 }  // namespace terralod::veg

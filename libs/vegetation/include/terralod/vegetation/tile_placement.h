@@ -4,7 +4,9 @@
 //
 // The edges are filled first (crossing plants must find room in every prototile with the
 // edge's colour, which filled tiles rarely offer: thrown among the rest they would stay few
-// and each tile edge would show as a sparse line). Then dart throwing visits the prototiles
+// and each tile edge would show as a sparse line), each edge colour up to 80 % of the plants a
+// plain placement has along a line (more would pack a denser line than the field); then the
+// corners, likewise hard to fill late. Then dart throwing visits the prototiles
 // round-robin, up to `attemptsPerVisit` darts a visit
 // (of one species, picked by the mix's weights), and keeps the first that fits; a tile is
 // done when no species finds room. Each plant has a tight radius (its geometry) and a larger
