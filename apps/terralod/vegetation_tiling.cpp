@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.h"
+#include "terralod/render/image.h"
 #include "terralod/vegetation/tiling_statistics.h"
 #include "vegetation_commands.h"
 
@@ -48,6 +49,13 @@ void timeTilings(uint32_t n, uint64_t seed) {
       (unsigned long long)differ, double(n) * n / 1e6);
 }
 
+Image rgbaOf(const veg::RgbImage& rgb) {
+  Image image{rgb.width, rgb.height, std::vector<uint8_t>(size_t(rgb.width) * rgb.height * 4, 255)};
+  for (size_t i = 0; i < size_t(rgb.width) * rgb.height; ++i)
+    for (int c = 0; c < 3; ++c) image.rgba[4 * i + c] = rgb.rgb[3 * i + c];
+  return image;
+}
+
 }  // namespace
 
 int runVegetationTiling(const VegetationTilingOptions& o) {
@@ -57,7 +65,7 @@ int runVegetationTiling(const VegetationTilingOptions& o) {
   f.maxLag = int(std::min<uint32_t>(16, o.size / 4));
   const veg::TilingFigure figure = veg::tilingFigure(f);
   if (!o.output.empty())
-    if (Status s = veg::writePng(o.output, figure.image); !s) return fail(s.error().message);
+    if (Status s = writeImage(rgbaOf(figure.image), o.output); !s) return fail(s.error().message);
   const nlohmann::json ours =
       statsJson(veg::toGrid(veg::WangTiling(o.size, o.size, o.seed)), figure.ours);
   const nlohmann::json other =

@@ -5,17 +5,8 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <span>
 
 #include "random_stream.h"
-#include "terralod/core/atomic_file.h"
-
-// No other source in the repository defines the stb_image_write implementation (Debian's
-// libstb.so carries it, but this library does not link it), so it is compiled here, static:
-// no symbol of it leaves this file, whatever else a program links.
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
 
 namespace terralod::veg {
 namespace {
@@ -50,12 +41,6 @@ void blitPanel(RgbImage& target, const RgbImage& source, int left, int top) {
   for (int y = 0; y < source.height; ++y)
     std::copy_n(source.pixel(0, y), size_t(source.width) * 3,
                 &target.rgb[(size_t(top + y) * target.width + left) * 3]);
-}
-
-void appendPngBytes(void* context, void* data, int size) {
-  auto* out = static_cast<std::vector<uint8_t>*>(context);
-  const auto* bytes = static_cast<const uint8_t*>(data);
-  out->insert(out->end(), bytes, bytes + size);
 }
 
 }  // namespace
@@ -306,20 +291,6 @@ TilingFigure tilingFigure(const TilingFigureOptions& o) {
     left += span + o.gap;
   }
   return figure;
-}
-
-Status writePng(const std::string& path, const RgbImage& image) {
-  if (image.width <= 0 || image.height <= 0 ||
-      image.rgb.size() != size_t(image.width) * image.height * 3)
-    return makeError(path, "cannot write an empty or malformed image as PNG");
-  std::vector<uint8_t> png;
-  if (!stbi_write_png_to_func(appendPngBytes, &png, image.width, image.height, 3, image.rgb.data(),
-                              image.width * 3))
-    return makeError(path, "PNG encoding failed");
-  auto file = AtomicFile::create(path);
-  if (!file) return file.error();
-  if (Status s = file->write(std::span<const uint8_t>(png)); !s) return s;
-  return file->commit();
 }
 
 }  // namespace terralod::veg

@@ -1,13 +1,10 @@
 #include "terralod/vegetation/tiling_statistics.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <set>
 
 namespace terralod::veg {
@@ -243,29 +240,6 @@ TEST(TilingPictures, SizesAndColours) {
   EXPECT_EQ(figure.image.rgb.size(), size_t(figure.image.width) * figure.image.height * 3);
   EXPECT_EQ(figure.heatScale, figure.comparison.maxAbsOffOrigin);
   EXPECT_EQ(figure.ours.maxLag, 16);
-}
-
-TEST(TilingPictures, WritePngIsAtomicAndNamesThePathOnFailure) {
-  const std::filesystem::path dir =
-      std::filesystem::temp_directory_path() / ("tiling_png_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / "tiles.png").string();
-  const RgbImage image = renderTiling(toGrid(WangTiling(5, 3, 1)), 2);
-  ASSERT_TRUE(writePng(path, image).ok());
-  std::ifstream in(path, std::ios::binary);
-  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
-  ASSERT_GE(bytes.size(), 24u);
-  EXPECT_EQ(std::vector<uint8_t>(bytes.begin(), bytes.begin() + 8),
-            (std::vector<uint8_t>{0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}));
-  EXPECT_EQ(bytes[19], 10);  // IHDR width (big-endian at 16..19)
-  EXPECT_EQ(bytes[23], 6);   // IHDR height
-
-  const std::string missing = (dir / "no" / "such.png").string();
-  const Status bad = writePng(missing, image);
-  ASSERT_FALSE(bad.ok());
-  EXPECT_NE(bad.error().message.find(missing), std::string::npos) << bad.error().message;
-  EXPECT_FALSE(writePng(path, RgbImage{}).ok());
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

@@ -42,10 +42,8 @@
 // to rotation and reflection. Neither is implemented here.)
 
 #include <cstdint>
-#include <string>
 #include <vector>
 
-#include "terralod/core/result.h"
 #include "terralod/vegetation/wang_tiling.h"
 
 namespace terralod::veg {
@@ -166,8 +164,5 @@ struct TilingFigure {
 /// tiling small and large (Figure 4 a, b), the Robinson-style hierarchical comparison small and
 /// large (in place of c, d). Below each pair, centred: the autocorrelation of its large tiling.
 TilingFigure tilingFigure(const TilingFigureOptions& options = {});
-
-/// Writes a PNG atomically (terralod/core/atomic_file.h); failures name `path`.
-Status writePng(const std::string& path, const RgbImage& image);
 
 }  // namespace terralod::veg
