@@ -84,6 +84,11 @@ inline pid_t startProgram(const std::string& program, const std::vector<std::str
   return pid;
 }
 
+/// Whether `text` (a command's output) contains `part`.
+inline bool has(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
 /// Runs the terralod CLI built alongside the tests.
 inline RunResult runTerralod(const std::vector<std::string>& args,
                              const std::vector<std::string>& env = {}) {

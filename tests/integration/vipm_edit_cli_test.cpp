@@ -23,10 +23,6 @@ namespace {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
 // Strokes over the middle of a tileset: raise, smooth, lower and paint (the tileset's last
 // material).
 std::vector<TerrainEdit> strokesFor(const TilesetReader& t) {

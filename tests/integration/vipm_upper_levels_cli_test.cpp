@@ -18,10 +18,6 @@ namespace {
 
 const std::string kCrater = testData("crater_lake_0513.bt");
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
 // "wrote X: N chunks, ..." -> N.
 int drawnChunks(const std::string& out) {
   std::smatch m;

@@ -21,10 +21,6 @@ namespace {
 
 const std::string kDem = testData("gzcommon_dem_squared_129.tif");
 
-bool has(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
 class VipmVerifyCli : public ::testing::Test {
  protected:
   TempDir mDir;
