@@ -250,6 +250,7 @@ Ldi ContextScene::bake(const LdiCamera& cam, const SamplingSettings& sampling,
   const float depthScale = float(kLdiMaxDepth) / (cam.depthMax - cam.depthMin);
   const float depthStep =
       std::max(1.0f, std::floor(sampling.depthStep * cam.pixelSize * depthScale));
+  // The jitter also varies with the camera, so that two cameras given one seed differ.
   RandomStream rng(sampling.seed ^ (uint64_t(cam.width) << 40) ^ (uint64_t(cam.height) << 20) ^
                    uint64_t(std::abs(cam.direction.x) * 1e6f));
   std::vector<Hit> hits;

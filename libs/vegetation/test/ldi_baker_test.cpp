@@ -7,6 +7,7 @@
 #include <glm/geometric.hpp>
 
 #include "terralod/vegetation/ldi_camera.h"
+#include "terralod/vegetation/vegetation_bake.h"
 #include "terralod/vegetation/wang_tiling.h"
 
 namespace terralod::veg {
@@ -172,6 +173,37 @@ TEST(LdiCameras, ContextsAreValidTilingsAroundTheirTile) {
     LaidTiling t{3, 3, std::vector<uint8_t>(c.begin(), c.end())};
     EXPECT_TRUE(tilingIsValid(t));
   }
+}
+
+}  // namespace
+}  // namespace terralod::veg
+
+namespace terralod::veg {
+namespace {
+
+TEST(VegetationBake, GivesTheSameFileBytesWithAnyThreadCount) {
+  auto scene = vegetationScene("meadow", std::nullopt, 3);
+  ASSERT_TRUE(scene);
+  scaleResolutions(scene->rig, 16);
+  scene->sampling.raysPerPixel = 1;
+  scene->lighting.occlusionRays = 2;
+  NullProgress quiet;
+  const VegetationBake one = bakeVegetation(*scene, 1, quiet);
+  const VegetationBake two = bakeVegetation(*scene, 2, quiet);
+  ASSERT_EQ(one.ldis.size(), size_t(kLdiCount));
+  EXPECT_EQ(one.header.tiles, two.header.tiles);
+  uint64_t depthPixels = 0;
+  for (int i = 0; i < kLdiCount; ++i) {
+    EXPECT_EQ(one.ldis[i].blob, two.ldis[i].blob) << tlv::describeLdi(i);
+    depthPixels += one.ldis[i].depthPixels;
+  }
+  EXPECT_GT(depthPixels, 1000u);
+  // Another seed places and casts differently.
+  auto other = vegetationScene("meadow", std::nullopt, 4);
+  scaleResolutions(other->rig, 16);
+  other->sampling.raysPerPixel = 1;
+  other->lighting.occlusionRays = 2;
+  EXPECT_NE(bakeVegetation(*other, 2, quiet).header.tiles, one.header.tiles);
 }
 
 }  // namespace
