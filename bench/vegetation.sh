@@ -65,6 +65,7 @@ if [ "${PICTURES:-0}" = 1 ]; then
     cp "$dir/${scene}_tiles_top.jpg" "$dir/${scene}_tiles_ldi.jpg" "$here/docs/images/"
     cp "$dir/${scene}_density.png" "$here/docs/images/vegetation_${scene}_density.png"
   done
+  cp "$dir/sunflowers_density_plain.png" "$here/docs/images/vegetation_sunflowers_density_plain.png"
   for r in 0 2 4 6; do cp "$dir/sunflowers_tile0_res$r.png" "$here/docs/images/"; done
 fi
 echo "bench/vegetation.sh: results in $dir"
