@@ -1,0 +1,61 @@
+#pragma once
+// Warping a layered depth image into a view (Shade et al. 1998, §5 of the tiling paper): every
+// depth pixel is projected through one matrix (tile frame → clip space, the tile's placement
+// and shear on the terrain included) and drawn as a square splat, in McMillan's
+// occlusion-compatible order, into a software colour and depth target.
+//
+// Order. For an orthographic LDI the projection along its rays maps the segment from the eye to
+// a point onto the segment from the eye's projection (the epipole) to the point's pixel, so
+// anything between the eye and a point lies nearer the epipole in the image. Drawing the pixels
+// of each of the four sheets around the epipole from the far edges towards it, and within a
+// pixel the layers away from the eye first, draws every point before whatever hides it: back
+// to front without sorting. An affine shear keeps segments segments, so the order holds for
+// sheared tiles too, with the eye taken into the tile's frame.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec3.hpp>
+
+#include "terralod/vegetation/ldi.h"
+
+namespace terralod::veg {
+
+/// Colour (premultiplied RGBA, 0–1) and depth (window depth 0–1, 1 = far) of a picture, row 0
+/// at the top.
+struct WarpTarget {
+  int width = 0, height = 0;
+  std::vector<float> rgba;   ///< 4 per pixel, premultiplied
+  std::vector<float> depth;  ///< 1 per pixel
+
+  WarpTarget(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4, 0.0f), depth(size_t(w) * h, 1.0f) {}
+};
+
+enum class WarpOrder {
+  kOcclusionCompatible,  ///< McMillan's sheets (the default)
+  kRowMajor,             ///< rows from 0, layers front first: wrong where splats overlap (tests)
+};
+
+struct WarpOptions {
+  WarpOrder order = WarpOrder::kOcclusionCompatible;
+  /// Test against (and write) the target's depth; off, visibility rests on the order alone.
+  bool depthTest = true;
+  /// Splats cover the projected pixel footprint (at least one pixel, at most maxSplat); off,
+  /// every depth pixel is one pixel (magnified LDIs show holes).
+  bool sizedSplats = true;
+  int maxSplat = 8;
+};
+
+struct WarpStats {
+  uint64_t depthPixels = 0;  ///< looked at
+  uint64_t splats = 0;       ///< drawn (in front of the eye, on the target)
+};
+
+/// Draws `ldi` into `target`. `tileToClip` maps the LDI's tile frame to clip space (OpenGL
+/// conventions: visible where −w ≤ x, y, z ≤ w); `eyeInTile` is the eye in the tile frame (for
+/// the order). Any thread; targets are not shared.
+WarpStats warpLdi(const Ldi& ldi, const glm::mat4& tileToClip, const glm::vec3& eyeInTile,
+                  WarpTarget& target, const WarpOptions& options = {});
+
+}  // namespace terralod::veg
