@@ -37,7 +37,8 @@ class Splatter {
     mEyeDepth = glm::dot(eye, c.direction);
     // Where each pixel's layers start.
     mFirst.resize(ldi.layerCounts.size() + 1, 0);
-    for (size_t i = 0; i < ldi.layerCounts.size(); ++i) mFirst[i + 1] = mFirst[i] + ldi.layerCounts[i];
+    for (size_t i = 0; i < ldi.layerCounts.size(); ++i)
+      mFirst[i + 1] = mFirst[i] + ldi.layerCounts[i];
   }
 
   // Draws pixel (column, row)'s layers, those farther from the eye along the rays first.
@@ -70,6 +71,10 @@ class Splatter {
 
   void layer(const glm::vec4& at, uint32_t column, uint32_t row, const DepthPixel& p) {
     ++stats.depthPixels;
+    if (mOptions.onlyHalf) {
+      const glm::vec3 point = ldiPointOf(column, row, p);
+      if (halfOf(point.x, point.y) != *mOptions.onlyHalf) return;
+    }
     const glm::vec4 clip = at + depthOf(p) * mBasis.depth;
     if (clip.w <= 1e-6f) return;  // behind the eye
     const float x = clip.x / clip.w, y = clip.y / clip.w, z = clip.z / clip.w;

@@ -22,7 +22,9 @@ uint32_t quantized(const LdiCamera& c, float depth) {
   return uint32_t(std::lround((depth - c.depthMin) / (c.depthMax - c.depthMin) * kLdiMaxDepth));
 }
 
-uint32_t rgba(uint8_t r, uint8_t g, uint8_t b) { return r | g << 8 | b << 16 | 0xffu << 24; }
+uint32_t rgba(uint8_t r, uint8_t g, uint8_t b) {
+  return r | g << 8 | b << 16 | 0xffu << 24;
+}
 
 const uint32_t kUp = encodeSplatNormal({0, 0, 1});
 
@@ -112,8 +114,9 @@ TEST(LdiWarp, LayersOfOnePixelAreDrawnAwayFromTheEyeFirst) {
   o.depthTest = false;
   o.sizedSplats = false;
   const glm::vec3 at(0.15f, 0.15f, 0.5f);
-  for (const auto& [eye, seen] : {std::pair{glm::vec3(0.15f, 0.15f, 3.0f), glm::vec4(1, 0, 0, 1)},
-                                  std::pair{glm::vec3(0.15f, 0.15f, -3.0f), glm::vec4(0, 1, 0, 1)}}) {
+  for (const auto& [eye, seen] :
+       {std::pair{glm::vec3(0.15f, 0.15f, 3.0f), glm::vec4(1, 0, 0, 1)},
+        std::pair{glm::vec3(0.15f, 0.15f, -3.0f), glm::vec4(0, 1, 0, 1)}}) {
     WarpTarget t(9, 9);
     const glm::mat4 m = glm::perspective(glm::radians(20.0f), 1.0f, 0.1f, 100.0f) *
                         glm::lookAt(eye, at, glm::vec3(0, 1, 0));

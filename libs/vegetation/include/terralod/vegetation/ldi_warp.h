@@ -13,12 +13,14 @@
 // sheared tiles too, with the eye taken into the tile's frame.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include "terralod/vegetation/ldi.h"
+#include "terralod/vegetation/terrain_shear.h"
 
 namespace terralod::veg {
 
@@ -29,7 +31,8 @@ struct WarpTarget {
   std::vector<float> rgba;   ///< 4 per pixel, premultiplied
   std::vector<float> depth;  ///< 1 per pixel
 
-  WarpTarget(int w, int h) : width(w), height(h), rgba(size_t(w) * h * 4, 0.0f), depth(size_t(w) * h, 1.0f) {}
+  WarpTarget(int w, int h)
+      : width(w), height(h), rgba(size_t(w) * h * 4, 0.0f), depth(size_t(w) * h, 1.0f) {}
 };
 
 enum class WarpOrder {
@@ -45,6 +48,9 @@ struct WarpOptions {
   /// every depth pixel is one pixel (magnified LDIs show holes).
   bool sizedSplats = true;
   int maxSplat = 8;
+  /// Only the depth pixels over this half of the tile (terrain_shear.h: each half is warped
+  /// with its own shear, the far one first).
+  std::optional<TileHalf> onlyHalf;
 };
 
 struct WarpStats {
