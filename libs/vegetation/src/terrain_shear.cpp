@@ -3,7 +3,8 @@
 namespace terralod::veg {
 
 glm::mat4 halfShear(const TileOnTerrain& t, TileHalf half) {
-  const float s = t.size, sw = t.heights[0], se = t.heights[1], ne = t.heights[2], nw = t.heights[3];
+  const float s = t.size, sw = t.heights[0], se = t.heights[1], ne = t.heights[2],
+              nw = t.heights[3];
   // h(x, y) = a·x + b·y + c through SW (0,0), NE (s,s) and SE (s,0) or NW (0,s).
   const float c = sw;
   float a, b;

@@ -11,10 +11,13 @@ namespace {
 
 const TileOnTerrain kTile{{100, 200}, 4, {10, 12, 15, 11}};  // SW, SE, NE, NW
 
-glm::vec3 apply(const glm::mat4& m, glm::vec3 p) { return glm::vec3(m * glm::vec4(p, 1)); }
+glm::vec3 apply(const glm::mat4& m, glm::vec3 p) {
+  return glm::vec3(m * glm::vec4(p, 1));
+}
 
 TEST(TerrainShear, EachHalfLiesOnItsTerrainTriangleAndTheHalvesMeetOnTheDiagonal) {
-  const glm::mat4 se = halfShear(kTile, TileHalf::kSouthEast), nw = halfShear(kTile, TileHalf::kNorthWest);
+  const glm::mat4 se = halfShear(kTile, TileHalf::kSouthEast),
+                  nw = halfShear(kTile, TileHalf::kNorthWest);
   EXPECT_EQ(apply(se, {0, 0, 0}), glm::vec3(100, 200, 10));
   EXPECT_EQ(apply(se, {4, 0, 0}), glm::vec3(104, 200, 12));
   EXPECT_EQ(apply(se, {4, 4, 0}), glm::vec3(104, 204, 15));
@@ -42,7 +45,8 @@ TEST(TerrainShear, AWarpOfOneHalfDrawsOnlyThePixelsOverIt) {
   ldi.camera.depthMax = 0.01f;
   ldi.layerCounts.assign(64, 1);
   for (int i = 0; i < 64; ++i)
-    ldi.pixels.push_back(DepthPixel::make(0xff0000ffu, kLdiMaxDepth / 2, encodeSplatNormal({0, 0, 1})));
+    ldi.pixels.push_back(
+        DepthPixel::make(0xff0000ffu, kLdiMaxDepth / 2, encodeSplatNormal({0, 0, 1})));
   const glm::vec3 eye(2, 2, 50);
   const glm::mat4 view = glm::ortho(-2.0f, 2.0f, -2.0f, 2.0f, 0.0f, 100.0f) *
                          glm::lookAt(eye, glm::vec3(2, 2, 0), glm::vec3(0, 1, 0));

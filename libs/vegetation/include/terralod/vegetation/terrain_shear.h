@@ -17,11 +17,13 @@ namespace terralod::veg {
 /// South-east of the diagonal (x ≥ y in the tile frame) or north-west of it.
 enum class TileHalf { kSouthEast, kNorthWest };
 
-inline TileHalf halfOf(float x, float y) { return x >= y ? TileHalf::kSouthEast : TileHalf::kNorthWest; }
+inline TileHalf halfOf(float x, float y) {
+  return x >= y ? TileHalf::kSouthEast : TileHalf::kNorthWest;
+}
 
 struct TileOnTerrain {
-  glm::vec2 origin{0};  ///< world position of the tile's south-west corner
-  float size = 1;       ///< metres
+  glm::vec2 origin{0};             ///< world position of the tile's south-west corner
+  float size = 1;                  ///< metres
   std::array<float, 4> heights{};  ///< terrain heights at the SW, SE, NE, NW corners
 };
 
