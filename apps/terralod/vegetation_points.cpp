@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 #include "commands.h"
@@ -33,11 +34,9 @@ Result<std::pair<uint32_t, uint32_t>> parseTiling(const std::string& text) {
   return std::pair{w, h};
 }
 
-Status writeText(const std::string& path, const std::string& text) {
-  auto file = AtomicFile::create(path);
-  if (!file) return file.error();
-  if (Status s = file->write(text); !s) return s;
-  return file->commit();
+Status writeAndCommit(AtomicFile& file, const std::string& text) {
+  if (Status s = file.write(text); !s) return s;
+  return file.commit();
 }
 
 std::string pointsCsv(const std::vector<veg::TilingPoint>& points) {
@@ -102,11 +101,23 @@ int runVegetationPoints(const VegetationPointsOptions& o) {
   const float tileSize = h.settings.tileSize;
   const veg::WangTiling tiling(size->first, size->second, o.seed);
   const std::vector<veg::TilingPoint> points = veg::tilingPoints(tiles, tileSize, tiling);
-  // Both files are made in memory first: a failure writes neither.
-  if (!o.pointsCsv.empty())
-    if (Status s = writeText(o.pointsCsv, pointsCsv(points)); !s) return fail(s.error().message);
-  if (!o.tilesCsv.empty())
-    if (Status s = writeText(o.tilesCsv, tilesCsv(tiling)); !s) return fail(s.error().message);
+  // Every output is opened (and the picture's name checked) before any is written, so a bad
+  // path leaves none behind.
+  if (!o.densityPng.empty())
+    if (auto format = imageFormatFor(o.densityPng); !format) return fail(format.error().message);
+  std::optional<AtomicFile> pointsFile, tilesFile;
+  for (auto [path, file] :
+       {std::pair{&o.pointsCsv, &pointsFile}, std::pair{&o.tilesCsv, &tilesFile}}) {
+    if (path->empty()) continue;
+    auto created = AtomicFile::create(*path);
+    if (!created) return fail(created.error().message);
+    file->emplace(std::move(*created));
+  }
+  if (pointsFile)
+    if (Status s = writeAndCommit(*pointsFile, pointsCsv(points)); !s)
+      return fail(s.error().message);
+  if (tilesFile)
+    if (Status s = writeAndCommit(*tilesFile, tilesCsv(tiling)); !s) return fail(s.error().message);
   if (!o.densityPng.empty())
     if (Status s = writeImage(densityPicture(veg::foldedDensity(points, tileSize, kDensityBins)),
                               o.densityPng);

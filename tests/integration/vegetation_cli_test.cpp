@@ -209,6 +209,19 @@ TEST(VegetationCli, BadInputGetsOneLineAndWritesNothing) {
   }
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(dir.path() / "x.png"));
+  // One bad output among several: none is written.
+  const std::string points = (dir.path() / "p.csv").string();
+  for (const std::vector<std::string>& extra :
+       {std::vector<std::string>{"--tiles-csv", (dir.path() / "no/such/t.csv").string()},
+        std::vector<std::string>{"--density-png", (dir.path() / "d.gif").string()}}) {
+    std::vector<std::string> args = {
+        "vegetation", "points", quickMeadow().string(), "--tiling", "4x4", "--csv", points};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult r = runTerralod(args);
+    EXPECT_EQ(r.exitCode, 1) << extra[0];
+    EXPECT_EQ(r.errLines().size(), 1u) << r.err;
+    EXPECT_FALSE(fs::exists(points)) << extra[0];
+  }
   EXPECT_FALSE(fs::exists(dir.path() / "x.gif"));
 }
 

@@ -38,7 +38,8 @@ bool VegetationWhere::allows(double height, double slope, std::string_view mater
   if (heightAbove && !(height > *heightAbove)) return false;
   if (slopeBelow && !(slope < *slopeBelow)) return false;
   if (slopeAbove && !(slope > *slopeAbove)) return false;
-  return materials.empty() || std::find(materials.begin(), materials.end(), material) != materials.end();
+  return materials.empty() ||
+         std::find(materials.begin(), materials.end(), material) != materials.end();
 }
 
 Result<VegetationWhere> parseVegetationWhere(std::string_view text) {
@@ -60,13 +61,15 @@ Result<VegetationWhere> parseVegetationWhere(std::string_view text) {
       continue;
     }
     if (key != "height" && key != "slope")
-      return termError(term, "unknown quantity '" + std::string(key) + "' (height, slope, material)");
+      return termError(term,
+                       "unknown quantity '" + std::string(key) + "' (height, slope, material)");
     if (relation == '=') return termError(term, "heights and slopes take < or >");
     auto v = numberIn(term, value);
     if (!v) return v.error();
     if (key == "slope" && (*v < 0 || *v > 90)) return termError(term, "a slope is 0 to 90 degrees");
-    std::optional<double>& bound = key == "height" ? (relation == '<' ? w.heightBelow : w.heightAbove)
-                                                   : (relation == '<' ? w.slopeBelow : w.slopeAbove);
+    std::optional<double>& bound = key == "height"
+                                       ? (relation == '<' ? w.heightBelow : w.heightAbove)
+                                       : (relation == '<' ? w.slopeBelow : w.slopeAbove);
     if (bound) return termError(term, "given twice");
     bound = *v;
   }
