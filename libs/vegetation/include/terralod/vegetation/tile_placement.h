@@ -6,15 +6,14 @@
 // edge's colour, which filled tiles rarely offer: thrown among the rest they would stay few
 // and each tile edge would show as a sparse line), each edge colour up to 80 % of the plants a
 // plain placement has along a line (more would pack a denser line than the field); then the
-// corners, likewise hard to fill late. Then dart throwing visits the prototiles
-// round-robin, up to `attemptsPerVisit` darts a visit
-// (of one species, picked by the mix's weights), and keeps the first that fits; a tile is
-// done when no species finds room. Each plant has a tight radius (its geometry) and a larger
-// packing radius (its spacing). A plant whose tight disk crosses an edge of colour c belongs
-// to that edge: it is stored in every prototile with colour c on that side and, shifted by a
-// tile, in every prototile with colour c on the opposite side, so whichever prototile lands
-// across the edge continues it. A dart is tested (packing radii) against the plants of every
-// prototile it would be stored in and of every prototile that can lie across an edge its
+// corners, likewise hard to fill late. Then dart throwing visits the prototiles round-robin,
+// up to `attemptsPerVisit` darts a visit (of one species, picked by the mix's weights), and
+// keeps the first that fits; a tile is done when no species finds room. Each plant has a tight
+// radius (its geometry) and a larger packing radius (its spacing). A plant whose tight disk crosses
+// an edge of colour c belongs to that edge: it is stored in every prototile with colour c on that
+// side and, shifted by a tile, in every prototile with colour c on the opposite side, so whichever
+// prototile lands across the edge continues it. A dart is tested (packing radii) against the plants
+// of every prototile it would be stored in and of every prototile that can lie across an edge its
 // packing disk reaches. No tight disk crosses two edge lines (so none reaches across a
 // corner); packing disks may (the paper's buffer crossing corners): two plants in
 // diagonally adjacent tiles are kept apart by their tight radii only.
@@ -32,7 +31,7 @@ namespace terralod::veg {
 /// One kind of plant in a scene's mix.
 struct SpeciesMix {
   Species species = Species::kSunflower;
-  double weight = 1;           ///< relative frequency of darts of this species
+  double weight = 1;           ///< relative frequency of visits for this species
   float packingFactor = 1.2f;  ///< packing radius = tight radius × this (≥ 1)
   float minScale = 0.9f, maxScale = 1.1f;
 };
