@@ -10,7 +10,7 @@
 #include <mutex>
 #include <span>
 
-#include "byte_io.h"
+#include "terralod/format/byte_io.h"
 
 namespace terralod {
 namespace {

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <bit>
 
-#include "byte_io.h"
+#include "terralod/format/byte_io.h"
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstring>
 
-#include "byte_io.h"
+#include "terralod/format/byte_io.h"
 
 namespace terralod {
 

@@ -21,6 +21,7 @@
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 
+#include "terralod/format/byte_io.h"
 #include "terralod/vegetation/ldi.h"
 
 namespace terralod::veg {
@@ -72,24 +73,6 @@ glm::vec3 unitFromOctahedral(glm::vec2 p) {
 glm::vec3 cellCentreNormal(int row, int col) {
   const auto centre = [](int i) { return float(2 * i + 1 - kSplatGrid) / kSplatGrid; };
   return unitFromOctahedral(glm::vec2(centre(col), centre(row)));
-}
-
-// Little-endian fields of the blob header.
-void putU32(uint8_t* at, uint32_t v) {
-  std::memcpy(at, &v, 4);
-}
-void putF32(uint8_t* at, float v) {
-  std::memcpy(at, &v, 4);
-}
-uint32_t getU32(const uint8_t* at) {
-  uint32_t v;
-  std::memcpy(&v, at, 4);
-  return v;
-}
-float getF32(const uint8_t* at) {
-  float v;
-  std::memcpy(&v, at, 4);
-  return v;
 }
 
 // Depths are coded as differences from the depth before them in the same plane order: the
@@ -190,18 +173,18 @@ std::vector<uint8_t> encodeLdi(const Ldi& ldi) {
   assert(i == n);
 
   std::vector<uint8_t> blob(kLdiHeaderBytes + ZSTD_compressBound(payload.size()));
-  uint8_t* h = blob.data();
-  std::memcpy(h, kLdiMagic, 4);
-  putU32(h + 4, kLdiVersion);
-  putU32(h + 8, c.width);
-  putU32(h + 12, c.height);
-  putU32(h + 16, uint32_t(n));
-  putF32(h + 20, c.pixelSize);
-  const glm::vec3* vectors[4] = {&c.origin, &c.axisU, &c.axisV, &c.direction};
-  for (int v = 0; v < 4; ++v)
-    for (int k = 0; k < 3; ++k) putF32(h + 24 + 12 * v + 4 * k, (*vectors[v])[k]);
-  putF32(h + 72, c.depthMin);
-  putF32(h + 76, c.depthMax);
+  ByteWriter h(blob.data());
+  h.putBytes(kLdiMagic, 4);
+  h.put<uint32_t>(kLdiVersion);
+  h.put<uint32_t>(c.width);
+  h.put<uint32_t>(c.height);
+  h.put<uint32_t>(uint32_t(n));
+  h.put<float>(c.pixelSize);
+  for (const glm::vec3* v : {&c.origin, &c.axisU, &c.axisV, &c.direction})
+    for (int k = 0; k < 3; ++k) h.put<float>((*v)[k]);
+  h.put<float>(c.depthMin);
+  h.put<float>(c.depthMax);
+  assert(h.position() == kLdiHeaderBytes);
 
   thread_local std::unique_ptr<ZSTD_CCtx, size_t (*)(ZSTD_CCtx*)> context(ZSTD_createCCtx(),
                                                                           ZSTD_freeCCtx);
@@ -218,23 +201,23 @@ Result<Ldi> decodeLdi(const uint8_t* data, size_t size) {
     return corrupt("blob of " + std::to_string(size) + " bytes is shorter than its " +
                    std::to_string(kLdiHeaderBytes) + "-byte header");
   if (std::memcmp(data, kLdiMagic, 4) != 0) return corrupt("bad magic");
-  if (const uint32_t version = getU32(data + 4); version != kLdiVersion)
+  ByteReader h(data + 4);
+  if (const uint32_t version = h.get<uint32_t>(); version != kLdiVersion)
     return corrupt("version " + std::to_string(version) + " is not supported (this reads 1)");
 
   Ldi ldi;
   LdiCamera& c = ldi.camera;
-  c.width = getU32(data + 8);
-  c.height = getU32(data + 12);
-  const uint64_t n = getU32(data + 16);
+  c.width = h.get<uint32_t>();
+  c.height = h.get<uint32_t>();
+  const uint64_t n = h.get<uint32_t>();
   if (c.width < 1 || c.width > kLdiMaxSide || c.height < 1 || c.height > kLdiMaxSide)
     return corrupt("size " + std::to_string(c.width) + " x " + std::to_string(c.height) +
                    " is outside 1..4096 pixels");
-  c.pixelSize = getF32(data + 20);
-  glm::vec3* vectors[4] = {&c.origin, &c.axisU, &c.axisV, &c.direction};
-  for (int v = 0; v < 4; ++v)
-    for (int k = 0; k < 3; ++k) (*vectors[v])[k] = getF32(data + 24 + 12 * v + 4 * k);
-  c.depthMin = getF32(data + 72);
-  c.depthMax = getF32(data + 76);
+  c.pixelSize = h.get<float>();
+  for (glm::vec3* v : {&c.origin, &c.axisU, &c.axisV, &c.direction})
+    for (int k = 0; k < 3; ++k) (*v)[k] = h.get<float>();
+  c.depthMin = h.get<float>();
+  c.depthMax = h.get<float>();
   if (!finite(c.pixelSize) || !(c.pixelSize > 0)) return corrupt("pixel size is not positive");
   if (!finite(c.origin) || !finite(c.axisU) || !finite(c.axisV) || !finite(c.direction))
     return corrupt("camera position or axes are not finite");

@@ -4,11 +4,13 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <numbers>
 #include <type_traits>
 
+#include "terralod/format/byte_io.h"
 #include "terralod/format/tileset_format.h"  // crc32Of
 #include "terralod/vegetation/vegetation_file.h"
 
@@ -20,48 +22,6 @@ static_assert(std::endian::native == std::endian::little, "terralod's format is 
 
 constexpr uint64_t kHeaderCrcOffset = 124;
 constexpr size_t kSceneBytes = 16;
-
-class Out {
- public:
-  explicit Out(std::vector<uint8_t>& bytes) : mBytes(bytes) {}
-  template <typename T>
-  void put(T v) {
-    static_assert(std::is_arithmetic_v<T>);
-    const size_t at = mBytes.size();
-    mBytes.resize(at + sizeof(T));
-    std::memcpy(mBytes.data() + at, &v, sizeof(T));
-  }
-  void putBytes(const void* data, size_t n) {
-    const auto* p = static_cast<const uint8_t*>(data);
-    mBytes.insert(mBytes.end(), p, p + n);
-  }
-
- private:
-  std::vector<uint8_t>& mBytes;
-};
-
-// Reads fields in order; callers check the length before reading.
-class In {
- public:
-  explicit In(const uint8_t* bytes) : mBytes(bytes) {}
-  template <typename T>
-  T get() {
-    static_assert(std::is_arithmetic_v<T>);
-    T v;
-    std::memcpy(&v, mBytes + mPos, sizeof(T));
-    mPos += sizeof(T);
-    return v;
-  }
-  void getBytes(void* out, size_t n) {
-    std::memcpy(out, mBytes + mPos, n);
-    mPos += n;
-  }
-  void skip(size_t n) { mPos += n; }
-
- private:
-  const uint8_t* mBytes;
-  size_t mPos = 0;
-};
 
 // [offset, offset + bytes) ends at or before `limit`, computed without wrapping around.
 bool endsBy(uint64_t offset, uint64_t bytes, uint64_t limit) {
@@ -163,9 +123,8 @@ std::string describeLdi(int index) {
 }
 
 std::vector<uint8_t> serializeFileHeader(const FileHeader& h) {
-  std::vector<uint8_t> bytes;
-  bytes.reserve(kHeaderBytes);
-  Out out(bytes);
+  std::vector<uint8_t> bytes(kHeaderBytes, 0);  // the rest up to the CRC is reserved
+  ByteWriter out(bytes.data());
   out.putBytes(kMagic, sizeof kMagic);
   out.put<uint32_t>(kVersion);
   out.put<uint32_t>(uint32_t(kHeaderBytes));
@@ -178,8 +137,8 @@ std::vector<uint8_t> serializeFileHeader(const FileHeader& h) {
     out.put<uint64_t>(v);
   out.put<uint32_t>(h.settingsCrc);
   out.put<uint32_t>(h.directoryCrc);
-  bytes.resize(kHeaderCrcOffset, 0);  // reserved
-  out.put<uint32_t>(crc32Of(std::span(bytes)));
+  out.seek(kHeaderCrcOffset);
+  out.put<uint32_t>(crc32Of(std::span(bytes).first(kHeaderCrcOffset)));
   return bytes;
 }
 
@@ -193,7 +152,7 @@ Result<FileHeader> parseFileHeader(std::span<const uint8_t> bytes, uint64_t file
   if (bytes.size() < kHeaderBytes)
     return makeError(name, "truncated (the header ends at " + std::to_string(kHeaderBytes) +
                                " but the file has " + std::to_string(bytes.size()) + " bytes)");
-  In in(bytes.data());
+  ByteReader in(bytes.data());
   in.skip(sizeof kMagic);
   if (const uint32_t version = in.get<uint32_t>(); version != kVersion)
     return makeError(name, "vegetation file version " + std::to_string(version) +
@@ -258,8 +217,11 @@ Result<FileHeader> parseFileHeader(std::span<const uint8_t> bytes, uint64_t file
 
 std::vector<uint8_t> serializeSettings(const VegetationHeader& header) {
   const BakeSettings& s = header.settings;
-  std::vector<uint8_t> bytes;
-  Out out(bytes);
+  size_t objects = 0;
+  for (const PrototileContent& tile : header.tiles) objects += tile.objects.size();
+  std::vector<uint8_t> bytes(kSettingsFixedBytes + kPrototiles * kTileRecordBytes +
+                             objects * kObjectRecordBytes);
+  ByteWriter out(bytes.data());
   char scene[kSceneBytes] = {};
   std::memcpy(scene, s.scene.data(), std::min(s.scene.size(), kSceneBytes));
   out.putBytes(scene, kSceneBytes);
@@ -289,6 +251,7 @@ std::vector<uint8_t> serializeSettings(const VegetationHeader& header) {
       out.put<float>(o.rotation);
       out.put<float>(o.scale);
     }
+  assert(out.position() == bytes.size());
   return bytes;
 }
 
@@ -297,7 +260,7 @@ Result<VegetationHeader> parseSettings(std::span<const uint8_t> bytes, const std
     return badSettings(name, "section of " + std::to_string(bytes.size()) + " bytes is too short");
   VegetationHeader h;
   BakeSettings& s = h.settings;
-  In in(bytes.data());
+  ByteReader in(bytes.data());
   char scene[kSceneBytes];
   in.getBytes(scene, kSceneBytes);
   if (!sceneNameIsValid(scene))
@@ -355,9 +318,8 @@ Result<VegetationHeader> parseSettings(std::span<const uint8_t> bytes, const std
 }
 
 std::vector<uint8_t> serializeDirectory(const std::vector<LdiEntry>& entries) {
-  std::vector<uint8_t> bytes;
-  bytes.reserve(entries.size() * kDirectoryRecordBytes);
-  Out out(bytes);
+  std::vector<uint8_t> bytes(entries.size() * kDirectoryRecordBytes);
+  ByteWriter out(bytes.data());
   for (const LdiEntry& e : entries) {
     out.put<uint64_t>(e.offset);
     out.put<uint64_t>(e.bytes);
@@ -376,7 +338,7 @@ Result<std::vector<LdiEntry>> parseDirectory(std::span<const uint8_t> bytes,
     return makeError(name, "corrupt LDI directory: " + std::to_string(bytes.size()) +
                                " bytes instead of " + std::to_string(kDirectoryBytes));
   std::vector<LdiEntry> entries(kLdiCount);
-  In in(bytes.data());
+  ByteReader in(bytes.data());
   for (int i = 0; i < kLdiCount; ++i) {
     LdiEntry& e = entries[i];
     e.offset = in.get<uint64_t>();

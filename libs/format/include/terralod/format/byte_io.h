@@ -1,5 +1,6 @@
 #pragma once
-// Little-endian field packing for the frozen file format (explicit, never struct memcpy).
+// Little-endian field packing for the frozen file formats (tilesets, chunk and texture blobs,
+// vegetation files): explicit, never struct memcpy. Callers size buffers and check lengths.
 
 #include <algorithm>
 #include <bit>
@@ -53,6 +54,7 @@ class ByteReader {
     std::memcpy(out, mIn + mPos, n);
     mPos += n;
   }
+  void skip(size_t n) { mPos += n; }
   void seek(size_t pos) { mPos = pos; }
   size_t position() const { return mPos; }
 
