@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "commands.h"
 #include "terralod/vegetation/tile_placement.h"
@@ -67,7 +68,7 @@ int runVegetationInfo(const std::string& path, bool json) {
     const RingStats& x = rings[res];
     resolutions.push_back({{"resolution", s.resolutions[res]},
                            {"ring_distance", s.ringDistances[res]},
-                           {"elevation_degrees", s.elevations[res] * 180 / 3.14159265358979},
+                           {"elevation_degrees", s.elevations[res] * 180 / std::numbers::pi},
                            {"ldis", x.ldis},
                            {"pixels", x.pixels},
                            {"depth_pixels", x.depthPixels},
@@ -123,7 +124,7 @@ int runVegetationInfo(const std::string& path, bool json) {
   for (int res = 0; res < veg::kLdiResolutions; ++res) {
     const RingStats& x = rings[res];
     std::printf("  %4u  %6.1f  %7.1f  %8llu  %10llu  %9.2f  %10u  %9.1f MB\n", s.resolutions[res],
-                s.ringDistances[res], s.elevations[res] * 180 / 3.14159265358979,
+                s.ringDistances[res], s.elevations[res] * 180 / std::numbers::pi,
                 (unsigned long long)x.pixels, (unsigned long long)x.depthPixels,
                 x.pixels ? double(x.depthPixels) / x.pixels : 0.0, x.maxLayers, x.bytes / 1e6);
   }

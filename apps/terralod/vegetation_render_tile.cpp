@@ -56,7 +56,7 @@ Result<Image> renderTile(const veg::VegetationReader& r, const RenderTileOptions
   if (o.view == "ldi") {
     auto ldi = r.readLdi(tile, o.resolution, o.direction);
     if (!ldi) return ldi.error();
-    return toImage(veg::compositeLdi(*ldi, kSoil, false));
+    return toImage(veg::compositeLdi(*ldi, kSoil));
   }
   // The plants are made again from the file's seed and placement, and ray cast.
   const std::vector<veg::PrototileContent> tiles(r.header().tiles.begin(), r.header().tiles.end());
@@ -67,7 +67,7 @@ Result<Image> renderTile(const veg::VegetationReader& r, const RenderTileOptions
   sampling.centreTileOnly = false;
   uint64_t rays = 0;
   Image image =
-      toImage(veg::compositeLdi(scene.bake(camera, sampling, veg::Lighting{}, rays), kSoil, false));
+      toImage(veg::compositeLdi(scene.bake(camera, sampling, veg::Lighting{}, rays), kSoil));
   drawOutline(image, camera, s.tileSize);
   return image;
 }

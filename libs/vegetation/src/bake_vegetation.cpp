@@ -90,7 +90,6 @@ VegetationBake bakeVegetation(const VegetationScene& scene, unsigned threads, Pr
   }
   h.settings.bakeSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  out.darts = placed.darts;
   return out;
 }
 

@@ -1,11 +1,10 @@
 #include "terralod/vegetation/ldi_picture.h"
 
-#include <algorithm>
 #include <cmath>
 
 namespace terralod::veg {
 
-LdiPicture compositeLdi(const Ldi& ldi, std::array<uint8_t, 3> background, bool transparent) {
+LdiPicture compositeLdi(const Ldi& ldi, std::array<uint8_t, 3> background) {
   const LdiCamera& c = ldi.camera;
   LdiPicture p{int(c.width), int(c.height), std::vector<uint8_t>(size_t(c.width) * c.height * 4)};
   size_t next = 0;
@@ -19,12 +18,8 @@ LdiPicture compositeLdi(const Ldi& ldi, std::array<uint8_t, 3> background, bool 
         left *= 1 - a;
       }
       uint8_t* out = &p.rgba[(size_t(c.height - 1 - row) * c.width + col) * 4];
-      for (int i = 0; i < 3; ++i)
-        out[i] = uint8_t(std::lround(rgb[i] + (transparent ? 0.0f : left * background[i])));
-      out[3] = transparent ? uint8_t(std::lround(255 * (1 - left))) : 255;
-      if (transparent && left < 1)  // un-premultiply what is there
-        for (int i = 0; i < 3; ++i)
-          out[i] = uint8_t(std::lround(std::min(255.0f, rgb[i] / (1 - left))));
+      for (int i = 0; i < 3; ++i) out[i] = uint8_t(std::lround(rgb[i] + left * background[i]));
+      out[3] = 255;
     }
   return p;
 }

@@ -180,7 +180,6 @@ class Placer {
              DartArea area = DartArea::kAnywhere) {
     const SpeciesMix* mix = pickSpecies(rng, full);
     for (uint32_t a = 0; a < mS.attemptsPerVisit; ++a) {
-      ++mDarts;
       const PlacedObject o = dart(mix, rng, tightRadius, area);
       const std::vector<Copy> copies = copiesOf(home, o);
       if (copies.empty()) continue;
@@ -277,7 +276,7 @@ class Placer {
       }
     }
     progress.end();
-    return {std::move(mTiles), mDarts};
+    return {std::move(mTiles)};
   }
 
  private:
@@ -286,7 +285,6 @@ class Placer {
   float mMaxPacking = 0;
   float mCornerBox = 0;
   uint32_t mEdgeTarget;
-  uint64_t mDarts = 0;
 };
 
 }  // namespace

@@ -16,8 +16,7 @@ struct LdiPicture {
   std::vector<uint8_t> rgba;
 };
 
-/// Layers composited with their alpha ("over", nearest first); `background` shows through
-/// where rays met nothing (alpha 0 there when `transparent`).
-LdiPicture compositeLdi(const Ldi& ldi, std::array<uint8_t, 3> background, bool transparent);
+/// Layers composited with their alpha ("over", nearest first) over an opaque `background`.
+LdiPicture compositeLdi(const Ldi& ldi, std::array<uint8_t, 3> background);
 
 }  // namespace terralod::veg

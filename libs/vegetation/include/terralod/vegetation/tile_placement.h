@@ -51,7 +51,6 @@ using TightRadiusOf = std::function<float(Species, int version)>;
 
 struct Placement {
   std::vector<PrototileContent> tiles;  ///< 8, edges as prototileEdges(k)
-  uint64_t darts = 0;                   ///< darts thrown in all
 };
 
 Placement placeObjects(const PlacementSettings& settings, const TightRadiusOf& tightRadius,

@@ -13,7 +13,6 @@ namespace terralod::veg {
 struct VegetationBake {
   VegetationHeader header;
   std::vector<EncodedLdi> ldis;  ///< kLdiCount, ldiIndex order
-  uint64_t darts = 0;            ///< placement darts thrown
 };
 
 /// Deterministic for a scene and any thread count: the same plants and LDIs (only the
