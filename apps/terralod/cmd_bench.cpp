@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "edit_source.h"
 #include "render_options.h"
+#include "scene_vegetation.h"
 #include "terralod/build/vipm_builder.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/measure/bench_report.h"
@@ -82,6 +83,8 @@ int runBench(const BenchCommand& b) {
   if (!created) return fail(created.error().message);
   TerrainScene& scene = **created;
   style->stitch = stitchFor(b.options, scene.tileset().header());
+  auto vegetation = addSceneVegetation(b.options, scene);
+  if (!vegetation) return fail(vegetation.error().message);
   auto cameras = camerasFor(b.options, scene.tree());
   if (!cameras) return fail(cameras.error().message);
   if (cameras->empty()) return fail("the flight has no frames");
@@ -96,6 +99,15 @@ int runBench(const BenchCommand& b) {
   if (editor)
     flightOptions.beforeFrame = [&editor](size_t frame, TerrainScene& s) {
       return editor->beforeFrame(frame, s);
+    };
+  if (vegetation->painter)
+    flightOptions.afterFrame = [&vegetation](size_t, FrameRecord& r) {
+      const veg::VegetationFrameStats& v = vegetation->painter->lastFrame();
+      r.vegetationMs = v.warp.warpMs;
+      r.compositeMs = vegetation->layer->times().compositeMs;
+      r.splats = v.warp.splats;
+      r.ldiTiles = v.warp.tiles;
+      r.vegetationResidentMB = double(v.residentBytes) / double(1 << 20);
     };
   BenchRunInfo info;
   info.tileset = b.options.tileset;
@@ -134,6 +146,10 @@ int runBench(const BenchCommand& b) {
                 (unsigned long long)j["edit_swapped"].get<uint64_t>(),
                 j["edit_latency_ms_p50"].get<double>(), j["edit_latency_frames_p50"].get<double>(),
                 j["edit_latency_ms_max"].get<double>());
+  if (j.contains("vegetation_ms_p50"))
+    std::printf("; vegetation warp p50 %.1f ms, composite p50 %.1f ms, %.0f LDI tiles p50",
+                j["vegetation_ms_p50"].get<double>(), j["composite_ms_p50"].get<double>(),
+                j["ldi_tiles_p50"].get<double>());
   if (j.contains("material_pop_px"))
     std::printf("; material pop %.0f px", j["material_pop_px"].get<double>());
   std::printf("\nterralod: wrote %s\n", b.jsonPath.c_str());

@@ -7,6 +7,7 @@
 #include "cli_checks.h"
 #include "commands.h"
 #include "render_options.h"
+#include "scene_vegetation.h"
 #include "terralod/render/contact_sheet.h"
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
@@ -51,6 +52,8 @@ int runRender(const RenderCommand& r) {
       TerrainScene::create(std::move(tileset).value(), sceneOptions(r.options, true, **context));
   if (!scene) return fail(scene.error().message);
   style->stitch = stitchFor(r.options, (*scene)->tileset().header());
+  auto vegetation = addSceneVegetation(r.options, **scene);
+  if (!vegetation) return fail(vegetation.error().message);
   auto cameras = camerasFor(r.options, (*scene)->tree());
   if (!cameras) return fail(cameras.error().message);
   if (cameras->empty()) return fail("the flight has no frames");
@@ -89,6 +92,16 @@ int runRender(const RenderCommand& r) {
                   path.c_str(), frame->selection.selected,
                   (unsigned long long)frame->draw.triangles, frame->draw.drawCalls,
                   frame->selectMicroseconds);
+    if (!flight && vegetation->painter) {
+      const veg::VegetationFrameStats& v = vegetation->painter->lastFrame();
+      std::printf(
+          "terralod: vegetation: %u tiles (%u excluded by --vegetation-where), %llu splats, "
+          "%llu depth pixels, select %.1f ms, warp %.1f ms (reading LDIs %.1f ms), merge %.1f ms, "
+          "composite %.1f ms\n",
+          v.warp.tiles, v.field.excluded, (unsigned long long)v.warp.splats,
+          (unsigned long long)v.warp.depthPixels, v.selectMs, v.warp.warpMs, v.readMs,
+          v.warp.mergeMs, vegetation->layer->times().compositeMs);
+    }
   }
   if (flight) {
     const std::string sheetPath =

@@ -78,6 +78,12 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "Memory budget for chunks in MB (GPU copies and decoded chunks waiting for upload)")
       ->capture_default_str()
       ->check(positiveNumber());
+  c.add_option("--vegetation", o.vegetation,
+               "Lay a vegetation file's tiles over the terrain (a .tlv path or http(s) URL, "
+               "from `terralod vegetation bake`)");
+  c.add_option("--vegetation-where", o.vegetationWhere,
+               "Where vegetation grows: comma-separated conditions, e.g. "
+               "height<2400,slope<30 (metres, degrees)");
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");
@@ -98,7 +104,7 @@ Result<SelectionOptions> selectionOptions(const RenderOptions& o) {
 SceneOptions sceneOptions(const RenderOptions& o, bool complete, GlContext& context) {
   SceneOptions s;
   s.context = &context;
-  s.cacheBytes = uint64_t(o.cacheMB * 1024.0 * 1024.0);
+  s.cacheBytes = uint64_t(o.cacheMB * (1.0 - vegetationBudgetShare(o)) * 1024.0 * 1024.0);
   s.complete = complete;
   s.horizonCulling = o.horizonCulling;
   s.log = [](const std::string& line) {

@@ -37,7 +37,15 @@ struct RenderOptions {
   int frames = 0;                                       ///< 0: the whole flight
   double cacheMB = 512;                                 ///< --cache-mb: chunk memory budget
   HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
+  std::string vegetation;       ///< --vegetation V.tlv (a path or URL); empty: none
+  std::string vegetationWhere;  ///< --vegetation-where RULES
 };
+
+/// The share of --cache-mb the vegetation's LDIs and heights get (0 without --vegetation);
+/// the chunks get the rest.
+inline double vegetationBudgetShare(const RenderOptions& options) {
+  return options.vegetation.empty() ? 0.0 : 0.25;
+}
 
 /// The scene's options for these command-line options (`complete`: wait for data each frame),
 /// drawing with `context`.

@@ -242,6 +242,7 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.coarser = frame->selection.coarserThanWanted != 0 || r.easing;
     r.waitedOnIo = frame->waitedOnIo;
     r.eye = view->camera.eye;
+    if (options.afterFrame) options.afterFrame(i, r);
     if (nextKept < result.keptFrameIndices.size() && result.keptFrameIndices[nextKept] == i) {
       result.keptImages.push_back(target->readPixels());
       ++nextKept;

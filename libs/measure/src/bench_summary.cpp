@@ -39,6 +39,19 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
   j["triangles_p50"] = percentile(triangles, 0.5);
   j["triangles_max"] = percentile(triangles, 1.0);
   j["vertices_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.vertices; }), 0.5);
+  if (!f.empty() && !std::isnan(f.front().vegetationMs)) {
+    // Vegetation: the software warp, the composite, splats, LDI tiles and their memory.
+    const auto warp = column(f, [](const FrameRecord& r) { return r.vegetationMs; });
+    j["vegetation_ms_p50"] = percentile(warp, 0.5);
+    j["vegetation_ms_p99"] = percentile(warp, 0.99);
+    j["composite_ms_p50"] =
+        percentile(column(f, [](const FrameRecord& r) { return r.compositeMs; }), 0.5);
+    j["splats_p50"] = percentile(column(f, [](const FrameRecord& r) { return r.splats; }), 0.5);
+    j["ldi_tiles_p50"] =
+        percentile(column(f, [](const FrameRecord& r) { return r.ldiTiles; }), 0.5);
+    j["vegetation_resident_mb"] =
+        percentile(column(f, [](const FrameRecord& r) { return r.vegetationResidentMB; }), 1.0);
+  }
   // VIPM tilesets: each chunk's decode and reconstruction on its loader thread.
   if (scene.tileset().header().meshKind == MeshKind::kVipm) {
     j["reconstruct_ms_p50"] = percentile(flight.reconstructMs, 0.5);

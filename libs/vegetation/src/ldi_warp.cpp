@@ -1,6 +1,7 @@
 #include "terralod/vegetation/ldi_warp.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -27,71 +28,129 @@ float pixelsMoved(const glm::vec4& clip, const glm::vec4& d, const WarpTarget& t
   return std::hypot(x * 0.5f * float(t.width), y * 0.5f * float(t.height));
 }
 
+// Per warp, what every depth pixel shares: the clip basis, the half test as an affine function
+// of (column, row, depth), the splat footprint's scale and a table of the normal's effect per
+// splat index, so a depth pixel costs a few multiply-adds, one division and a table look-up.
 class Splatter {
  public:
-  Splatter(const Ldi& ldi, const ClipBasis& basis, const glm::vec3& eye, WarpTarget& target,
-           const WarpOptions& options)
-      : mLdi(ldi), mBasis(basis), mEye(eye), mTarget(target), mOptions(options) {
-    const LdiCamera& c = ldi.camera;
+  Splatter(const WarpLdi& ldi, const ClipBasis& basis, const std::optional<ClipBasis>& northWest,
+           const glm::vec3& eye, WarpTarget& target, const WarpOptions& options)
+      : mLdi(ldi.ldi),
+        mRowFirst(ldi.rowStarts),
+        mBasis(basis),
+        mNorthWest(northWest),
+        mTarget(target),
+        mOptions(options) {
+    const LdiCamera& c = mLdi.camera;
     mDepthStep = (c.depthMax - c.depthMin) / float(kLdiMaxDepth);
     mEyeDepth = glm::dot(eye, c.direction);
-    // Where each pixel's layers start.
-    mFirst.resize(ldi.layerCounts.size() + 1, 0);
-    for (size_t i = 0; i < ldi.layerCounts.size(); ++i)
-      mFirst[i + 1] = mFirst[i] + ldi.layerCounts[i];
+    mEyeQuantized = (mEyeDepth - c.depthMin) / mDepthStep;
+    // x − y of a depth pixel's point in the tile frame (halfOf: x ≥ y is the south-east half).
+    const glm::vec3 diagonal(1, -1, 0);
+    const glm::vec3 first = c.origin + 0.5f * c.pixelSize * (c.axisU + c.axisV);
+    mHalf = {glm::dot(first + c.depthMin * c.direction, diagonal),
+             c.pixelSize * glm::dot(c.axisU, diagonal), c.pixelSize * glm::dot(c.axisV, diagonal),
+             mDepthStep * glm::dot(c.direction, diagonal)};
+    if (options.sizedSplats) {
+      // The footprint of an LDI pixel at the LDI's centre, in target pixels times w: it
+      // scales as 1/w over the tile.
+      const glm::vec3 centre = first + 0.5f * c.pixelSize * float(c.width - 1) * c.axisU +
+                               0.5f * c.pixelSize * float(c.height - 1) * c.axisV +
+                               0.5f * (c.depthMin + c.depthMax) * c.direction;
+      const glm::vec4 clip = basis.base + centreClipOffset(c, centre - first);
+      mFootprint = clip.w > 1e-6f ? std::max(pixelsMoved(clip, basis.column, target),
+                                             pixelsMoved(clip, basis.row, target)) *
+                                        clip.w
+                                  : 0.0f;
+      mToEye = glm::normalize(eye - centre);
+    }
   }
 
-  // Draws pixel (column, row)'s layers, those farther from the eye along the rays first.
-  void pixel(uint32_t column, uint32_t row) {
-    const size_t index = size_t(row) * mLdi.camera.width + column;
-    size_t lo = mFirst[index], hi = mFirst[index + 1];
-    if (lo == hi) return;
+  // Draws row `row`'s pixels from both ends towards column `split` (the epipole's).
+  void row(uint32_t row, uint32_t split) {
+    const uint32_t width = mLdi.camera.width;
+    const uint8_t* counts = &mLdi.layerCounts[size_t(row) * width];
+    size_t at = mRowFirst[row];
+    for (uint32_t col = 0; col < split; ++col) {
+      const size_t next = at + counts[col];
+      if (next != at) pixel(col, row, at, next);
+      at = next;
+    }
+    at = mRowFirst[row + 1];
+    for (uint32_t col = width; col-- > split;) {
+      const size_t before = at - counts[col];
+      if (before != at) pixel(col, row, before, at);
+      at = before;
+    }
+  }
+
+  // Draws pixel (column, row)'s layers [lo, hi), those farther from the eye along the rays
+  // first.
+  void pixel(uint32_t column, uint32_t row, size_t lo, size_t hi) {
     const glm::vec4 at = mBasis.base + float(column) * mBasis.column + float(row) * mBasis.row;
+    const glm::vec4 atNorthWest =
+        mNorthWest
+            ? mNorthWest->base + float(column) * mNorthWest->column + float(row) * mNorthWest->row
+            : at;
+    const float halfAt = mHalf[0] + float(column) * mHalf[1] + float(row) * mHalf[2];
+    const DepthPixel* p = mLdi.pixels.data();
     if (mOptions.order == WarpOrder::kRowMajor) {
-      for (size_t k = lo; k < hi; ++k) layer(at, column, row, mLdi.pixels[k]);
+      for (size_t k = lo; k < hi; ++k) layer(at, atNorthWest, halfAt, p[k]);
       return;
     }
-    // Layers are stored front first; take from whichever end lies farther from the eye.
-    while (lo < hi) {
-      const float front = std::abs(depthOf(mLdi.pixels[lo]) - mEyeDepth);
-      const float back = std::abs(depthOf(mLdi.pixels[hi - 1]) - mEyeDepth);
+    // Layers are stored front first; draw those farther from the eye along the rays first.
+    if (float(p[lo].depth()) >= mEyeQuantized) {  // the eye in front of them all
+      for (size_t k = hi; k-- > lo;) layer(at, atNorthWest, halfAt, p[k]);
+      return;
+    }
+    if (float(p[hi - 1].depth()) <= mEyeQuantized) {  // behind them all
+      for (size_t k = lo; k < hi; ++k) layer(at, atNorthWest, halfAt, p[k]);
+      return;
+    }
+    while (lo < hi) {  // among them: from both ends
+      const float front = std::abs(float(p[lo].depth()) - mEyeQuantized);
+      const float back = std::abs(float(p[hi - 1].depth()) - mEyeQuantized);
       if (back >= front)
-        layer(at, column, row, mLdi.pixels[--hi]);
+        layer(at, atNorthWest, halfAt, p[--hi]);
       else
-        layer(at, column, row, mLdi.pixels[lo++]);
+        layer(at, atNorthWest, halfAt, p[lo++]);
     }
   }
 
   WarpStats stats;
 
  private:
-  float depthOf(const DepthPixel& p) const {
-    return mLdi.camera.depthMin + float(p.depth()) * mDepthStep;
+  // The clip position of a tile-frame offset from the first pixel's centre on the image plane.
+  glm::vec4 centreClipOffset(const LdiCamera& c, const glm::vec3& offset) const {
+    return glm::dot(offset, c.axisU) / c.pixelSize * mBasis.column +
+           glm::dot(offset, c.axisV) / c.pixelSize * mBasis.row +
+           glm::dot(offset, c.direction) * mBasis.depth;
   }
 
-  void layer(const glm::vec4& at, uint32_t column, uint32_t row, const DepthPixel& p) {
+  void layer(const glm::vec4& at, const glm::vec4& atNorthWest, float halfAt, const DepthPixel& p) {
     ++stats.depthPixels;
-    if (mOptions.onlyHalf) {
-      const glm::vec3 point = ldiPointOf(column, row, p);
-      if (halfOf(point.x, point.y) != *mOptions.onlyHalf) return;
+    const float quantized = float(p.depth());
+    const float depthAlong = mLdi.camera.depthMin + quantized * mDepthStep;
+    glm::vec4 clip;
+    if (mOptions.onlyHalf || mNorthWest) {
+      const bool southEast = halfAt + quantized * mHalf[3] >= 0.0f;
+      if (mOptions.onlyHalf && southEast != (*mOptions.onlyHalf == TileHalf::kSouthEast)) return;
+      clip = southEast || !mNorthWest ? at + depthAlong * mBasis.depth
+                                      : atNorthWest + depthAlong * mNorthWest->depth;
+    } else {
+      clip = at + depthAlong * mBasis.depth;
     }
-    const glm::vec4 clip = at + depthOf(p) * mBasis.depth;
     if (clip.w <= 1e-6f) return;  // behind the eye
-    const float x = clip.x / clip.w, y = clip.y / clip.w, z = clip.z / clip.w;
+    const float invW = 1.0f / clip.w;
+    const float x = clip.x * invW, y = clip.y * invW, z = clip.z * invW;
     if (z < -1 || z > 1) return;
     const float px = (x * 0.5f + 0.5f) * float(mTarget.width);
     const float py = (0.5f - y * 0.5f) * float(mTarget.height);
     int side = 1;
     if (mOptions.sizedSplats) {
-      // The LDI pixel's footprint here, grown by how obliquely the LDI saw the surface against
-      // how squarely the eye sees it (the splat index is the surface normal).
-      float size = std::max(pixelsMoved(clip, mBasis.column, mTarget),
-                            pixelsMoved(clip, mBasis.row, mTarget));
-      const glm::vec3 n = decodeSplatNormal(p.splat());
-      const glm::vec3 point = ldiPointOf(column, row, p);
-      const glm::vec3 toEye = glm::normalize(mEye - point);
-      const float seenByLdi = std::max(0.3f, std::abs(glm::dot(n, mLdi.camera.direction)));
-      size *= std::sqrt(std::clamp(std::abs(glm::dot(n, toEye)) / seenByLdi, 0.5f, 2.0f));
+      float size = mFootprint * invW;
+      // The normal's factor is at most √2: below 1/√2 pixels the splat is one pixel anyway.
+      if (size > 0.7f) size *= normalFactor(std::min(p.splat(), kLdiMaxSplatCode));
       side = std::clamp(int(std::ceil(size - 0.01f)), 1, mOptions.maxSplat);  // 1.0001 is 1
     }
     const int x0 = int(std::floor(px - 0.5f * float(side) + 0.5f));
@@ -99,11 +158,16 @@ class Splatter {
     if (x0 >= mTarget.width || y0 >= mTarget.height || x0 + side <= 0 || y0 + side <= 0) return;
     ++stats.splats;
     const float depth = z * 0.5f + 0.5f;
-    const float a = float(p.rgba >> 24) / 255.0f;
-    const float rgb[3] = {float(p.rgba & 0xff) / 255.0f * a, float(p.rgba >> 8 & 0xff) / 255.0f * a,
-                          float(p.rgba >> 16 & 0xff) / 255.0f * a};
-    for (int yy = std::max(0, y0); yy < std::min(mTarget.height, y0 + side); ++yy)
-      for (int xx = std::max(0, x0); xx < std::min(mTarget.width, x0 + side); ++xx) {
+    const float a = float(p.rgba >> 24) * (1.0f / 255.0f);
+    const float scale = a * (1.0f / 255.0f);
+    const float rgb[3] = {float(p.rgba & 0xff) * scale, float(p.rgba >> 8 & 0xff) * scale,
+                          float(p.rgba >> 16 & 0xff) * scale};
+    const int yBegin = std::max(0, y0), yEnd = std::min(mTarget.height, y0 + side);
+    const int xBegin = std::max(0, x0), xEnd = std::min(mTarget.width, x0 + side);
+    mTarget.dirtyTop = std::min(mTarget.dirtyTop, yBegin);
+    mTarget.dirtyBottom = std::max(mTarget.dirtyBottom, yEnd);
+    for (int yy = yBegin; yy < yEnd; ++yy)
+      for (int xx = xBegin; xx < xEnd; ++xx) {
         const size_t i = size_t(yy) * mTarget.width + xx;
         if (mOptions.depthTest && depth > mTarget.depth[i]) continue;
         float* dst = &mTarget.rgba[4 * i];
@@ -113,39 +177,84 @@ class Splatter {
       }
   }
 
-  glm::vec3 ldiPointOf(uint32_t column, uint32_t row, const DepthPixel& p) const {
-    const LdiCamera& c = mLdi.camera;
-    return c.origin + (float(column) + 0.5f) * c.pixelSize * c.axisU +
-           (float(row) + 0.5f) * c.pixelSize * c.axisV + depthOf(p) * c.direction;
+  // How obliquely the LDI saw a surface against how squarely the eye sees it, per splat index
+  // (made on first use: far tiles never need it).
+  float normalFactor(uint32_t splat) {
+    if (mNormalFactor.empty()) {
+      const std::vector<glm::vec3>& normals = splatNormals();
+      mNormalFactor.resize(normals.size());
+      for (size_t k = 0; k < normals.size(); ++k) {
+        const float seenByLdi =
+            std::max(0.3f, std::abs(glm::dot(normals[k], mLdi.camera.direction)));
+        mNormalFactor[k] =
+            std::sqrt(std::clamp(std::abs(glm::dot(normals[k], mToEye)) / seenByLdi, 0.5f, 2.0f));
+      }
+    }
+    return mNormalFactor[splat];
+  }
+
+  static const std::vector<glm::vec3>& splatNormals() {
+    static const std::vector<glm::vec3> normals = [] {
+      std::vector<glm::vec3> n(kLdiMaxSplatCode + 1);
+      for (uint32_t k = 0; k <= kLdiMaxSplatCode; ++k) n[k] = decodeSplatNormal(k);
+      return n;
+    }();
+    return normals;
   }
 
   const Ldi& mLdi;
+  const std::vector<uint64_t>& mRowFirst;
   ClipBasis mBasis;
-  glm::vec3 mEye;
+  std::optional<ClipBasis> mNorthWest;
   WarpTarget& mTarget;
   const WarpOptions& mOptions;
-  float mDepthStep = 0, mEyeDepth = 0;
-  std::vector<size_t> mFirst;
+  float mDepthStep = 0, mEyeDepth = 0, mEyeQuantized = 0;
+  std::array<float, 4> mHalf{};  // x − y: base, per column, per row, per quantized depth
+  float mFootprint = 0;
+  glm::vec3 mToEye{0, 0, 1};
+  std::vector<float> mNormalFactor;
 };
-
-// Visits the indices of [0, count) from both ends towards `split` (the epipole): [0, split)
-// upwards, then [split, count) downwards.
-template <typename Fn>
-void towards(int count, int split, Fn&& fn) {
-  for (int i = 0; i < split; ++i) fn(i);
-  for (int i = count - 1; i >= split; --i) fn(i);
-}
 
 }  // namespace
 
+void WarpTarget::clear() {
+  if (dirtyTop < dirtyBottom) {
+    const size_t first = size_t(dirtyTop) * size_t(width),
+                 last = size_t(dirtyBottom) * size_t(width);
+    std::fill(rgba.begin() + ptrdiff_t(4 * first), rgba.begin() + ptrdiff_t(4 * last), 0.0f);
+    std::fill(depth.begin() + ptrdiff_t(first), depth.begin() + ptrdiff_t(last), 1.0f);
+  }
+  dirtyTop = height;
+  dirtyBottom = 0;
+}
+
+WarpLdi WarpLdi::of(Ldi ldi) {
+  WarpLdi w;
+  w.rowStarts.assign(ldi.camera.height + 1, 0);
+  for (uint32_t r = 0; r < ldi.camera.height; ++r) {
+    uint64_t n = 0;
+    for (uint32_t col = 0; col < ldi.camera.width; ++col)
+      n += ldi.layerCounts[size_t(r) * ldi.camera.width + col];
+    w.rowStarts[r + 1] = w.rowStarts[r] + n;
+  }
+  w.ldi = std::move(ldi);
+  return w;
+}
+
 WarpStats warpLdi(const Ldi& ldi, const glm::mat4& tileToClip, const glm::vec3& eyeInTile,
                   WarpTarget& target, const WarpOptions& options) {
-  const LdiCamera& c = ldi.camera;
-  Splatter splatter(ldi, basisOf(c, tileToClip), eyeInTile, target, options);
+  return warpLdi(WarpLdi::of(ldi), tileToClip, eyeInTile, target, options);
+}
+
+WarpStats warpLdi(const WarpLdi& warpable, const glm::mat4& tileToClip, const glm::vec3& eyeInTile,
+                  WarpTarget& target, const WarpOptions& options) {
+  const LdiCamera& c = warpable.ldi.camera;
+  std::optional<ClipBasis> northWest;
+  if (options.northWestToClip) northWest = basisOf(c, *options.northWestToClip);
+  Splatter splatter(warpable, basisOf(c, tileToClip), northWest, eyeInTile, target, options);
   const int width = int(c.width), height = int(c.height);
   if (options.order == WarpOrder::kRowMajor) {
-    for (int r = 0; r < height; ++r)
-      for (int col = 0; col < width; ++col) splatter.pixel(uint32_t(col), uint32_t(r));
+    for (int r = 0; r < height; ++r) splatter.row(uint32_t(r), uint32_t(width));
     return splatter.stats;
   }
   // The epipole: the eye projected along the rays onto the image, in pixel coordinates.
@@ -156,9 +265,8 @@ WarpStats warpLdi(const Ldi& ldi, const glm::mat4& tileToClip, const glm::vec3& 
   const int splitRow = std::clamp(int(std::floor(er)) + 1, 0, height);
   // The four sheets at once: rows towards the epipole's row, in each row columns towards its
   // column (monotone towards the epipole in both, which is all the order needs).
-  towards(height, splitRow, [&](int r) {
-    towards(width, splitColumn, [&](int col) { splatter.pixel(uint32_t(col), uint32_t(r)); });
-  });
+  for (int r = 0; r < splitRow; ++r) splatter.row(uint32_t(r), uint32_t(splitColumn));
+  for (int r = height - 1; r >= splitRow; --r) splatter.row(uint32_t(r), uint32_t(splitColumn));
   return splatter.stats;
 }
 

@@ -59,6 +59,12 @@ struct FrameRecord {
   /// VIPM, with a source: mean absolute pixel change (8-bit units) between the picture and the
   /// same chunks with no blot (their materials faded), i.e. every blot switching at once.
   double blotSwitch = NAN;
+  // With vegetation (bench --vegetation; the caller's afterFrame fills them).
+  double vegetationMs = NAN;        ///< the software LDI warp (all threads, wall)
+  double compositeMs = NAN;         ///< uploading its picture and compositing it
+  uint64_t splats = 0;              ///< splats drawn
+  uint32_t ldiTiles = 0;            ///< tiles drawn as LDIs
+  double vegetationResidentMB = 0;  ///< decoded LDIs and corner heights
 };
 
 /// Whether the flight starts from the roots alone or with the first view loaded.
@@ -77,6 +83,9 @@ struct BenchFlightOptions {
   /// Called before each frame with its index (bench --edit-script: strokes during the
   /// flight); a failure ends the flight with it. Empty: nothing.
   std::function<Status(size_t frame, TerrainScene& scene)> beforeFrame;
+  /// Called after each frame is drawn and timed, before its quality figures, to add the
+  /// figures of what the caller drew into the frame (a composited layer's). Empty: nothing.
+  std::function<void(size_t frame, FrameRecord& record)> afterFrame;
 };
 
 struct BenchFlightResult {

@@ -30,9 +30,17 @@ struct WarpTarget {
   int width = 0, height = 0;
   std::vector<float> rgba;   ///< 4 per pixel, premultiplied
   std::vector<float> depth;  ///< 1 per pixel
+  /// Rows [dirtyTop, dirtyBottom) hold everything drawn since the target was clear.
+  int dirtyTop = 0, dirtyBottom = 0;
 
   WarpTarget(int w, int h)
-      : width(w), height(h), rgba(size_t(w) * h * 4, 0.0f), depth(size_t(w) * h, 1.0f) {}
+      : width(w),
+        height(h),
+        rgba(size_t(w) * h * 4, 0.0f),
+        depth(size_t(w) * h, 1.0f),
+        dirtyTop(h) {}
+  /// Clears what was drawn (the dirty rows).
+  void clear();
 };
 
 enum class WarpOrder {
@@ -51,6 +59,17 @@ struct WarpOptions {
   /// Only the depth pixels over this half of the tile (terrain_shear.h: each half is warped
   /// with its own shear, the far one first).
   std::optional<TileHalf> onlyHalf;
+  /// Both halves in one pass: `tileToClip` places the south-east half's depth pixels and this
+  /// the north-west half's (for tiles whose two planes differ by less than a pixel, where the
+  /// separating plane's order changes nothing the depth test does not mend).
+  std::optional<glm::mat4> northWestToClip;
+};
+
+/// An LDI ready to warp: where each row's layers start (height + 1 offsets into pixels).
+struct WarpLdi {
+  Ldi ldi;
+  std::vector<uint64_t> rowStarts;
+  static WarpLdi of(Ldi ldi);
 };
 
 struct WarpStats {
@@ -61,6 +80,9 @@ struct WarpStats {
 /// Draws `ldi` into `target`. `tileToClip` maps the LDI's tile frame to clip space (OpenGL
 /// conventions: visible where −w ≤ x, y, z ≤ w); `eyeInTile` is the eye in the tile frame (for
 /// the order). Any thread; targets are not shared.
+WarpStats warpLdi(const WarpLdi& ldi, const glm::mat4& tileToClip, const glm::vec3& eyeInTile,
+                  WarpTarget& target, const WarpOptions& options = {});
+/// The same for an LDI not made ready (its row starts are counted first).
 WarpStats warpLdi(const Ldi& ldi, const glm::mat4& tileToClip, const glm::vec3& eyeInTile,
                   WarpTarget& target, const WarpOptions& options = {});
 

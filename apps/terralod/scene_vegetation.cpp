@@ -1,0 +1,46 @@
+#include "scene_vegetation.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "terralod/core/parallel.h"
+
+namespace terralod::cli {
+
+Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, TerrainScene& scene) {
+  SceneVegetation out;
+  if (options.vegetation.empty()) {
+    if (!options.vegetationWhere.empty())
+      return Error{"--vegetation-where needs --vegetation V.tlv"};
+    return out;
+  }
+  veg::VegetationOptions o;
+  if (!options.vegetationWhere.empty()) {
+    auto where = veg::parseVegetationWhere(options.vegetationWhere);
+    if (!where) return where.error();
+    if (!where->materials.empty())
+      return Error{"--vegetation-where: material=... is not supported yet (height and slope are)"};
+    o.field.where = *where;
+  }
+  o.warp.threads = std::min(hardwareThreads(), 16u);
+  const double budget = options.cacheMB * vegetationBudgetShare(options) * 1024.0 * 1024.0;
+  o.heightBudgetBytes = uint64_t(budget / 16);
+  o.ldiBudgetBytes = uint64_t(budget) - o.heightBudgetBytes;
+  o.log = [](const std::string& line) {
+    std::fprintf(stderr, "terralod: warning: %s\n", line.c_str());
+  };
+  auto painter = veg::VegetationPainter::open(options.vegetation, scene.tileset(), scene.tree(), o);
+  if (!painter) return painter.error();
+  out.painter = std::move(painter).value();
+  veg::VegetationPainter* p = out.painter.get();
+  auto layer = PictureLayer::create([p](const View& view, const LayerPicture& picture) {
+    p->paint(view, {picture.width, picture.height, picture.rgba, picture.viewDepth});
+    const veg::FrameWarpStats& w = p->lastFrame().warp;
+    return PaintedRows{w.top, w.bottom};
+  });
+  if (!layer) return layer.error();
+  out.layer = static_cast<PictureLayer*>(&scene.renderer().addLayer(std::move(layer).value()));
+  return out;
+}
+
+}  // namespace terralod::cli

@@ -1,0 +1,25 @@
+#pragma once
+// `--vegetation V.tlv [--vegetation-where RULES]` for render, bench and the viewer: a
+// vegetation painter over the scene's tileset and the render layer that composites its
+// pictures over the terrain.
+
+#include <memory>
+
+#include "render_options.h"
+#include "terralod/core/result.h"
+#include "terralod/render/picture_layer.h"
+#include "terralod/render/terrain_scene.h"
+#include "terralod/vegetation/vegetation_painter.h"
+
+namespace terralod::cli {
+
+struct SceneVegetation {
+  std::unique_ptr<veg::VegetationPainter> painter;  ///< none without --vegetation
+  PictureLayer* layer = nullptr;                    ///< owned by the scene's renderer
+};
+
+/// Opens --vegetation and adds its layer to `scene` (which must outlive the result); nothing
+/// without the option. Errors are one line naming the file or the option.
+Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, TerrainScene& scene);
+
+}  // namespace terralod::cli

@@ -1,0 +1,90 @@
+#pragma once
+// Which vegetation tiles a frame draws, and how (papers/tiling-layered-depth-images.md §5.1–5.2):
+// the Wang tiling laid over the terrain from its south-west sample, each tile standing on the
+// terrain by its four corner heights (terrain_shear.h) where the rules allow it
+// (vegetation_where.h); for a view, the tiles in the frustum within the LDI range, back to
+// front, each with the resolution whose pixels come closest to the screen's (the rings) and the
+// view direction nearest the line from the eye to it. Pure: heights come from the caller.
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "terralod/runtime/view.h"
+#include "terralod/vegetation/terrain_shear.h"
+#include "terralod/vegetation/vegetation_file.h"
+#include "terralod/vegetation/vegetation_where.h"
+#include "terralod/vegetation/wang_tiling.h"
+
+namespace terralod::veg {
+
+/// The tiling over a terrain: tile (x, y) covers [x·s, (x+1)·s] × [y·s, (y+1)·s] metres from the
+/// terrain's south-west sample, s the .tlv's tile size.
+struct FieldLayout {
+  float tileSize = 4;
+  float tileHeight = 2;  ///< metres: the tallest plant (bounding boxes)
+  std::array<uint32_t, kLdiResolutions> resolutions{};  ///< LDI pixels across, finest first
+  WangTiling tiling{1, 1, 0};                           ///< covers the terrain's extent
+
+  /// From a .tlv's settings over a terrain `width` × `height` metres; the tiling's seed is the
+  /// file's unless `seed` is given.
+  static FieldLayout over(const BakeSettings& settings, double width, double height,
+                          std::optional<uint64_t> seed = {});
+};
+
+/// The terrain under the tiles: a tile's four corner heights (SW, SE, NE, NW), or nothing
+/// where there is no terrain (outside the data) or the heights are not at hand yet.
+class CornerHeights {
+ public:
+  virtual ~CornerHeights() = default;
+  virtual std::optional<std::array<float, 4>> tileCorners(uint32_t x, uint32_t y) = 0;
+};
+
+struct FieldOptions {
+  VegetationWhere where;
+  /// LDI pixels per screen pixel at which a tile switches to the next finer resolution (1: the
+  /// paper's "splat size of one").
+  double pixelsPerScreenPixel = 1.0;
+  /// The LDI range: tiles are drawn as LDIs while the coarsest resolution has at most this
+  /// many LDI pixels per screen pixel; farther ones are left to the directional textures.
+  double rangeOversampling = 2.0;
+};
+
+/// One tile of a frame.
+struct TileDraw {
+  uint32_t x = 0, y = 0;  ///< tile column and row
+  int prototile = 0;
+  int resolution = 0;  ///< index into FieldLayout::resolutions (the ring)
+  int direction = 0;   ///< 0–7: the LDI looking along azimuth 45°·direction (0: north)
+  TileOnTerrain placement;
+  double distance = 0;      ///< metres from the eye to the tile's centre
+  double screenPixels = 0;  ///< the tile's width on screen
+};
+
+struct FieldStats {
+  uint32_t considered = 0;  ///< tiles within the range around the eye
+  uint32_t noHeights = 0;   ///< of those: no terrain under them (or not at hand)
+  uint32_t excluded = 0;    ///< refused by the rules
+  uint32_t culled = 0;      ///< outside the frustum
+};
+
+/// The LDI range for `view`: the distance at which a tile is as wide on screen as the coarsest
+/// LDI's pixels divided by the oversampling.
+double ldiRange(const FieldLayout& layout, const View& view, const FieldOptions& options);
+
+/// The resolution index for a tile `screenPixels` wide: the coarsest with at least
+/// screenPixels · pixelsPerScreenPixel pixels (the finest when none has).
+int resolutionFor(const FieldLayout& layout, double screenPixels, double pixelsPerScreenPixel);
+
+/// The direction index for looking from `eye` at a tile centred at `centre`.
+int directionFor(const glm::dvec3& eye, const glm::dvec3& centre);
+
+/// The tiles `view` draws as LDIs, farthest first.
+std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
+                                  CornerHeights& heights, const FieldOptions& options,
+                                  FieldStats* stats = nullptr);
+
+}  // namespace terralod::veg

@@ -1,0 +1,117 @@
+#include "terralod/vegetation/vegetation_field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace terralod::veg {
+
+FieldLayout FieldLayout::over(const BakeSettings& settings, double width, double height,
+                              std::optional<uint64_t> seed) {
+  FieldLayout layout;
+  layout.tileSize = settings.tileSize;
+  layout.tileHeight = settings.tileHeight;
+  layout.resolutions = settings.resolutions;
+  const auto tiles = [&](double metres) {
+    return uint32_t(std::clamp(std::ceil(metres / settings.tileSize), 1.0, 4.0e9));
+  };
+  layout.tiling = WangTiling(tiles(width), tiles(height), seed.value_or(settings.seed));
+  return layout;
+}
+
+double ldiRange(const FieldLayout& layout, const View& view, const FieldOptions& options) {
+  // A tile w pixels wide on screen at distance d: w = tileSize · K / d.
+  const double coarsest = layout.resolutions.back();
+  return layout.tileSize * view.pixelsPerRadian * options.rangeOversampling / coarsest;
+}
+
+int resolutionFor(const FieldLayout& layout, double screenPixels, double pixelsPerScreenPixel) {
+  const double wanted = screenPixels * pixelsPerScreenPixel;
+  for (int r = kLdiResolutions - 1; r >= 0; --r)
+    if (double(layout.resolutions[size_t(r)]) >= wanted) return r;
+  return 0;
+}
+
+int directionFor(const glm::dvec3& eye, const glm::dvec3& centre) {
+  // Azimuth clockwise from north of the line of sight; direction d looks along 45°·d.
+  const double azimuth = std::atan2(centre.x - eye.x, centre.y - eye.y);
+  const int d = int(std::lround(azimuth / (std::numbers::pi / 4)));
+  return ((d % kLdiDirections) + kLdiDirections) % kLdiDirections;
+}
+
+namespace {
+
+// Degrees from horizontal of the steeper of the tile's two halves.
+double slopeDegrees(const TileOnTerrain& t) {
+  double steepest = 0;
+  for (TileHalf half : {TileHalf::kSouthEast, TileHalf::kNorthWest}) {
+    const glm::mat4 m = halfShear(t, half);
+    steepest = std::max(steepest, std::hypot(double(m[0][2]), double(m[1][2])));
+  }
+  return std::atan(steepest) * 180.0 / std::numbers::pi;
+}
+
+}  // namespace
+
+std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
+                                  CornerHeights& heights, const FieldOptions& options,
+                                  FieldStats* stats) {
+  FieldStats local;
+  FieldStats& s = stats ? *stats : local;
+  s = {};
+  std::vector<TileDraw> draws;
+  const double range = ldiRange(layout, view, options);
+  const glm::dvec3 eye = view.camera.eye;
+  const double size = layout.tileSize;
+  const double halfDiagonal = size * std::numbers::sqrt2 / 2;
+  // Tiles whose centre may lie within the range (in x and y alone; heights come later).
+  const auto first = [&](double v) { return std::max(0.0, std::floor((v - range) / size)); };
+  const double x0 = first(eye.x), y0 = first(eye.y);
+  const double x1 = std::min(double(layout.tiling.width()) - 1, std::floor((eye.x + range) / size));
+  const double y1 =
+      std::min(double(layout.tiling.height()) - 1, std::floor((eye.y + range) / size));
+  for (double ty = y0; ty <= y1; ++ty) {
+    for (double tx = x0; tx <= x1; ++tx) {
+      const glm::dvec2 centre{(tx + 0.5) * size, (ty + 0.5) * size};
+      if (std::hypot(centre.x - eye.x, centre.y - eye.y) > range + halfDiagonal) continue;
+      ++s.considered;
+      const uint32_t x = uint32_t(tx), y = uint32_t(ty);
+      const auto corners = heights.tileCorners(x, y);
+      if (!corners) {
+        ++s.noHeights;
+        continue;
+      }
+      TileDraw d;
+      d.x = x;
+      d.y = y;
+      d.placement = {glm::vec2(float(tx * size), float(ty * size)), float(size), *corners};
+      const auto [low, high] = std::minmax_element(corners->begin(), corners->end());
+      const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
+      if (!options.where.allows(ground, slopeDegrees(d.placement), {})) {
+        ++s.excluded;
+        continue;
+      }
+      const glm::dvec3 middle{centre.x, centre.y, ground + 0.5 * layout.tileHeight};
+      d.distance = glm::length(middle - eye);
+      if (d.distance > range) continue;
+      const Box box{{tx * size, ty * size, double(*low)},
+                    {(tx + 1) * size, (ty + 1) * size, double(*high) + layout.tileHeight}};
+      if (!boxInFrustum(view, box)) {
+        ++s.culled;
+        continue;
+      }
+      d.prototile = layout.tiling.at(x, y);
+      d.screenPixels = size * view.pixelsPerRadian / std::max(d.distance, 1e-3);
+      d.resolution = resolutionFor(layout, d.screenPixels, options.pixelsPerScreenPixel);
+      d.direction = directionFor(eye, middle);
+      draws.push_back(d);
+    }
+  }
+  std::sort(draws.begin(), draws.end(), [](const TileDraw& a, const TileDraw& b) {
+    if (a.distance != b.distance) return a.distance > b.distance;
+    return a.y != b.y ? a.y < b.y : a.x < b.x;
+  });
+  return draws;
+}
+
+}  // namespace terralod::veg
