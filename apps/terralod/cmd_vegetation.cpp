@@ -88,7 +88,9 @@ void addRenderTile(CLI::App& parent, Runner& run) {
   auto* cmd = parent.add_subcommand(
       "render-tile",
       "Picture of one prototile: one of its LDIs at its own resolution (--view ldi), "
-      "or its plants ray cast from above in their context (--view top)");
+      "its plants ray cast from above in their context (--view top), or its directional "
+      "textures for beyond the LDI range (--view textures: a row per elevation, a column "
+      "per direction)");
   auto o = std::make_shared<RenderTileOptions>();
   cmd->add_option("file", o->input, ".tlv file or http(s):// URL")->required();
   cmd->add_option("--tile", o->tile, "Prototile 0-7, or all: the 8 on one sheet, 4 a row")
@@ -100,9 +102,9 @@ void addRenderTile(CLI::App& parent, Runner& run) {
   cmd->add_option("--direction", o->direction, "View direction 0-7 (0: looking north, 2: east)")
       ->capture_default_str()
       ->check(wholeNumber<int>(0, 7));
-  cmd->add_option("--view", o->view, "ldi or top")
+  cmd->add_option("--view", o->view, "ldi, top or textures")
       ->capture_default_str()
-      ->check(CLI::IsMember({"ldi", "top"}));
+      ->check(CLI::IsMember({"ldi", "top", "textures"}));
   cmd->add_option("-o,--output", o->output, "PNG or JPEG to write")->required();
   cmd->callback([&run, o] { run = [o] { return runVegetationRenderTile(*o); }; });
 }

@@ -84,6 +84,9 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_option("--vegetation-where", o.vegetationWhere,
                "Where vegetation grows: comma-separated conditions, e.g. "
                "height<2400,slope<30 (metres, degrees)");
+  c.add_flag("--no-vegetation-textures", o.noVegetationTextures,
+             "Draw vegetation as LDIs alone: nothing beyond their range (shows where the "
+             "directional textures take over)");
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");

@@ -37,8 +37,9 @@ struct RenderOptions {
   int frames = 0;                                       ///< 0: the whole flight
   double cacheMB = 512;                                 ///< --cache-mb: chunk memory budget
   HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
-  std::string vegetation;       ///< --vegetation V.tlv (a path or URL); empty: none
-  std::string vegetationWhere;  ///< --vegetation-where RULES
+  std::string vegetation;             ///< --vegetation V.tlv (a path or URL); empty: none
+  std::string vegetationWhere;        ///< --vegetation-where RULES
+  bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
 };
 
 /// The share of --cache-mb the vegetation's LDIs and heights get (0 without --vegetation);

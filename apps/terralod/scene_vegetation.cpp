@@ -33,6 +33,15 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
   if (!painter) return painter.error();
   out.painter = std::move(painter).value();
   veg::VegetationPainter* p = out.painter.get();
+  if (!options.noVegetationTextures) {
+    // Beyond the LDI range: drawn first, on the ground under the LDI tiles.
+    auto textures = veg::makeDirectionalTextures(p->file());
+    if (!textures) return textures.error();
+    auto far = veg::FarVegetationLayer::create(*textures, p->layout(), o.field);
+    if (!far) return far.error();
+    out.far =
+        static_cast<veg::FarVegetationLayer*>(&scene.renderer().addLayer(std::move(far).value()));
+  }
   auto layer = PictureLayer::create([p](const View& view, const LayerPicture& picture) {
     p->paint(view, {picture.width, picture.height, picture.rgba, picture.viewDepth});
     const veg::FrameWarpStats& w = p->lastFrame().warp;

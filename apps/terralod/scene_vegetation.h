@@ -9,6 +9,7 @@
 #include "terralod/core/result.h"
 #include "terralod/render/picture_layer.h"
 #include "terralod/render/terrain_scene.h"
+#include "terralod/vegetation/far_vegetation_layer.h"
 #include "terralod/vegetation/vegetation_painter.h"
 
 namespace terralod::cli {
@@ -16,6 +17,7 @@ namespace terralod::cli {
 struct SceneVegetation {
   std::unique_ptr<veg::VegetationPainter> painter;  ///< none without --vegetation
   PictureLayer* layer = nullptr;                    ///< owned by the scene's renderer
+  veg::FarVegetationLayer* far = nullptr;  ///< the directional textures (none if switched off)
 };
 
 /// Opens --vegetation and adds its layer to `scene` (which must outlive the result); nothing

@@ -1,12 +1,15 @@
-// terralod vegetation render-tile V.tlv --tile K --resolution R --direction D [--view ldi|top]
+// terralod vegetation render-tile V.tlv --tile K --resolution R --direction D
+//   [--view ldi|top|textures]
 //   -o OUT.png
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "commands.h"
 #include "terralod/render/contact_sheet.h"
 #include "terralod/render/image.h"
+#include "terralod/vegetation/directional_textures.h"
 #include "terralod/vegetation/ldi_baker.h"
 #include "terralod/vegetation/ldi_picture.h"
 #include "terralod/vegetation/vegetation_file.h"
@@ -72,6 +75,29 @@ Result<Image> renderTile(const veg::VegetationReader& r, const RenderTileOptions
   return image;
 }
 
+// The directional textures (directional_textures.h) of one prototile: a row per elevation, a
+// column per direction, each 4× enlarged over soil with the tile's outline.
+Image textureSheet(const veg::DirectionalTextures& t, int tile) {
+  constexpr int kScale = 4, kGap = 2;
+  const int cell = t.size * kScale + kGap;
+  Image image{cell * veg::kLdiDirections, cell * veg::kTextureElevationCount, {}};
+  image.rgba.assign(size_t(image.width) * image.height * 4, 255);
+  for (int e = 0; e < veg::kTextureElevationCount; ++e)
+    for (int d = 0; d < veg::kLdiDirections; ++d) {
+      const uint32_t* texels =
+          &t.rgba[size_t(veg::DirectionalTextures::textureIndex(tile, d, e)) * t.size * t.size];
+      for (int y = 0; y < t.size * kScale; ++y)
+        for (int x = 0; x < t.size * kScale; ++x) {
+          const uint32_t c = texels[(y / kScale) * t.size + x / kScale];
+          const float a = float(c >> 24) / 255.0f;
+          uint8_t* p = &image.rgba[(size_t(e * cell + y) * image.width + d * cell + x) * 4];
+          for (int k = 0; k < 3; ++k)
+            p[k] = uint8_t(std::lround(float(c >> (8 * k) & 0xff) + (1.0f - a) * kSoil[size_t(k)]));
+        }
+    }
+  return image;
+}
+
 }  // namespace
 
 int runVegetationRenderTile(const RenderTileOptions& o) {
@@ -82,9 +108,19 @@ int runVegetationRenderTile(const RenderTileOptions& o) {
   // Pictures from above make the plants again from the file's seed; LDIs need none.
   const veg::PlantLibrary plants =
       o.view == "top" ? veg::PlantLibrary(r.header().settings.seed) : veg::PlantLibrary({});
+  std::optional<veg::DirectionalTextures> textures;
+  if (o.view == "textures") {
+    auto made = veg::makeDirectionalTextures(r);
+    if (!made) return fail(made.error().message);
+    textures = std::move(made).value();
+  }
   std::vector<Image> pictures;
   for (int tile = 0; tile < veg::kPrototiles; ++tile) {
     if (o.tile != "all" && o.tile != std::to_string(tile)) continue;
+    if (textures) {
+      pictures.push_back(textureSheet(*textures, tile));
+      continue;
+    }
     auto picture = renderTile(r, o, tile, plants);
     if (!picture) return fail(picture.error().message);
     pictures.push_back(std::move(*picture));

@@ -5,7 +5,11 @@
 #include <algorithm>
 #include <chrono>
 
+#include <glm/gtc/type_ptr.hpp>
+#include <glm/mat4x4.hpp>
+
 #include "gl_object.h"
+#include "terralod/render/aerial_perspective.h"
 #include "terralod/render/frame_context.h"
 #include "terralod/render/shader_program.h"
 
@@ -22,21 +26,29 @@ void main() {
 
 // Reversed-Z like the terrain (frame_context.h): depth = near / distance along the view axis;
 // the depth test (GEQUAL, from the layer hook) keeps what is nearer than the terrain.
-constexpr const char* kFragment = R"(#version 450 core
+constexpr const char* kFragment = R"(
 layout(binding = 0) uniform sampler2D uColor;
 layout(binding = 1) uniform sampler2D uDepth;
 uniform float uNear;
 uniform ivec2 uOrigin;
-uniform int uHeight;
+uniform ivec2 uSize;
+uniform mat4 uInverseViewProjection;  // eye-relative
 out vec4 fragColor;
 void main() {
   ivec2 p = ivec2(gl_FragCoord.xy) - uOrigin;
-  p.y = uHeight - 1 - p.y;  // the picture's row 0 is the top
+  p.y = uSize.y - 1 - p.y;  // the picture's row 0 is the top
   vec4 c = texelFetch(uColor, p, 0);
   float d = texelFetch(uDepth, p, 0).r;
   if (c.a <= 0.0 || isinf(d)) discard;
-  gl_FragDepth = uNear / d;
-  fragColor = c;
+  float depth = uNear / d;
+  gl_FragDepth = depth;
+  // Through the air like the ground under it (colours are display-encoded, premultiplied).
+  vec2 ndc = (vec2(gl_FragCoord.xy) - vec2(uOrigin)) / vec2(uSize) * 2.0 - 1.0;
+  vec4 q = uInverseViewProjection * vec4(ndc, depth, 1.0);
+  vec3 at = q.xyz / q.w;
+  vec3 linear = pow(c.rgb / c.a, vec3(2.2));
+  vec3 seen = hazed(linear, uEyeHeight + at.z, length(at));
+  fragColor = vec4(pow(seen, vec3(1.0 / 2.2)) * c.a, c.a);
 }
 )";
 
@@ -56,7 +68,9 @@ struct PictureLayer::Gl {
 };
 
 Result<std::unique_ptr<PictureLayer>> PictureLayer::create(Painter painter) {
-  auto program = ShaderProgram::create("picture layer", {kVertex, kFragment, {}});
+  auto program = ShaderProgram::create(
+      "picture layer",
+      {kVertex, std::string("#version 450 core\n") + aerialPerspectiveGlsl() + kFragment, {}});
   if (!program) return program.error();
   auto gl = std::make_unique<Gl>(std::move(program).value());
   return std::unique_ptr<PictureLayer>(new PictureLayer(std::move(painter), std::move(gl)));
@@ -104,7 +118,11 @@ uint32_t PictureLayer::draw(const FrameContext& frame) {
   gl.program.use();
   glUniform1f(gl.program.uniformLocation("uNear"), float(kNearPlane));
   glUniform2i(gl.program.uniformLocation("uOrigin"), frame.viewport.x, frame.viewport.y);
-  glUniform1i(gl.program.uniformLocation("uHeight"), height);
+  glUniform2i(gl.program.uniformLocation("uSize"), width, height);
+  const glm::mat4 inverse(glm::inverse(frame.projection * frame.viewRotation));
+  glUniformMatrix4fv(gl.program.uniformLocation("uInverseViewProjection"), 1, GL_FALSE,
+                     glm::value_ptr(inverse));
+  setAerialPerspective(gl.program.id(), frame);
   glBindTextureUnit(0, gl.color.id());
   glBindTextureUnit(1, gl.depth.id());
   glBindVertexArray(gl.empty.id());

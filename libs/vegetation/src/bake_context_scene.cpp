@@ -315,14 +315,4 @@ Ldi ContextScene::bake(const LdiCamera& cam, const SamplingSettings& sampling,
   return ldi;
 }
 
-std::array<int, 9> contextAround(int prototile, uint64_t seed) {
-  for (uint64_t s = seed * 1000003ull;; ++s) {
-    const WangTiling t(3, 3, s);
-    if (t.at(1, 1) != prototile) continue;
-    std::array<int, 9> c;
-    for (int k = 0; k < 9; ++k) c[k] = t.at(k % 3, k / 3);
-    return c;
-  }
-}
-
 }  // namespace terralod::veg

@@ -42,14 +42,6 @@ void clearTarget(WarpTarget& t, int width, int height) {
     t.clear();
 }
 
-uint32_t toByte(float v) {
-  return uint32_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f);
-}
-
-uint32_t packed(const float* c) {
-  return toByte(c[0]) | toByte(c[1]) << 8 | toByte(c[2]) << 16 | toByte(c[3]) << 24;
-}
-
 }  // namespace
 
 HalfTransform halfTransform(const View& view, const TileOnTerrain& tile, TileHalf half,
@@ -110,6 +102,7 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
       if (twist * t.screenPixels / t.placement.size < options.onePassTwistPixels) {
         const HalfTransform se = halfTransform(view, t.placement, TileHalf::kSouthEast, farPlane);
         WarpOptions o = options.warp;
+        o.opacity = t.opacity;
         o.onlyHalf.reset();
         o.northWestToClip =
             halfTransform(view, t.placement, TileHalf::kNorthWest, farPlane).tileToClip;
@@ -121,6 +114,7 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
              {far, far == TileHalf::kSouthEast ? TileHalf::kNorthWest : TileHalf::kSouthEast}) {
           const HalfTransform h = halfTransform(view, t.placement, half, farPlane);
           WarpOptions o = options.warp;
+          o.opacity = t.opacity;
           o.onlyHalf = half;
           o.northWestToClip.reset();
           ps.splats += warpLdi(*chosen[i], h.tileToClip, h.eyeInTile, target, o).splats;
@@ -169,7 +163,7 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
         continue;
       }
       if (n == 1) {
-        out.rgba[i] = packed(layers[0].rgba);
+        out.rgba[i] = packRgba8(layers[0].rgba);
         out.viewDepth[i] = frameDepthToDistance(layers[0].depth, farPlane);
         continue;
       }
@@ -181,7 +175,7 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
         const float* src = layers[k].rgba;
         for (int j = 0; j < 4; ++j) c[j] = src[j] + c[j] * (1.0f - src[3]);
       }
-      out.rgba[i] = packed(c);
+      out.rgba[i] = packRgba8(c);
       out.viewDepth[i] = frameDepthToDistance(layers[n - 1].depth, farPlane);
     }
   });

@@ -158,7 +158,7 @@ class Splatter {
     if (x0 >= mTarget.width || y0 >= mTarget.height || x0 + side <= 0 || y0 + side <= 0) return;
     ++stats.splats;
     const float depth = z * 0.5f + 0.5f;
-    const float a = float(p.rgba >> 24) * (1.0f / 255.0f);
+    const float a = float(p.rgba >> 24) * (mOptions.opacity / 255.0f);
     const float scale = a * (1.0f / 255.0f);
     const float rgb[3] = {float(p.rgba & 0xff) * scale, float(p.rgba >> 8 & 0xff) * scale,
                           float(p.rgba >> 16 & 0xff) * scale};
@@ -216,6 +216,11 @@ class Splatter {
 };
 
 }  // namespace
+
+uint32_t packRgba8(const float* c) {
+  const auto byte = [](float v) { return uint32_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+  return byte(c[0]) | byte(c[1]) << 8 | byte(c[2]) << 16 | byte(c[3]) << 24;
+}
 
 void WarpTarget::clear() {
   if (dirtyTop < dirtyBottom) {

@@ -25,6 +25,12 @@ double ldiRange(const FieldLayout& layout, const View& view, const FieldOptions&
   return layout.tileSize * view.pixelsPerRadian * options.rangeOversampling / coarsest;
 }
 
+double ldiOpacity(double distance, double range) {
+  const double start = range * (1.0 - kRangeFade);
+  const double t = std::clamp((distance - start) / (range - start), 0.0, 1.0);
+  return 1.0 - t * t * (3.0 - 2.0 * t);
+}
+
 int resolutionFor(const FieldLayout& layout, double screenPixels, double pixelsPerScreenPixel) {
   const double wanted = screenPixels * pixelsPerScreenPixel;
   for (int r = kLdiResolutions - 1; r >= 0; --r)
@@ -104,6 +110,8 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
       d.screenPixels = size * view.pixelsPerRadian / std::max(d.distance, 1e-3);
       d.resolution = resolutionFor(layout, d.screenPixels, options.pixelsPerScreenPixel);
       d.direction = directionFor(eye, middle);
+      d.opacity = float(ldiOpacity(d.distance, range));
+      if (d.opacity <= 0.0f) continue;
       draws.push_back(d);
     }
   }

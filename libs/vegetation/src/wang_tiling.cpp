@@ -86,4 +86,14 @@ bool tilingIsValid(const LaidTiling& t) {
   return true;
 }
 
+std::array<int, 9> contextAround(int prototile, uint64_t seed) {
+  for (uint64_t s = seed * 1000003ull;; ++s) {
+    const WangTiling t(3, 3, s);
+    if (t.at(1, 1) != prototile) continue;
+    std::array<int, 9> c;
+    for (int k = 0; k < 9; ++k) c[k] = t.at(uint32_t(k % 3), uint32_t(k / 3));
+    return c;
+  }
+}
+
 }  // namespace terralod::veg

@@ -44,7 +44,4 @@ class ContextScene {
   std::unique_ptr<Impl> mImpl;
 };
 
-/// A valid 3×3 tiling around `prototile` (deterministic for a seed).
-std::array<int, 9> contextAround(int prototile, uint64_t seed);
-
 }  // namespace terralod::veg

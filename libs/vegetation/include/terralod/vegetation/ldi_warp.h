@@ -43,6 +43,9 @@ struct WarpTarget {
   void clear();
 };
 
+/// A target pixel (4 floats, 0–1) as RGBA8, red in the low byte.
+uint32_t packRgba8(const float* rgba);
+
 enum class WarpOrder {
   kOcclusionCompatible,  ///< McMillan's sheets (the default)
   kRowMajor,             ///< rows from 0, layers front first: wrong where splats overlap (tests)
@@ -63,6 +66,8 @@ struct WarpOptions {
   /// the north-west half's (for tiles whose two planes differ by less than a pixel, where the
   /// separating plane's order changes nothing the depth test does not mend).
   std::optional<glm::mat4> northWestToClip;
+  /// Scales every depth pixel's alpha (a tile fading out).
+  float opacity = 1;
 };
 
 /// An LDI ready to warp: where each row's layers start (height + 1 offsets into pixels).

@@ -53,6 +53,14 @@ struct FieldOptions {
   double rangeOversampling = 2.0;
 };
 
+/// The far part of the LDI range, as a fraction of it, over which LDI tiles fade out and the
+/// directional textures (far_vegetation_layer.h) fade in: no tile leaves the picture at once.
+inline constexpr double kRangeFade = 0.2;
+
+/// How much of an LDI tile at `distance` is drawn: 1 until the fade begins, 0 at `range`
+/// (the textures' weight is the rest, smoothstep in between).
+double ldiOpacity(double distance, double range);
+
 /// One tile of a frame.
 struct TileDraw {
   uint32_t x = 0, y = 0;  ///< tile column and row
@@ -62,6 +70,7 @@ struct TileDraw {
   TileOnTerrain placement;
   double distance = 0;      ///< metres from the eye to the tile's centre
   double screenPixels = 0;  ///< the tile's width on screen
+  float opacity = 1;        ///< ldiOpacity(): fading out towards the range's end
 };
 
 struct FieldStats {

@@ -65,4 +65,8 @@ LaidTiling scanlineTiling(uint32_t width, uint32_t height, uint64_t seed);
 /// Whether every shared edge of a laid tiling matches (the tiling is valid).
 bool tilingIsValid(const LaidTiling& tiling);
 
+/// A valid 3×3 tiling around `prototile` (deterministic for a seed): index k is column k % 3
+/// (eastwards), row k / 3 (northwards).
+std::array<int, 9> contextAround(int prototile, uint64_t seed);
+
 }  // namespace terralod::veg
