@@ -19,6 +19,7 @@
 #include "terralod/render/gl_context.h"
 #include "terralod/render/terrain_scene.h"
 #include "terralod/verify/verifier.h"
+#include "vegetation_reference.h"
 
 namespace terralod::cli {
 namespace {
@@ -32,6 +33,7 @@ struct BenchCommand {
   std::string reportDir;
   int metricStride = 0;
   bool warmStart = false;
+  int referenceEvery = 10;  ///< --reference-every: frames between ray-traced comparisons
 };
 
 // The editor of bench --edit-script: the tileset's chunk set (its source read again, every
@@ -100,14 +102,25 @@ int runBench(const BenchCommand& b) {
     flightOptions.beforeFrame = [&editor](size_t frame, TerrainScene& s) {
       return editor->beforeFrame(frame, s);
     };
+  if (b.options.vegetationReference && !vegetation->painter)
+    return fail("--vegetation-reference needs --vegetation V.tlv");
+  std::unique_ptr<VegetationReference> reference;
+  if (b.options.vegetationReference) {
+    reference = std::make_unique<VegetationReference>(*vegetation, scene);
+    if (!b.reportDir.empty()) reference->keepPictures();
+  }
   if (vegetation->painter)
-    flightOptions.afterFrame = [&vegetation](size_t, FrameRecord& r) {
+    flightOptions.afterFrame = [&, every = size_t(b.referenceEvery)](
+                                   size_t i, const View& view, TerrainScene& s, FrameRecord& r) {
       const veg::VegetationFrameStats& v = vegetation->painter->lastFrame();
       r.vegetationMs = v.warp.warpMs;
-      r.compositeMs = vegetation->layer->times().compositeMs;
+      r.compositeMs = vegetation->layer->times().compositeMs +
+                      (vegetation->far ? vegetation->far->lastMs() : 0.0);
       r.splats = v.warp.splats;
       r.ldiTiles = v.warp.tiles;
       r.vegetationResidentMB = double(v.residentBytes) / double(1 << 20);
+      if (!reference || i % every != 0) return Status{};
+      return reference->measure(view, s, *style, *selection, r);
     };
   BenchRunInfo info;
   info.tileset = b.options.tileset;
@@ -123,9 +136,12 @@ int runBench(const BenchCommand& b) {
   j["warm_start_ms"] =
       std::isnan(flight->warmStartMs) ? nlohmann::json() : nlohmann::json(flight->warmStartMs);
   if (editor) editor->addFigures(j);
-  if (!b.reportDir.empty())
+  if (!b.reportDir.empty()) {
     if (Status s = writeBenchReport(b.reportDir, *flight, j, commandLine()); !s)
       return fail(s.error().message);
+    if (reference)
+      if (Status s = reference->writePictures(b.reportDir); !s) return fail(s.error().message);
+  }
   const std::string text = j.dump(2) + "\n";
   if (Status s = output->write(text); !s) return fail(s.error().message);
   if (Status s = output->commit(); !s) return fail(s.error().message);
@@ -150,6 +166,10 @@ int runBench(const BenchCommand& b) {
     std::printf("; vegetation warp p50 %.1f ms, composite p50 %.1f ms, %.0f LDI tiles p50",
                 j["vegetation_ms_p50"].get<double>(), j["composite_ms_p50"].get<double>(),
                 j["ldi_tiles_p50"].get<double>());
+  if (j.contains("vegetation_ssim_mean"))
+    std::printf("; vegetation SSIM mean %.3f (min %.3f), coverage error %.2f%%",
+                j["vegetation_ssim_mean"].get<double>(), j["vegetation_ssim_min"].get<double>(),
+                100.0 * j["vegetation_coverage_error"].get<double>());
   if (j.contains("material_pop_px"))
     std::printf("; material pop %.0f px", j["material_pop_px"].get<double>());
   std::printf("\nterralod: wrote %s\n", b.jsonPath.c_str());
@@ -187,6 +207,10 @@ void addBenchCommand(CLI::App& root, Runner& run) {
                 "Load the first camera's chunks before the first frame (as behind a viewer's "
                 "loading screen; its time is warm_start_ms), so the flight measures streaming "
                 "from a settled view rather than from the roots alone");
+  cmd->add_option("--reference-every", b->referenceEvery,
+                  "With --vegetation-reference: compare every k-th frame (the first included) "
+                  "with its ray-traced truth (default 10)")
+      ->check(wholeNumber<int>(1));
   cmd->add_option("--json", b->jsonPath, "Where to write the figures (JSON)")->required();
   cmd->add_option("--report", b->reportDir,
                   "Also write a report to this directory: report.md with the figures, plots of "

@@ -12,6 +12,7 @@
 #include "terralod/render/framebuffer.h"
 #include "terralod/render/gl_context.h"
 #include "terralod/render/terrain_scene.h"
+#include "vegetation_reference.h"
 
 namespace terralod::cli {
 namespace {
@@ -54,6 +55,14 @@ int runRender(const RenderCommand& r) {
   style->stitch = stitchFor(r.options, (*scene)->tileset().header());
   auto vegetation = addSceneVegetation(r.options, **scene);
   if (!vegetation) return fail(vegetation.error().message);
+  std::unique_ptr<VegetationReference> reference;
+  if (r.options.vegetationReference) {
+    if (!vegetation->painter) return fail("--vegetation-reference needs --vegetation V.tlv");
+    // The plants ray traced instead of the LDIs warped (and nothing else beyond their range).
+    reference = std::make_unique<VegetationReference>(*vegetation, **scene);
+    vegetation->layer->setPainter(reference->painter());
+    if (vegetation->far) vegetation->far->setEnabled(false);
+  }
   auto cameras = camerasFor(r.options, (*scene)->tree());
   if (!cameras) return fail(cameras.error().message);
   if (cameras->empty()) return fail("the flight has no frames");
@@ -92,7 +101,7 @@ int runRender(const RenderCommand& r) {
                   path.c_str(), frame->selection.selected,
                   (unsigned long long)frame->draw.triangles, frame->draw.drawCalls,
                   frame->selectMicroseconds);
-    if (!flight && vegetation->painter) {
+    if (!flight && vegetation->painter && !reference) {
       const veg::VegetationFrameStats& v = vegetation->painter->lastFrame();
       std::printf(
           "terralod: vegetation: %u tiles (%u excluded by --vegetation-where), %llu splats, "

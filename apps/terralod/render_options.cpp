@@ -87,6 +87,10 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--no-vegetation-textures", o.noVegetationTextures,
              "Draw vegetation as LDIs alone: nothing beyond their range (shows where the "
              "directional textures take over)");
+  c.add_flag("--vegetation-reference", o.vegetationReference,
+             "With --vegetation: ray trace the plants themselves (Embree) as ground truth: "
+             "render draws that picture; bench compares its frames with it "
+             "(vegetation_ssim_mean, vegetation_coverage_error)");
   c.add_option("--flight", o.flightFile, "Fly the cameras of a flight file (JSON)");
   c.add_flag("--auto-flight", o.autoFlight,
              "Fly the default flight: a low pass across the terrain, then a climb");

@@ -40,6 +40,8 @@ struct RenderOptions {
   std::string vegetation;             ///< --vegetation V.tlv (a path or URL); empty: none
   std::string vegetationWhere;        ///< --vegetation-where RULES
   bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
+  bool vegetationReference = false;   ///< --vegetation-reference: ray traced (render), compared
+                                      ///< with the warp (bench)
 };
 
 /// The share of --cache-mb the vegetation's LDIs and heights get (0 without --vegetation);

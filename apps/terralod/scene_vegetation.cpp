@@ -42,11 +42,13 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
     out.far =
         static_cast<veg::FarVegetationLayer*>(&scene.renderer().addLayer(std::move(far).value()));
   }
-  auto layer = PictureLayer::create([p](const View& view, const LayerPicture& picture) {
-    p->paint(view, {picture.width, picture.height, picture.rgba, picture.viewDepth});
+  out.where = o.field.where;
+  out.warpPainter = [p](const FrameContext& frame, const LayerPicture& picture) {
+    p->paint(frame.view, {picture.width, picture.height, picture.rgba, picture.viewDepth});
     const veg::FrameWarpStats& w = p->lastFrame().warp;
     return PaintedRows{w.top, w.bottom};
-  });
+  };
+  auto layer = PictureLayer::create(out.warpPainter);
   if (!layer) return layer.error();
   out.layer = static_cast<PictureLayer*>(&scene.renderer().addLayer(std::move(layer).value()));
   return out;

@@ -18,6 +18,8 @@ struct SceneVegetation {
   std::unique_ptr<veg::VegetationPainter> painter;  ///< none without --vegetation
   PictureLayer* layer = nullptr;                    ///< owned by the scene's renderer
   veg::FarVegetationLayer* far = nullptr;  ///< the directional textures (none if switched off)
+  PictureLayer::Painter warpPainter;       ///< the layer's painter: the LDI warp
+  veg::VegetationWhere where;              ///< --vegetation-where
 };
 
 /// Opens --vegetation and adds its layer to `scene` (which must outlive the result); nothing

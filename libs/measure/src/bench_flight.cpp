@@ -242,7 +242,6 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.coarser = frame->selection.coarserThanWanted != 0 || r.easing;
     r.waitedOnIo = frame->waitedOnIo;
     r.eye = view->camera.eye;
-    if (options.afterFrame) options.afterFrame(i, r);
     if (nextKept < result.keptFrameIndices.size() && result.keptFrameIndices[nextKept] == i) {
       result.keptImages.push_back(target->readPixels());
       ++nextKept;
@@ -250,6 +249,8 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     // Like the error bound, the texel bound holds where the frame has what it wants.
     if (options.style.textures && !r.coarser)
       addTexelDensity(*view, scene.tree(), scene.store(), scene.selected(), result.texels);
+    if (options.afterFrame)
+      if (Status s = options.afterFrame(i, *view, scene, r); !s) return frameError(i, s.error());
     if (quality)
       if (Status s = quality->measure(i, *view, r); !s) return frameError(i, s.error());
     result.frames.push_back(r);

@@ -51,6 +51,23 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
         percentile(column(f, [](const FrameRecord& r) { return r.ldiTiles; }), 0.5);
     j["vegetation_resident_mb"] =
         percentile(column(f, [](const FrameRecord& r) { return r.vegetationResidentMB; }), 1.0);
+    const auto ssim = column(f, [](const FrameRecord& r) { return r.vegetationSsim; });
+    const auto coverage = column(f, [](const FrameRecord& r) { return r.vegetationCoverageError; });
+    size_t measured = 0;
+    double ssimSum = 0, coverageSum = 0;
+    for (size_t k = 0; k < ssim.size(); ++k)
+      if (!std::isnan(ssim[k])) {
+        ++measured;
+        ssimSum += ssim[k];
+        coverageSum += coverage[k];
+      }
+    if (measured > 0) {
+      j["vegetation_reference_frames"] = measured;
+      j["vegetation_ssim_mean"] = ssimSum / double(measured);
+      j["vegetation_ssim_min"] = percentile(ssim, 0.0);
+      j["vegetation_coverage_error"] = coverageSum / double(measured);
+      j["vegetation_coverage_error_max"] = percentile(coverage, 1.0);
+    }
   }
   // VIPM tilesets: each chunk's decode and reconstruction on its loader thread.
   if (scene.tileset().header().meshKind == MeshKind::kVipm) {

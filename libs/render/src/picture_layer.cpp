@@ -88,7 +88,7 @@ uint32_t PictureLayer::draw(const FrameContext& frame) {
   mRgba.resize(pixels);
   mDepth.resize(pixels);
   auto start = std::chrono::steady_clock::now();
-  const PaintedRows painted = mPainter(frame.view, LayerPicture{width, height, mRgba, mDepth});
+  const PaintedRows painted = mPainter(frame, LayerPicture{width, height, mRgba, mDepth});
   mTimes.paintMs = msSince(start);
   const int top = std::clamp(painted.top, 0, height);
   const int rows = std::clamp(painted.bottom, top, height) - top;

@@ -12,6 +12,7 @@
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
 
+#include "embree_shading.h"
 #include "random_stream.h"
 #include "terralod/vegetation/ldi_baker.h"
 #include "terralod/vegetation/tile_placement.h"
@@ -19,24 +20,6 @@
 
 namespace terralod::veg {
 namespace {
-
-float srgbToLinear(uint8_t c) {
-  const float v = float(c) / 255.0f;
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
-uint8_t linearToSrgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  const float s = v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-  return uint8_t(std::lround(s * 255.0f));
-}
-
-void onEmbreeError(void*, RTCError code, const char* message) {
-  // Only misuse or memory exhaustion reach here: nothing a user's data can cause.
-  std::fprintf(stderr, "terralod: error: Embree: %s (code %d)\n", message ? message : "?",
-               int(code));
-  std::abort();
-}
 
 // One surface a ray met: where, what colour, which way it faces (towards the viewer).
 struct Hit {

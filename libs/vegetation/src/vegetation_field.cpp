@@ -122,4 +122,45 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
   return draws;
 }
 
+std::vector<TileDraw> tilesWithin(const FieldLayout& layout, const View& view,
+                                  CornerHeights& heights, const VegetationWhere& where,
+                                  double maxDistance, double margin) {
+  std::vector<TileDraw> tiles;
+  const glm::dvec3 eye = view.camera.eye;
+  const double size = layout.tileSize;
+  const auto clampTile = [](double v, uint32_t count) {
+    return std::clamp(std::floor(v), 0.0, double(count) - 1);
+  };
+  const double x0 = clampTile((eye.x - maxDistance) / size, layout.tiling.width());
+  const double x1 = clampTile((eye.x + maxDistance) / size, layout.tiling.width());
+  const double y0 = clampTile((eye.y - maxDistance) / size, layout.tiling.height());
+  const double y1 = clampTile((eye.y + maxDistance) / size, layout.tiling.height());
+  for (double ty = y0; ty <= y1; ++ty)
+    for (double tx = x0; tx <= x1; ++tx) {
+      const glm::dvec2 centre{(tx + 0.5) * size, (ty + 0.5) * size};
+      if (std::hypot(centre.x - eye.x, centre.y - eye.y) > maxDistance) continue;
+      const Box grown{{tx * size - margin, ty * size - margin, -1e9},
+                      {(tx + 1) * size + margin, (ty + 1) * size + margin, 1e9}};
+      if (!boxInFrustum(view, grown)) continue;
+      const uint32_t x = uint32_t(tx), y = uint32_t(ty);
+      const auto corners = heights.tileCorners(x, y);
+      if (!corners) continue;
+      TileDraw d;
+      d.x = x;
+      d.y = y;
+      d.placement = {glm::vec2(float(tx * size), float(ty * size)), float(size), *corners};
+      const auto [low, high] = std::minmax_element(corners->begin(), corners->end());
+      const Box box{{tx * size - margin, ty * size - margin, double(*low) - margin},
+                    {(tx + 1) * size + margin, (ty + 1) * size + margin,
+                     double(*high) + layout.tileHeight + margin}};
+      if (!boxInFrustum(view, box)) continue;
+      const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
+      if (!where.allows(ground, slopeDegrees(d.placement), {})) continue;
+      d.prototile = layout.tiling.at(x, y);
+      d.distance = glm::length(glm::dvec3(centre, ground) - eye);
+      tiles.push_back(d);
+    }
+  return tiles;
+}
+
 }  // namespace terralod::veg

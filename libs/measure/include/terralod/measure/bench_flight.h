@@ -65,6 +65,11 @@ struct FrameRecord {
   uint64_t splats = 0;              ///< splats drawn
   uint32_t ldiTiles = 0;            ///< tiles drawn as LDIs
   double vegetationResidentMB = 0;  ///< decoded LDIs and corner heights
+  /// With --vegetation-reference, on the frames it measures: SSIM of the frame against the
+  /// same frame with the vegetation ray traced, and the share of pixels where one shows a
+  /// plant and the other not.
+  double vegetationSsim = NAN;
+  double vegetationCoverageError = NAN;
 };
 
 /// Whether the flight starts from the roots alone or with the first view loaded.
@@ -84,8 +89,10 @@ struct BenchFlightOptions {
   /// flight); a failure ends the flight with it. Empty: nothing.
   std::function<Status(size_t frame, TerrainScene& scene)> beforeFrame;
   /// Called after each frame is drawn and timed, before its quality figures, to add the
-  /// figures of what the caller drew into the frame (a composited layer's). Empty: nothing.
-  std::function<void(size_t frame, FrameRecord& record)> afterFrame;
+  /// figures of what the caller drew into the frame (a composited layer's), which it may
+  /// measure by drawing the view again. Empty: nothing.
+  std::function<Status(size_t frame, const View& view, TerrainScene& scene, FrameRecord& record)>
+      afterFrame;
 };
 
 struct BenchFlightResult {

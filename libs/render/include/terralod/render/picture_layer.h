@@ -12,6 +12,7 @@
 
 #include "terralod/core/result.h"
 #include "terralod/render/composited_layer.h"
+#include "terralod/render/frame_context.h"
 #include "terralod/runtime/view.h"
 
 namespace terralod {
@@ -37,7 +38,10 @@ struct PictureLayerTimes {
 
 class PictureLayer final : public CompositedLayer {
  public:
-  using Painter = std::function<PaintedRows(const View& view, const LayerPicture& picture)>;
+  /// Paints the frame's picture; the terrain is drawn (frame.depth holds its depth when
+  /// readable).
+  using Painter =
+      std::function<PaintedRows(const FrameContext& frame, const LayerPicture& picture)>;
   /// Compiles the compositing shader.
   static Result<std::unique_ptr<PictureLayer>> create(Painter painter);
   ~PictureLayer() override;
@@ -47,6 +51,8 @@ class PictureLayer final : public CompositedLayer {
   const PictureLayerTimes& times() const { return mTimes; }
   /// Switches the layer off (draws nothing, paints nothing) or on again.
   void setEnabled(bool enabled) { mEnabled = enabled; }
+  /// Paints with another painter from the next frame on.
+  void setPainter(Painter painter) { mPainter = std::move(painter); }
 
  private:
   struct Gl;

@@ -13,6 +13,7 @@
 #include "terralod/runtime/view.h"
 #include "terralod/vegetation/ldi.h"
 #include "terralod/vegetation/ldi_warp.h"
+#include "terralod/vegetation/picture_spans.h"
 #include "terralod/vegetation/vegetation_field.h"
 
 namespace terralod::veg {
@@ -28,15 +29,6 @@ class LdiSource {
   virtual const WarpLdi* ldi(int prototile, int resolution, int direction) = 0;
   /// Its depth pixels (for balancing threads) without reading it.
   virtual uint64_t depthPixels(int prototile, int resolution, int direction) const = 0;
-};
-
-/// The frame's picture: premultiplied RGBA8 (red in the low byte) and each pixel's distance
-/// along the view axis in metres (+infinity where nothing was drawn), row 0 at the top. Only
-/// the rows FrameWarpStats::top..bottom are written: the rest hold nothing.
-struct PictureSpans {
-  int width = 0, height = 0;
-  std::span<uint32_t> rgba;
-  std::span<float> viewDepth;
 };
 
 struct FrameWarpOptions {

@@ -96,4 +96,10 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
                                   CornerHeights& heights, const FieldOptions& options,
                                   FieldStats* stats = nullptr);
 
+/// Every tile the rules allow within `maxDistance` of the eye (tile centre) whose box, grown by
+/// `margin` metres, meets the frustum; no LOD, no order (the ground truth traces them all).
+std::vector<TileDraw> tilesWithin(const FieldLayout& layout, const View& view,
+                                  CornerHeights& heights, const VegetationWhere& where,
+                                  double maxDistance, double margin);
+
 }  // namespace terralod::veg
