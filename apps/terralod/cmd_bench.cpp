@@ -109,6 +109,7 @@ int runBench(const BenchCommand& b) {
     reference = std::make_unique<VegetationReference>(*vegetation, scene);
     if (!b.reportDir.empty()) reference->keepPictures();
   }
+  std::optional<Framebuffer> popTarget;
   if (vegetation->painter)
     flightOptions.afterFrame = [&, every = size_t(b.referenceEvery)](
                                    size_t i, const View& view, TerrainScene& s, FrameRecord& r) {
@@ -119,6 +120,9 @@ int runBench(const BenchCommand& b) {
       r.splats = v.warp.splats;
       r.ldiTiles = v.warp.tiles;
       r.vegetationResidentMB = double(v.residentBytes) / double(1 << 20);
+      auto pop = vegetationPop(*vegetation, s, view, *style, *selection, popTarget);
+      if (!pop) return Status{pop.error()};
+      r.vegetationPop = *pop;
       if (!reference || i % every != 0) return Status{};
       return reference->measure(view, s, *style, *selection, r);
     };
@@ -166,6 +170,8 @@ int runBench(const BenchCommand& b) {
     std::printf("; vegetation warp p50 %.1f ms, composite p50 %.1f ms, %.0f LDI tiles p50",
                 j["vegetation_ms_p50"].get<double>(), j["composite_ms_p50"].get<double>(),
                 j["ldi_tiles_p50"].get<double>());
+  if (j.contains("vegetation_pop_mean"))
+    std::printf(", vegetation pop %.3f/255", j["vegetation_pop_mean"].get<double>());
   if (j.contains("vegetation_ssim_mean"))
     std::printf("; vegetation SSIM mean %.3f (min %.3f), coverage error %.2f%%",
                 j["vegetation_ssim_mean"].get<double>(), j["vegetation_ssim_min"].get<double>(),

@@ -87,6 +87,9 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_flag("--no-vegetation-textures", o.noVegetationTextures,
              "Draw vegetation as LDIs alone: nothing beyond their range (shows where the "
              "directional textures take over)");
+  c.add_flag("--no-vegetation-blend", o.noVegetationBlend,
+             "Switch a vegetation tile's LDI at once when its resolution or direction changes "
+             "instead of blending the two (shows the pops blending hides)");
   c.add_flag("--vegetation-reference", o.vegetationReference,
              "With --vegetation: ray trace the plants themselves (Embree) as ground truth: "
              "render draws that picture; bench compares its frames with it "

@@ -40,6 +40,7 @@ struct RenderOptions {
   std::string vegetation;             ///< --vegetation V.tlv (a path or URL); empty: none
   std::string vegetationWhere;        ///< --vegetation-where RULES
   bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
+  bool noVegetationBlend = false;     ///< --no-vegetation-blend: LDIs switch at once (pops)
   bool vegetationReference = false;   ///< --vegetation-reference: ray traced (render), compared
                                       ///< with the warp (bench)
 };

@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <limits>
 
 #include "terralod/core/parallel.h"
+#include "terralod/measure/texture_metrics.h"
 
 namespace terralod::cli {
 
@@ -23,6 +25,7 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
     o.field.where = *where;
   }
   o.warp.threads = std::min(hardwareThreads(), 16u);
+  o.field.blend = !options.noVegetationBlend;
   const double budget = options.cacheMB * vegetationBudgetShare(options) * 1024.0 * 1024.0;
   o.heightBudgetBytes = uint64_t(budget / 16);
   o.ldiBudgetBytes = uint64_t(budget) - o.heightBudgetBytes;
@@ -52,6 +55,24 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
   if (!layer) return layer.error();
   out.layer = static_cast<PictureLayer*>(&scene.renderer().addLayer(std::move(layer).value()));
   return out;
+}
+
+Result<double> vegetationPop(SceneVegetation& vegetation, TerrainScene& scene, const View& view,
+                             const TerrainStyle& style, const SelectionOptions& selection,
+                             std::optional<Framebuffer>& target) {
+  veg::VegetationPainter& painter = *vegetation.painter;
+  if (!painter.choicesChanged()) return std::numeric_limits<double>::quiet_NaN();
+  if (Status s = bindFramebufferOfSize(target, view.camera.width, view.camera.height); !s)
+    return s.error();
+  painter.setMode(veg::PaintMode::kPreviousChoices);
+  scene.drawChunks(view, scene.selected(), style, selection);
+  const Image before = target->readPixels();
+  painter.setMode(veg::PaintMode::kRepaint);
+  scene.drawChunks(view, scene.selected(), style, selection);
+  const Image now = target->readPixels();
+  painter.setMode(veg::PaintMode::kFrame);
+  const double pop = meanAbsoluteDifference(before, now);
+  return pop;
 }
 
 }  // namespace terralod::cli

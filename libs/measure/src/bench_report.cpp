@@ -73,18 +73,22 @@ std::string framesCsv(const BenchFlightResult& flight) {
   std::string csv =
       "frame,frame_ms,select_us,upload_ms,triangles,draws,chunks,uploads,evictions,resident_mb,"
       "coarser,waited_on_io,eye_x,eye_y,eye_z,error_px,pop_px,image_pop,holes,easing,culled_chunks,"
-      "culled_triangles\n";
+      "culled_triangles,vegetation_ms,composite_ms,splats,ldi_tiles,vegetation_pop,"
+      "vegetation_ssim,vegetation_coverage_error\n";
   for (size_t i = 0; i < flight.frames.size(); ++i) {
     const FrameRecord& r = flight.frames[i];
-    char line[512];
+    char line[768];
     std::snprintf(line, sizeof line,
                   "%zu,%.4f,%.2f,%.4f,%" PRIu64
-                  ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64 ",%d,%u,%" PRIu64 "\n",
+                  ",%u,%u,%u,%u,%.3f,%d,%d,%.3f,%.3f,%.3f,%s,%s,%s,%" PRIu64 ",%d,%u,%" PRIu64
+                  ",%s,%s,%" PRIu64 ",%u,%s,%s,%s\n",
                   i, r.frameMs, r.selectUs, r.uploadMs, r.triangles, r.draws, r.chunks, r.uploads,
                   r.evictions, r.residentMB, r.coarser ? 1 : 0, r.waitedOnIo ? 1 : 0, r.eye.x,
                   r.eye.y, r.eye.z, number(r.errorPx).c_str(), number(r.popPx).c_str(),
                   number(r.imagePop).c_str(), r.holes, r.easing ? 1 : 0, r.culledChunks,
-                  r.culledTriangles);
+                  r.culledTriangles, number(r.vegetationMs).c_str(), number(r.compositeMs).c_str(),
+                  r.splats, r.ldiTiles, number(r.vegetationPop).c_str(),
+                  number(r.vegetationSsim).c_str(), number(r.vegetationCoverageError).c_str());
     csv += line;
   }
   return csv;

@@ -51,6 +51,19 @@ nlohmann::json summarizeBench(const TerrainScene& scene, const BenchFlightResult
         percentile(column(f, [](const FrameRecord& r) { return r.ldiTiles; }), 0.5);
     j["vegetation_resident_mb"] =
         percentile(column(f, [](const FrameRecord& r) { return r.vegetationResidentMB; }), 1.0);
+    // Pops from the LDI choices alone, as image_pop_mean counts the terrain's: the largest
+    // per-frame mean, and the mean over the frames that chose differently.
+    const auto pops = column(f, [](const FrameRecord& r) { return r.vegetationPop; });
+    double popSum = 0;
+    size_t popFrames = 0;
+    for (double p : pops)
+      if (!std::isnan(p)) {
+        popSum += p;
+        ++popFrames;
+      }
+    j["vegetation_pop_mean"] = percentile(pops, 1.0);
+    j["vegetation_pop_mean_avg"] = popFrames ? popSum / double(popFrames) : 0.0;
+    j["vegetation_pop_frames"] = popFrames;
     const auto ssim = column(f, [](const FrameRecord& r) { return r.vegetationSsim; });
     const auto coverage = column(f, [](const FrameRecord& r) { return r.vegetationCoverageError; });
     size_t measured = 0;

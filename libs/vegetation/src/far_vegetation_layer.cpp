@@ -23,14 +23,16 @@ namespace {
 constexpr int kWindowTiles = 2048;
 
 constexpr const char* kVertex = R"(#version 450 core
+uniform float uPassDepth;  // window depth the triangle lies at
 void main() {
   vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+  gl_Position = vec4(p * 2.0 - 1.0, uPassDepth, 1.0);
 }
 )";
 
 // After the version line, the depth sampler's declaration and the aerial perspective.
 constexpr const char* kFragment = R"(
+layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2DArray uTextures;
 layout(binding = 1) uniform usampler2D uTiles;
 uniform mat4 uInverseViewProjection;  // eye-relative
@@ -60,21 +62,35 @@ vec4 sampleTexture(int prototile, int direction, int elevation, vec2 st, vec2 gx
   return textureGrad(uTextures, vec3(st, layer), gx, gy);
 }
 
+// The ground point of a pixel, from the eye.
+vec3 groundAt(ivec2 pixel, float depth) {
+  vec2 ndc = (vec2(pixel) + 0.5 - vec2(uOrigin)) / vec2(uSize) * 2.0 - 1.0;
+  vec4 q = uInverseViewProjection * vec4(ndc, depth, 1.0);
+  return q.xyz / q.w;
+}
+
 void main() {
-  float d = terrainDepth(ivec2(gl_FragCoord.xy));
-  vec2 ndc = (gl_FragCoord.xy - vec2(uOrigin)) / vec2(uSize) * 2.0 - 1.0;
-  vec4 q = uInverseViewProjection * vec4(ndc, max(d, 1e-12), 1.0);
-  vec3 p = q.xyz / q.w;  // the ground point, from the eye
-  // Derivatives before any pixel leaves: the ground's slope and the texture's footprint.
-  vec3 n = cross(dFdx(p), dFdy(p));
-  vec2 g = (uEyeInWindow + p.xy) / uTileSize;  // in tiles
-  vec2 gx = dFdx(g), gy = dFdy(g);
+  ivec2 pixel = ivec2(gl_FragCoord.xy);
+  float d = terrainDepth(pixel);
   if (d <= 0.0) discard;  // sky
+  vec3 p = groundAt(pixel, d);  // the ground point, from the eye
   float distance = length(p);
   float weight = smoothstep(uFade.x, uFade.y, distance);
   if (weight <= 0.0) discard;
+  // The ground's slope and the texture's footprint from the neighbouring pixels' ground
+  // points (not derivatives: pixels around may have left).
+  ivec2 across = ivec2(pixel.x + 1 < uOrigin.x + uSize.x ? 1 : -1, 0);
+  ivec2 up = ivec2(0, pixel.y + 1 < uOrigin.y + uSize.y ? 1 : -1);
+  float dx = terrainDepth(pixel + across), dy = terrainDepth(pixel + up);
+  vec3 px = dx > 0.0 ? groundAt(pixel + across, dx) - p : vec3(0.0);
+  vec3 py = dy > 0.0 ? groundAt(pixel + up, dy) - p : vec3(0.0);
+  px *= float(across.x);
+  py *= float(up.y);
+  vec3 n = cross(px, py);
+  vec2 g = (uEyeInWindow + p.xy) / uTileSize;  // in tiles
+  vec2 gx = px.xy / uTileSize, gy = py.xy / uTileSize;
   float height = uEyeHeight + p.z;
-  float slope = degrees(acos(clamp(abs(normalize(n).z), 0.0, 1.0)));
+  float slope = length(n) > 0.0 ? degrees(acos(clamp(abs(normalize(n).z), 0.0, 1.0))) : 0.0;
   if (!(height < uHeightRule.x && height > uHeightRule.y && slope < uSlopeRule.x &&
         slope > uSlopeRule.y))
     discard;
@@ -241,13 +257,17 @@ uint32_t FarVegetationLayer::draw(const FrameContext& frame) {
   glBindTextureUnit(1, mGl->tiles);
   glBindTextureUnit(2, frame.depth.texture);
   glBindVertexArray(mGl->vertexArray);
-  // Over the ground it reads, not tested against it; premultiplied `over`.
-  glDisable(GL_DEPTH_TEST);
+  // The triangle lies where the fade begins (along the view axis, a little nearer for the
+  // image's corners, whose rays are longer): the hook's depth test (GEQUAL, reversed-Z)
+  // skips every pixel whose terrain is nearer before its shader runs. Premultiplied `over`.
+  const double cornerStretch =
+      std::sqrt(1.0 + std::pow(frame.view.tanHalfWidth, 2) + std::pow(frame.view.tanHalfHeight, 2));
+  const double passDistance = range * (1.0 - kRangeFade) / cornerStretch;
+  glProgramUniform1f(id, p.uniformLocation("uPassDepth"), float(kNearPlane / passDistance));
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDisable(GL_BLEND);
-  glEnable(GL_DEPTH_TEST);
   for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
   glFinish();
   mLastMs = msSince(start);

@@ -70,23 +70,35 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
                                  const FrameWarpOptions& options, const PictureSpans& out) {
   FrameWarpStats stats;
   const auto start = std::chrono::steady_clock::now();
-  // The LDIs first, on this thread (the source need not be thread-safe).
+  // The LDIs first, on this thread (the source need not be thread-safe): one job per LDI a
+  // tile draws, in the tiles' order.
   ldis.beginFrame();
-  std::vector<const WarpLdi*> chosen(tiles.size());
-  std::vector<uint64_t> work(tiles.size());
+  struct Job {
+    size_t tile;
+    const WarpLdi* ldi;
+    float opacity;
+  };
+  std::vector<Job> jobs;
+  std::vector<uint64_t> work;
+  std::vector<bool> missing(tiles.size(), false);
   double farthest = 1.0;
   for (size_t i = 0; i < tiles.size(); ++i) {
     const TileDraw& t = tiles[i];
-    chosen[i] = ldis.ldi(t.prototile, t.resolution, t.direction);
-    if (!chosen[i]) {
-      ++stats.missingLdis;
-      continue;
+    for (int k = 0; k < t.ldiCount; ++k) {
+      const TileLdi& l = t.ldis[size_t(k)];
+      const WarpLdi* ldi = ldis.ldi(t.prototile, l.resolution, l.direction);
+      if (!ldi) {
+        missing[i] = true;
+        continue;
+      }
+      jobs.push_back({i, ldi, l.opacity});
+      work.push_back(ldis.depthPixels(t.prototile, l.resolution, l.direction));
     }
-    work[i] = ldis.depthPixels(t.prototile, t.resolution, t.direction);
     farthest = std::max(farthest, t.distance + 2.0 * double(t.placement.size));
   }
+  for (bool m : missing) stats.missingLdis += m;
   const double farPlane = 2.0 * farthest;
-  const unsigned parts = std::max(1u, std::min<unsigned>(options.threads, unsigned(tiles.size())));
+  const unsigned parts = std::max(1u, std::min<unsigned>(options.threads, unsigned(jobs.size())));
   const std::vector<size_t> runs = balancedRuns(work, parts);
   if (mTargets.size() < parts) mTargets.resize(parts, WarpTarget(0, 0));
   std::vector<FrameWarpStats> partStats(parts);
@@ -94,38 +106,39 @@ FrameWarpStats FrameWarper::warp(std::span<const TileDraw> tiles, LdiSource& ldi
     WarpTarget& target = mTargets[part];
     clearTarget(target, out.width, out.height);
     FrameWarpStats& ps = partStats[part];
-    for (size_t i = runs[part]; i < runs[part + 1]; ++i) {
-      if (!chosen[i]) continue;
-      const TileDraw& t = tiles[i];
+    for (size_t j = runs[part]; j < runs[part + 1]; ++j) {
+      const Job& job = jobs[j];
+      const TileDraw& t = tiles[job.tile];
+      WarpOptions o = options.warp;
+      o.opacity = job.opacity;
       const auto& c = t.placement.heights;  // SW, SE, NE, NW
       const double twist = std::abs(double(c[1]) + c[3] - c[0] - c[2]);
       if (twist * t.screenPixels / t.placement.size < options.onePassTwistPixels) {
         const HalfTransform se = halfTransform(view, t.placement, TileHalf::kSouthEast, farPlane);
-        WarpOptions o = options.warp;
-        o.opacity = t.opacity;
         o.onlyHalf.reset();
         o.northWestToClip =
             halfTransform(view, t.placement, TileHalf::kNorthWest, farPlane).tileToClip;
-        ps.splats += warpLdi(*chosen[i], se.tileToClip, se.eyeInTile, target, o).splats;
+        ps.splats += warpLdi(*job.ldi, se.tileToClip, se.eyeInTile, target, o).splats;
         ++ps.onePassTiles;
       } else {
         const TileHalf far = farHalf(t.placement, glm::vec3(view.camera.eye));
         for (TileHalf half :
              {far, far == TileHalf::kSouthEast ? TileHalf::kNorthWest : TileHalf::kSouthEast}) {
           const HalfTransform h = halfTransform(view, t.placement, half, farPlane);
-          WarpOptions o = options.warp;
-          o.opacity = t.opacity;
           o.onlyHalf = half;
           o.northWestToClip.reset();
-          ps.splats += warpLdi(*chosen[i], h.tileToClip, h.eyeInTile, target, o).splats;
+          ps.splats += warpLdi(*job.ldi, h.tileToClip, h.eyeInTile, target, o).splats;
         }
       }
-      ps.depthPixels += work[i];
-      ++ps.tiles;
+      ps.depthPixels += work[j];
+      ++ps.ldis;
+      // A tile counts once: in the part that draws its first LDI.
+      if (j == 0 || jobs[j - 1].tile != job.tile) ++ps.tiles;
     }
   });
   for (const FrameWarpStats& ps : partStats) {
     stats.tiles += ps.tiles;
+    stats.ldis += ps.ldis;
     stats.onePassTiles += ps.onePassTiles;
     stats.splats += ps.splats;
     stats.depthPixels += ps.depthPixels;

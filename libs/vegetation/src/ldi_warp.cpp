@@ -162,6 +162,10 @@ class Splatter {
     const float scale = a * (1.0f / 255.0f);
     const float rgb[3] = {float(p.rgba & 0xff) * scale, float(p.rgba >> 8 & 0xff) * scale,
                           float(p.rgba >> 16 & 0xff) * scale};
+    // Only what mostly covers its pixel hides what lies behind: a faint splat (a fading
+    // LDI's, a surface's ragged edge) written into the depth would hide the solid surface a
+    // little behind it.
+    const bool writesDepth = mOptions.depthTest && a >= 0.5f;
     const int yBegin = std::max(0, y0), yEnd = std::min(mTarget.height, y0 + side);
     const int xBegin = std::max(0, x0), xEnd = std::min(mTarget.width, x0 + side);
     mTarget.dirtyTop = std::min(mTarget.dirtyTop, yBegin);
@@ -173,7 +177,7 @@ class Splatter {
         float* dst = &mTarget.rgba[4 * i];
         for (int k = 0; k < 3; ++k) dst[k] = rgb[k] + dst[k] * (1 - a);
         dst[3] = a + dst[3] * (1 - a);
-        if (mOptions.depthTest) mTarget.depth[i] = depth;
+        if (writesDepth) mTarget.depth[i] = depth;
       }
   }
 

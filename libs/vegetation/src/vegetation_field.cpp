@@ -38,11 +38,67 @@ int resolutionFor(const FieldLayout& layout, double screenPixels, double pixelsP
   return 0;
 }
 
-int directionFor(const glm::dvec3& eye, const glm::dvec3& centre) {
-  // Azimuth clockwise from north of the line of sight; direction d looks along 45°·d.
-  const double azimuth = std::atan2(centre.x - eye.x, centre.y - eye.y);
-  const int d = int(std::lround(azimuth / (std::numbers::pi / 4)));
+namespace {
+
+// Azimuth clockwise from north of the line of sight from `eye` to `centre`, in 45° sectors
+// (direction d looks along d).
+double azimuthSectors(const glm::dvec3& eye, const glm::dvec3& centre) {
+  return std::atan2(centre.x - eye.x, centre.y - eye.y) / (std::numbers::pi / 4);
+}
+
+int wrapDirection(int d) {
   return ((d % kLdiDirections) + kLdiDirections) % kLdiDirections;
+}
+
+}  // namespace
+
+int directionFor(const glm::dvec3& eye, const glm::dvec3& centre) {
+  return wrapDirection(int(std::lround(azimuthSectors(eye, centre))));
+}
+
+void TileDraw::chooseLdis(const FieldLayout& layout, const FieldOptions& options,
+                          double wantedPixels, double sectors) {
+  resolution = resolutionFor(layout, wantedPixels, 1.0);
+  direction = wrapDirection(int(std::lround(sectors)));
+  // Resolutions: a pair (finer, coarser) and the coarser one's weight.
+  std::array<std::pair<int, float>, 2> byResolution{{{resolution, 1.0f}, {resolution, 0.0f}}};
+  int resolutions = 1;
+  if (options.blend && resolution + 1 < kLdiResolutions) {
+    const double coarser = layout.resolutions[size_t(resolution) + 1];
+    // Wanted just above the coarser one's pixels: it still shows, fading out.
+    const double t = std::log(wantedPixels / coarser) / std::log(options.resolutionBlend);
+    if (t < 1.0) {
+      const auto [coarse, fine] = blendOpacities(std::max(0.0, t));
+      byResolution = {{{resolution + 1, coarse}, {resolution, fine}}};
+      resolutions = 2;
+    }
+  }
+  std::array<std::pair<int, float>, 2> byDirection{{{direction, 1.0f}, {direction, 0.0f}}};
+  int directions = 1;
+  if (options.blend) {
+    // Within directionBlend of the border between this sector and the nearer neighbour.
+    const double offset = sectors - std::round(sectors);  // −0.5 … 0.5
+    const double fromBorder = 0.5 - std::abs(offset);
+    if (fromBorder < options.directionBlend) {
+      const int other = wrapDirection(direction + (offset > 0 ? 1 : -1));
+      // t: 0 deep in this sector's side of the blend, 1 deep in the other's.
+      const double t = 0.5 * (1.0 - fromBorder / options.directionBlend);
+      const auto [own, theirs] = blendOpacities(t);
+      byDirection = {{{direction, own}, {other, theirs}}};
+      // Drawn in one order whichever is nearer: the anticlockwise one first (where two LDIs
+      // of one surface overlap, the one drawn last shows; an order that flipped with the
+      // nearer direction would swap them at once).
+      if (wrapDirection(other + 1) == direction) std::swap(byDirection[0], byDirection[1]);
+      directions = 2;
+    }
+  }
+  ldiCount = 0;
+  for (int r = 0; r < resolutions; ++r)
+    for (int d = 0; d < directions; ++d) {
+      const float o = byResolution[size_t(r)].second * byDirection[size_t(d)].second * opacity;
+      if (o <= 0.0f) continue;
+      ldis[size_t(ldiCount++)] = {byResolution[size_t(r)].first, byDirection[size_t(d)].first, o};
+    }
 }
 
 namespace {
@@ -108,10 +164,12 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
       }
       d.prototile = layout.tiling.at(x, y);
       d.screenPixels = size * view.pixelsPerRadian / std::max(d.distance, 1e-3);
-      d.resolution = resolutionFor(layout, d.screenPixels, options.pixelsPerScreenPixel);
-      d.direction = directionFor(eye, middle);
       d.opacity = float(ldiOpacity(d.distance, range));
       if (d.opacity <= 0.0f) continue;
+      d.chooseLdis(layout, options, d.screenPixels * options.pixelsPerScreenPixel,
+                   azimuthSectors(eye, middle));
+      if (d.ldiCount == 0) continue;
+      s.blending += d.ldiCount > 1;
       draws.push_back(d);
     }
   }

@@ -61,6 +61,8 @@ std::vector<TileDraw> field(const View& view) {
       t.x = x;
       t.y = y;
       t.prototile = int(x + y);
+      t.ldis[0] = {0, 0, 1.0f};
+      t.ldiCount = 1;
       t.placement = {glm::vec2(4.0f * float(x), 4.0f * float(y)),
                      4.0f,
                      {0.1f * float(x), 0.1f * float(x + 1), 0.1f * float(x + 1), 0.1f * float(x)}};
@@ -120,6 +122,8 @@ TEST(FrameWarp, ThePictureDepthIsTheDistanceAlongTheViewAxis) {
   const View view = viewFrom({2, -10, 1.5}, {2, 0, 1.5});
   TwoLdis ldis;
   TileDraw t;
+  t.ldis[0] = {0, 0, 1.0f};
+  t.ldiCount = 1;
   t.placement = {glm::vec2(0), 4.0f, {0, 0, 0, 0}};
   t.distance = 12;
   t.screenPixels = 100;

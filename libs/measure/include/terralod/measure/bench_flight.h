@@ -68,6 +68,10 @@ struct FrameRecord {
   /// With --vegetation-reference, on the frames it measures: SSIM of the frame against the
   /// same frame with the vegetation ray traced, and the share of pixels where one shows a
   /// plant and the other not.
+  /// Vegetation: mean absolute pixel change (8-bit units) from the tiles' choices of LDIs
+  /// alone: this frame drawn with the last frame's choices against its own (NaN where no
+  /// tile chose differently).
+  double vegetationPop = NAN;
   double vegetationSsim = NAN;
   double vegetationCoverageError = NAN;
 };

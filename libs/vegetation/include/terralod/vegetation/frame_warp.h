@@ -41,8 +41,9 @@ struct FrameWarpOptions {
 
 struct FrameWarpStats {
   uint32_t tiles = 0;         ///< tiles warped
-  uint32_t missingLdis = 0;   ///< tiles left out: their LDI was not at hand
-  uint32_t onePassTiles = 0;  ///< tiles whose halves were warped in one pass
+  uint32_t ldis = 0;          ///< LDIs warped (more than tiles where tiles blend two or four)
+  uint32_t missingLdis = 0;   ///< tiles missing an LDI that was not at hand
+  uint32_t onePassTiles = 0;  ///< LDIs whose tile's halves were warped in one pass
   uint64_t depthPixels = 0;
   uint64_t splats = 0;
   double warpMs = 0;        ///< warping (all threads, wall)

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -51,7 +52,29 @@ struct FieldOptions {
   /// The LDI range: tiles are drawn as LDIs while the coarsest resolution has at most this
   /// many LDI pixels per screen pixel; farther ones are left to the directional textures.
   double rangeOversampling = 2.0;
+  /// Blend between two LDIs instead of switching at once: between resolutions while a tile's
+  /// wanted resolution is within `resolutionBlend` times the coarser one's (the coarser one
+  /// fading out as the finer fades in), and between directions within `directionBlend` of the
+  /// 45° sectors' borders (a fraction of a sector). Off: every tile shows one LDI.
+  bool blend = true;
+  double resolutionBlend = 1.15;
+  double directionBlend = 0.1;
 };
+
+/// One LDI a tile draws and how much of it (blends draw two or four).
+struct TileLdi {
+  int resolution = 0;  ///< index into FieldLayout::resolutions (the ring)
+  int direction = 0;   ///< 0–7: the LDI looking along azimuth 45°·direction (0: north)
+  float opacity = 1;
+  bool operator==(const TileLdi&) const = default;
+};
+
+/// How the two members of a blend at weight t (0: the first alone, 1: the second alone) are
+/// drawn: each fully opaque over the middle half, fading over its own end's half, so that no
+/// pixel of a surface both show turns transparent and neither appears or goes at once.
+inline std::pair<float, float> blendOpacities(double t) {
+  return {float(std::min(1.0, 2.0 * (1.0 - t))), float(std::min(1.0, 2.0 * t))};
+}
 
 /// The far part of the LDI range, as a fraction of it, over which LDI tiles fade out and the
 /// directional textures (far_vegetation_layer.h) fade in: no tile leaves the picture at once.
@@ -65,16 +88,24 @@ double ldiOpacity(double distance, double range);
 struct TileDraw {
   uint32_t x = 0, y = 0;  ///< tile column and row
   int prototile = 0;
-  int resolution = 0;  ///< index into FieldLayout::resolutions (the ring)
-  int direction = 0;   ///< 0–7: the LDI looking along azimuth 45°·direction (0: north)
+  int resolution = 0;             ///< the nearest resolution (the ring)
+  int direction = 0;              ///< the nearest direction
+  std::array<TileLdi, 4> ldis{};  ///< what it draws: ldiCount of them
+  int ldiCount = 0;
   TileOnTerrain placement;
   double distance = 0;      ///< metres from the eye to the tile's centre
   double screenPixels = 0;  ///< the tile's width on screen
-  float opacity = 1;        ///< ldiOpacity(): fading out towards the range's end
+  float opacity = 1;        ///< ldiOpacity(): fading out towards the range's end (the ldis'
+                            ///< opacities include it)
+  /// The tile's LDIs as chosen: one with blending off, else up to two resolutions × two
+  /// directions. `stats` counts the blends.
+  void chooseLdis(const FieldLayout& layout, const FieldOptions& options, double wantedPixels,
+                  double azimuthSectors);
 };
 
 struct FieldStats {
   uint32_t considered = 0;  ///< tiles within the range around the eye
+  uint32_t blending = 0;    ///< of those drawn: tiles drawing more than one LDI
   uint32_t noHeights = 0;   ///< of those: no terrain under them (or not at hand)
   uint32_t excluded = 0;    ///< refused by the rules
   uint32_t culled = 0;      ///< outside the frustum

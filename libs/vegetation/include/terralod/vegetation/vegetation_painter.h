@@ -10,6 +10,8 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_map>
+#include <utility>
 
 #include "terralod/core/result.h"
 #include "terralod/format/tileset_reader.h"
@@ -38,6 +40,14 @@ struct VegetationFrameStats {
   uint64_t residentBytes = 0;  ///< decoded LDIs and corner heights
 };
 
+/// What paint() does with the tiles' choices of LDIs (for measuring pops: the picture with
+/// the last frame's choices against this frame's, both from this frame's camera).
+enum class PaintMode {
+  kFrame,            ///< a new frame: its choices become the current ones, the old the last
+  kRepaint,          ///< the current choices again (nothing remembered)
+  kPreviousChoices,  ///< each tile the last frame drew as it chose then (opacities as now)
+};
+
 class VegetationPainter {
  public:
   /// Opens the .tlv (a path or an http(s):// URL) for vegetation over `tileset` (both must
@@ -47,8 +57,13 @@ class VegetationPainter {
                                                          const ChunkTree& tree,
                                                          VegetationOptions options);
 
-  /// Paints the vegetation `view` sees into `picture` (every pixel written).
+  /// Paints the vegetation `view` sees into `picture` (the rows lastFrame().warp reports),
+  /// in the mode setMode() chose.
   void paint(const View& view, const PictureSpans& picture);
+  void setMode(PaintMode mode) { mMode = mode; }
+  /// Whether the last kFrame paint chose other LDIs (a resolution or direction, or a blend's
+  /// members) for some tile than the one before did.
+  bool choicesChanged() const { return mChoicesChanged; }
 
   const VegetationFrameStats& lastFrame() const { return mLast; }
   const FieldLayout& layout() const { return mLayout; }
@@ -64,6 +79,11 @@ class VegetationPainter {
   TilesetCornerHeights mHeights;
   FrameWarper mWarper;
   VegetationFrameStats mLast;
+  PaintMode mMode = PaintMode::kFrame;
+  // Each tile's LDIs, by tile (y << 32 | x): this frame's and the last's.
+  using Choices = std::unordered_map<uint64_t, std::pair<std::array<TileLdi, 4>, int>>;
+  Choices mCurrent, mPrevious;
+  bool mChoicesChanged = false;
 };
 
 }  // namespace terralod::veg
