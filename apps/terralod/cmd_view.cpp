@@ -19,6 +19,7 @@
 #include "edit_source.h"
 #include "live_editor.h"
 #include "render_options.h"
+#include "scene_vegetation.h"
 #include "terralod/build/vipm_builder.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/measure/fly_camera.h"
@@ -51,14 +52,13 @@ struct Brushing {
   std::string status = "B + left click applies the brush";
 };
 
-// The terrain point under window pixel (x, y) of the frame just drawn into the default
-// framebuffer, from its depth (reversed, kNearPlane / distance along the view axis); none on
-// the sky.
+// The terrain point under window pixel (x, y) of the frame just drawn into the bound read
+// framebuffer (the window's, or the offscreen target's with vegetation), from its depth (reversed,
+// kNearPlane / distance along the view axis); none on the sky.
 std::optional<glm::dvec3> pickTerrain(const View& view, double x, double y) {
   const int width = view.camera.width, height = view.camera.height;
   if (x < 0 || y < 0 || x >= width || y >= height) return std::nullopt;
   float depth = 0.0f;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   glReadPixels(int(x), height - 1 - int(y), 1, 1, GL_DEPTH_COMPONENT, GL_FLOAT, &depth);
   if (!(depth > 0.0f)) return std::nullopt;
   const double ndcX = (std::floor(x) + 0.5) / width * 2.0 - 1.0;
@@ -182,6 +182,11 @@ int runView(const ViewCommand& v) {
   auto baseStyle = terrainStyle(v.options);
   if (!baseStyle) return fail(baseStyle.error().message);
   baseStyle->stitch = stitchFor(v.options, scene.tileset().header());
+  auto vegetation = addSceneVegetation(v.options, scene);
+  if (!vegetation) return fail(vegetation.error().message);
+  // Vegetation beyond the LDIs reads the terrain's depth: frames go to a target whose depth
+  // is a texture, then to the window.
+  std::optional<Framebuffer> offscreen;
   const std::vector<Camera> played = playback ? flightCameras(*playback) : std::vector<Camera>{};
 
   IMGUI_CHECKVERSION();
@@ -278,9 +283,19 @@ int runView(const ViewCommand& v) {
     style.textures = knobs.textures;
     style.colorBy = ColorBy(knobs.colorBy);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    if (vegetation->painter)
+      if (Status s = bindFramebufferOfSize(offscreen, view->camera.width, view->camera.height); !s)
+        return fail(s.error().message);
     const auto drawStart = std::chrono::steady_clock::now();
     auto stats = scene.renderFrame(*view, selection, style, !knobs.freeze);
     if (!stats) return fail(stats.error().message);
+    if (offscreen) {
+      const int w = view->camera.width, h = view->camera.height;
+      glBlitNamedFramebuffer(offscreen->framebufferId(), 0, 0, 0, w, h, 0, 0, w, h,
+                             GL_COLOR_BUFFER_BIT, GL_NEAREST);
+      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);  // the panel goes to the window
+      glBindFramebuffer(GL_READ_FRAMEBUFFER, offscreen->framebufferId());  // picking: its depth
+    }
     frameTimes[frame % kFrameHistory] = float(
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - drawStart)
             .count());

@@ -84,12 +84,19 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
   c.add_option("--vegetation-where", o.vegetationWhere,
                "Where vegetation grows: comma-separated conditions, e.g. "
                "height<2400,slope<30 (metres, degrees)");
+  c.add_option("--vegetation-range", o.vegetationRange,
+               "Metres to which vegetation is drawn as LDIs, directional textures beyond "
+               "(default: where the coarsest LDI has two pixels a screen pixel)")
+      ->check(positiveNumber());
   c.add_flag("--no-vegetation-textures", o.noVegetationTextures,
              "Draw vegetation as LDIs alone: nothing beyond their range (shows where the "
              "directional textures take over)");
   c.add_flag("--no-vegetation-blend", o.noVegetationBlend,
              "Switch a vegetation tile's LDI at once when its resolution or direction changes "
              "instead of blending the two (shows the pops blending hides)");
+  c.add_flag("--no-vegetation-depth", o.noVegetationDepth,
+             "Composite the vegetation's LDI picture over the terrain without comparing depths "
+             "(shows plants behind hills through them: what the depth composite hides)");
   c.add_flag("--vegetation-reference", o.vegetationReference,
              "With --vegetation: ray trace the plants themselves (Embree) as ground truth: "
              "render draws that picture; bench compares its frames with it "

@@ -39,8 +39,10 @@ struct RenderOptions {
   HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
   std::string vegetation;             ///< --vegetation V.tlv (a path or URL); empty: none
   std::string vegetationWhere;        ///< --vegetation-where RULES
+  double vegetationRange = 0;         ///< --vegetation-range M (0: automatic)
   bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
   bool noVegetationBlend = false;     ///< --no-vegetation-blend: LDIs switch at once (pops)
+  bool noVegetationDepth = false;     ///< --no-vegetation-depth: LDIs over the terrain regardless
   bool vegetationReference = false;   ///< --vegetation-reference: ray traced (render), compared
                                       ///< with the warp (bench)
 };

@@ -26,6 +26,7 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
   }
   o.warp.threads = std::min(hardwareThreads(), 16u);
   o.field.blend = !options.noVegetationBlend;
+  if (options.vegetationRange > 0) o.field.range = options.vegetationRange;
   const double budget = options.cacheMB * vegetationBudgetShare(options) * 1024.0 * 1024.0;
   o.heightBudgetBytes = uint64_t(budget / 16);
   o.ldiBudgetBytes = uint64_t(budget) - o.heightBudgetBytes;
@@ -54,6 +55,7 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
   auto layer = PictureLayer::create(out.warpPainter);
   if (!layer) return layer.error();
   out.layer = static_cast<PictureLayer*>(&scene.renderer().addLayer(std::move(layer).value()));
+  out.layer->setDepthTest(!options.noVegetationDepth);
   return out;
 }
 

@@ -128,11 +128,13 @@ uint32_t PictureLayer::draw(const FrameContext& frame) {
   glBindVertexArray(gl.empty.id());
   glEnable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);  // premultiplied `over`
+  if (!mDepthTest) glDisable(GL_DEPTH_TEST);
   glEnable(GL_SCISSOR_TEST);
   glScissor(frame.viewport.x, frame.viewport.y + height - top - rows, width, rows);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDisable(GL_SCISSOR_TEST);
   glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
   glBindTextureUnit(0, 0);
   glBindTextureUnit(1, 0);
   glFinish();

@@ -20,6 +20,7 @@ FieldLayout FieldLayout::over(const BakeSettings& settings, double width, double
 }
 
 double ldiRange(const FieldLayout& layout, const View& view, const FieldOptions& options) {
+  if (options.range) return *options.range;
   // A tile w pixels wide on screen at distance d: w = tileSize · K / d.
   const double coarsest = layout.resolutions.back();
   return layout.tileSize * view.pixelsPerRadian * options.rangeOversampling / coarsest;

@@ -53,6 +53,9 @@ class PictureLayer final : public CompositedLayer {
   void setEnabled(bool enabled) { mEnabled = enabled; }
   /// Paints with another painter from the next frame on.
   void setPainter(Painter painter) { mPainter = std::move(painter); }
+  /// Off: the picture goes over the terrain wherever it has something, nearer or not (shows
+  /// what the depth composite hides).
+  void setDepthTest(bool on) { mDepthTest = on; }
 
  private:
   struct Gl;
@@ -63,6 +66,7 @@ class PictureLayer final : public CompositedLayer {
   std::vector<float> mDepth;
   PictureLayerTimes mTimes;
   bool mEnabled = true;
+  bool mDepthTest = true;
 };
 
 }  // namespace terralod

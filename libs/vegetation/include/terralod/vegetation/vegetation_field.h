@@ -52,6 +52,8 @@ struct FieldOptions {
   /// The LDI range: tiles are drawn as LDIs while the coarsest resolution has at most this
   /// many LDI pixels per screen pixel; farther ones are left to the directional textures.
   double rangeOversampling = 2.0;
+  /// The LDI range in metres instead (a user's trade of speed for parallax).
+  std::optional<double> range;
   /// Blend between two LDIs instead of switching at once: between resolutions while a tile's
   /// wanted resolution is within `resolutionBlend` times the coarser one's (the coarser one
   /// fading out as the finer fades in), and between directions within `directionBlend` of the
@@ -112,7 +114,7 @@ struct FieldStats {
 };
 
 /// The LDI range for `view`: the distance at which a tile is as wide on screen as the coarsest
-/// LDI's pixels divided by the oversampling.
+/// LDI's pixels divided by the oversampling (or the options' range when given).
 double ldiRange(const FieldLayout& layout, const View& view, const FieldOptions& options);
 
 /// The resolution index for a tile `screenPixels` wide: the coarsest with at least
