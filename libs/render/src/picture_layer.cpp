@@ -11,18 +11,11 @@
 #include "gl_object.h"
 #include "terralod/render/aerial_perspective.h"
 #include "terralod/render/frame_context.h"
+#include "terralod/render/full_screen_pass.h"
 #include "terralod/render/shader_program.h"
 
 namespace terralod {
 namespace {
-
-constexpr const char* kVertex = R"(#version 450 core
-void main() {
-  // One triangle over the whole viewport.
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
-}
-)";
 
 // Reversed-Z like the terrain (frame_context.h): depth = near / distance along the view axis;
 // the depth test (GEQUAL, from the layer hook) keeps what is nearer than the terrain.
@@ -69,8 +62,9 @@ struct PictureLayer::Gl {
 
 Result<std::unique_ptr<PictureLayer>> PictureLayer::create(Painter painter) {
   auto program = ShaderProgram::create(
-      "picture layer",
-      {kVertex, std::string("#version 450 core\n") + aerialPerspectiveGlsl() + kFragment, {}});
+      "picture layer", {kFullScreenVertexShader,
+                        std::string("#version 450 core\n") + aerialPerspectiveGlsl() + kFragment,
+                        {}});
   if (!program) return program.error();
   auto gl = std::make_unique<Gl>(std::move(program).value());
   return std::unique_ptr<PictureLayer>(new PictureLayer(std::move(painter), std::move(gl)));

@@ -147,14 +147,11 @@ namespace {
 float skyVisibility(RTCScene scene, const glm::vec3& p, const glm::vec3& n, const Lighting& l,
                     RandomStream& rng) {
   if (l.occlusionRays == 0) return 1;
-  const glm::vec3 t = glm::normalize(std::abs(n.z) < 0.9f ? glm::cross(n, glm::vec3(0, 0, 1))
-                                                          : glm::cross(n, glm::vec3(1, 0, 0)));
-  const glm::vec3 b = glm::cross(n, t);
+  const Hemisphere hemisphere(n);
   uint32_t open = 0;
   for (uint32_t k = 0; k < l.occlusionRays; ++k) {
-    const float u = float(rng.uniform()), phi = float(2 * std::numbers::pi * rng.uniform());
-    const float r = std::sqrt(u), z = std::sqrt(1 - u);
-    const glm::vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + z * n;
+    const double first = rng.uniform(), second = rng.uniform();
+    const glm::vec3 d = hemisphere.direction(first, second);
     if (d.z < 0 && p.z / -d.z < l.occlusionDistance) continue;  // the ground
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);

@@ -12,6 +12,7 @@
 
 #include "terralod/render/aerial_perspective.h"
 #include "terralod/render/frame_context.h"
+#include "terralod/render/full_screen_pass.h"
 #include "terralod/render/shader_program.h"
 
 namespace terralod::veg {
@@ -21,14 +22,6 @@ namespace {
 // than a pixel wide (4 km for 4.4 m tiles at 1024 pixels across 60 degrees) and a hash picks
 // their prototile.
 constexpr int kWindowTiles = 2048;
-
-constexpr const char* kVertex = R"(#version 450 core
-uniform float uPassDepth;  // window depth the triangle lies at
-void main() {
-  vec2 p = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
-  gl_Position = vec4(p * 2.0 - 1.0, uPassDepth, 1.0);
-}
-)";
 
 // After the version line, the depth sampler's declaration and the aerial perspective.
 constexpr const char* kFragment = R"(
@@ -138,7 +131,7 @@ Result<ShaderProgram> program(bool multisampled) {
                                aerialPerspectiveGlsl() + kFragment;
   return ShaderProgram::create(
       multisampled ? "far vegetation (multisampled depth)" : "far vegetation",
-      {kVertex, fragment, {}});
+      {kFullScreenVertexShader, fragment, {}});
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {

@@ -100,14 +100,11 @@ Shaded shade(const FieldTracer::Impl& m, const RTCRayHit& rh, const glm::vec3& d
   const float aboveGround = (inst.toTile * glm::vec4(p, 1.0f)).z;
   float sky = 1;
   if (l.occlusionRays > 0) {
-    const glm::vec3 t = glm::normalize(std::abs(n.z) < 0.9f ? glm::cross(n, glm::vec3(0, 0, 1))
-                                                            : glm::cross(n, glm::vec3(1, 0, 0)));
-    const glm::vec3 b = glm::cross(n, t);
+    const Hemisphere hemisphere(n);
     uint32_t open = 0;
     for (uint32_t k = 0; k < l.occlusionRays; ++k) {
-      const float u = float(rng.uniform()), phi = float(2 * std::numbers::pi * rng.uniform());
-      const float r = std::sqrt(u), z = std::sqrt(1 - u);
-      const glm::vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + z * n;
+      const double first = rng.uniform(), second = rng.uniform();
+      const glm::vec3 d = hemisphere.direction(first, second);
       if (d.z < 0 && aboveGround / -d.z < l.occlusionDistance) continue;  // the ground
       open += !occluded(m, p, d, l.occlusionDistance);
     }
