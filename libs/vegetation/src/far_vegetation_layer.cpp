@@ -214,6 +214,7 @@ void FarVegetationLayer::recentreWindow(const glm::dvec3& eye) {
 uint32_t FarVegetationLayer::draw(const FrameContext& frame) {
   mLastMs = 0;
   if (!mEnabled || !frame.depth.readable()) return 0;
+  glFinish();  // the terrain's drawing is not this pass's
   const auto start = std::chrono::steady_clock::now();
   recentreWindow(frame.eye);
   const ShaderProgram& p = frame.depth.samples > 0 ? mGl->multi : mGl->single;
