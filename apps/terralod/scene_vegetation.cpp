@@ -73,8 +73,7 @@ Result<double> vegetationPop(SceneVegetation& vegetation, TerrainScene& scene, c
   scene.drawChunks(view, scene.selected(), style, selection);
   const Image now = target->readPixels();
   painter.setMode(veg::PaintMode::kFrame);
-  const double pop = meanAbsoluteDifference(before, now);
-  return pop;
+  return meanAbsoluteDifference(before, now);
 }
 
 }  // namespace terralod::cli

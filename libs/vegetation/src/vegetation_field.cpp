@@ -138,6 +138,12 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
       const glm::dvec2 centre{(tx + 0.5) * size, (ty + 0.5) * size};
       if (std::hypot(centre.x - eye.x, centre.y - eye.y) > range + halfDiagonal) continue;
       ++s.considered;
+      // Out of the frustum whatever the heights: no chunk is read for it.
+      if (!boxInFrustum(view,
+                        {{tx * size, ty * size, -1e9}, {(tx + 1) * size, (ty + 1) * size, 1e9}})) {
+        ++s.culled;
+        continue;
+      }
       const uint32_t x = uint32_t(tx), y = uint32_t(ty);
       const auto corners = heights.tileCorners(x, y);
       if (!corners) {
