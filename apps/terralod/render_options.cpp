@@ -83,7 +83,13 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "from `terralod vegetation bake`)");
   c.add_option("--vegetation-where", o.vegetationWhere,
                "Where vegetation grows: comma-separated conditions, e.g. "
-               "height<2400,slope<30 (metres, degrees)");
+               "height<2400,slope<30,material=grass|meadow (metres, degrees; materials: a "
+               "VIPM tileset's own or --vegetation-materials)");
+  c.add_option("--vegetation-materials", o.vegetationMaterials,
+               "Categorical raster (any GDAL raster, any CRS) naming the ground's materials "
+               "for --vegetation-where material=...; resampled onto the tileset's source grid");
+  c.add_option("--vegetation-palette", o.vegetationPalette,
+               "JSON palette naming --vegetation-materials' class values (as build --palette)");
   c.add_option("--vegetation-range", o.vegetationRange,
                "Metres to which vegetation is drawn as LDIs, directional textures beyond "
                "(default: where the coarsest LDI has two pixels a screen pixel)")

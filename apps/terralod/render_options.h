@@ -39,6 +39,8 @@ struct RenderOptions {
   HorizonCulling horizonCulling = HorizonCulling::kOn;  ///< --no-horizon-culling: kOff
   std::string vegetation;             ///< --vegetation V.tlv (a path or URL); empty: none
   std::string vegetationWhere;        ///< --vegetation-where RULES
+  std::string vegetationMaterials;    ///< --vegetation-materials RASTER (material= rules)
+  std::string vegetationPalette;      ///< --vegetation-palette JSON
   double vegetationRange = 0;         ///< --vegetation-range M (0: automatic)
   bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
   bool noVegetationBlend = false;     ///< --no-vegetation-blend: LDIs switch at once (pops)

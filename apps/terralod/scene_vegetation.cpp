@@ -5,24 +5,52 @@
 #include <limits>
 
 #include "terralod/core/parallel.h"
+#include "terralod/core/progress.h"
 #include "terralod/measure/texture_metrics.h"
+#include "terralod/vegetation/tileset_materials.h"
 
 namespace terralod::cli {
+namespace {
+
+// --vegetation-where's material names against the tileset's materials (its own, or
+// --vegetation-materials').
+Result<veg::MaterialMask> materialMask(const RenderOptions& options, const TilesetReader& tileset,
+                                       const std::vector<std::string>& names) {
+  TerminalProgress progress;
+  auto map = veg::tilesetMaterials(
+      tileset, {options.vegetationMaterials, options.vegetationPalette}, progress);
+  if (!map) return map.error();
+  const std::string source =
+      options.vegetationMaterials.empty() ? tileset.name() : options.vegetationMaterials;
+  return veg::MaterialMask::from(*map, tileset.header().spacingX, tileset.header().spacingY, names,
+                                 source);
+}
+
+}  // namespace
 
 Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, TerrainScene& scene) {
   SceneVegetation out;
   if (options.vegetation.empty()) {
-    if (!options.vegetationWhere.empty())
-      return Error{"--vegetation-where needs --vegetation V.tlv"};
+    for (const auto& [given, name] : {std::pair{&options.vegetationWhere, "--vegetation-where"},
+                                      {&options.vegetationMaterials, "--vegetation-materials"},
+                                      {&options.vegetationPalette, "--vegetation-palette"}})
+      if (!given->empty()) return Error{std::string(name) + " needs --vegetation V.tlv"};
     return out;
   }
   veg::VegetationOptions o;
   if (!options.vegetationWhere.empty()) {
     auto where = veg::parseVegetationWhere(options.vegetationWhere);
     if (!where) return where.error();
-    if (!where->materials.empty())
-      return Error{"--vegetation-where: material=... is not supported yet (height and slope are)"};
     o.field.where = *where;
+  }
+  if (o.field.where.materials.empty() && !options.vegetationMaterials.empty())
+    return Error{"--vegetation-materials: no material=... in --vegetation-where to use it for"};
+  if (options.vegetationMaterials.empty() && !options.vegetationPalette.empty())
+    return Error{"--vegetation-palette needs --vegetation-materials RASTER"};
+  if (!o.field.where.materials.empty()) {
+    auto mask = materialMask(options, scene.tileset(), o.field.where.materials);
+    if (!mask) return mask.error();
+    o.field.where.materialMask = std::make_shared<const veg::MaterialMask>(std::move(mask).value());
   }
   o.warp.threads = std::min(hardwareThreads(), 16u);
   o.field.blend = !options.noVegetationBlend;

@@ -1,6 +1,6 @@
 // render and bench with --vegetation: a small DEM with a ridge (written here) and a quick
 // sunflower bake; plants behind the ridge hidden by it, plants in front drawn over it, golden
-// images of both, the bench's vegetation figures, and bad input.
+// images of both, the bench's vegetation figures, material rules, and bad input.
 
 #include <gtest/gtest.h>
 
@@ -237,6 +237,78 @@ TEST_F(VegetationRender, TheViewerDrawsTheVegetationAsRenderDoes) {
   EXPECT_TRUE(c.matches) << c.message;
 }
 
+// The ridge DEM's grid with class 1 west of x = 66 m and class 2 east of it (a border between
+// two columns of the sunflowers' 4.4 m tiles, whose centres' nearest grid points decide), and
+// class 2 all across the far north (y > 100 m), so that a grid read upside down shows.
+void writeHalvesClasses(const std::string& path) {
+  constexpr int n = 129;
+  std::ofstream out(path);
+  out << "ncols " << n << "\nnrows " << n << "\nxllcorner 0\nyllcorner 0\ncellsize 1\n";
+  for (int row = 0; row < n; ++row)
+    for (int x = 0; x < n; ++x)
+      out << (x < 66 && n - 1 - row <= 100 ? 1 : 2) << (x + 1 < n ? " " : "\n");
+}
+
+// Pixels that differ between two images in the left and in the right half.
+std::pair<size_t, size_t> differingHalves(const Image& a, const Image& b) {
+  std::pair<size_t, size_t> n{0, 0};
+  for (uint32_t y = 0; y < a.height; ++y)
+    for (uint32_t x = 0; x < a.width; ++x) {
+      const size_t i = (size_t(y) * a.width + x) * 4;
+      bool differs = false;
+      for (size_t c = 0; c < 3; ++c)
+        differs |= std::abs(int(a.rgba[i + c]) - int(b.rgba[i + c])) > 2;
+      if (differs) ++(x < a.width / 2 ? n.first : n.second);
+    }
+  return n;
+}
+
+TEST_F(VegetationRender, MaterialRulesFollowARasterOrTheVipmTilesetsOwnMaterials) {
+  const std::string classes = dir->file("halves.asc");
+  writeHalvesClasses(classes);
+  // Looking north along the border: class 1 is the picture's left half, class 2 its right.
+  auto alongBorder = [&](const std::string& tileset, const std::string& name,
+                         std::vector<std::string> extra) {
+    std::vector<std::string> args = {"render",   dir->file(tileset), "--eye",  "66,4,105",
+                                     "--target", "66,80,100",        "--size", "320x240",
+                                     "-o",       dir->file(name)};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const RunResult run = runTerralod(args);
+    EXPECT_EQ(run.exitCode, 0) << run.err;
+    return readPng(dir->file(name)).value();
+  };
+  const Image bare = alongBorder("ridge.tlod", "bare_border.png", {});
+  auto onClass = [&](const std::string& name, const std::string& rule) {
+    return alongBorder("ridge.tlod", name,
+                       {"--vegetation", tlv(), "--vegetation-materials", classes,
+                        "--vegetation-where", "height>99,slope<10,material=" + rule});
+  };
+  const auto west = differingHalves(onClass("west.png", "class 1"), bare);
+  const auto east = differingHalves(onClass("east.png", "class 2"), bare);
+  EXPECT_GT(west.first, 5000u);
+  EXPECT_LT(west.second, west.first / 10) << "plants on the eastern half";
+  EXPECT_GT(east.second, 5000u);
+  EXPECT_LT(east.first, east.second / 10) << "plants on the western half";
+  const auto both = differingHalves(onClass("both.png", "class 1|class 2"), bare);
+  EXPECT_GT(both.first, west.first * 9 / 10);
+  EXPECT_GT(both.second, east.second * 9 / 10);
+
+  // A VIPM tileset built with those classes has them itself: the same picture without the
+  // raster (its leaves' triangles carry the materials; no texture differs between the two).
+  RunResult r = runTerralod({"build", dir->file("ridge.asc"), "--kind", "vipm", "--materials",
+                             classes, "-o", dir->file("ridge_vipm.tlod")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const std::vector<std::string> rule = {"--vegetation", tlv(), "--vegetation-where",
+                                         "height>99,slope<10,material=class 1"};
+  const Image own = alongBorder("ridge_vipm.tlod", "vipm_own.png", rule);
+  auto withRaster = rule;
+  withRaster.insert(withRaster.end(), {"--vegetation-materials", classes});
+  const Image raster = alongBorder("ridge_vipm.tlod", "vipm_raster.png", withRaster);
+  EXPECT_GT(differingHalves(own, alongBorder("ridge_vipm.tlod", "vipm_bare.png", {})).first, 5000u);
+  const auto c = compareImages(own, raster, kVegetationTolerance);
+  EXPECT_TRUE(c.matches) << c.message;
+}
+
 TEST_F(VegetationRender, BadVegetationInputGetsOneLineAndWritesNothing) {
   const std::string tileset = dir->file("ridge.tlod"), out = dir->file("bad.png");
   auto run = [&](std::vector<std::string> extra) {
@@ -255,6 +327,21 @@ TEST_F(VegetationRender, BadVegetationInputGetsOneLineAndWritesNothing) {
                      "--vegetation-where");
   expectOneErrorLine(run({"--vegetation-where", "height<3"}), "--vegetation-where needs");
   expectOneErrorLine(run({"--vegetation-reference"}), "--vegetation-reference needs");
+  // Material rules: a static tileset has no materials of its own; names must be the raster's.
+  expectOneErrorLine(run({"--vegetation", tlv(), "--vegetation-where", "material=grass"}),
+                     "ridge.tlod: has no materials");
+  writeHalvesClasses(dir->file("classes.asc"));
+  expectOneErrorLine(run({"--vegetation", tlv(), "--vegetation-where", "material=grass",
+                          "--vegetation-materials", dir->file("classes.asc")}),
+                     "material 'grass' is not one of: class 1, class 2");
+  expectOneErrorLine(run({"--vegetation", tlv(), "--vegetation-where", "material=grass",
+                          "--vegetation-materials", dir->file("nothere.tif")}),
+                     "nothere.tif");
+  expectOneErrorLine(
+      run({"--vegetation", tlv(), "--vegetation-materials", dir->file("classes.asc")}),
+      "no material=");
+  expectOneErrorLine(run({"--vegetation-materials", dir->file("classes.asc")}),
+                     "--vegetation-materials needs --vegetation");
   EXPECT_FALSE(fs::exists(out));
 }
 

@@ -71,6 +71,21 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
         return bad("\"source\".\"band\" is not a band number");
       m.sourceBand = int(band->get<int64_t>());
     }
+    if (const auto w = source->find("crs_wkt"); w != source->end()) {
+      if (!w->is_string()) return bad("\"source\".\"crs_wkt\" is not a string");
+      m.sourceCrsWkt = w->get<std::string>();
+    }
+    if (const auto g = source->find("geotransform"); g != source->end()) {
+      std::array<double, 6> t{};
+      bool ok = g->is_array() && g->size() == 6;
+      for (size_t k = 0; ok && k < 6; ++k) {
+        ok = (*g)[k].is_number() && std::isfinite((*g)[k].get<double>());
+        if (ok) t[k] = (*g)[k].get<double>();
+      }
+      if (!ok || t[1] == 0.0 || t[5] == 0.0)
+        return bad("\"source\".\"geotransform\" is not six finite numbers with non-zero steps");
+      m.sourceGeoTransform = t;
+    }
   }
   if (const auto build = j.find("build"); build != j.end()) {
     if (!build->is_object()) return bad("\"build\" is not an object");

@@ -30,6 +30,18 @@ TEST(TilesetMetadata, ReadsTheTypedFields) {
   EXPECT_EQ(m->verticalScale, 2.5);
   const std::vector<TextureLevelSizes> levels{{129, 65}, {257, 129}, {257, 2}};
   EXPECT_EQ(m->textureLevels, levels);
+  EXPECT_TRUE(m->sourceCrsWkt.empty());
+  EXPECT_FALSE(m->sourceGeoTransform);
+}
+
+TEST(TilesetMetadata, ReadsTheSourcesGeoreferencing) {
+  auto m = parseTilesetMetadata(
+      R"({"source": {"crs_wkt": "PROJCRS[\"UTM 12N\"]",
+                     "geotransform": [301905, 30, 0, 4154085, 0, -30]}})",
+      threeLevels(), "m.tlod");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->sourceCrsWkt, "PROJCRS[\"UTM 12N\"]");
+  EXPECT_EQ(m->sourceGeoTransform, (std::array<double, 6>{301905, 30, 0, 4154085, 0, -30}));
 }
 
 TEST(TilesetMetadata, AbsentFieldsTakeTheirDefaults) {
@@ -53,6 +65,13 @@ TEST(TilesetMetadata, RefusesWhatIsNotWhatTheWriterWrites) {
             prefix + "\"source\".\"encoding\" is not a string");
   EXPECT_EQ(parseError(R"({"source": {"band": 0}})"),
             prefix + "\"source\".\"band\" is not a band number");
+  const std::string geo =
+      prefix + "\"source\".\"geotransform\" is not six finite numbers with non-zero steps";
+  EXPECT_EQ(parseError(R"({"source": {"geotransform": [0, 1, 0, 0, 0]}})"), geo);
+  EXPECT_EQ(parseError(R"({"source": {"geotransform": [0, 0, 0, 0, 0, -1]}})"), geo);
+  EXPECT_EQ(parseError(R"({"source": {"geotransform": [0, 1, 0, "x", 0, -1]}})"), geo);
+  EXPECT_EQ(parseError(R"({"source": {"crs_wkt": 4326}})"),
+            prefix + "\"source\".\"crs_wkt\" is not a string");
   EXPECT_EQ(parseError(R"({"build": {"vertical_scale": 0}})"),
             prefix + "\"build\".\"vertical_scale\" is not a non-zero number");
   EXPECT_EQ(parseError(R"({"texture": {"levels": [{"color_size": 3, "normal_size": 3}]}})"),

@@ -168,11 +168,10 @@ void fillUncovered(MaterialMap& map) {
 
 }  // namespace
 
-Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader& demReader,
+Result<MaterialMap> readMaterialRaster(const std::string& path, const DemInfo& dem,
                                        const MaterialRasterOptions& options) {
   gdal::ensureRegistered();
   gdal::QuietErrors quiet;
-  const DemInfo& dem = demReader.info();
 
   std::vector<Material> palette;
   if (!options.palettePath.empty()) {

@@ -28,6 +28,9 @@ constexpr const char* kFragment = R"(
 layout(early_fragment_tests) in;
 layout(binding = 0) uniform sampler2DArray uTextures;
 layout(binding = 1) uniform usampler2D uTiles;
+layout(binding = 3) uniform usampler2D uMaterialMask;  // material_mask.h
+uniform bool uMaterialRule;
+uniform vec2 uMaskCell;                                // metres between its points
 uniform mat4 uInverseViewProjection;  // eye-relative
 uniform ivec2 uOrigin, uSize;
 uniform vec2 uEyeInWindow;     // metres from the window's south-west corner
@@ -88,6 +91,12 @@ void main() {
         slope > uSlopeRule.y))
     discard;
   ivec2 tile = ivec2(floor(g));
+  if (uMaterialRule) {  // the mask's point nearest the tile's centre, as the LDI tiles ask
+    vec2 centre = (vec2(tile + uWindowOrigin) + 0.5) * uTileSize;
+    ivec2 size = textureSize(uMaterialMask, 0);
+    ivec2 point = clamp(ivec2(floor(centre / uMaskCell + 0.5)), ivec2(0), size - 1);
+    if (texelFetch(uMaterialMask, point, 0).r == 0u) discard;
+  }
   vec2 st = vec2(g.x - float(tile.x), 1.0 - (g.y - float(tile.y)));  // row 0 at the north
   gx.y = -gx.y;
   gy.y = -gy.y;
@@ -143,12 +152,12 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 struct FarVegetationLayer::Gl {
   ShaderProgram single, multi;
-  GLuint textures = 0, tiles = 0, vertexArray = 0;
+  GLuint textures = 0, tiles = 0, materialMask = 0, vertexArray = 0;
   glm::ivec2 windowOrigin{std::numeric_limits<int>::min() / 2};
   Gl(ShaderProgram s, ShaderProgram m) : single(std::move(s)), multi(std::move(m)) {}
   ~Gl() {
-    const GLuint names[] = {textures, tiles};
-    glDeleteTextures(2, names);
+    const GLuint names[] = {textures, tiles, materialMask};
+    glDeleteTextures(3, names);
     glDeleteVertexArrays(1, &vertexArray);
   }
 };
@@ -176,6 +185,16 @@ Result<std::unique_ptr<FarVegetationLayer>> FarVegetationLayer::create(
   glTextureStorage2D(gl->tiles, 1, GL_R8UI, kWindowTiles, kWindowTiles);
   glTextureParameteri(gl->tiles, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
   glTextureParameteri(gl->tiles, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  if (const MaterialMask* mask = options.where.materialMask.get()) {
+    glCreateTextures(GL_TEXTURE_2D, 1, &gl->materialMask);
+    glTextureStorage2D(gl->materialMask, 1, GL_R8UI, mask->columns, mask->rows);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTextureSubImage2D(gl->materialMask, 0, 0, 0, mask->columns, mask->rows, GL_RED_INTEGER,
+                        GL_UNSIGNED_BYTE, mask->allowed.data());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTextureParameteri(gl->materialMask, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTextureParameteri(gl->materialMask, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+  }
   return std::unique_ptr<FarVegetationLayer>(
       new FarVegetationLayer(std::move(gl), layout, options));
 }
@@ -241,6 +260,11 @@ uint32_t FarVegetationLayer::draw(const FrameContext& frame) {
                      float(w.heightAbove.value_or(-kNone)));
   glProgramUniform2f(id, p.uniformLocation("uSlopeRule"), float(w.slopeBelow.value_or(kNone)),
                      float(w.slopeAbove.value_or(-kNone)));
+  // A material rule not resolved allows nothing (vegetation_where.h), drawn or not.
+  if (!w.materials.empty() && !mGl->materialMask) return 0;
+  glProgramUniform1i(id, p.uniformLocation("uMaterialRule"), mGl->materialMask != 0);
+  if (const MaterialMask* mask = w.materialMask.get())
+    glProgramUniform2f(id, p.uniformLocation("uMaskCell"), float(mask->cellX), float(mask->cellY));
   glProgramUniform1fv(id, p.uniformLocation("uElevations"), kTextureElevationCount,
                       kTextureElevations.data());
   glProgramUniform1i(id, p.uniformLocation("uDirections"), kLdiDirections);
@@ -250,6 +274,7 @@ uint32_t FarVegetationLayer::draw(const FrameContext& frame) {
   glBindTextureUnit(0, mGl->textures);
   glBindTextureUnit(1, mGl->tiles);
   glBindTextureUnit(2, frame.depth.texture);
+  glBindTextureUnit(3, mGl->materialMask);
   glBindVertexArray(mGl->vertexArray);
   // The triangle lies where the fade begins (along the view axis, a little nearer for the
   // image's corners, whose rays are longer): the hook's depth test (GEQUAL, reversed-Z)
@@ -262,7 +287,7 @@ uint32_t FarVegetationLayer::draw(const FrameContext& frame) {
   glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDisable(GL_BLEND);
-  for (GLuint unit = 0; unit < 3; ++unit) glBindTextureUnit(unit, 0);
+  for (GLuint unit = 0; unit < 4; ++unit) glBindTextureUnit(unit, 0);
   glFinish();
   mLastMs = msSince(start);
   return 1;

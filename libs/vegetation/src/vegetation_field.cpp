@@ -156,7 +156,7 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
       d.placement = {glm::vec2(float(tx * size), float(ty * size)), float(size), *corners};
       const auto [low, high] = std::minmax_element(corners->begin(), corners->end());
       const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
-      if (!options.where.allows(ground, slopeDegrees(d.placement), {})) {
+      if (!options.where.allows(ground, slopeDegrees(d.placement), centre)) {
         ++s.excluded;
         continue;
       }
@@ -220,7 +220,7 @@ std::vector<TileDraw> tilesWithin(const FieldLayout& layout, const View& view,
                      double(*high) + layout.tileHeight + margin}};
       if (!boxInFrustum(view, box)) continue;
       const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
-      if (!where.allows(ground, slopeDegrees(d.placement), {})) continue;
+      if (!where.allows(ground, slopeDegrees(d.placement), centre)) continue;
       d.prototile = layout.tiling.at(x, y);
       d.distance = glm::length(glm::dvec3(centre, ground) - eye);
       tiles.push_back(d);

@@ -33,13 +33,13 @@ Result<double> numberIn(std::string_view term, std::string_view text) {
 
 }  // namespace
 
-bool VegetationWhere::allows(double height, double slope, std::string_view material) const {
+bool VegetationWhere::allows(double height, double slope, glm::dvec2 centre) const {
   if (heightBelow && !(height < *heightBelow)) return false;
   if (heightAbove && !(height > *heightAbove)) return false;
   if (slopeBelow && !(slope < *slopeBelow)) return false;
   if (slopeAbove && !(slope > *slopeAbove)) return false;
-  return materials.empty() ||
-         std::find(materials.begin(), materials.end(), material) != materials.end();
+  if (materials.empty()) return true;
+  return materialMask && materialMask->allowsAt(centre.x, centre.y);
 }
 
 Result<VegetationWhere> parseVegetationWhere(std::string_view text) {

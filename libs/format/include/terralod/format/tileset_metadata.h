@@ -43,6 +43,11 @@ struct TilesetMetadata {
   std::string sourceFile;
   /// "source": "band", recorded only for multi-band sources.
   std::optional<int> sourceBand;
+  /// "source": "crs_wkt", the source's CRS (empty when it had none).
+  std::string sourceCrsWkt;
+  /// "source": "geotransform", GDAL's six coefficients for the source raster (absent when it
+  /// had no georeferencing): where grid point (x, y) of the tileset lies in sourceCrsWkt.
+  std::optional<std::array<double, 6>> sourceGeoTransform;
   /// "build": "vertical_scale".
   double verticalScale = 1.0;
   /// "texture": "levels", root level first: one per level, or empty when the tileset is

@@ -40,7 +40,14 @@ struct MaterialRasterOptions {
 /// More distinct values than this over the DEM: continuous data, not classes.
 constexpr int kMaxDistinctValuesForClasses = 256;
 
-Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader& dem,
+/// Onto the grid `dem` describes (its columns, rows, georeferencing; its path names it in
+/// errors): a DEM's own, or a tileset's source grid recorded in its metadata.
+Result<MaterialMap> readMaterialRaster(const std::string& path, const DemInfo& dem,
                                        const MaterialRasterOptions& options = {});
+/// Onto a DEM's grid.
+inline Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader& dem,
+                                              const MaterialRasterOptions& options = {}) {
+  return readMaterialRaster(path, dem.info(), options);
+}
 
 }  // namespace terralod

@@ -4,15 +4,20 @@
 //   height<H, height>H   metres (the paper laid tiles below a height)
 //   slope<S, slope>S     degrees from horizontal
 //   material=A|B…        any of the named materials (the VIPM kind's, or a categorical raster's)
-// A term may appear once. Parsing checks the syntax only; the material names against a
-// tileset's are the caller's to check.
+// A term may appear once. Parsing checks the syntax only; the material names are resolved
+// against a terrain's materials (tileset_materials.h) into a MaterialMask by the caller, and
+// until then a material rule allows nothing.
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include <glm/vec2.hpp>
+
 #include "terralod/core/result.h"
+#include "terralod/vegetation/material_mask.h"
 
 namespace terralod::veg {
 
@@ -20,9 +25,13 @@ struct VegetationWhere {
   std::optional<double> heightBelow, heightAbove;  ///< metres
   std::optional<double> slopeBelow, slopeAbove;    ///< degrees
   std::vector<std::string> materials;              ///< any of these; empty: any material
+  /// `materials` resolved against the terrain's (null while unresolved, or without a material
+  /// rule). Shared: the rule's copies in the layers all read one grid.
+  std::shared_ptr<const MaterialMask> materialMask;
 
-  /// Whether a tile whose ground has this height, slope and material gets vegetation.
-  bool allows(double height, double slopeDegrees, std::string_view material) const;
+  /// Whether a tile whose ground has this height and slope and whose centre is at `centre`
+  /// (metres from the terrain's south-west sample) gets vegetation.
+  bool allows(double height, double slopeDegrees, glm::dvec2 centre) const;
 };
 
 /// Errors name the option and the term: "--vegetation-where: 'slope<abc': not a number".
