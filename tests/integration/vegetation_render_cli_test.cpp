@@ -252,8 +252,8 @@ void writeHalvesClasses(const std::string& path) {
 // Pixels that differ between two images in the left and in the right half.
 std::pair<size_t, size_t> differingHalves(const Image& a, const Image& b) {
   std::pair<size_t, size_t> n{0, 0};
-  for (uint32_t y = 0; y < a.height; ++y)
-    for (uint32_t x = 0; x < a.width; ++x) {
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
       const size_t i = (size_t(y) * a.width + x) * 4;
       bool differs = false;
       for (size_t c = 0; c < 3; ++c)
