@@ -90,6 +90,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "for --vegetation-where material=...; resampled onto the tileset's source grid");
   c.add_option("--vegetation-palette", o.vegetationPalette,
                "JSON palette naming --vegetation-materials' class values (as build --palette)");
+  c.add_option("--vegetation-oversampling", o.vegetationOversampling,
+               "LDI pixels per screen pixel a vegetation tile is drawn with at least (default "
+               "1.25; 1 is the paper's splat size of one: less to warp, plant outlines up to a "
+               "pixel fatter)")
+      ->check(positiveNumber());
   c.add_option("--vegetation-range", o.vegetationRange,
                "Metres to which vegetation is drawn as LDIs, directional textures beyond "
                "(default: where the coarsest LDI has two pixels a screen pixel)")

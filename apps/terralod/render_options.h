@@ -42,6 +42,7 @@ struct RenderOptions {
   std::string vegetationMaterials;    ///< --vegetation-materials RASTER (material= rules)
   std::string vegetationPalette;      ///< --vegetation-palette JSON
   double vegetationRange = 0;         ///< --vegetation-range M (0: automatic)
+  double vegetationOversampling = 0;  ///< --vegetation-oversampling F (0: the default)
   bool noVegetationTextures = false;  ///< --no-vegetation-textures: LDIs alone, nothing beyond
   bool noVegetationBlend = false;     ///< --no-vegetation-blend: LDIs switch at once (pops)
   bool noVegetationDepth = false;     ///< --no-vegetation-depth: LDIs over the terrain regardless

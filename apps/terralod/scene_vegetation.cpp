@@ -35,6 +35,10 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
                                       {&options.vegetationMaterials, "--vegetation-materials"},
                                       {&options.vegetationPalette, "--vegetation-palette"}})
       if (!given->empty()) return Error{std::string(name) + " needs --vegetation V.tlv"};
+    for (const auto& [given, name] :
+         {std::pair{options.vegetationRange, "--vegetation-range"},
+          {options.vegetationOversampling, "--vegetation-oversampling"}})
+      if (given > 0) return Error{std::string(name) + " needs --vegetation V.tlv"};
     return out;
   }
   veg::VegetationOptions o;
@@ -55,6 +59,8 @@ Result<SceneVegetation> addSceneVegetation(const RenderOptions& options, Terrain
   o.warp.threads = std::min(hardwareThreads(), 16u);
   o.field.blend = !options.noVegetationBlend;
   if (options.vegetationRange > 0) o.field.range = options.vegetationRange;
+  if (options.vegetationOversampling > 0)
+    o.field.pixelsPerScreenPixel = options.vegetationOversampling;
   const double budget = options.cacheMB * vegetationBudgetShare(options) * 1024.0 * 1024.0;
   o.heightBudgetBytes = uint64_t(budget / 16);
   o.ldiBudgetBytes = uint64_t(budget) - o.heightBudgetBytes;

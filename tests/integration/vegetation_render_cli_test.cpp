@@ -172,7 +172,10 @@ TEST_F(VegetationRender, BenchReportsTheVegetationFiguresAndTheGroundTruth) {
   EXPECT_GT(j["ldi_tiles_p50"].get<double>(), 10.0);
   EXPECT_GT(j["vegetation_resident_mb"].get<double>(), 0.0);
   EXPECT_LT(j["vegetation_pop_mean"].get<double>(), 0.5);
-  EXPECT_EQ(j["vegetation_reference_frames"].get<int>(), 2);
+  // Frames 0 and 2, each put off to the next frame whose terrain is loaded (the first frames
+  // draw stand-ins while chunks load).
+  EXPECT_GE(j["vegetation_reference_frames"].get<int>(), 1);
+  EXPECT_LE(j["vegetation_reference_frames"].get<int>(), 2);
   // The quick bake's LDIs are 48 pixels across at most (4 cm pixels on the meadow's 2 m
   // tiles), the truth its real grass: some likeness.
   EXPECT_GT(j["vegetation_ssim_mean"].get<double>(), 0.2);

@@ -239,7 +239,8 @@ Result<BenchFlightResult> flyBench(TerrainScene& scene, const std::vector<Camera
     r.blockSpareMB = double(scene.vipmBlockSpareBytes()) / double(1 << 20);
     // A late split easing in is drawn above its morph schedule, i.e. coarser than wanted too.
     r.easing = frame->easing != 0;
-    r.coarser = frame->selection.coarserThanWanted != 0 || r.easing;
+    r.childrenMissing = frame->selection.coarserThanWanted != 0;
+    r.coarser = r.childrenMissing || r.easing;
     r.waitedOnIo = frame->waitedOnIo;
     r.eye = view->camera.eye;
     if (nextKept < result.keptFrameIndices.size() && result.keptFrameIndices[nextKept] == i) {

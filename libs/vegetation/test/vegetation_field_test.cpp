@@ -60,8 +60,9 @@ TEST(VegetationField, TilesInViewComeFarthestFirstEachWithTheResolutionItsSizeWa
     }
     EXPECT_LE(t.distance, range);
     EXPECT_EQ(t.prototile, l.tiling.at(t.x, t.y));
-    // The coarsest resolution with at least as many pixels as the tile is wide on screen.
-    const double wide = t.screenPixels;
+    // The coarsest resolution with at least as many pixels as the tile is wide on screen
+    // times the oversampling.
+    const double wide = t.screenPixels * FieldOptions{}.pixelsPerScreenPixel;
     if (t.resolution > 0) {
       EXPECT_GE(double(l.resolutions[size_t(t.resolution)]), wide);
     }

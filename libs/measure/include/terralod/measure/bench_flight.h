@@ -38,6 +38,8 @@ struct FrameRecord {
   bool coarser = false;          ///< drew a chunk whose wanted children were not resident, or
                                  ///< a late split still easing in from its parent's surface
   bool easing = false;           ///< drew a late split still easing in (part of `coarser`)
+  bool childrenMissing = false;  ///< drew a chunk whose wanted children were not resident
+                                 ///< (part of `coarser`): the terrain was still loading
   bool waitedOnIo = false;       ///< blocked on a read
   glm::dvec3 eye{0.0};
   double errorPx = NAN;      ///< largest screen-space error over the source samples in view
