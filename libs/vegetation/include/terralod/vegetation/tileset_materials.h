@@ -4,8 +4,10 @@
 // - from a categorical raster (`--vegetation-materials`, as `build --materials` takes),
 //   resampled onto the source grid through the georeferencing the tileset's metadata records
 //   ("source": "geotransform" and "crs_wkt"; material_raster.h says how);
-// - else a VIPM tileset's own: every leaf's vertex materials at full detail (a leaf holds all
-//   its grid points), read once when the layer is made (one pass over the leaves' blobs).
+// - else a VIPM tileset's own: each grid point under a leaf's (or, where there is none, a
+//   root's) full-detail triangles takes the material of the triangle's nearest corner; read
+//   once when the layer is made (one pass over the roots' and leaves' blobs, no
+//   reconstruction).
 // A static tileset without a raster has none: one error line says what to give.
 
 #include <string>
