@@ -10,6 +10,7 @@
 #  2. The same flight with --no-vegetation-blend (the pops blending hides) and without
 #     vegetation (what the terrain alone costs, in the same run).
 #  3. The meadow over the same flight.
+#  4. The terrain's figures with and without sunflowers on a tileset built at 0.07 m.
 #
 #   bench/vegetation_flight.sh
 #
@@ -44,6 +45,15 @@ echo "== 3. the meadow"
 "$terralod" bench "$dir/synth4097.tlod" --flight "$flight" --vegetation "$dir/meadow.tlv" \
   --vegetation-reference --reference-every 150 --json "$dir/flight_meadow.json"
 
+echo "== 4. terrain figures with and without sunflowers on a tileset of the finest error 16-bit"
+echo "==    heights allow here (the default tileset's 1 m cannot hold tau 3 m above the ground)"
+[ -f "$dir/synth4097_fine.tlod" ] ||
+  "$terralod" build "$dir/synth4097.tif" -o "$dir/synth4097_fine.tlod" --max-error 0.07 --no-texture
+"$terralod" bench "$dir/synth4097_fine.tlod" --flight "$flight" --source "$dir/synth4097.tif" \
+  --json "$dir/flight_fine_terrain.json"
+"$terralod" bench "$dir/synth4097_fine.tlod" --flight "$flight" --source "$dir/synth4097.tif" \
+  --vegetation "$dir/sunflowers.tlv" --json "$dir/flight_fine_sunflowers.json"
+
 python3 - "$dir" <<'PY'
 import json, sys
 d = sys.argv[1]
@@ -52,7 +62,8 @@ keys = ["frame_ms_p50", "frame_ms_p99", "vegetation_ms_p50", "vegetation_ms_p99"
         "vegetation_pop_mean", "vegetation_pop_mean_avg", "vegetation_ssim_mean",
         "vegetation_ssim_min", "vegetation_coverage_error", "max_error_px", "holes_total",
         "image_pop_mean"]
-for run in ["flight_sunflowers", "flight_no_blend", "flight_terrain", "flight_meadow"]:
+for run in ["flight_sunflowers", "flight_no_blend", "flight_terrain", "flight_meadow",
+            "flight_fine_terrain", "flight_fine_sunflowers"]:
     j = json.load(open(f"{d}/{run}.json"))
     print(run, " ".join(f"{k}={j[k]:.4g}" for k in keys if k in j))
 PY
