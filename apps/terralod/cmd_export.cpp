@@ -14,6 +14,7 @@
 #include "terralod/measure/export_mesh.h"
 #include "terralod/measure/export_texture.h"
 #include "terralod/measure/mesh_writers.h"
+#include "terralod/tiles3d/export_3dtiles.h"
 
 namespace terralod::cli {
 namespace {
@@ -24,7 +25,27 @@ struct ExportOptions {
   std::optional<int64_t> textureSize;  // default: the full resolution, at most kDefaultTexture
   std::optional<double> error;         // VIPM tilesets: the allowed error (default: finest)
   bool noTexture = false;
+  std::string format;  // "3dtiles": a 3D Tiles tileset in the directory -o names
 };
+
+int export3dTiles(const ExportOptions& options) {
+  if (options.level || options.error || options.textureSize || options.noTexture)
+    return fail(
+        "--format 3dtiles exports every chunk with its own colour tile; --level, "
+        "--error, --texture-size and --no-texture do not apply");
+  auto opened = TilesetReader::openPathOrUrl(options.tileset);  // a path or an http(s):// URL
+  if (!opened) return fail(opened.error().message);
+  TerminalProgress progress;
+  auto summary = tiles3d::export3dTiles(**opened, options.output, progress, warn);
+  if (!summary) return fail(summary.error().message);
+  std::printf(
+      "terralod: wrote %s/tileset.json: %llu tiles, %llu bytes of glTF (%llu of vertices and "
+      "indices before meshopt), positions within %.3g m of their place%s\n",
+      options.output.c_str(), (unsigned long long)summary->tiles,
+      (unsigned long long)summary->bytes, (unsigned long long)summary->uncompressedBytes,
+      summary->maxQuantisationError, summary->placed ? "" : " (default placement)");
+  return 0;
+}
 
 constexpr int64_t kDefaultTexture = 2048, kMaxTexture = 16384;
 
@@ -207,7 +228,15 @@ void addExportCommand(CLI::App& root, Runner& run) {
       "NAME.mtl) for .obj, as NAME.png named by a 'comment TextureFile' for .ply.\n\n"
       "Example:\n"
       "  terralod export dem.tlod --level 3 -o level3.glb\n");
-  cmd->callback([&run, options] { run = [options] { return exportLevel(*options); }; });
+  cmd->add_option("--format", options->format,
+                  "3dtiles: write a 3D Tiles 1.1 tileset into the directory -o names (every chunk "
+                  "a glTF, skirts included, placed on Earth from the source's georeferencing)")
+      ->check(CLI::IsMember({"3dtiles"}));
+  cmd->callback([&run, options] {
+    run = [options] {
+      return options->format == "3dtiles" ? export3dTiles(*options) : exportLevel(*options);
+    };
+  });
 }
 
 }  // namespace terralod::cli

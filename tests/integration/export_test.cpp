@@ -23,6 +23,7 @@
 #include "bc_decode.h"
 #include "cli_expectations.h"
 #include "cli_runner.h"
+#include "gltf_validator.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/image.h"
@@ -522,26 +523,6 @@ class Export : public ::testing::TestWithParam<Dem> {
   nlohmann::json mInfo;
   uint32_t mLevels = 0;
 };
-
-// Runs the Khronos glTF validator: no errors, no warnings.
-void expectValidGltf(const std::string& glb) {
-  const std::string node = TERRALOD_NODE;
-  const std::string tools = std::string(TERRALOD_SOURCE_DIR) + "/tests/tools";
-  ASSERT_FALSE(node.empty()) << "node was not found when configuring; it runs the glTF validator";
-  ASSERT_TRUE(fs::exists(tools + "/node_modules/gltf-validator/package.json"))
-      << "the Khronos glTF validator is not installed: run scripts/install-deps.sh (make test "
-         "does), which runs `npm ci` in tests/tools";
-  const RunResult validated = runProgram(node, {tools + "/validate-gltf.mjs", glb});
-  const auto report = nlohmann::json::parse(validated.out, nullptr, false);
-  ASSERT_FALSE(report.is_discarded()) << validated.out << validated.err;
-  EXPECT_EQ(report["errors"].get<int>(), 0) << report.dump(2);
-  EXPECT_EQ(report["warnings"].get<int>(), 0) << report.dump(2);
-  EXPECT_EQ(validated.exitCode, 0) << validated.err;
-  std::printf("glTF validator %s on %s: %d errors, %d warnings, %d infos, %d hints\n",
-              report["validator"].get<std::string>().c_str(), glb.c_str(),
-              report["errors"].get<int>(), report["warnings"].get<int>(),
-              report["infos"].get<int>(), report["hints"].get<int>());
-}
 
 // The embedded image of a .glb, through its material: baseColorTexture -> texture -> image ->
 // buffer view holding a PNG.

@@ -1,0 +1,138 @@
+// terralod export --format 3dtiles: a small georeferenced tileset as a 3D Tiles 1.1 tileset
+// (tree, errors, placement on Earth, one valid glTF per chunk), the default placement of a DEM
+// without a CRS, and bad requests.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <numbers>
+
+#include "cli_expectations.h"
+#include "cli_runner.h"
+#include "gltf_validator.h"
+#include "temp_dir.h"
+
+namespace terralod::test {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// Longitude and latitude (degrees) of an ECEF point, to a few hundredths of a degree.
+std::array<double, 2> roughlyWhere(double x, double y, double z) {
+  constexpr double e2 = 0.00669437999014;
+  const double degrees = 180.0 / std::numbers::pi;
+  return {std::atan2(y, x) * degrees, std::atan2(z, std::hypot(x, y) * (1 - e2)) * degrees};
+}
+
+// Every tile of the tree, depth first, with its parent's error.
+void eachTile(const json& tile, double parentError,
+              const std::function<void(const json&, double)>& visit) {
+  visit(tile, parentError);
+  if (tile.contains("children"))
+    for (const json& child : tile["children"])
+      eachTile(child, tile["geometricError"].get<double>(), visit);
+}
+
+class Export3dTiles : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir = new TempDir;
+    // 362 x 361 samples in EPSG:4326 around 146.95 W, 64.80 N, with generated colour.
+    const RunResult r =
+        runTerralod({"build", testData("n43w123_flat_64n.tif"), "-o", dir->file("flat.tlod")});
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+  }
+  static void TearDownTestSuite() { delete dir; }
+  static inline TempDir* dir = nullptr;
+};
+
+TEST_F(Export3dTiles, EveryChunkAPlacedValidGltfUnderATreeOfTheirErrors) {
+  const std::string out = dir->file("flat3d");
+  const RunResult r =
+      runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles", "-o", out});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.out.find("tileset.json"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+  const json tileset = json::parse(readWholeFile(out + "/tileset.json"));
+  EXPECT_EQ(tileset["asset"]["version"], "1.1");
+  const json& root = tileset["root"];
+  // Placed where the DEM is: the root frame's origin at the data's centre.
+  const auto where =
+      roughlyWhere(root["transform"][12], root["transform"][13], root["transform"][14]);
+  EXPECT_NEAR(where[0], -146.9497, 0.02);
+  EXPECT_NEAR(where[1], 64.7999, 0.02);
+  // Each tile's content exists; errors shrink going down; refinement REPLACE.
+  size_t tiles = 0, leaves = 0;
+  std::string aLeaf;
+  eachTile(root, tileset["geometricError"].get<double>(), [&](const json& t, double parent) {
+    EXPECT_LE(t["geometricError"].get<double>(), parent);
+    EXPECT_EQ(t["refine"], "REPLACE");
+    EXPECT_EQ(t["boundingVolume"]["box"].size(), 12u);
+    if (!t.contains("content")) return;
+    ++tiles;
+    const std::string uri = t["content"]["uri"];
+    EXPECT_TRUE(fs::exists(out + "/" + uri)) << uri;
+    if (!t.contains("children")) {
+      ++leaves;
+      aLeaf = uri;
+    }
+  });
+  size_t files = 0;
+  for (const auto& e : fs::recursive_directory_iterator(out + "/tiles"))
+    files += e.path().extension() == ".glb";
+  EXPECT_EQ(files, tiles);
+  EXPECT_GT(leaves, 3u);
+  expectValidGltf(out + "/tiles/0/0/0.glb");
+  expectValidGltf(out + "/" + aLeaf);
+
+  // Not over an export already there.
+  expectOneErrorLine(
+      runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles", "-o", out}),
+      "exists and is not an empty directory");
+}
+
+TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {
+  const std::string asc = dir->file("plain.asc");
+  {
+    std::ofstream f(asc);
+    f << "ncols 65\nnrows 65\nxllcorner 0\nyllcorner 0\ncellsize 10\n";
+    for (int r = 0; r < 65; ++r)
+      for (int c = 0; c < 65; ++c) f << (100 + r + c % 7) << (c + 1 < 65 ? " " : "\n");
+  }
+  ASSERT_EQ(runTerralod({"build", asc, "-o", dir->file("plain.tlod")}).exitCode, 0);
+  const RunResult r = runTerralod(
+      {"export", dir->file("plain.tlod"), "--format", "3dtiles", "-o", dir->file("plain3d")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("has no coordinate reference system; placed on a plane tangent"),
+            std::string::npos)
+      << r.err;
+  const json tileset = json::parse(readWholeFile(dir->file("plain3d/tileset.json")));
+  const json& t = tileset["root"]["transform"];
+  const auto where = roughlyWhere(t[12], t[13], t[14]);
+  EXPECT_NEAR(where[0], 0.0, 0.01);
+  EXPECT_NEAR(where[1], 0.0, 0.01);
+  EXPECT_EQ(tileset["extras"]["placed_on_earth"], false);
+}
+
+TEST_F(Export3dTiles, BadRequestsGetOneLineAndLeaveNothing) {
+  const std::string out = dir->file("bad3d");
+  expectOneErrorLine(runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles",
+                                  "--level", "1", "-o", out}),
+                     "do not apply");
+  ASSERT_EQ(runTerralod({"build", testData("n43w123_flat_64n.tif"), "--kind", "vipm", "-o",
+                         dir->file("flat_vipm.tlod")})
+                .exitCode,
+            0);
+  expectOneErrorLine(
+      runTerralod({"export", dir->file("flat_vipm.tlod"), "--format", "3dtiles", "-o", out}),
+      "static tilesets");
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+}
+
+}  // namespace
+}  // namespace terralod::test
