@@ -65,6 +65,13 @@ TEST_F(Export3dTiles, EveryChunkAPlacedValidGltfUnderATreeOfTheirErrors) {
       roughlyWhere(root["transform"][12], root["transform"][13], root["transform"][14]);
   EXPECT_NEAR(where[0], -146.9497, 0.02);
   EXPECT_NEAR(where[1], 64.7999, 0.02);
+  // What placed it, for tools that put a terralod camera there.
+  const json& extras = tileset["extras"];
+  EXPECT_EQ(extras["placed_on_earth"], true);
+  EXPECT_EQ(extras["source_grid"]["columns"], 362);
+  EXPECT_EQ(extras["source_grid"]["geotransform"].size(), 6u);
+  EXPECT_NE(extras["source_grid"]["crs_wkt"].get<std::string>().find("WGS 84"), std::string::npos);
+  EXPECT_EQ(extras["root_frame_origin_local"].size(), 3u);
   // Each tile's content exists; errors shrink going down; refinement REPLACE.
   size_t tiles = 0, leaves = 0;
   std::string aLeaf;

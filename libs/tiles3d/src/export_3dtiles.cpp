@@ -183,9 +183,19 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
     progress.advance();
   }
   progress.end();
-  const nlohmann::json extras = {{"generator", "terralod export --format 3dtiles"},
-                                 {"source", fs::path(tileset.name()).filename().string()},
-                                 {"placed_on_earth", summary.placed}};
+  // What places the root frame, so that a tool can put a terralod camera (local metres) in
+  // the same place exactly: the source grid's georeferencing and the root frame's origin.
+  const SourceGrid grid = sourceGrid(tileset);
+  nlohmann::json extras = {{"generator", "terralod export --format 3dtiles"},
+                           {"source", fs::path(tileset.name()).filename().string()},
+                           {"placed_on_earth", summary.placed},
+                           {"root_frame_origin_local", {cx, cy, cz}},
+                           {"source_grid",
+                            {{"columns", grid.columns},
+                             {"rows", grid.rows},
+                             {"spacing", {grid.spacingX, grid.spacingY}},
+                             {"crs_wkt", grid.crsWkt}}}};
+  if (grid.hasGeoTransform) extras["source_grid"]["geotransform"] = grid.geoTransform;
   auto json = tilesetJson(tiles, *root, 2.0 * h.levelError[0], extras);
   if (!json) return json.error();
   {
