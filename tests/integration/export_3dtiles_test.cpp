@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -14,6 +15,7 @@
 #include "cli_runner.h"
 #include "gltf_validator.h"
 #include "temp_dir.h"
+#include "terralod/format/tileset_reader.h"
 
 namespace terralod::test {
 namespace {
@@ -137,6 +139,22 @@ TEST_F(Export3dTiles, BadRequestsGetOneLineAndLeaveNothing) {
   expectOneErrorLine(
       runTerralod({"export", dir->file("flat_vipm.tlod"), "--format", "3dtiles", "-o", out}),
       "static tilesets");
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(out + ".partial"));
+
+  // A chunk damaged near the end (the last node's blob): the tiles before it are written, then
+  // the export fails naming it, and what it wrote goes.
+  const std::string damaged = dir->file("damaged.tlod");
+  fs::copy_file(dir->file("flat.tlod"), damaged, fs::copy_options::overwrite_existing);
+  {
+    auto reader = TilesetReader::openFile(damaged);
+    ASSERT_TRUE(reader.ok());
+    const NodeRecord last = (*reader)->nodes().back();
+    std::fstream f(damaged, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(std::streamoff(last.blobOffset + last.blobBytes / 2));
+    f.put('\x5a').put('\xa5');
+  }
+  expectOneErrorLine(runTerralod({"export", damaged, "--format", "3dtiles", "-o", out}), "chunk");
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
 }

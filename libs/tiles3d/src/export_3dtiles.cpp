@@ -80,6 +80,15 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   fs::remove_all(partial, ec);
   if (!fs::create_directories(partial, ec) || ec)
     return makeError(partial, "cannot be created (" + ec.message() + ")");
+  // Whatever fails from here leaves nothing behind.
+  struct RemoveUnlessDone {
+    std::string path;
+    bool done = false;
+    ~RemoveUnlessDone() {
+      std::error_code ignored;
+      if (!done) fs::remove_all(path, ignored);
+    }
+  } cleanup{partial};
 
   ExportSummary summary;
   auto placed = EarthPlacement::of(sourceGrid(tileset), tileset.name());
@@ -128,13 +137,14 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
       }
     }
     if (mesh.indices.empty()) return makeError(subject, "has no triangles");
-    // Normals from the surface (skirts keep their border's up), local then the root frame.
+    // Normals from the surface triangles (skirt vertices, in none, point straight up), local
+    // then through the chunk's frame and into the root frame.
     std::vector<std::array<float, 3>> normals = angleWeightedNormals(localFloat, surface);
-    const double nodeCx = 0.5 * (record.minZ + record.maxZ);
+    const double nodeZ = 0.5 * (record.minZ + record.maxZ);
     const auto [ox, oy] = chunkCellOrigin(h, record);
     const double side = h.chunkCells(record.level);
     auto frame = placement.frameAt((double(ox) + 0.5 * side) * h.spacingX,
-                                   (double(oy) + 0.5 * side) * h.spacingY, nodeCx);
+                                   (double(oy) + 0.5 * side) * h.spacingY, nodeZ);
     if (!frame) return frame.error();
     const glm::dmat3 toEarthNormal = glm::transpose(glm::inverse(upper(*frame)));
     const glm::dmat3 toRootNormal = glm::transpose(glm::inverse(upper(toRoot)));
@@ -207,6 +217,7 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   fs::remove(dir, ec);  // an empty directory, if any
   fs::rename(partial, dir, ec);
   if (ec) return makeError(dir, "cannot be put in place (" + ec.message() + ")");
+  cleanup.done = true;
   return summary;
 }
 
