@@ -47,6 +47,20 @@ std::string colorHex(const std::array<uint8_t, 3>& color) {
   return s;
 }
 
+SourceGrid sourceGridOf(const TilesetHeader& header, const TilesetMetadata& metadata) {
+  SourceGrid g;
+  g.columns = int32_t(header.sourceColumns);
+  g.rows = int32_t(header.sourceRows);
+  g.spacingX = header.spacingX;
+  g.spacingY = header.spacingY;
+  g.crsWkt = metadata.sourceCrsWkt;
+  if (metadata.sourceGeoTransform) {
+    g.geoTransform = *metadata.sourceGeoTransform;
+    g.hasGeoTransform = true;
+  }
+  return g;
+}
+
 Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const TilesetHeader& header,
                                              const std::string& subject) {
   auto bad = [&](const std::string& what) {

@@ -301,4 +301,19 @@ Result<MaterialMap> readMaterialRaster(const std::string& path, const DemInfo& d
   return map;
 }
 
+Result<MaterialMap> readMaterialRaster(const std::string& path, const SourceGrid& grid,
+                                       const std::string& gridName,
+                                       const MaterialRasterOptions& options) {
+  DemInfo dem;
+  dem.path = gridName;
+  dem.columns = grid.columns;
+  dem.rows = grid.rows;
+  dem.spacingX = grid.spacingX;
+  dem.spacingY = grid.spacingY;
+  dem.geoTransform = grid.geoTransform;
+  dem.hasGeoTransform = grid.hasGeoTransform;
+  dem.crsWkt = grid.crsWkt;
+  return readMaterialRaster(path, dem, options);
+}
+
 }  // namespace terralod

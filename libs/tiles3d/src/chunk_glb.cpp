@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include <glm/mat4x4.hpp>
 #include <nlohmann/json.hpp>
@@ -32,26 +31,18 @@ void padTo4(std::vector<uint8_t>& out, uint8_t fill) {
   while (out.size() % 4) out.push_back(fill);
 }
 
-std::vector<uint8_t> encode(const Stream& s) {
-  std::vector<uint8_t> out;
-  if (s.indices) {
-    meshopt_encodeIndexVersion(1);  // what EXT_meshopt_compression's TRIANGLES mode decodes
-    out.resize(meshopt_encodeIndexBufferBound(s.count, s.count));
-    std::vector<uint32_t> wide(s.count);
-    if (s.stride == 2)
-      for (size_t i = 0; i < s.count; ++i)
-        wide[i] = uint32_t(s.data[2 * i]) | uint32_t(s.data[2 * i + 1]) << 8;
-    else
-      std::memcpy(wide.data(), s.data.data(), s.count * 4);
-    const uint32_t vertices = wide.empty() ? 0 : *std::max_element(wide.begin(), wide.end()) + 1;
-    out.resize(meshopt_encodeIndexBufferBound(s.count, vertices));
-    out.resize(meshopt_encodeIndexBuffer(out.data(), out.size(), wide.data(), s.count));
-  } else {
-    meshopt_encodeVertexVersion(0);  // the only version EXT_meshopt_compression knows
-    out.resize(meshopt_encodeVertexBufferBound(s.count, s.stride));
-    out.resize(
-        meshopt_encodeVertexBuffer(out.data(), out.size(), s.data.data(), s.count, s.stride));
-  }
+std::vector<uint8_t> encodeVertices(const Stream& s) {
+  meshopt_encodeVertexVersion(0);  // the only version EXT_meshopt_compression knows
+  std::vector<uint8_t> out(meshopt_encodeVertexBufferBound(s.count, s.stride));
+  out.resize(meshopt_encodeVertexBuffer(out.data(), out.size(), s.data.data(), s.count, s.stride));
+  return out;
+}
+
+// The index codec does not depend on the width the decoder writes (the view's stride).
+std::vector<uint8_t> encodeIndices(const std::vector<uint32_t>& indices, size_t vertices) {
+  meshopt_encodeIndexVersion(1);  // what EXT_meshopt_compression's TRIANGLES mode decodes
+  std::vector<uint8_t> out(meshopt_encodeIndexBufferBound(indices.size(), vertices));
+  out.resize(meshopt_encodeIndexBuffer(out.data(), out.size(), indices.data(), indices.size()));
   return out;
 }
 
@@ -130,7 +121,8 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
   json views = json::array(), accessors = json::array();
   size_t fallbackBytes = 0;
   for (const Stream* s : streams) {
-    const std::vector<uint8_t> compressed = encode(*s);
+    const std::vector<uint8_t> compressed =
+        s->indices ? encodeIndices(m.indices, n) : encodeVertices(*s);
     json meshopt = {{"buffer", 0},
                     {"byteOffset", bin.size()},
                     {"byteLength", compressed.size()},

@@ -22,22 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-SourceGrid sourceGrid(const TilesetReader& tileset) {
-  const TilesetHeader& h = tileset.header();
-  const TilesetMetadata& m = tileset.metadata();
-  SourceGrid g;
-  g.columns = int32_t(h.sourceColumns);
-  g.rows = int32_t(h.sourceRows);
-  g.spacingX = h.spacingX;
-  g.spacingY = h.spacingY;
-  g.crsWkt = m.sourceCrsWkt;
-  if (m.sourceGeoTransform) {
-    g.geoTransform = *m.sourceGeoTransform;
-    g.hasGeoTransform = true;
-  }
-  return g;
-}
-
 // The chunk's colour tile as JPEG (rows as stored: the southern first, which glTF's v = 0
 // addresses), or empty when it has none.
 Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::string& subject,
@@ -59,10 +43,6 @@ Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::strin
   if (!stbi_write_jpg_to_func(sink, &jpeg, int(size), int(size), 3, rgb.data(), 90))
     return makeError(subject, "colour texture cannot be encoded as JPEG");
   return jpeg;
-}
-
-glm::dmat3 upper(const glm::dmat4& m) {
-  return glm::dmat3(m);
 }
 
 }  // namespace
@@ -91,7 +71,8 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   } cleanup{partial};
 
   ExportSummary summary;
-  auto placed = EarthPlacement::of(sourceGrid(tileset), tileset.name());
+  const SourceGrid grid = sourceGridOf(h, tileset.metadata());
+  auto placed = EarthPlacement::of(grid, tileset.name());
   EarthPlacement placement =
       placed.ok() ? std::move(placed).value()
                   : EarthPlacement::tangentPlane(kDefaultLongitude, kDefaultLatitude);
@@ -108,6 +89,7 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   auto root = placement.frameAt(cx, cy, cz);
   if (!root) return root.error();
   const glm::dmat4 toRoot = glm::inverse(*root);
+  const glm::dmat3 toRootNormal = glm::transpose(glm::inverse(glm::dmat3(toRoot)));
 
   const auto& nodes = tileset.nodes();
   std::vector<ExportTile> tiles(nodes.size());
@@ -146,8 +128,7 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
     auto frame = placement.frameAt((double(ox) + 0.5 * side) * h.spacingX,
                                    (double(oy) + 0.5 * side) * h.spacingY, nodeZ);
     if (!frame) return frame.error();
-    const glm::dmat3 toEarthNormal = glm::transpose(glm::inverse(upper(*frame)));
-    const glm::dmat3 toRootNormal = glm::transpose(glm::inverse(upper(toRoot)));
+    const glm::dmat3 toEarthNormal = glm::transpose(glm::inverse(glm::dmat3(*frame)));
     for (auto& n : normals) {
       glm::dvec3 v(n[0], n[1], n[2]);
       if (!(glm::dot(v, v) > 0.5)) v = glm::dvec3(0, 0, 1);
@@ -195,7 +176,6 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   progress.end();
   // What places the root frame, so that a tool can put a terralod camera (local metres) in
   // the same place exactly: the source grid's georeferencing and the root frame's origin.
-  const SourceGrid grid = sourceGrid(tileset);
   nlohmann::json extras = {{"generator", "terralod export --format 3dtiles"},
                            {"source", fs::path(tileset.name()).filename().string()},
                            {"placed_on_earth", summary.placed},

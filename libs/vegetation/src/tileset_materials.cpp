@@ -10,24 +10,6 @@
 namespace terralod::veg {
 namespace {
 
-// The tileset's source grid as the raster reader wants it.
-DemInfo sourceGrid(const TilesetReader& tileset) {
-  const TilesetHeader& h = tileset.header();
-  const TilesetMetadata& m = tileset.metadata();
-  DemInfo grid;
-  grid.path = m.sourceFile.empty() ? tileset.name() : m.sourceFile;
-  grid.columns = int32_t(h.sourceColumns);
-  grid.rows = int32_t(h.sourceRows);
-  grid.spacingX = h.spacingX;
-  grid.spacingY = h.spacingY;
-  grid.crsWkt = m.sourceCrsWkt;
-  if (m.sourceGeoTransform) {
-    grid.geoTransform = *m.sourceGeoTransform;
-    grid.hasGeoTransform = true;
-  }
-  return grid;
-}
-
 // Every grid point under the chunk's full-detail triangles takes the material of the triangle's
 // corner it is nearest to (largest barycentric weight; what splatting shows most of there). The
 // finest level is simplified within the leaf error, so its vertices alone miss grid points.
@@ -102,7 +84,10 @@ Result<MaterialMap> vipmMaterials(const TilesetReader& tileset, Progress& progre
 Result<MaterialMap> tilesetMaterials(const TilesetReader& tileset,
                                      const TilesetMaterialSource& source, Progress& progress) {
   if (!source.rasterPath.empty())
-    return readMaterialRaster(source.rasterPath, sourceGrid(tileset), {source.palettePath});
+    return readMaterialRaster(
+        source.rasterPath, sourceGridOf(tileset.header(), tileset.metadata()),
+        tileset.metadata().sourceFile.empty() ? tileset.name() : tileset.metadata().sourceFile,
+        {source.palettePath});
   if (tileset.header().meshKind != MeshKind::kVipm)
     return makeError(tileset.name(),
                      "has no materials (not a VIPM tileset): give --vegetation-materials RASTER "

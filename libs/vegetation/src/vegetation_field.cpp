@@ -144,6 +144,11 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
         ++s.culled;
         continue;
       }
+      // The material needs no heights: a tile it refuses reads no chunk either.
+      if (!options.where.allowsMaterialAt(centre)) {
+        ++s.excluded;
+        continue;
+      }
       const uint32_t x = uint32_t(tx), y = uint32_t(ty);
       const auto corners = heights.tileCorners(x, y);
       if (!corners) {
@@ -156,7 +161,7 @@ std::vector<TileDraw> selectTiles(const FieldLayout& layout, const View& view,
       d.placement = {glm::vec2(float(tx * size), float(ty * size)), float(size), *corners};
       const auto [low, high] = std::minmax_element(corners->begin(), corners->end());
       const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
-      if (!options.where.allows(ground, slopeDegrees(d.placement), centre)) {
+      if (!options.where.allowsGround(ground, slopeDegrees(d.placement))) {
         ++s.excluded;
         continue;
       }
@@ -206,7 +211,7 @@ std::vector<TileDraw> tilesWithin(const FieldLayout& layout, const View& view,
       if (std::hypot(centre.x - eye.x, centre.y - eye.y) > maxDistance) continue;
       const Box grown{{tx * size - margin, ty * size - margin, -1e9},
                       {(tx + 1) * size + margin, (ty + 1) * size + margin, 1e9}};
-      if (!boxInFrustum(view, grown)) continue;
+      if (!boxInFrustum(view, grown) || !where.allowsMaterialAt(centre)) continue;
       const uint32_t x = uint32_t(tx), y = uint32_t(ty);
       const auto corners = heights.tileCorners(x, y);
       if (!corners) continue;
@@ -220,7 +225,7 @@ std::vector<TileDraw> tilesWithin(const FieldLayout& layout, const View& view,
                      double(*high) + layout.tileHeight + margin}};
       if (!boxInFrustum(view, box)) continue;
       const double ground = 0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
-      if (!where.allows(ground, slopeDegrees(d.placement), centre)) continue;
+      if (!where.allowsGround(ground, slopeDegrees(d.placement))) continue;
       d.prototile = layout.tiling.at(x, y);
       d.distance = glm::length(glm::dvec3(centre, ground) - eye);
       tiles.push_back(d);

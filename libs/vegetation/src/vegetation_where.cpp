@@ -33,13 +33,16 @@ Result<double> numberIn(std::string_view term, std::string_view text) {
 
 }  // namespace
 
-bool VegetationWhere::allows(double height, double slope, glm::dvec2 centre) const {
+bool VegetationWhere::allowsMaterialAt(glm::dvec2 centre) const {
+  return materials.empty() || (materialMask && materialMask->allowsAt(centre.x, centre.y));
+}
+
+bool VegetationWhere::allowsGround(double height, double slope) const {
   if (heightBelow && !(height < *heightBelow)) return false;
   if (heightAbove && !(height > *heightAbove)) return false;
   if (slopeBelow && !(slope < *slopeBelow)) return false;
   if (slopeAbove && !(slope > *slopeAbove)) return false;
-  if (materials.empty()) return true;
-  return materialMask && materialMask->allowsAt(centre.x, centre.y);
+  return true;
 }
 
 Result<VegetationWhere> parseVegetationWhere(std::string_view text) {

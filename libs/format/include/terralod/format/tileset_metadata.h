@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/core/source_grid.h"
 #include "terralod/core/terrain_edit.h"
 #include "terralod/format/tileset_format.h"
 
@@ -63,6 +64,10 @@ struct TilesetMetadata {
   /// "Edits"), in order; empty when there were none.
   std::vector<TerrainEdit> edits;
 };
+
+/// The tileset's source grid: its size and spacing from the header, its georeferencing from
+/// the metadata.
+SourceGrid sourceGridOf(const TilesetHeader& header, const TilesetMetadata& metadata);
 
 /// "#rrggbb" for a colour (what "materials" stores).
 std::string colorHex(const std::array<uint8_t, 3>& color);

@@ -28,6 +28,7 @@
 #include <string>
 
 #include "terralod/core/result.h"
+#include "terralod/core/source_grid.h"
 #include "terralod/materials/material.h"
 #include "terralod/raster/dem_reader.h"
 
@@ -43,6 +44,10 @@ constexpr int kMaxDistinctValuesForClasses = 256;
 /// Onto the grid `dem` describes (its columns, rows, georeferencing; its path names it in
 /// errors): a DEM's own, or a tileset's source grid recorded in its metadata.
 Result<MaterialMap> readMaterialRaster(const std::string& path, const DemInfo& dem,
+                                       const MaterialRasterOptions& options = {});
+/// Onto a tileset's source grid (`gridName` names it in errors).
+Result<MaterialMap> readMaterialRaster(const std::string& path, const SourceGrid& grid,
+                                       const std::string& gridName,
                                        const MaterialRasterOptions& options = {});
 /// Onto a DEM's grid.
 inline Result<MaterialMap> readMaterialRaster(const std::string& path, const DemReader& dem,

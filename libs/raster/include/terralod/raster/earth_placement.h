@@ -19,17 +19,9 @@
 #include <glm/mat4x4.hpp>
 
 #include "terralod/core/result.h"
+#include "terralod/core/source_grid.h"
 
 namespace terralod {
-
-/// The source grid as a tileset records it (metadata "source": "geotransform", "crs_wkt").
-struct SourceGrid {
-  int32_t columns = 0, rows = 0;
-  double spacingX = 1, spacingY = 1;     ///< local metres between grid points
-  std::array<double, 6> geoTransform{};  ///< GDAL's, of the source raster
-  bool hasGeoTransform = false;
-  std::string crsWkt;  ///< empty: no CRS
-};
 
 class EarthPlacement {
  public:

@@ -30,8 +30,14 @@ struct VegetationWhere {
   std::shared_ptr<const MaterialMask> materialMask;
 
   /// Whether a tile whose ground has this height and slope and whose centre is at `centre`
-  /// (metres from the terrain's south-west sample) gets vegetation.
-  bool allows(double height, double slopeDegrees, glm::dvec2 centre) const;
+  /// (metres from the terrain's south-west sample) gets vegetation: both of the below.
+  bool allows(double height, double slopeDegrees, glm::dvec2 centre) const {
+    return allowsMaterialAt(centre) && allowsGround(height, slopeDegrees);
+  }
+  /// The material term alone (true without one): needs no heights, so callers ask it first.
+  bool allowsMaterialAt(glm::dvec2 centre) const;
+  /// The height and slope terms alone.
+  bool allowsGround(double height, double slopeDegrees) const;
 };
 
 /// Errors name the option and the term: "--vegetation-where: 'slope<abc': not a number".
