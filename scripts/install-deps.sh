@@ -23,6 +23,9 @@ packages=(
   xvfb xauth
   # network: libcurl for HTTP tilesets; nginx (/usr/sbin/nginx) serves them in the HTTP tests
   libcurl4-openssl-dev nginx
+  # a real 3D Tiles client for the export's test: CesiumJS (npm, below) in headless Chromium
+  # (scripts/cesium-screenshot.sh)
+  chromium
   # tests and benchmarks; gnuplot draws the plots of `terralod bench --report`
   libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
@@ -52,9 +55,11 @@ if [ ${#missing[@]} -gt 0 ]; then
   fi
 fi
 
-# The Khronos glTF validator (npm package) used by the export test, pinned by tests/tools/package-lock.json.
+# npm packages the tests run, pinned by tests/tools/package-lock.json: the Khronos glTF validator
+# (the export tests) and CesiumJS (scripts/cesium-screenshot.sh).
 here=$(cd "$(dirname "$0")/.." && pwd)
-if [ -f "$here/tests/tools/package.json" ] && [ ! -d "$here/tests/tools/node_modules/gltf-validator" ]; then
+if [ -f "$here/tests/tools/package.json" ] && { [ ! -d "$here/tests/tools/node_modules/gltf-validator" ] ||
+  [ ! -f "$here/tests/tools/node_modules/cesium/package.json" ]; }; then
   (cd "$here/tests/tools" && npm ci --silent --no-audit --no-fund >/dev/null)
 fi
 echo "install-deps: all dependencies present"

@@ -25,7 +25,8 @@ struct ExportOptions {
   std::optional<int64_t> textureSize;  // default: the full resolution, at most kDefaultTexture
   std::optional<double> error;         // VIPM tilesets: the allowed error (default: finest)
   bool noTexture = false;
-  std::string format;  // "3dtiles": a 3D Tiles tileset in the directory -o names
+  std::string format;           // "3dtiles": a 3D Tiles tileset in the directory -o names
+  std::string tiling = "auto";  // 3dtiles: explicit, implicit or auto
 };
 
 int export3dTiles(const ExportOptions& options) {
@@ -36,12 +37,25 @@ int export3dTiles(const ExportOptions& options) {
   auto opened = TilesetReader::openPathOrUrl(options.tileset);  // a path or an http(s):// URL
   if (!opened) return fail(opened.error().message);
   TerminalProgress progress;
-  auto summary = tiles3d::export3dTiles(**opened, options.output, progress, warn);
+  tiles3d::Export3dTilesOptions exportOptions;
+  exportOptions.tiling = options.tiling == "explicit"   ? tiles3d::Tiling::kExplicit
+                         : options.tiling == "implicit" ? tiles3d::Tiling::kImplicit
+                                                        : tiles3d::Tiling::kAuto;
+  auto summary = tiles3d::export3dTiles(**opened, options.output, exportOptions, progress, warn);
   if (!summary) return fail(summary.error().message);
+  std::string tiling = "an explicit tree";
+  if (summary->tiling == tiles3d::Tiling::kImplicit) {
+    char text[160];
+    std::snprintf(text, sizeof text,
+                  "implicit quadtree tiling, %llu subtree files, content within %.2g m of its "
+                  "implicit boxes",
+                  (unsigned long long)summary->subtrees, summary->implicitBoxExcess);
+    tiling = text;
+  }
   std::printf(
-      "terralod: wrote %s/tileset.json: %llu tiles, %llu bytes of glTF (%llu of vertices and "
-      "indices before meshopt), positions within %.3g m of their place%s\n",
-      options.output.c_str(), (unsigned long long)summary->tiles,
+      "terralod: wrote %s/tileset.json (%s): %llu tiles, %llu bytes of glTF (%llu of vertices "
+      "and indices before meshopt), positions within %.3g m of their place%s\n",
+      options.output.c_str(), tiling.c_str(), (unsigned long long)summary->tiles,
       (unsigned long long)summary->bytes, (unsigned long long)summary->uncompressedBytes,
       summary->maxQuantisationError, summary->placed ? "" : " (default placement)");
   return 0;
@@ -55,6 +69,7 @@ std::string besideOutput(const std::string& output, const char* extension) {
 }
 
 int exportLevel(const ExportOptions& options) {
+  if (options.tiling != "auto") return fail("--tiling goes with --format 3dtiles");
   const auto format = meshFormatForPath(options.output);
   if (!format) {
     const std::string extension = std::filesystem::path(options.output).extension().string();
@@ -232,6 +247,11 @@ void addExportCommand(CLI::App& root, Runner& run) {
                   "3dtiles: write a 3D Tiles 1.1 tileset into the directory -o names (every chunk "
                   "a glTF, skirts included, placed on Earth from the source's georeferencing)")
       ->check(CLI::IsMember({"3dtiles"}));
+  cmd->add_option("--tiling", options->tiling,
+                  "--format 3dtiles: explicit (every tile in tileset.json), implicit (quadtree "
+                  "tiling with subtree files), or auto: implicit from 4096 tiles on")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "explicit", "implicit"}));
   cmd->callback([&run, options] {
     run = [options] {
       return options->format == "3dtiles" ? export3dTiles(*options) : exportLevel(*options);

@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   addInfoCommand(app, run);
   addVerifyCommand(app, run);
   addExportCommand(app, run);
+  addWhereCommand(app, run);
   addRenderCommand(app, run);
   addBenchCommand(app, run);
   addViewCommand(app, run);

@@ -63,6 +63,11 @@ void addRenderOptions(CLI::App& c, RenderOptions& o, bool withCamera) {
                "LOD grey)")
       ->capture_default_str()
       ->check(CLI::IsMember({"relief", "level", "morph", "kind"}));
+  c.add_option("--shading", o.shading,
+               "lit: the surface colour lit by the sun and the sky; unlit: the colour as it is "
+               "(imagery that carries its own light, as a 3D Tiles export of it is drawn)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lit", "unlit"}));
   c.add_option("--sun", o.sun,
                "Sun direction AZ,EL in degrees: azimuth clockwise from north, elevation above "
                "the horizon (default 315,40)")
@@ -169,6 +174,7 @@ Result<TerrainStyle> terrainStyle(const RenderOptions& o) {
   }
   if (!(o.haze >= 0) || !std::isfinite(o.haze)) return Error{"--haze must be 0 or more"};
   style.haze = o.haze;
+  style.shading = o.shading == "unlit" ? Shading::kUnlit : Shading::kLit;
   style.colorBy = o.colorBy == "level"   ? ColorBy::kLevel
                   : o.colorBy == "morph" ? ColorBy::kMorph
                   : o.colorBy == "kind"  ? ColorBy::kKind

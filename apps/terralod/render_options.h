@@ -29,6 +29,7 @@ struct RenderOptions {
   bool noSuperChunks = false;   ///< --no-super-chunks: every VIPM blot in its own call
   std::string stitch = "auto";  ///< --stitch: VIPM borders, "auto", "flanges" or "fans"
   std::string colorBy = "relief";
+  std::string shading = "lit";
   std::vector<double> sun;  ///< azimuth (clockwise from north), elevation; degrees
   double haze = 1.0;        ///< --haze K: aerial perspective strength, 0 off
   std::string flightFile;

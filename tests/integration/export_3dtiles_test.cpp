@@ -8,14 +8,17 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
 
 #include "cli_expectations.h"
 #include "cli_runner.h"
 #include "gltf_validator.h"
+#include "nginx_server.h"
 #include "temp_dir.h"
 #include "terralod/format/tileset_reader.h"
+#include "tiles3d_checks.h"
 
 namespace terralod::test {
 namespace {
@@ -95,6 +98,9 @@ TEST_F(Export3dTiles, EveryChunkAPlacedValidGltfUnderATreeOfTheirErrors) {
     files += e.path().extension() == ".glb";
   EXPECT_EQ(files, tiles);
   EXPECT_GT(leaves, 3u);
+  uint64_t checked = 0;
+  EXPECT_EQ(tiles3dProblems(out, &checked), std::vector<std::string>{});
+  EXPECT_EQ(checked, tiles);
   expectValidGltf(out + "/tiles/0/0/0.glb");
   expectValidGltf(out + "/" + aLeaf);
 
@@ -102,6 +108,75 @@ TEST_F(Export3dTiles, EveryChunkAPlacedValidGltfUnderATreeOfTheirErrors) {
   expectOneErrorLine(
       runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles", "-o", out}),
       "exists and is not an empty directory");
+}
+
+// Every file of an export, by path relative to it, with its bytes.
+std::map<std::string, std::vector<uint8_t>> exportFiles(const std::string& dir) {
+  std::map<std::string, std::vector<uint8_t>> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir))
+    if (e.is_regular_file()) files[fs::relative(e.path(), dir).string()] = fileBytes(e.path());
+  return files;
+}
+
+TEST_F(Export3dTiles, ImplicitTilingDescribesTheSameTreeWithSubtreeFiles) {
+  const std::string flat = dir->file("flat.tlod");
+  const std::string explicitDir = dir->file("explicit3d"), implicitDir = dir->file("implicit3d");
+  ASSERT_EQ(runTerralod({"export", flat, "--format", "3dtiles", "-o", explicitDir}).exitCode, 0);
+  const RunResult r = runTerralod(
+      {"export", flat, "--format", "3dtiles", "--tiling", "implicit", "-o", implicitDir});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(has(r.out, "implicit quadtree tiling")) << r.out;
+  const json tileset = json::parse(readWholeFile(implicitDir + "/tileset.json"));
+  const json& root = tileset["root"];
+  ASSERT_TRUE(root.contains("implicitTiling"));
+  EXPECT_EQ(root["implicitTiling"]["subdivisionScheme"], "QUADTREE");
+  EXPECT_EQ(root["content"]["uri"], "tiles/{level}/{x}/{y}.glb");
+  EXPECT_FALSE(root.contains("children"));
+  // The same chunks, byte for byte, and the same root frame and place.
+  const auto explicitFiles = exportFiles(explicitDir), implicitFiles = exportFiles(implicitDir);
+  size_t glbs = 0, subtrees = 0;
+  for (const auto& [path, bytes] : implicitFiles) {
+    if (path.ends_with(".subtree")) ++subtrees;
+    if (!path.ends_with(".glb")) continue;
+    ++glbs;
+    ASSERT_TRUE(explicitFiles.count(path)) << path;
+    EXPECT_TRUE(explicitFiles.at(path) == bytes) << path;
+  }
+  EXPECT_GT(subtrees, 0u);
+  const json explicitJson = json::parse(readWholeFile(explicitDir + "/tileset.json"));
+  EXPECT_EQ(root["transform"], explicitJson["root"]["transform"]);
+  EXPECT_EQ(root["geometricError"], explicitJson["root"]["geometricError"]);
+  // Every tile the subtrees make available with content has its file, and no other.
+  uint64_t content = 0;
+  EXPECT_EQ(tiles3dProblems(implicitDir, &content), std::vector<std::string>{});
+  EXPECT_EQ(content, glbs);
+  // Alive: a subtree file that loses a tile's content bit is seen.
+  for (const auto& e : fs::recursive_directory_iterator(implicitDir + "/subtrees"))
+    if (e.path().extension() == ".subtree") {
+      fs::remove(e.path());
+      break;
+    }
+  EXPECT_NE(tiles3dProblems(implicitDir), std::vector<std::string>{});
+}
+
+TEST_F(Export3dTiles, FromAWebServerTheSameFiles) {
+  TempDir served;
+  fs::copy_file(dir->file("flat.tlod"), served.file("flat.tlod"));
+  NginxServer server(served.path());
+  ASSERT_TRUE(server.running()) << server.error();
+  const std::string local = dir->file("local3d"), remote = dir->file("remote3d");
+  ASSERT_EQ(
+      runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles", "-o", local}).exitCode,
+      0);
+  const RunResult r =
+      runTerralod({"export", server.url("flat.tlod"), "--format", "3dtiles", "-o", remote});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto a = exportFiles(local), b = exportFiles(remote);
+  ASSERT_EQ(a.size(), b.size());
+  for (const auto& [path, bytes] : a) {
+    ASSERT_TRUE(b.count(path)) << path;
+    EXPECT_TRUE(b.at(path) == bytes) << path;  // tileset.json too: it names flat.tlod
+  }
 }
 
 TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {

@@ -119,6 +119,10 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
   }
   if (const auto texture = j.find("texture"); texture != j.end()) {
     if (!texture->is_object()) return bad("\"texture\" is not an object");
+    if (const auto color = texture->find("color"); color != texture->end()) {
+      if (!color->is_string()) return bad("\"texture\".\"color\" is not text");
+      m.textureColor = color->get<std::string>();
+    }
     if (const auto levels = texture->find("levels"); levels != texture->end()) {
       if (!levels->is_array() || levels->size() != header.levelCount)
         return bad("\"texture\".\"levels\" is not one entry per level (" +

@@ -233,7 +233,7 @@ TEST(TextureCodec, RejectsOtherHeaderDamage) {
             "chunk 3/1/2: invalid texture: layer byte count does not match its size");
 }
 
-TEST(VipmNormalMap, OneBc5NormalLayerOfTheChunksGridPointsIsAccepted) {
+TEST(VipmNormalMapLayer, OneBc5NormalLayerOfTheChunksGridPointsIsAccepted) {
   ChunkTexture t;
   t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 65, 1, 3));
   auto leaf = decodeVipmNormalMap(encodeTexture(t), 64, "v.tlod chunk 5");

@@ -161,6 +161,8 @@ void TerrainPass::setFrameUniforms(const FrameContext& frame, const ChunkTree& t
                               glm::value_ptr(frame.viewProjection));
     glProgramUniform1f(program, terrain.uniformLocation("uEyeHeight"), float(frame.eye.z));
     glProgramUniform1i(program, terrain.uniformLocation("uColorBy"), int(style.colorBy));
+    glProgramUniform1i(program, terrain.uniformLocation("uUnlit"),
+                       style.shading == Shading::kUnlit ? 1 : 0);
     glProgramUniform3fv(program, terrain.uniformLocation("uSun"), 1, glm::value_ptr(sun));
     glProgramUniform2f(program, terrain.uniformLocation("uHeightRange"), float(extent.min[2]),
                        float(extent.max[2]));

@@ -112,6 +112,7 @@ uniform vec2 uTileSizes;         // colour, normal texels per side
 // level's mips are sampled piece by piece.
 layout(std430, binding = 1) readonly buffer Placements { uint placements[]; };
 uniform int uColorBy;      // 0 shaded relief, 1 level, 2 morph parameter
+uniform int uUnlit;        // 1: the colour as it is, no light
 uniform int uWire;         // 1: the wireframe overlay pass
 uniform vec3 uSun;         // unit vector towards the sun
 uniform vec2 uHeightRange; // data min, max z
@@ -185,7 +186,7 @@ void main() {
   if (uColorBy == 3) base = vec3(0.62);  // by kind: chunked LOD chunks are grey
   float diffuse = max(dot(n, uSun), 0.0);
   float sky = 0.30 + 0.20 * n.z;
-  vec3 color = base * (sky + 0.85 * diffuse);
+  vec3 color = uUnlit == 1 ? base : base * (sky + 0.85 * diffuse);
   float through = transmittance(uEyeHeight, vHeight, length(vRelative));
   color = color * through + uHaze * (1.0 - through);
   fragColor = vec4(pow(color, vec3(1.0 / 2.2)), 1.0);

@@ -220,6 +220,7 @@ void VipmPass::draw(const FrameContext& frame, const ChunkTree& tree, std::span<
   glProgramUniform1f(p, at("uScaleHeight"), float(kScaleHeight));
   glProgramUniform1f(p, at("uExtinction"), float(extinction(style)));
   glProgramUniform1i(p, at("uColorBy"), int(style.colorBy));
+  glProgramUniform1i(p, at("uUnlit"), style.shading == Shading::kUnlit ? 1 : 0);
   glProgramUniform1i(p, at("uDetailed"), style.textures ? 1 : 0);
   glProgramUniform1i(p, at("uDetail"), 0);
   glProgramUniform1i(p, at("uNormalMap"), 1);

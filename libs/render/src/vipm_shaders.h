@@ -104,6 +104,7 @@ uniform sampler2DArray uNormalMap; // unit 1, the block's: layer vLayer
 uniform sampler2DArray uBlot; // unit 2: blots' material colours, one texel a grid point
 uniform vec2 uBlotFade;       // materials fade to the blot's colours from x to y metres away
 uniform int uColorBy;         // 0 materials, 1 level, 2 morph
+uniform int uUnlit;           // 1: the colour as it is, no light
 uniform float uLevel;
 uniform int uKind;            // uColorBy 3: 0 a leaf, 1 a root, 2 a blot, 3 a block's blot
 uniform vec3 uSun;
@@ -116,7 +117,7 @@ vec3 blotColor() { return pow(texture(uBlot, vec3(vNormalUv, vLayer)).rgb, vec3(
 vec3 shade(vec3 base, vec3 n) {
   float diffuse = max(dot(n, uSun), 0.0);
   float sky = 0.30 + 0.20 * n.z;
-  vec3 color = base * (sky + 0.85 * diffuse);
+  vec3 color = uUnlit == 1 ? base : base * (sky + 0.85 * diffuse);
   float through = transmittance(uEyeHeight, vHeight, length(vRelative));
   color = color * through + uHaze * (1.0 - through);
   return pow(color, vec3(1.0 / 2.2));

@@ -189,6 +189,10 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
     gltf["textures"] = {{{"source", 0}, {"sampler", 0}}};
     material["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", 0}};
   }
+  if (m.light == MaterialLight::kUnlit) {
+    material["extensions"] = {{"KHR_materials_unlit", json::object()}};
+    gltf["extensionsUsed"].push_back("KHR_materials_unlit");
+  }
   gltf["materials"] = {material};
   gltf["meshes"] = {{{"primitives", {primitive}}}};
   // Root frame (z up) from quantised units: translate to the minimum, scale; then glTF's y up:

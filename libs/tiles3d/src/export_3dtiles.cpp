@@ -2,6 +2,7 @@
 
 #include <stb_image_write.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +16,7 @@
 #include "terralod/measure/export_mesh.h"
 #include "terralod/raster/earth_placement.h"
 #include "terralod/tiles3d/chunk_glb.h"
+#include "terralod/tiles3d/implicit_tiling.h"
 #include "terralod/tiles3d/tileset_json.h"
 
 namespace terralod::tiles3d {
@@ -45,14 +47,52 @@ Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::strin
   return jpeg;
 }
 
+// Whether δ halves exactly from each level to the next, as implicit tiling's errors do.
+bool errorsHalve(const TilesetHeader& h) {
+  for (uint32_t level = 1; level < h.levelCount; ++level)
+    if (std::abs(h.levelError[level] * 2.0 - h.levelError[level - 1]) >
+        1e-9 * h.levelError[level - 1])
+      return false;
+  return true;
+}
+
+// Subtree files of about five levels each, the levels shared out evenly (six levels: two
+// subtrees of three, not one of five and one of one).
+uint32_t subtreeLevelsFor(uint32_t availableLevels) {
+  const uint32_t subtrees = (availableLevels + 4) / 5;
+  return (availableLevels + subtrees - 1) / subtrees;
+}
+
+Status writeFile(const fs::path& file, const std::vector<uint8_t>& bytes) {
+  std::error_code ec;
+  fs::create_directories(file.parent_path(), ec);
+  std::ofstream out(file, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  if (!out.flush()) return makeError(file.string(), "cannot be written");
+  return {};
+}
+
 }  // namespace
 
 Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::string& dir,
-                                    Progress& progress,
+                                    const Export3dTilesOptions& options, Progress& progress,
                                     const std::function<void(const std::string&)>& warn) {
   const TilesetHeader& h = tileset.header();
   if (h.meshKind != MeshKind::kStaticRtin)
     return makeError(tileset.name(), "3D Tiles export takes static tilesets (VIPM: not yet)");
+  const auto& nodes = tileset.nodes();
+  const bool halving = errorsHalve(h);
+  Tiling tiling = options.tiling;
+  if (tiling == Tiling::kAuto)
+    tiling = nodes.size() >= kImplicitFromTiles && halving ? Tiling::kImplicit : Tiling::kExplicit;
+  if (tiling == Tiling::kImplicit && !halving)
+    return makeError(tileset.name(),
+                     "its levels' errors do not halve from level to level, as implicit tiling's "
+                     "must (use --tiling explicit)");
+  // Implicit tiling's root: a square of 2^R x 2^R roots, the levels above them without content.
+  uint32_t virtualLevels = 0;
+  while ((1u << virtualLevels) < std::max(h.rootsX, h.rootsY)) ++virtualLevels;
+  const bool implicit = tiling == Tiling::kImplicit;
   std::error_code ec;
   if (fs::exists(dir, ec) && !(fs::is_directory(dir, ec) && fs::is_empty(dir, ec)))
     return makeError(dir, "exists and is not an empty directory");
@@ -71,15 +111,14 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   } cleanup{partial};
 
   ExportSummary summary;
+  summary.tiling = tiling;
   const SourceGrid grid = sourceGridOf(h, tileset.metadata());
-  auto placed = EarthPlacement::of(grid, tileset.name());
-  EarthPlacement placement =
-      placed.ok() ? std::move(placed).value()
-                  : EarthPlacement::tangentPlane(kDefaultLongitude, kDefaultLatitude);
-  if (!placed.ok()) {
+  ExportPlacement placed = placementOf(grid, tileset.name());
+  const EarthPlacement& placement = placed.placement;
+  if (!placed.unplacedReason.empty()) {
     summary.placed = false;
     if (warn)
-      warn(placed.error().message + "; placed on a plane tangent to the ellipsoid at longitude " +
+      warn(placed.unplacedReason + "; placed on a plane tangent to the ellipsoid at longitude " +
            std::to_string(int(kDefaultLongitude)) + ", latitude " +
            std::to_string(int(kDefaultLatitude)));
   }
@@ -91,8 +130,13 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   const glm::dmat4 toRoot = glm::inverse(*root);
   const glm::dmat3 toRootNormal = glm::transpose(glm::inverse(glm::dmat3(toRoot)));
 
-  const auto& nodes = tileset.nodes();
+  // Imagery draped over the terrain carries its own light; a generated colour is lit.
+  const MaterialLight light =
+      tileset.metadata().textureColor.empty() || tileset.metadata().textureColor == "generated"
+          ? MaterialLight::kLit
+          : MaterialLight::kUnlit;
   std::vector<ExportTile> tiles(nodes.size());
+  std::vector<TileKey> keys(nodes.size());
   progress.begin("3D Tiles", nodes.size());
   for (uint32_t i = 0; i < nodes.size(); ++i) {
     const NodeRecord& record = nodes[i];
@@ -100,6 +144,7 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
     auto chunk = tileset.readChunkData(i);
     if (!chunk) return chunk.error();
     ChunkMesh mesh;
+    mesh.light = light;
     mesh.name = "chunk " + std::to_string(i) + " (level " + std::to_string(record.level) + ", " +
                 std::to_string(record.x) + ", " + std::to_string(record.y) + ")";
     // Local positions (metres, from the south-west sample), all parts, skirts included.
@@ -158,13 +203,12 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
     }
     auto glb = chunkGlb(mesh);
     if (!glb) return makeError(subject, glb.error().message);
-    const std::string uri = "tiles/" + std::to_string(record.level) + "/" +
+    // Files at the tile's implicit coordinates (the same as the chunk's without levels above
+    // the roots).
+    keys[i] = {record.level + (implicit ? virtualLevels : 0), record.x, record.y};
+    const std::string uri = "tiles/" + std::to_string(keys[i].level) + "/" +
                             std::to_string(record.x) + "/" + std::to_string(record.y) + ".glb";
-    const fs::path file = fs::path(partial) / uri;
-    fs::create_directories(file.parent_path(), ec);
-    std::ofstream out(file, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(glb->bytes.data()), std::streamsize(glb->bytes.size()));
-    if (!out.flush()) return makeError(file.string(), "cannot be written");
+    if (Status s = writeFile(fs::path(partial) / uri, glb->bytes); !s) return s.error();
     tiles[i] = {record.parent == kNoNode ? kNoParent : record.parent, h.levelError[record.level],
                 glb->min, glb->max, uri};
     ++summary.tiles;
@@ -186,12 +230,60 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
                              {"spacing", {grid.spacingX, grid.spacingY}},
                              {"crs_wkt", grid.crsWkt}}}};
   if (grid.hasGeoTransform) extras["source_grid"]["geotransform"] = grid.geoTransform;
-  auto json = tilesetJson(tiles, *root, 2.0 * h.levelError[0], extras);
-  if (!json) return json.error();
+  nlohmann::json json;
+  if (implicit) {
+    // The root box: the roots' square in the root frame (whose axes are the grid's at the
+    // data's centre), the content's full height range.
+    const double side = double(uint64_t(h.rootCells) << virtualLevels);
+    const double sizeX = side * h.spacingX, sizeY = side * h.spacingY;
+    double zMin = tiles[0].min[2], zMax = tiles[0].max[2];
+    for (const ExportTile& t : tiles) {
+      zMin = std::min(zMin, t.min[2]);
+      zMax = std::max(zMax, t.max[2]);
+    }
+    const std::array<double, 12> rootBox = {0.5 * sizeX - cx,
+                                            0.5 * sizeY - cy,
+                                            0.5 * (zMin + zMax),
+                                            0.5 * sizeX,
+                                            0,
+                                            0,
+                                            0,
+                                            0.5 * sizeY,
+                                            0,
+                                            0,
+                                            0,
+                                            0.5 * (zMax - zMin)};
+    for (uint32_t i = 0; i < tiles.size(); ++i) {
+      const std::array<double, 12> b = implicitTileBox(rootBox, keys[i]);
+      for (int k = 0; k < 2; ++k) {
+        const double half = b[3 + 4 * k];
+        summary.implicitBoxExcess =
+            std::max({summary.implicitBoxExcess, (b[k] - half) - tiles[i].min[k],
+                      tiles[i].max[k] - (b[k] + half)});
+      }
+    }
+    const uint32_t availableLevels = h.levelCount + virtualLevels;
+    const uint32_t subtreeLevels = subtreeLevelsFor(availableLevels);
+    auto subtrees = subtreeFiles(keys, availableLevels, subtreeLevels);
+    if (!subtrees) return makeError(tileset.name(), subtrees.error().message);
+    for (const SubtreeFile& s : *subtrees)
+      if (Status written = writeFile(fs::path(partial) / s.uri, s.bytes); !written)
+        return written.error();
+    summary.subtrees = subtrees->size();
+    const double rootError = h.levelError[0] * double(uint64_t(1) << virtualLevels);
+    json = {{"asset", {{"version", "1.1"}, {"generator", "terralod"}}},
+            {"geometricError", 2.0 * rootError},
+            {"root", implicitRootTile(rootBox, rootError, *root, availableLevels, subtreeLevels)},
+            {"extras", extras}};
+  } else {
+    auto built = tilesetJson(tiles, *root, 2.0 * h.levelError[0], extras);
+    if (!built) return built.error();
+    json = std::move(built).value();
+  }
   {
     auto file = AtomicFile::create(partial + "/tileset.json");
     if (!file) return file.error();
-    if (Status s = file->write(json->dump(1)); !s) return s.error();
+    if (Status s = file->write(json.dump(1)); !s) return s.error();
     if (Status s = file->commit(); !s) return s.error();
   }
   fs::remove(dir, ec);  // an empty directory, if any

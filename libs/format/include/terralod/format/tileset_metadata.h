@@ -54,6 +54,9 @@ struct TilesetMetadata {
   /// "texture": "levels", root level first: one per level, or empty when the tileset is
   /// untextured or was written before the sizes were recorded.
   std::vector<TextureLevelSizes> textureLevels;
+  /// "texture": "color": "generated" (colour made from the heights), or the file name of the
+  /// image draped over the terrain; empty when untextured or not recorded.
+  std::string textureColor;
   /// "materials": required, 1..8 of them, in VIPM tilesets (header meshKind 2); empty otherwise.
   std::vector<TilesetMaterial> materials;
   /// VIPM: "build": "materials": "classification" or the categorical raster's file name.

@@ -21,12 +21,18 @@ enum class VipmStitch : uint8_t { kFlanges, kFans };
 /// off, every chunk one pass per material at every distance.
 enum class VipmBlots : uint8_t { kOn, kFadeOnly, kOff };
 
+/// Lit: the surface colour lit by the sun and the sky. Unlit: the colour as it is, no light
+/// (for colour that already carries its light, such as aerial or satellite imagery: how 3D
+/// Tiles clients draw KHR_materials_unlit content; the haze still applies).
+enum class Shading : uint8_t { kLit, kUnlit };
+
 /// VIPM blots of one super-chunk (4 × 4 chunks of a level sharing GPU storage, vipm_block.h)
 /// drawn in one call (kOn), or each chunk in its own (kOff).
 enum class VipmSuperChunks : uint8_t { kOn, kOff };
 
 struct TerrainStyle {
   ColorBy colorBy = ColorBy::kRelief;
+  Shading shading = Shading::kLit;
   bool wireframe = false;  ///< draw triangle edges over the surface
   bool skirts = true;
   VipmStitch stitch = VipmStitch::kFlanges;

@@ -16,6 +16,11 @@
 
 namespace terralod::tiles3d {
 
+/// Lit: a rough, non-metallic PBR material lit by the client's light. Unlit
+/// (KHR_materials_unlit): the colour shown as it is, for imagery that already carries its
+/// light (aerial or satellite photographs), as photogrammetry content is usually drawn.
+enum class MaterialLight : uint8_t { kLit, kUnlit };
+
 /// A chunk's mesh in the tileset's root frame (metres, z up).
 struct ChunkMesh {
   std::vector<std::array<double, 3>> positions;
@@ -25,6 +30,7 @@ struct ChunkMesh {
   std::vector<uint8_t> image;                   ///< PNG or JPEG bytes; empty: untextured
   std::string imageMimeType;                    ///< "image/png" or "image/jpeg"
   std::string name;                             ///< the node's name (e.g. "chunk 12 (L2 3,1)")
+  MaterialLight light = MaterialLight::kLit;
 };
 
 struct ChunkGlb {
