@@ -12,7 +12,7 @@
 #      shows only the tileset (no globe, imagery, sky, sun, fog or anti-aliasing) at CesiumJS's
 #      maximumScreenSpaceError = tau, waits until CesiumJS reports every tile the view needs
 #      loaded, and sends the picture back to nginx (HTTP PUT);
-#   4. the picture is written to OUT.png, and the figures (tiles requested, tiles drawn, load
+#   4. the picture is written to OUT.png (OUT.jpg or OUT.jpeg: JPEG, quality 90), and the figures (tiles requested, tiles drawn, load
 #      time) are printed as a JSON line (and written to --stats FILE).
 # Everything runs in a temporary directory removed on exit. Needs `make` (or
 # scripts/install-deps.sh and a build) first. TERRALOD overrides the terralod binary.
@@ -126,7 +126,9 @@ for _ in 1 2 3 4 5; do start_nginx && { started=1; break; }; done
 [ "$started" = 1 ] || die "nginx did not start: $(tail -n 1 "$work/error.log" 2>/dev/null)"
 
 # 3. Chromium, headless with software WebGL, until the page has sent its picture.
-query="size=$width,$height&fov=$fov&tau=$tau&background=$background&timeout_s=$timeout_s"
+type=png
+case "$out" in *.jpg | *.jpeg | *.JPG | *.JPEG) type=jpeg ;; esac
+query="size=$width,$height&fov=$fov&tau=$tau&background=$background&timeout_s=$timeout_s&type=$type"
 query+="&eye=$eye_ecef&direction=$direction&up=$up"
 setsid "$chromium" --headless=new --no-sandbox --no-first-run --disable-extensions \
   --use-angle=swiftshader --enable-unsafe-swiftshader --ignore-gpu-blocklist \
@@ -149,6 +151,6 @@ node -e 'const [w, h] = JSON.parse(process.argv[1]).canvas; if (w != process.arg
 
 # 4. The picture and the figures.
 mkdir -p "$(dirname "$out")"
-mv "$work/www/out/shot.png" "$out.partial" && mv "$out.partial" "$out"
+mv "$work/www/out/shot" "$out.partial" && mv "$out.partial" "$out"
 [ -z "$stats" ] || printf '%s\n' "$figures" >"$stats"
 printf '%s\n' "$figures"

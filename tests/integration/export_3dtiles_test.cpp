@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -179,6 +180,47 @@ TEST_F(Export3dTiles, FromAWebServerTheSameFiles) {
   }
 }
 
+// A VIPM tileset: every node at its finest level, coloured by its materials, flanges under its
+// borders; leaves and roots in one tree, each leaf's error its level's.
+TEST_F(Export3dTiles, VipmTilesetsExportEveryNodeAtItsFinestInItsMaterialsColours) {
+  const std::string vipm = dir->file("crater_vipm.tlod"), out = dir->file("crater3d");
+  ASSERT_EQ(runTerralod({"build", testData("crater_lake_0513.bt"), "--kind", "vipm", "-o", vipm})
+                .exitCode,
+            0);
+  RunResult r = runTerralod({"export", vipm, "--format", "3dtiles", "-o", out});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  auto reader = TilesetReader::openFile(vipm);
+  ASSERT_TRUE(reader.ok());
+  const auto& nodes = (*reader)->nodes();
+  uint64_t content = 0;
+  EXPECT_EQ(tiles3dProblems(out, &content), std::vector<std::string>{});
+  EXPECT_EQ(content, nodes.size());
+  // Sixteen 128-cell roots under one tile without content, each over its leaves.
+  const json tileset = json::parse(readWholeFile(out + "/tileset.json"));
+  const json& top = tileset["root"];
+  EXPECT_FALSE(top.contains("content"));
+  ASSERT_EQ(top["children"].size(), 16u);
+  const TilesetHeader& h = (*reader)->header();
+  for (const json& root : top["children"]) {
+    EXPECT_DOUBLE_EQ(root["geometricError"].get<double>(), h.levelError[0]);
+    ASSERT_TRUE(root.contains("children"));
+    for (const json& leaf : root["children"])
+      EXPECT_DOUBLE_EQ(leaf["geometricError"].get<double>(), h.levelError[1]);
+  }
+  // A leaf: the finest mesh's vertices and triangles plus flanges, in its materials' colours.
+  const std::string leaf = top["children"][5]["children"][0]["content"]["uri"];
+  expectValidGltf(out + "/" + leaf);
+  const std::vector<uint8_t> glb = fileBytes(out + "/" + leaf);
+  ASSERT_GT(glb.size(), 20u);
+  uint32_t jsonLength = 0;
+  std::memcpy(&jsonLength, glb.data() + 12, 4);
+  const json gltf = json::parse(glb.begin() + 20, glb.begin() + 20 + jsonLength);
+  const json& attributes = gltf["meshes"][0]["primitives"][0]["attributes"];
+  EXPECT_TRUE(attributes.contains("COLOR_0"));
+  EXPECT_FALSE(attributes.contains("TEXCOORD_0"));
+  expectValidGltf(out + "/" + top["children"][5]["content"]["uri"].get<std::string>());
+}
+
 TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {
   const std::string asc = dir->file("plain.asc");
   {
@@ -207,13 +249,10 @@ TEST_F(Export3dTiles, BadRequestsGetOneLineAndLeaveNothing) {
   expectOneErrorLine(runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles",
                                   "--level", "1", "-o", out}),
                      "do not apply");
-  ASSERT_EQ(runTerralod({"build", testData("n43w123_flat_64n.tif"), "--kind", "vipm", "-o",
-                         dir->file("flat_vipm.tlod")})
-                .exitCode,
-            0);
-  expectOneErrorLine(
-      runTerralod({"export", dir->file("flat_vipm.tlod"), "--format", "3dtiles", "-o", out}),
-      "static tilesets");
+  expectOneErrorLine(runTerralod({"export", dir->file("flat.tlod"), "--tiling", "implicit", "-o",
+                                  dir->file("flat.glb")}),
+                     "--tiling goes with --format 3dtiles");
+  EXPECT_FALSE(fs::exists(dir->file("flat.glb")));
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(out + ".partial"));
 

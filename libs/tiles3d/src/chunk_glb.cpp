@@ -13,7 +13,7 @@ namespace {
 
 using nlohmann::json;
 
-constexpr int kByte = 5120, kUnsignedShort = 5123, kUnsignedInt = 5125;
+constexpr int kByte = 5120, kUnsignedByte = 5121, kUnsignedShort = 5123, kUnsignedInt = 5125;
 constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
 
 // One bufferView's data, uncompressed, and how meshopt encodes it.
@@ -53,6 +53,8 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
   if (n == 0 || m.indices.empty() || m.indices.size() % 3 != 0)
     return Error{"3D Tiles: " + m.name + ": no triangles"};
   if (m.normals.size() != n) return Error{"3D Tiles: " + m.name + ": a normal per position"};
+  if (!m.colors.empty() && m.colors.size() != n)
+    return Error{"3D Tiles: " + m.name + ": a colour per position, or none"};
   if (!m.image.empty() && m.texcoords.size() != n)
     return Error{"3D Tiles: " + m.name + ": texture coordinates per position with an image"};
   if (!m.image.empty() && m.imageMimeType != "image/png" && m.imageMimeType != "image/jpeg")
@@ -101,6 +103,12 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
                            uint16_t(std::lround(std::clamp(t[1], 0.0f, 1.0f) * 65535.0))};
     append(texcoords.data, q, sizeof q);
   }
+  // Colours: normalised unsigned 8-bit RGBA (4 bytes: vertex strides are multiples of 4).
+  Stream colors{{}, 4, n, false};
+  for (const auto& c : m.colors) {
+    const uint8_t q[4] = {c[0], c[1], c[2], 255};
+    append(colors.data, q, sizeof q);
+  }
   const bool shortIndices = n <= 65536;
   Stream indices{{}, shortIndices ? 2u : 4u, m.indices.size(), true};
   for (uint32_t i : m.indices) {
@@ -116,6 +124,7 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
   // fallback the extension asks for, never stored (its views are all compressed).
   std::vector<const Stream*> streams = {&positions, &normals};
   if (!m.image.empty()) streams.push_back(&texcoords);
+  if (!m.colors.empty()) streams.push_back(&colors);
   streams.push_back(&indices);
   std::vector<uint8_t> bin;
   json views = json::array(), accessors = json::array();
@@ -142,6 +151,7 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
     out.uncompressedBytes += s->data.size();
   }
   const int positionView = 0, normalView = 1, texcoordView = m.image.empty() ? -1 : 2;
+  const int colorView = m.colors.empty() ? -1 : (m.image.empty() ? 2 : 3);
   const int indexView = int(streams.size()) - 1;
   json qmin = json::array({0, 0, 0}), qmax = json::array();
   for (size_t k = 0; k < 3; ++k) qmax.push_back(out.max[k] > out.min[k] ? 65535 : 0);
@@ -163,7 +173,15 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
                          {"normalized", true},
                          {"count", n},
                          {"type", "VEC2"}});
-    attributes["TEXCOORD_0"] = 2;
+    attributes["TEXCOORD_0"] = int(accessors.size()) - 1;
+  }
+  if (colorView >= 0) {
+    accessors.push_back({{"bufferView", colorView},
+                         {"componentType", kUnsignedByte},
+                         {"normalized", true},
+                         {"count", n},
+                         {"type", "VEC4"}});
+    attributes["COLOR_0"] = int(accessors.size()) - 1;
   }
   accessors.push_back({{"bufferView", indexView},
                        {"componentType", shortIndices ? kUnsignedShort : kUnsignedInt},

@@ -1,7 +1,5 @@
 #include "terralod/tiles3d/export_3dtiles.h"
 
-#include <stb_image_write.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -10,9 +8,9 @@
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
+#include "local_chunk.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/format/chunk_position.h"
-#include "terralod/format/texture_decode.h"
 #include "terralod/measure/export_mesh.h"
 #include "terralod/raster/earth_placement.h"
 #include "terralod/tiles3d/chunk_glb.h"
@@ -23,29 +21,6 @@ namespace terralod::tiles3d {
 namespace {
 
 namespace fs = std::filesystem;
-
-// The chunk's colour tile as JPEG (rows as stored: the southern first, which glTF's v = 0
-// addresses), or empty when it has none.
-Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::string& subject,
-                                        uint32_t& size) {
-  const TextureLayer* color =
-      chunk.texture ? chunk.texture->find(TextureLayerKind::kColor) : nullptr;
-  if (!color) return std::vector<uint8_t>{};
-  if (color->encoding != TextureEncoding::kBc1)
-    return makeError(subject, "colour texture is not BC1");
-  size = color->size;
-  const std::vector<uint8_t> rgb = decodeBc1Rgb(color->mips[0], size);
-  if (rgb.empty()) return makeError(subject, "colour texture cannot be decoded");
-  std::vector<uint8_t> jpeg;
-  const auto sink = [](void* context, void* data, int n) {
-    auto* out = static_cast<std::vector<uint8_t>*>(context);
-    const auto* p = static_cast<const uint8_t*>(data);
-    out->insert(out->end(), p, p + n);
-  };
-  if (!stbi_write_jpg_to_func(sink, &jpeg, int(size), int(size), 3, rgb.data(), 90))
-    return makeError(subject, "colour texture cannot be encoded as JPEG");
-  return jpeg;
-}
 
 // Whether δ halves exactly from each level to the next, as implicit tiling's errors do.
 bool errorsHalve(const TilesetHeader& h) {
@@ -78,8 +53,6 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
                                     const Export3dTilesOptions& options, Progress& progress,
                                     const std::function<void(const std::string&)>& warn) {
   const TilesetHeader& h = tileset.header();
-  if (h.meshKind != MeshKind::kStaticRtin)
-    return makeError(tileset.name(), "3D Tiles export takes static tilesets (VIPM: not yet)");
   const auto& nodes = tileset.nodes();
   const bool halving = errorsHalve(h);
   Tiling tiling = options.tiling;
@@ -141,32 +114,28 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   for (uint32_t i = 0; i < nodes.size(); ++i) {
     const NodeRecord& record = nodes[i];
     const std::string subject = tileset.name() + " chunk " + std::to_string(i);
-    auto chunk = tileset.readChunkData(i);
+    auto chunk = record.meshKind == MeshKind::kVipm ? vipmLocalChunk(tileset, i)
+                                                    : staticLocalChunk(tileset, i);
     if (!chunk) return chunk.error();
+    if (chunk->indices.empty()) return makeError(subject, "has no triangles");
     ChunkMesh mesh;
     mesh.light = light;
     mesh.name = "chunk " + std::to_string(i) + " (level " + std::to_string(record.level) + ", " +
                 std::to_string(record.x) + ", " + std::to_string(record.y) + ")";
-    // Local positions (metres, from the south-west sample), all parts, skirts included.
-    std::vector<std::array<double, 3>> local;
-    std::vector<std::array<float, 3>> localFloat;
-    std::vector<uint32_t> surface;
-    for (const ChunkPart& part : chunk->geometry.parts) {
-      const uint32_t base = uint32_t(local.size());
-      for (const ChunkVertex& v : part.vertices) {
-        local.push_back(chunkWorldPosition(h, record, chunk->geometry, v));
-        localFloat.push_back({float(local.back()[0] - cx), float(local.back()[1] - cy),
-                              float(local.back()[2] - cz)});
-      }
-      for (size_t k = 0; k < part.indices.size(); ++k) {
-        mesh.indices.push_back(base + part.indices[k]);
-        if (k < part.surfaceIndexCount) surface.push_back(base + part.indices[k]);
-      }
+    mesh.indices = std::move(chunk->indices);
+    mesh.texcoords = std::move(chunk->texcoords);
+    mesh.colors = std::move(chunk->colors);
+    if (!chunk->image.empty()) {
+      mesh.image = std::move(chunk->image);
+      mesh.imageMimeType = "image/jpeg";
     }
-    if (mesh.indices.empty()) return makeError(subject, "has no triangles");
-    // Normals from the surface triangles (skirt vertices, in none, point straight up), local
-    // then through the chunk's frame and into the root frame.
-    std::vector<std::array<float, 3>> normals = angleWeightedNormals(localFloat, surface);
+    std::vector<std::array<double, 3>>& local = chunk->positions;
+    // Normals from the surface triangles (skirt and flange vertices, in none, point straight
+    // up), local then through the chunk's frame and into the root frame.
+    std::vector<std::array<float, 3>> localFloat;
+    for (const auto& p : local)
+      localFloat.push_back({float(p[0] - cx), float(p[1] - cy), float(p[2] - cz)});
+    std::vector<std::array<float, 3>> normals = angleWeightedNormals(localFloat, chunk->surface);
     const double nodeZ = 0.5 * (record.minZ + record.maxZ);
     const auto [ox, oy] = chunkCellOrigin(h, record);
     const double side = h.chunkCells(record.level);
@@ -180,20 +149,6 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
       v = toRootNormal * (toEarthNormal * v);
       v /= std::sqrt(glm::dot(v, v));
       mesh.normals.push_back({float(v.x), float(v.y), float(v.z)});
-    }
-    // Texture coordinates: the tile's texels are edge-aligned over the chunk's square.
-    uint32_t size = 0;
-    auto jpeg = colourJpeg(*chunk, subject, size);
-    if (!jpeg) return jpeg.error();
-    if (!jpeg->empty()) {
-      mesh.image = std::move(jpeg).value();
-      mesh.imageMimeType = "image/jpeg";
-      const double texelsPerMetreX = double(size - 1) / (side * h.spacingX);
-      const double texelsPerMetreY = double(size - 1) / (side * h.spacingY);
-      for (const auto& p : local)
-        mesh.texcoords.push_back(
-            {float(((p[0] - double(ox) * h.spacingX) * texelsPerMetreX + 0.5) / size),
-             float(((p[1] - double(oy) * h.spacingY) * texelsPerMetreY + 0.5) / size)});
     }
     // Through PROJ to Earth, then into the root frame.
     if (Status s = placement.toEarth(local); !s) return makeError(subject, s.error().message);

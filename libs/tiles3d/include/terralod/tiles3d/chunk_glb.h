@@ -1,11 +1,12 @@
 #pragma once
 // One chunk as 3D Tiles content: a glTF 2.0 binary with one mesh of one indexed triangle
-// primitive (POSITION, NORMAL, TEXCOORD_0 when textured), its vertex and index data quantised
-// (KHR_mesh_quantization: positions unsigned 16-bit over the chunk's bounds, normals signed
-// 8-bit, texture coordinates normalised unsigned 16-bit) and compressed with meshoptimizer's
-// codecs (EXT_meshopt_compression, with a fallback buffer as the extension asks), the colour
-// image (PNG or JPEG) as the material's base colour. The node's matrix undoes the quantisation
-// and turns the root frame's z-up into glTF's y-up (3D Tiles turns it back). Pure: bytes out.
+// primitive (POSITION, NORMAL, TEXCOORD_0 when textured, COLOR_0 when coloured), its vertex and
+// index data quantised (KHR_mesh_quantization: positions unsigned 16-bit over the chunk's bounds,
+// normals signed 8-bit, texture coordinates normalised unsigned 16-bit) and compressed with
+// meshoptimizer's codecs (EXT_meshopt_compression, with a fallback buffer as the extension asks),
+// the colour image (PNG or JPEG) as the material's base colour. The node's matrix undoes the
+// quantisation and turns the root frame's z-up into glTF's y-up (3D Tiles turns it back). Pure:
+// bytes out.
 
 #include <array>
 #include <cstdint>
@@ -26,10 +27,13 @@ struct ChunkMesh {
   std::vector<std::array<double, 3>> positions;
   std::vector<std::array<float, 3>> normals;    ///< unit; one per position
   std::vector<std::array<float, 2>> texcoords;  ///< glTF's: v down; empty without an image
-  std::vector<uint32_t> indices;                ///< triangles, counter-clockwise from outside
-  std::vector<uint8_t> image;                   ///< PNG or JPEG bytes; empty: untextured
-  std::string imageMimeType;                    ///< "image/png" or "image/jpeg"
-  std::string name;                             ///< the node's name (e.g. "chunk 12 (L2 3,1)")
+  /// Per position, linear RGB 0..255 (glTF's COLOR_0, the material's base colour multiplied by
+  /// it), or empty.
+  std::vector<std::array<uint8_t, 3>> colors;
+  std::vector<uint32_t> indices;  ///< triangles, counter-clockwise from outside
+  std::vector<uint8_t> image;     ///< PNG or JPEG bytes; empty: untextured
+  std::string imageMimeType;      ///< "image/png" or "image/jpeg"
+  std::string name;               ///< the node's name (e.g. "chunk 12 (L2 3,1)")
   MaterialLight light = MaterialLight::kLit;
 };
 
@@ -40,7 +44,8 @@ struct ChunkGlb {
   uint64_t uncompressedBytes = 0;      ///< the vertex and index data before meshopt
 };
 
-/// Fails when the mesh is empty, its arrays disagree in length, an index is out of range, or
+/// Fails when the mesh is empty, its arrays disagree in length (normals, colours), an index is
+/// out of range, or
 /// the image is given without texture coordinates (or its type is not PNG or JPEG).
 Result<ChunkGlb> chunkGlb(const ChunkMesh& mesh);
 

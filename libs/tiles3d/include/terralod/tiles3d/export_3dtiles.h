@@ -1,6 +1,7 @@
 #pragma once
-// `terralod export TILESET --format 3dtiles -o DIR` (issue 24): a static tileset as a 3D Tiles
-// 1.1 tileset, one glTF per chunk (chunk_glb.h, skirts included, its colour tile as JPEG), an
+// `terralod export TILESET --format 3dtiles -o DIR` (issue 24): a tileset as a 3D Tiles 1.1
+// tileset, one glTF per chunk (chunk_glb.h; local_chunk.h: static chunks with their skirts and
+// colour tile as JPEG, VIPM nodes at their finest with flanges and material colours), an
 // explicit tree in DIR/tileset.json (tileset_json.h) or, for large trees, implicit quadtree
 // tiling with subtree files (implicit_tiling.h), placed on Earth through the source's
 // georeferencing (earth_placement.h): every vertex goes through PROJ to Earth-centred
