@@ -51,6 +51,8 @@ if want export; then
   export_row zion zion.tlod
   export_row zion_implicit zion.tlod --tiling implicit
   export_row zion_plain zion_plain.tlod
+  [ -e zion_vipm.tlod ] || "$terralod" build "$data/zion_srtm3_utm12_30m.tif" --kind vipm -o zion_vipm.tlod >/dev/null
+  export_row zion_vipm zion_vipm.tlod
   export_row s8193 s8193.tlod
   export_row s8193_plain s8193_plain.tlod
 fi

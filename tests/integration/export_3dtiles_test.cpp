@@ -71,6 +71,12 @@ TEST_F(Export3dTiles, EveryChunkAPlacedValidGltfUnderATreeOfTheirErrors) {
       roughlyWhere(root["transform"][12], root["transform"][13], root["transform"][14]);
   EXPECT_NEAR(where[0], -146.9497, 0.02);
   EXPECT_NEAR(where[1], 64.7999, 0.02);
+  // The error of drawing nothing is the whole terrain (its box's diagonal, near enough), so a
+  // client draws it from any distance.
+  const json& box = root["boundingVolume"]["box"];
+  double diagonal2 = 0;
+  for (int k = 3; k < 12; ++k) diagonal2 += 4.0 * box[k].get<double>() * box[k].get<double>();
+  EXPECT_GE(tileset["geometricError"].get<double>(), 0.9 * std::sqrt(diagonal2));
   // What placed it, for tools that put a terralod camera there.
   const json& extras = tileset["extras"];
   EXPECT_EQ(extras["placed_on_earth"], true);

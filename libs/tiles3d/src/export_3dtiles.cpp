@@ -185,6 +185,12 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
                              {"spacing", {grid.spacingX, grid.spacingY}},
                              {"crs_wkt", grid.crsWkt}}}};
   if (grid.hasGeoTransform) extras["source_grid"]["geotransform"] = grid.geoTransform;
+  // The top-level geometricError is the error of drawing nothing: the whole terrain (its
+  // extent's diagonal), so that a client draws it from any distance (CesiumJS draws nothing of
+  // a tileset whose top-level error projects under its maximum screen-space error).
+  const double nothing = std::hypot(h.extentMax[0] - h.extentMin[0],
+                                    h.extentMax[1] - h.extentMin[1],
+                                    h.extentMax[2] - h.extentMin[2]);
   nlohmann::json json;
   if (implicit) {
     // The root box: the roots' square in the root frame (whose axes are the grid's at the
@@ -227,11 +233,11 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
     summary.subtrees = subtrees->size();
     const double rootError = h.levelError[0] * double(uint64_t(1) << virtualLevels);
     json = {{"asset", {{"version", "1.1"}, {"generator", "terralod"}}},
-            {"geometricError", 2.0 * rootError},
+            {"geometricError", std::max(nothing, 2.0 * rootError)},
             {"root", implicitRootTile(rootBox, rootError, *root, availableLevels, subtreeLevels)},
             {"extras", extras}};
   } else {
-    auto built = tilesetJson(tiles, *root, 2.0 * h.levelError[0], extras);
+    auto built = tilesetJson(tiles, *root, std::max(nothing, 2.0 * h.levelError[0]), extras);
     if (!built) return built.error();
     json = std::move(built).value();
   }
