@@ -12,10 +12,13 @@
 #      shows only the tileset (no globe, imagery, sky, sun, fog or anti-aliasing) at CesiumJS's
 #      maximumScreenSpaceError = tau, waits until CesiumJS reports every tile the view needs
 #      loaded, and sends the picture back to nginx (HTTP PUT);
-#   4. the picture is written to OUT.png (OUT.jpg or OUT.jpeg: JPEG, quality 90), and the figures (tiles requested, tiles drawn, load
-#      time) are printed as a JSON line (and written to --stats FILE).
-# Everything runs in a temporary directory removed on exit. Needs `make` (or
-# scripts/install-deps.sh and a build) first. TERRALOD overrides the terralod binary.
+#   4. the picture is written to OUT.png (OUT.jpg or OUT.jpeg: JPEG, quality 90), and the
+#      figures (tiles requested, tiles drawn, load time) are printed as a JSON line (and
+#      written to --stats FILE).
+# The background defaults to terralod render's sky colour (9cc3e6). Everything runs in a
+# temporary directory removed on exit. Needs `make` (or scripts/install-deps.sh and a build)
+# first. TERRALOD overrides the terralod binary. Software WebGL on every machine, so that the
+# same export and camera give the same picture.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,7 +31,7 @@ die() {
   exit 1
 }
 
-dir="" eye="" target="" size="1024x768" fov="60" tau="2" background="ff00ff" out="" stats=""
+dir="" eye="" target="" size="1024x768" fov="60" tau="2" background="9cc3e6" out="" stats=""
 timeout_s=180
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -151,6 +154,6 @@ node -e 'const [w, h] = JSON.parse(process.argv[1]).canvas; if (w != process.arg
 
 # 4. The picture and the figures.
 mkdir -p "$(dirname "$out")"
-mv "$work/www/out/shot" "$out.partial" && mv "$out.partial" "$out"
+cat "$work/www/out/shot" >"$out.partial" && mv "$out.partial" "$out"  # (cat: the umask's mode, not nginx's 0600)
 [ -z "$stats" ] || printf '%s\n' "$figures" >"$stats"
 printf '%s\n' "$figures"

@@ -188,9 +188,9 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   // The top-level geometricError is the error of drawing nothing: the whole terrain (its
   // extent's diagonal), so that a client draws it from any distance (CesiumJS draws nothing of
   // a tileset whose top-level error projects under its maximum screen-space error).
-  const double nothing = std::hypot(h.extentMax[0] - h.extentMin[0],
-                                    h.extentMax[1] - h.extentMin[1],
-                                    h.extentMax[2] - h.extentMin[2]);
+  const double nothing =
+      std::hypot(h.extentMax[0] - h.extentMin[0], h.extentMax[1] - h.extentMin[1],
+                 h.extentMax[2] - h.extentMin[2]);
   nlohmann::json json;
   if (implicit) {
     // The root box: the roots' square in the root frame (whose axes are the grid's at the
