@@ -26,6 +26,8 @@ packages=(
   # a real 3D Tiles client for the export's test: CesiumJS (npm, below) in headless Chromium
   # (scripts/cesium-screenshot.sh)
   chromium
+  # a real single-node Slurm cluster for the cluster build's tests (scripts/slurm-local.sh)
+  slurm-wlm munge
   # tests and benchmarks; gnuplot draws the plots of `terralod bench --report`
   libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
