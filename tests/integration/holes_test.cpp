@@ -18,10 +18,10 @@
 namespace terralod::test {
 namespace {
 
-using Camera = std::pair<std::array<double, 3>, std::array<double, 3>>;
+using EyeAndTarget = std::pair<std::array<double, 3>, std::array<double, 3>>;
 
 std::string writeFlight(const TempDir& dir, const std::string& name,
-                        const std::vector<Camera>& cameras) {
+                        const std::vector<EyeAndTarget>& cameras) {
   nlohmann::json j;
   j["fov_deg"] = 60;
   j["size"] = {640, 480};
@@ -61,7 +61,7 @@ class Holes : public ::testing::Test {
 TempDir* Holes::dir = nullptr;
 
 TEST_F(Holes, NoneWhereTheClimbOverVancouverShowedThem) {
-  const std::vector<Camera> cameras = {
+  const std::vector<EyeAndTarget> cameras = {
       {{118802.935, 91205.28, 16961.159}, {118763.274488, 91174.832607, 16874.556460}},
       {{53950.986, 41418.293, 94183.802}, {53990.646512, 41448.740393, 94097.199460}},
       {{22042.443, 16922.033, 132178.99}, {22082.103512, 16952.480393, 132092.387460}},
@@ -76,7 +76,7 @@ TEST_F(Holes, NoneWhereTheClimbOverVancouverShowedThem) {
 TEST_F(Holes, ARealCrackStillCounts) {
   // 4 km up, held for 20 frames so that the finer chunks stream in: without skirts the seams
   // between them open (hundreds of pixels); with skirts none.
-  const std::vector<Camera> held(20, {{90000, 60000, 4000}, {90040, 60030, 3913}});
+  const std::vector<EyeAndTarget> held(20, {{90000, 60000, 4000}, {90040, 60030, 3913}});
   const std::string flight = writeFlight(*dir, "low.json", held);
   EXPECT_GT(bench(flight, {"--no-skirts"})["holes_total"].get<uint64_t>(), 50u);
   EXPECT_EQ(bench(flight)["holes_total"].get<uint64_t>(), 0u);
