@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -135,13 +136,13 @@ TEST(CesiumScreenshot, CesiumJsDrawsTheExportAsTerralodDrawsTheTileset) {
   EXPECT_LT(same.terrainFraction, 0.8);
   EXPECT_GE(same.iou, 0.95);
   EXPECT_LE(same.meanColourDiff, kColourThreshold);
-  // CesiumJS at maximumScreenSpaceError = tau draws about the chunks terralod selects (it
-  // measures a tile's distance from its box, terralod from the chunk's).
+  // CesiumJS at maximumScreenSpaceError = tau draws the chunks terralod selects (δ(L) is the
+  // geometricError and both measure the distance to the tile's box; 8 and 8 here, measured
+  // equal in three views: docs/benchmarks.md), give or take a quarter.
   std::smatch m;
   ASSERT_TRUE(std::regex_search(drawn, m, std::regex(R"(: (\d+) chunks,)"))) << drawn;
   const int chunks = std::stoi(m[1]), cesiumTiles = stats["tiles_drawn"].get<int>();
-  EXPECT_GE(2 * cesiumTiles, chunks);
-  EXPECT_LE(cesiumTiles, 2 * chunks);
+  EXPECT_NEAR(cesiumTiles, chunks, std::max(1, chunks / 4));
 
   // The same tiles under implicit tiling (subtree files, boxes halved from the root's): CesiumJS
   // reads the subtrees and draws the same picture (a few more tiles: implicit boxes keep the

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <span>
 
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
@@ -45,6 +46,115 @@ Status writeFile(const fs::path& file, const std::vector<uint8_t>& bytes) {
   out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
   if (!out.flush()) return makeError(file.string(), "cannot be written");
   return {};
+}
+
+// The root frame's inverse, for positions and (inverse transpose) normals, and its origin in
+// local metres.
+struct RootFrame {
+  glm::dmat4 toRoot;
+  glm::dmat3 toRootNormal;
+  std::array<double, 3> origin;
+};
+
+// Chunk `node` as a glTF in the root frame: its local mesh (local_chunk.h), normals from its
+// surface through the chunk's local frame, positions through PROJ.
+Result<ChunkGlb> chunkContent(const TilesetReader& tileset, uint32_t node,
+                              const EarthPlacement& placement, const RootFrame& root,
+                              MaterialLight light) {
+  const TilesetHeader& h = tileset.header();
+  const NodeRecord& record = tileset.nodes()[node];
+  const std::string subject = tileset.name() + " chunk " + std::to_string(node);
+  auto chunk = record.meshKind == MeshKind::kVipm ? vipmLocalChunk(tileset, node)
+                                                  : staticLocalChunk(tileset, node);
+  if (!chunk) return chunk.error();
+  if (chunk->indices.empty()) return makeError(subject, "has no triangles");
+  ChunkMesh mesh;
+  mesh.light = light;
+  mesh.name = "chunk " + std::to_string(node) + " (level " + std::to_string(record.level) + ", " +
+              std::to_string(record.x) + ", " + std::to_string(record.y) + ")";
+  mesh.indices = std::move(chunk->indices);
+  mesh.texcoords = std::move(chunk->texcoords);
+  mesh.colors = std::move(chunk->colors);
+  if (!chunk->image.empty()) {
+    mesh.image = std::move(chunk->image);
+    mesh.imageMimeType = "image/jpeg";
+  }
+  std::vector<std::array<double, 3>>& local = chunk->positions;
+  // Normals from the surface triangles (skirt and flange vertices, in none, point straight
+  // up), local then through the chunk's frame and into the root frame.
+  std::vector<std::array<float, 3>> localFloat;
+  for (const auto& p : local)
+    localFloat.push_back(
+        {float(p[0] - root.origin[0]), float(p[1] - root.origin[1]), float(p[2] - root.origin[2])});
+  std::vector<std::array<float, 3>> normals = angleWeightedNormals(localFloat, chunk->surface);
+  const auto [ox, oy] = chunkCellOrigin(h, record);
+  const double side = h.chunkCells(record.level);
+  auto frame =
+      placement.frameAt((double(ox) + 0.5 * side) * h.spacingX,
+                        (double(oy) + 0.5 * side) * h.spacingY, 0.5 * (record.minZ + record.maxZ));
+  if (!frame) return frame.error();
+  const glm::dmat3 toEarthNormal = glm::transpose(glm::inverse(glm::dmat3(*frame)));
+  for (auto& n : normals) {
+    glm::dvec3 v(n[0], n[1], n[2]);
+    if (!(glm::dot(v, v) > 0.5)) v = glm::dvec3(0, 0, 1);
+    v = root.toRootNormal * (toEarthNormal * v);
+    v /= std::sqrt(glm::dot(v, v));
+    mesh.normals.push_back({float(v.x), float(v.y), float(v.z)});
+  }
+  // Through PROJ to Earth, then into the root frame.
+  if (Status s = placement.toEarth(local); !s) return makeError(subject, s.error().message);
+  for (auto& p : local) {
+    const glm::dvec4 r = root.toRoot * glm::dvec4(p[0], p[1], p[2], 1.0);
+    mesh.positions.push_back({r.x, r.y, r.z});
+  }
+  auto glb = chunkGlb(mesh);
+  if (!glb) return makeError(subject, glb.error().message);
+  return glb;
+}
+
+struct ImplicitTree {
+  std::array<double, 12> rootBox{};
+  uint32_t availableLevels = 0, subtreeLevels = 0;
+};
+
+// Implicit tiling's root box and subtree files (written under `partial`) for the exported
+// tiles at their implicit `keys`; how far content reaches outside its derived box goes into
+// `summary`. The root box is the roots' square in the root frame (whose axes are the grid's at
+// the data's centre; `centre` is the frame's origin in local metres) over the content's full
+// height range. Errors name `subject` (the tileset) or the file that cannot be written.
+Result<ImplicitTree> writeImplicitTree(const TilesetHeader& h, std::span<const ExportTile> tiles,
+                                       std::span<const TileKey> keys, uint32_t virtualLevels,
+                                       std::array<double, 2> centre, const std::string& partial,
+                                       const std::string& subject, ExportSummary& summary) {
+  ImplicitTree tree;
+  const double side = double(uint64_t(h.rootCells) << virtualLevels);
+  const double halfX = 0.5 * side * h.spacingX, halfY = 0.5 * side * h.spacingY;
+  double zMin = tiles[0].min[2], zMax = tiles[0].max[2];
+  for (const ExportTile& t : tiles) {
+    zMin = std::min(zMin, t.min[2]);
+    zMax = std::max(zMax, t.max[2]);
+  }
+  tree.rootBox = {
+      halfX - centre[0],  halfY - centre[1], 0.5 * (zMin + zMax), halfX, 0, 0, 0, halfY, 0, 0, 0,
+      0.5 * (zMax - zMin)};
+  for (size_t i = 0; i < tiles.size(); ++i) {
+    const std::array<double, 12> b = implicitTileBox(tree.rootBox, keys[i]);
+    for (int k = 0; k < 2; ++k) {
+      const double half = b[3 + 4 * k];
+      summary.implicitBoxExcess =
+          std::max({summary.implicitBoxExcess, (b[k] - half) - tiles[i].min[k],
+                    tiles[i].max[k] - (b[k] + half)});
+    }
+  }
+  tree.availableLevels = h.levelCount + virtualLevels;
+  tree.subtreeLevels = subtreeLevelsFor(tree.availableLevels);
+  auto subtrees = subtreeFiles(keys, tree.availableLevels, tree.subtreeLevels);
+  if (!subtrees) return makeError(subject, subtrees.error().message);
+  for (const SubtreeFile& s : *subtrees)
+    if (Status written = writeFile(fs::path(partial) / s.uri, s.bytes); !written)
+      return written.error();
+  summary.subtrees = subtrees->size();
+  return tree;
 }
 
 }  // namespace
@@ -101,7 +211,7 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   auto root = placement.frameAt(cx, cy, cz);
   if (!root) return root.error();
   const glm::dmat4 toRoot = glm::inverse(*root);
-  const glm::dmat3 toRootNormal = glm::transpose(glm::inverse(glm::dmat3(toRoot)));
+  const RootFrame rootFrame{toRoot, glm::transpose(glm::inverse(glm::dmat3(toRoot))), {cx, cy, cz}};
 
   // Imagery draped over the terrain carries its own light; a generated colour is lit.
   const MaterialLight light =
@@ -113,51 +223,8 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   progress.begin("3D Tiles", nodes.size());
   for (uint32_t i = 0; i < nodes.size(); ++i) {
     const NodeRecord& record = nodes[i];
-    const std::string subject = tileset.name() + " chunk " + std::to_string(i);
-    auto chunk = record.meshKind == MeshKind::kVipm ? vipmLocalChunk(tileset, i)
-                                                    : staticLocalChunk(tileset, i);
-    if (!chunk) return chunk.error();
-    if (chunk->indices.empty()) return makeError(subject, "has no triangles");
-    ChunkMesh mesh;
-    mesh.light = light;
-    mesh.name = "chunk " + std::to_string(i) + " (level " + std::to_string(record.level) + ", " +
-                std::to_string(record.x) + ", " + std::to_string(record.y) + ")";
-    mesh.indices = std::move(chunk->indices);
-    mesh.texcoords = std::move(chunk->texcoords);
-    mesh.colors = std::move(chunk->colors);
-    if (!chunk->image.empty()) {
-      mesh.image = std::move(chunk->image);
-      mesh.imageMimeType = "image/jpeg";
-    }
-    std::vector<std::array<double, 3>>& local = chunk->positions;
-    // Normals from the surface triangles (skirt and flange vertices, in none, point straight
-    // up), local then through the chunk's frame and into the root frame.
-    std::vector<std::array<float, 3>> localFloat;
-    for (const auto& p : local)
-      localFloat.push_back({float(p[0] - cx), float(p[1] - cy), float(p[2] - cz)});
-    std::vector<std::array<float, 3>> normals = angleWeightedNormals(localFloat, chunk->surface);
-    const double nodeZ = 0.5 * (record.minZ + record.maxZ);
-    const auto [ox, oy] = chunkCellOrigin(h, record);
-    const double side = h.chunkCells(record.level);
-    auto frame = placement.frameAt((double(ox) + 0.5 * side) * h.spacingX,
-                                   (double(oy) + 0.5 * side) * h.spacingY, nodeZ);
-    if (!frame) return frame.error();
-    const glm::dmat3 toEarthNormal = glm::transpose(glm::inverse(glm::dmat3(*frame)));
-    for (auto& n : normals) {
-      glm::dvec3 v(n[0], n[1], n[2]);
-      if (!(glm::dot(v, v) > 0.5)) v = glm::dvec3(0, 0, 1);
-      v = toRootNormal * (toEarthNormal * v);
-      v /= std::sqrt(glm::dot(v, v));
-      mesh.normals.push_back({float(v.x), float(v.y), float(v.z)});
-    }
-    // Through PROJ to Earth, then into the root frame.
-    if (Status s = placement.toEarth(local); !s) return makeError(subject, s.error().message);
-    for (auto& p : local) {
-      const glm::dvec4 r = toRoot * glm::dvec4(p[0], p[1], p[2], 1.0);
-      mesh.positions.push_back({r.x, r.y, r.z});
-    }
-    auto glb = chunkGlb(mesh);
-    if (!glb) return makeError(subject, glb.error().message);
+    auto glb = chunkContent(tileset, i, placement, rootFrame, light);
+    if (!glb) return glb.error();
     // Files at the tile's implicit coordinates (the same as the chunk's without levels above
     // the roots).
     keys[i] = {record.level + (implicit ? virtualLevels : 0), record.x, record.y};
@@ -193,48 +260,14 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
                  h.extentMax[2] - h.extentMin[2]);
   nlohmann::json json;
   if (implicit) {
-    // The root box: the roots' square in the root frame (whose axes are the grid's at the
-    // data's centre), the content's full height range.
-    const double side = double(uint64_t(h.rootCells) << virtualLevels);
-    const double sizeX = side * h.spacingX, sizeY = side * h.spacingY;
-    double zMin = tiles[0].min[2], zMax = tiles[0].max[2];
-    for (const ExportTile& t : tiles) {
-      zMin = std::min(zMin, t.min[2]);
-      zMax = std::max(zMax, t.max[2]);
-    }
-    const std::array<double, 12> rootBox = {0.5 * sizeX - cx,
-                                            0.5 * sizeY - cy,
-                                            0.5 * (zMin + zMax),
-                                            0.5 * sizeX,
-                                            0,
-                                            0,
-                                            0,
-                                            0.5 * sizeY,
-                                            0,
-                                            0,
-                                            0,
-                                            0.5 * (zMax - zMin)};
-    for (uint32_t i = 0; i < tiles.size(); ++i) {
-      const std::array<double, 12> b = implicitTileBox(rootBox, keys[i]);
-      for (int k = 0; k < 2; ++k) {
-        const double half = b[3 + 4 * k];
-        summary.implicitBoxExcess =
-            std::max({summary.implicitBoxExcess, (b[k] - half) - tiles[i].min[k],
-                      tiles[i].max[k] - (b[k] + half)});
-      }
-    }
-    const uint32_t availableLevels = h.levelCount + virtualLevels;
-    const uint32_t subtreeLevels = subtreeLevelsFor(availableLevels);
-    auto subtrees = subtreeFiles(keys, availableLevels, subtreeLevels);
-    if (!subtrees) return makeError(tileset.name(), subtrees.error().message);
-    for (const SubtreeFile& s : *subtrees)
-      if (Status written = writeFile(fs::path(partial) / s.uri, s.bytes); !written)
-        return written.error();
-    summary.subtrees = subtrees->size();
+    auto written = writeImplicitTree(h, tiles, keys, virtualLevels, {cx, cy}, partial,
+                                     tileset.name(), summary);
+    if (!written) return written.error();
     const double rootError = h.levelError[0] * double(uint64_t(1) << virtualLevels);
     json = {{"asset", {{"version", "1.1"}, {"generator", "terralod"}}},
             {"geometricError", std::max(nothing, 2.0 * rootError)},
-            {"root", implicitRootTile(rootBox, rootError, *root, availableLevels, subtreeLevels)},
+            {"root", implicitRootTile(written->rootBox, rootError, *root, written->availableLevels,
+                                      written->subtreeLevels)},
             {"extras", extras}};
   } else {
     auto built = tilesetJson(tiles, *root, std::max(nothing, 2.0 * h.levelError[0]), extras);
