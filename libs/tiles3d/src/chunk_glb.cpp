@@ -122,10 +122,15 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
 
   // Buffer 0 (the GLB's binary chunk): the compressed streams, then the image. Buffer 1: the
   // fallback the extension asks for, never stored (its views are all compressed).
-  std::vector<const Stream*> streams = {&positions, &normals};
-  if (!m.image.empty()) streams.push_back(&texcoords);
-  if (!m.colors.empty()) streams.push_back(&colors);
-  streams.push_back(&indices);
+  std::vector<const Stream*> streams;
+  const auto viewOf = [&](const Stream& s) {
+    streams.push_back(&s);
+    return int(streams.size()) - 1;
+  };
+  const int positionView = viewOf(positions), normalView = viewOf(normals);
+  const int texcoordView = m.image.empty() ? -1 : viewOf(texcoords);
+  const int colorView = m.colors.empty() ? -1 : viewOf(colors);
+  const int indexView = viewOf(indices);
   std::vector<uint8_t> bin;
   json views = json::array(), accessors = json::array();
   size_t fallbackBytes = 0;
@@ -150,9 +155,6 @@ Result<ChunkGlb> chunkGlb(const ChunkMesh& m) {
     fallbackBytes += (s->data.size() + 3) / 4 * 4;
     out.uncompressedBytes += s->data.size();
   }
-  const int positionView = 0, normalView = 1, texcoordView = m.image.empty() ? -1 : 2;
-  const int colorView = m.colors.empty() ? -1 : (m.image.empty() ? 2 : 3);
-  const int indexView = int(streams.size()) - 1;
   json qmin = json::array({0, 0, 0}), qmax = json::array();
   for (size_t k = 0; k < 3; ++k) qmax.push_back(out.max[k] > out.min[k] ? 65535 : 0);
   accessors.push_back({{"bufferView", positionView},

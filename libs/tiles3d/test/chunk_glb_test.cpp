@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <meshoptimizer.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -133,6 +134,35 @@ TEST(ChunkGlb, QuantisedCompressedAndPlacedBackWhereItWas) {
         .write(reinterpret_cast<const char*>(glb->bytes.data()), long(glb->bytes.size()));
 }
 
+// Vertex colours and an unlit material: COLOR_0 decodes back to the colours, the indices
+// still come last, KHR_materials_unlit is on the material and in extensionsUsed.
+TEST(ChunkGlb, ColoursAndUnlitMaterials) {
+  ChunkMesh mesh = grid();
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    mesh.colors.push_back({uint8_t(10 * i), uint8_t(255 - i), uint8_t(i % 3)});
+  mesh.light = MaterialLight::kUnlit;
+  auto glb = chunkGlb(mesh);
+  ASSERT_TRUE(glb.ok()) << glb.error().message;
+  const Parsed p = parse(glb->bytes);
+  const json& primitive = p.gltf["meshes"][0]["primitives"][0];
+  const json& color = p.gltf["accessors"][primitive["attributes"]["COLOR_0"].get<int>()];
+  EXPECT_EQ(color["type"], "VEC4");
+  EXPECT_EQ(color["normalized"], true);
+  const std::vector<uint8_t> colors = decodeView(p, color["bufferView"].get<int>());
+  for (size_t i = 0; i < mesh.colors.size(); ++i)
+    for (size_t k = 0; k < 3; ++k) EXPECT_EQ(colors[4 * i + k], mesh.colors[i][k]) << i;
+  const json& indices = p.gltf["accessors"][primitive["indices"].get<int>()];
+  EXPECT_EQ(indices["bufferView"].get<size_t>() + 1,
+            p.gltf["bufferViews"].size() - 1);  // then the image
+  EXPECT_TRUE(p.gltf["materials"][0]["extensions"].contains("KHR_materials_unlit"));
+  EXPECT_NE(std::find(p.gltf["extensionsUsed"].begin(), p.gltf["extensionsUsed"].end(),
+                      "KHR_materials_unlit"),
+            p.gltf["extensionsUsed"].end());
+  // Lit (the default): no such extension.
+  mesh.light = MaterialLight::kLit;
+  EXPECT_FALSE(parse(chunkGlb(mesh)->bytes).gltf["materials"][0].contains("extensions"));
+}
+
 TEST(ChunkGlb, RefusesMeshesItCannotWrite) {
   ChunkMesh m = grid();
   m.indices.push_back(99);
@@ -147,6 +177,9 @@ TEST(ChunkGlb, RefusesMeshesItCannotWrite) {
   EXPECT_FALSE(chunkGlb(m).ok());
   m = grid();
   m.normals.pop_back();
+  EXPECT_FALSE(chunkGlb(m).ok());
+  m = grid();
+  m.colors.assign(m.positions.size() - 1, {1, 2, 3});
   EXPECT_FALSE(chunkGlb(m).ok());
 }
 
