@@ -6,6 +6,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "terralod/core/srgb.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/texture_decode.h"
 #include "terralod/format/vipm_chunk_codec.h"
@@ -34,13 +35,6 @@ Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::strin
   if (!stbi_write_jpg_to_func(sink, &jpeg, int(size), int(size), 3, rgb.data(), 90))
     return makeError(subject, "colour texture cannot be encoded as JPEG");
   return jpeg;
-}
-
-// sRGB 0..255 to linear 0..255 (glTF's vertex colours are linear).
-uint8_t linear(uint8_t srgb) {
-  const double c = srgb / 255.0;
-  const double l = c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-  return uint8_t(std::lround(l * 255.0));
 }
 
 }  // namespace
@@ -87,7 +81,14 @@ Result<LocalChunk> vipmLocalChunk(const TilesetReader& tileset, uint32_t node) {
   if (!bytes) return bytes.error();
   auto data = decodeVipmChunk(bytes->mesh(), subject);
   if (!data) return data.error();
-  const auto& materials = tileset.metadata().materials;
+  // The materials' colours, linear (glTF's vertex colours are).
+  std::vector<std::array<uint8_t, 3>> palette;
+  for (const TilesetMaterial& m : tileset.metadata().materials) {
+    std::array<uint8_t, 3> linear{};
+    for (size_t k = 0; k < 3; ++k)
+      linear[k] = uint8_t(std::lround(srgbToLinear(m.color[k]) * 255.0f));
+    palette.push_back(linear);
+  }
   LocalChunk out;
   const auto [ox, oy] = chunkCellOrigin(h, record);
   for (uint32_t v = 0; v < data->vertexCount(); ++v) {
@@ -96,10 +97,9 @@ Result<LocalChunk> vipmLocalChunk(const TilesetReader& tileset, uint32_t node) {
     out.positions.push_back({double(x) * h.spacingX, double(y) * h.spacingY,
                              data->zBase + double(data->heights[v]) * data->zStep});
     const uint8_t m = data->materials[v];
-    if (m >= materials.size())
+    if (m >= palette.size())
       return makeError(subject, "names material " + std::to_string(m) + " the metadata lacks");
-    const auto& c = materials[m].color;
-    out.colors.push_back({linear(c[0]), linear(c[1]), linear(c[2])});
+    out.colors.push_back(palette[m]);
   }
   out.indices.assign(data->indices.begin(), data->indices.end());
   out.surface = out.indices;

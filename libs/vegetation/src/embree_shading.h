@@ -1,6 +1,6 @@
 #pragma once
-// What the Embree ray casters (the LDI baker, the field tracer) share: colour conversions,
-// occlusion-ray directions and the device's error handler.
+// What the Embree ray casters (the LDI baker, the field tracer) share: occlusion-ray
+// directions and the device's error handler (colour conversions: core/srgb.h).
 
 #include <embree3/rtcore.h>
 
@@ -14,18 +14,9 @@
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
+#include "terralod/core/srgb.h"
+
 namespace terralod::veg {
-
-inline float srgbToLinear(uint8_t c) {
-  const float v = float(c) / 255.0f;
-  return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
-inline uint8_t linearToSrgb(float v) {
-  v = std::clamp(v, 0.0f, 1.0f);
-  const float s = v <= 0.0031308f ? v * 12.92f : 1.055f * std::pow(v, 1 / 2.4f) - 0.055f;
-  return uint8_t(std::lround(s * 255.0f));
-}
 
 /// Cosine-weighted directions over the hemisphere of a unit normal (ambient-occlusion rays).
 class Hemisphere {

@@ -3,12 +3,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include "terralod/core/srgb.h"
+
 namespace terralod {
 namespace {
 
-float toLinear(float s) {
-  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
 // The splatting shader's output encoding (a pure power law): a fragment's colour is the sum of
 // its materials' encoded colours times their weights.
 float encode(float linear) {
@@ -19,7 +18,7 @@ float encode(float linear) {
 
 std::array<float, 3> linearMean(std::span<const uint8_t> rgb) {
   std::array<double, 3> sum{};
-  for (size_t i = 0; i < rgb.size(); ++i) sum[i % 3] += toLinear(float(rgb[i]) / 255.0f);
+  for (size_t i = 0; i < rgb.size(); ++i) sum[i % 3] += srgbToLinear(rgb[i]);
   const double n = std::max<double>(1.0, double(rgb.size() / 3));
   return {float(sum[0] / n), float(sum[1] / n), float(sum[2] / n)};
 }
