@@ -22,14 +22,12 @@ class Availability {
     ++mSet;
   }
   // {"constant": 0|1} or {"bitstream": view, "availableCount": n}, the bits appended to `bin`.
-  json describe(std::vector<uint8_t>& bin, json& views, bool withCount) const {
+  json describe(std::vector<uint8_t>& bin, json& views) const {
     if (mSet == 0 || mSet == mCount) return {{"constant", mSet == 0 ? 0 : 1}};
     while (bin.size() % 8) bin.push_back(0);  // bufferViews start 8-byte aligned
     views.push_back({{"buffer", 0}, {"byteOffset", bin.size()}, {"byteLength", mBits.size()}});
     bin.insert(bin.end(), mBits.begin(), mBits.end());
-    json out = {{"bitstream", views.size() - 1}};
-    if (withCount) out["availableCount"] = mSet;
-    return out;
+    return {{"bitstream", views.size() - 1}, {"availableCount", mSet}};
   }
 
  private:
@@ -116,9 +114,9 @@ Result<std::vector<SubtreeFile>> subtreeFiles(std::span<const TileKey> content,
       }
     std::vector<uint8_t> bin;
     json views = json::array();
-    json subtree = {{"tileAvailability", tiles.describe(bin, views, true)},
-                    {"contentAvailability", {contents.describe(bin, views, true)}},
-                    {"childSubtreeAvailability", children.describe(bin, views, false)}};
+    json subtree = {{"tileAvailability", tiles.describe(bin, views)},
+                    {"contentAvailability", {contents.describe(bin, views)}},
+                    {"childSubtreeAvailability", children.describe(bin, views)}};
     while (bin.size() % 8) bin.push_back(0);
     if (!bin.empty()) {
       subtree["buffers"] = {{{"byteLength", bin.size()}}};

@@ -71,6 +71,7 @@ TEST(ImplicitTiling, SubtreesRecordWhichTilesAndChildSubtreesExist) {
   // Level 2's tiles in Morton order: 0..3 under (1, 0, 0), 12..15 under (1, 1, 1).
   EXPECT_EQ(bitstream(root, root.json["childSubtreeAvailability"]),
             (std::vector<uint8_t>{0x0F, 0xF0}));
+  EXPECT_EQ(root.json["childSubtreeAvailability"]["availableCount"], 8);
   EXPECT_EQ(root.json["buffers"][0]["byteLength"].get<size_t>(), root.binary.size());
 
   for (size_t i = 1; i < files->size(); ++i) {
