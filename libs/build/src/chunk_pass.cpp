@@ -46,7 +46,8 @@ class WindowSampler final : public HeightSampler {
   int32_t mX0 = 0, mY0 = 0, mSide = 0;
 };
 
-// Meshes, quantises and encodes one chunk; fills in its node's statistics.
+}  // namespace
+
 Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
                                         NodeRecord& node, int compressionLevel) {
   const ChunkMesh mesh = mesher.build(node.level, int32_t(node.x), int32_t(node.y));
@@ -71,14 +72,6 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
   node.blobCrc = crc32Of(blob);
   return blob;
 }
-
-// A built chunk waiting for its turn to be written.
-struct Built {
-  uint32_t node = 0;
-  std::vector<uint8_t> blob, texture;
-};
-
-}  // namespace
 
 std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout) {
   std::vector<NodeRecord> nodes;
@@ -108,42 +101,171 @@ std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout) {
   return nodes;
 }
 
+int32_t blockLevelOf(const TreeLayout& layout, int32_t blockCells) {
+  const int32_t block = std::clamp(blockCells, layout.leafCells, layout.rootCells);
+  return std::countr_zero(uint32_t(layout.rootCells / block));
+}
+
+std::vector<uint32_t> blockNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel) {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].level == blockLevel) out.push_back(i);
+  return out;
+}
+
+std::vector<uint32_t> coarseNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel) {
+  std::vector<uint32_t> out;
+  for (uint32_t i = 0; i < nodes.size(); ++i)
+    if (nodes[i].level <= blockLevel) out.push_back(i);
+  return out;
+}
+
+Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t blockNode,
+                                     const float* window, ChunkMesher& mesher,
+                                     const ActivationGrid& grid, HeightWindows& windows,
+                                     unsigned worker) {
+  const TreeLayout& layout = context.layout;
+  std::vector<NodeRecord>& nodes = context.nodes;
+  const int32_t block = std::clamp(context.blockCells, layout.leafCells, layout.rootCells);
+  const NodeRecord& b = nodes[blockNode];
+  const int32_t x0 = int32_t(b.x) * block, y0 = int32_t(b.y) * block;
+  WindowSampler sampler;
+  if (window) {
+    sampler.set(window, x0, y0, block);
+    mesher.setHeights(sampler);
+  }
+  BlockChunks out;
+  std::deque<uint32_t> queue;
+  auto pushChildren = [&](uint32_t i) {
+    const NodeRecord& n = nodes[i];
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
+      queue.push_back(n.firstChild + c);
+  };
+  pushChildren(blockNode);
+  while (!queue.empty()) {
+    const uint32_t i = queue.front();
+    queue.pop_front();
+    auto blob = buildChunk(mesher, context.budget, nodes[i], context.compressionLevel);
+    if (!blob) return blob.error();
+    out.chunks.push_back({i, std::move(blob).value(), {}});
+    pushChildren(i);
+  }
+  if (context.textures) {
+    std::vector<std::pair<uint32_t, std::vector<uint8_t>>> textures;
+    auto tiles = context.textures->buildBlock(blockNode, windows, worker, textures);
+    if (!tiles) return tiles.error();
+    out.tiles = std::move(tiles).value();
+    std::unordered_map<uint32_t, size_t> where;
+    for (size_t k = 0; k < out.chunks.size(); ++k) where.emplace(out.chunks[k].node, k);
+    for (auto& [node, blob] : textures) {
+      if (node == blockNode)
+        out.blockTexture = std::move(blob);
+      else
+        out.chunks[where.at(node)].texture = std::move(blob);
+    }
+  }
+  if (window) {
+    // Vertices the block-level and coarser chunks will need, for after the window is gone.
+    const uint8_t coarse = context.budget.activationForLevel(blockLevelOf(layout, block));
+    const int32_t x1 = std::min(x0 + block, layout.cellsX),
+                  y1 = std::min(y0 + block, layout.cellsY);
+    for (int32_t y = y0; y <= y1; ++y)
+      for (int32_t x = x0; x <= x1; ++x)
+        if (grid.get(x, y) >= coarse)
+          out.points.emplace_back(SparseHeights::key(x, y),
+                                  window[size_t(y - y0) * (block + 1) + (x - x0)]);
+  }
+  return out;
+}
+
+Result<std::vector<BuiltChunk>> buildCoarseChunks(
+    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+    const std::vector<uint32_t>& blockNodes, std::vector<ChunkTiles>& blockTiles,
+    std::vector<std::vector<uint8_t>>& blockTextures,
+    std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress) {
+  std::vector<NodeRecord>& nodes = context.nodes;
+  const unsigned threads = unsigned(meshers.size());
+  std::vector<BuiltChunk> out(coarseNodes.size());
+  std::mutex failMutex;
+  std::optional<Error> failure;
+  parallelFor(coarseNodes.size(), threads, [&](size_t k, unsigned w) {
+    {
+      std::lock_guard lock(failMutex);
+      if (failure) return;
+    }
+    auto blob =
+        buildChunk(*meshers[w], context.budget, nodes[coarseNodes[k]], context.compressionLevel);
+    if (!blob) {
+      std::lock_guard lock(failMutex);
+      if (!failure) failure = blob.error();
+      return;
+    }
+    out[k] = {coarseNodes[k], std::move(blob).value(), {}};
+    progress.advance();
+  });
+  if (failure) return *failure;
+  if (!context.textures) return out;
+  // Level by level up from the block level, each from its children's tiles.
+  const TexturePass& texturePass = *context.textures;
+  std::unordered_map<uint32_t, ChunkTiles> tiles;
+  for (size_t t = 0; t < blockNodes.size(); ++t)
+    tiles.emplace(blockNodes[t], std::move(blockTiles[t]));
+  std::unordered_map<uint32_t, size_t> coarseIndex;
+  for (size_t k = 0; k < coarseNodes.size(); ++k) coarseIndex.emplace(coarseNodes[k], k);
+  for (size_t t = 0; t < blockNodes.size(); ++t)
+    out[coarseIndex.at(blockNodes[t])].texture = std::move(blockTextures[t]);
+  const int32_t blockLevel = blockNodes.empty() ? 0 : nodes[blockNodes[0]].level;
+  for (int32_t level = blockLevel - 1; level >= 0; --level) {
+    std::vector<uint32_t> atLevel;
+    for (uint32_t i : coarseNodes)
+      if (nodes[i].level == level) atLevel.push_back(i);
+    std::vector<ChunkTiles> made(atLevel.size());
+    parallelFor(atLevel.size(), threads, [&](size_t k, unsigned) {
+      const NodeRecord& n = nodes[atLevel[k]];
+      std::array<const ChunkTiles*, 4> children{};
+      uint32_t c = n.firstChild;
+      for (int q = 0; q < 4; ++q)
+        if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);
+      made[k] = texturePass.fromChildren(atLevel[k], children);
+      out[coarseIndex.at(atLevel[k])].texture = texturePass.encode(atLevel[k], made[k]);
+    });
+    for (uint32_t i : atLevel)
+      for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(nodes[i].childMask))); ++j)
+        tiles.erase(nodes[i].firstChild + j);
+    for (size_t k = 0; k < atLevel.size(); ++k) tiles.emplace(atLevel[k], std::move(made[k]));
+  }
+  return out;
+}
+
 Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const ActivationGrid& grid,
                    std::vector<NodeRecord>& nodes, HeightWindows& windows,
                    const HeightSampler* allHeights, SparseHeights* sparse,
                    const ChunkPassOptions& options, TilesetWriter& writer, Progress& progress) {
   const int32_t block = std::clamp(options.blockCells, layout.leafCells, layout.rootCells);
-  const int32_t blockLevel = std::countr_zero(uint32_t(layout.rootCells / block));
+  const int32_t blockLevel = blockLevelOf(layout, block);
   const unsigned threads = std::max(1u, options.threads);
-  std::vector<uint32_t> blockNodes, coarseNodes;
-  for (uint32_t i = 0; i < nodes.size(); ++i) {
-    if (nodes[i].level == blockLevel) blockNodes.push_back(i);
-    if (nodes[i].level <= blockLevel) coarseNodes.push_back(i);
-  }
-  const uint8_t sparseActivation = budget.activationForLevel(blockLevel);
+  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevel);
+  const std::vector<uint32_t> coarseNodes = coarseNodesOf(nodes, blockLevel);
 
-  struct Worker {
-    std::unique_ptr<ChunkMesher> mesher;
-    std::vector<float> window;
-    WindowSampler sampler;
-  };
-  std::vector<Worker> workers(threads);
   const HeightSampler& coarseHeights = allHeights ? *allHeights : *sparse;
-  for (Worker& w : workers)
-    w.mesher = std::make_unique<ChunkMesher>(layout, budget, grid, coarseHeights);
+  std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
+  for (auto& m : meshers) m = std::make_unique<ChunkMesher>(layout, budget, grid, coarseHeights);
+  std::vector<std::vector<float>> windowsOf(threads);
 
   std::unique_ptr<TexturePass> texturePass;
   if (options.textures) {
     texturePass = std::make_unique<TexturePass>(layout, *options.textures, nodes, threads);
     if (Status s = texturePass->open(); !s) return s;
   }
+  ChunkPassContext context{layout,           budget, nodes, block, options.compressionLevel,
+                           texturePass.get()};
   // Block nodes' texture tiles, kept for the coarser levels' textures.
   std::vector<ChunkTiles> blockTiles(options.textures ? blockNodes.size() : 0);
   std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
 
   // Blobs go to the file in task order whatever order tasks finish in.
   std::mutex writeMutex;
-  std::vector<std::vector<Built>> done(blockNodes.size());
+  std::vector<std::vector<BuiltChunk>> done(blockNodes.size());
   std::vector<uint8_t> ready(blockNodes.size(), 0);
   size_t nextTask = 0;
   std::optional<Error> failure;
@@ -153,84 +275,39 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     if (!failure) failure = std::move(e);
     failed = true;
   };
-  auto append = [&](uint32_t node, const std::vector<uint8_t>& blob,
-                    const std::vector<uint8_t>& texture) -> Status {
-    auto offset = writer.appendBlob(blob);
-    if (!offset) return offset.error();
-    nodes[node].blobOffset = *offset;
-    if (!texture.empty()) {
-      auto at = writer.appendBlob(texture);
-      if (!at) return at.error();
-      nodes[node].flags |= kNodeHasTexture;
-      nodes[node].textureBytes = uint32_t(texture.size());
-    }
-    return {};
+  auto append = [&](const BuiltChunk& chunk) -> Status {
+    return appendChunk(writer, nodes[chunk.node], chunk.blob, chunk.texture);
   };
 
   progress.begin("meshing", nodes.size());
   parallelFor(blockNodes.size(), threads, [&](size_t task, unsigned w) {
     if (failed) return;
-    Worker& worker = workers[w];
     const NodeRecord& b = nodes[blockNodes[task]];
-    const int32_t x0 = int32_t(b.x) * block, y0 = int32_t(b.y) * block;
+    const float* window = nullptr;
     if (allHeights) {
-      worker.mesher->setHeights(*allHeights);
+      meshers[w]->setHeights(*allHeights);
     } else {
-      worker.window.resize(size_t(block + 1) * (block + 1));
-      if (Status s = windows.read(x0, y0, block + 1, block + 1, worker.window.data(), w); !s)
+      windowsOf[w].resize(size_t(block + 1) * (block + 1));
+      if (Status s = windows.read(int32_t(b.x) * block, int32_t(b.y) * block, block + 1, block + 1,
+                                  windowsOf[w].data(), w);
+          !s)
         return fail(s.error());
-      worker.sampler.set(worker.window.data(), x0, y0, block);
-      worker.mesher->setHeights(worker.sampler);
+      window = windowsOf[w].data();
     }
-    std::vector<Built> built;
-    std::deque<uint32_t> queue;
-    auto pushChildren = [&](uint32_t i) {
-      const NodeRecord& n = nodes[i];
-      for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
-        queue.push_back(n.firstChild + c);
-    };
-    pushChildren(blockNodes[task]);
-    while (!queue.empty()) {
-      const uint32_t i = queue.front();
-      queue.pop_front();
-      auto blob = buildChunk(*worker.mesher, budget, nodes[i], options.compressionLevel);
-      if (!blob) return fail(blob.error());
-      built.push_back({i, std::move(blob).value(), {}});
-      pushChildren(i);
-      progress.advance();
-    }
+    auto built = buildBlockChunks(context, blockNodes[task], window, *meshers[w], grid, windows, w);
+    if (!built) return fail(built.error());
+    for (size_t k = 0; k < built->chunks.size(); ++k) progress.advance();
     if (texturePass) {
-      std::vector<std::pair<uint32_t, std::vector<uint8_t>>> textures;
-      auto tiles = texturePass->buildBlock(blockNodes[task], windows, w, textures);
-      if (!tiles) return fail(tiles.error());
-      blockTiles[task] = std::move(tiles).value();
-      std::unordered_map<uint32_t, size_t> where;
-      for (size_t k = 0; k < built.size(); ++k) where.emplace(built[k].node, k);
-      for (auto& [node, blob] : textures) {
-        if (node == blockNodes[task])
-          blockTextures[task] = std::move(blob);
-        else
-          built[where.at(node)].texture = std::move(blob);
-      }
+      blockTiles[task] = std::move(built->tiles);
+      blockTextures[task] = std::move(built->blockTexture);
     }
-    if (sparse) {
-      // Vertices the block-level and coarser chunks will need, for after the window is gone.
-      std::vector<std::pair<uint64_t, float>> points;
-      const int32_t x1 = std::min(x0 + block, layout.cellsX),
-                    y1 = std::min(y0 + block, layout.cellsY);
-      for (int32_t y = y0; y <= y1; ++y)
-        for (int32_t x = x0; x <= x1; ++x)
-          if (grid.get(x, y) >= sparseActivation)
-            points.emplace_back(SparseHeights::key(x, y),
-                                worker.window[size_t(y - y0) * (block + 1) + (x - x0)]);
-      sparse->recordPoints(points);
-    }
+    if (sparse) sparse->recordPoints(built->points);
     std::lock_guard lock(writeMutex);
-    done[task] = std::move(built);
+    done[task] = std::move(built->chunks);
     ready[task] = 1;
     for (; nextTask < done.size() && ready[nextTask]; ++nextTask) {
-      for (const Built& chunk : done[nextTask])
-        if (Status s = append(chunk.node, chunk.blob, chunk.texture); !s) {
+      for (const BuiltChunk& chunk : done[nextTask])
+        if (Status s = append(chunk); !s) {
           if (!failure) failure = s.error();
           failed = true;
           return;
@@ -241,53 +318,30 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   });
   if (failure) return *failure;
 
-  std::vector<std::vector<uint8_t>> coarseBlobs(coarseNodes.size());
-  for (Worker& w : workers) w.mesher->setHeights(coarseHeights);
-  parallelFor(coarseNodes.size(), threads, [&](size_t k, unsigned w) {
-    if (failed) return;
-    auto blob =
-        buildChunk(*workers[w].mesher, budget, nodes[coarseNodes[k]], options.compressionLevel);
-    if (!blob) return fail(blob.error());
-    coarseBlobs[k] = std::move(blob).value();
-    progress.advance();
-  });
-  if (failure) return *failure;
-  std::vector<std::vector<uint8_t>> coarseTextures(coarseNodes.size());
-  if (texturePass) {
-    // Level by level up from the block level, each from its children's tiles.
-    std::unordered_map<uint32_t, ChunkTiles> tiles;
-    for (size_t t = 0; t < blockNodes.size(); ++t)
-      tiles.emplace(blockNodes[t], std::move(blockTiles[t]));
-    std::unordered_map<uint32_t, size_t> coarseIndex;
-    for (size_t k = 0; k < coarseNodes.size(); ++k) coarseIndex.emplace(coarseNodes[k], k);
-    for (size_t t = 0; t < blockNodes.size(); ++t)
-      coarseTextures[coarseIndex.at(blockNodes[t])] = std::move(blockTextures[t]);
-    for (int32_t level = blockLevel - 1; level >= 0; --level) {
-      std::vector<uint32_t> atLevel;
-      for (uint32_t i : coarseNodes)
-        if (nodes[i].level == level) atLevel.push_back(i);
-      std::vector<ChunkTiles> made(atLevel.size());
-      parallelFor(atLevel.size(), threads, [&](size_t k, unsigned) {
-        const NodeRecord& n = nodes[atLevel[k]];
-        std::array<const ChunkTiles*, 4> children{};
-        uint32_t c = n.firstChild;
-        for (int q = 0; q < 4; ++q)
-          if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);
-        made[k] = texturePass->fromChildren(atLevel[k], children);
-        coarseTextures[coarseIndex.at(atLevel[k])] = texturePass->encode(atLevel[k], made[k]);
-      });
-      for (uint32_t i : atLevel)
-        for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(nodes[i].childMask))); ++j)
-          tiles.erase(nodes[i].firstChild + j);
-      for (size_t k = 0; k < atLevel.size(); ++k) tiles.emplace(atLevel[k], std::move(made[k]));
-    }
-  }
-  for (size_t k = 0; k < coarseNodes.size(); ++k)
-    if (Status s = append(coarseNodes[k], coarseBlobs[k], coarseTextures[k]); !s) return s;
+  for (auto& m : meshers) m->setHeights(coarseHeights);
+  auto coarse = buildCoarseChunks(context, coarseNodes, blockNodes, blockTiles, blockTextures,
+                                  meshers, progress);
+  if (!coarse) return coarse.error();
+  for (const BuiltChunk& chunk : *coarse)
+    if (Status s = append(chunk); !s) return s;
   progress.end();
   if (sparse && sparse->misses() > 0)
     return Error{"internal error: " + std::to_string(sparse->misses()) +
                  " heights were needed that the streamed build had not kept"};
+  return {};
+}
+
+Status appendChunk(TilesetWriter& writer, NodeRecord& node, std::span<const uint8_t> blob,
+                   std::span<const uint8_t> texture) {
+  auto offset = writer.appendBlob(blob);
+  if (!offset) return offset.error();
+  node.blobOffset = *offset;
+  if (!texture.empty()) {
+    auto at = writer.appendBlob(texture);
+    if (!at) return at.error();
+    node.flags |= kNodeHasTexture;
+    node.textureBytes = uint32_t(texture.size());
+  }
   return {};
 }
 

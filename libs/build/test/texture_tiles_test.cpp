@@ -257,14 +257,15 @@ TEST(MosaicTiles, MissingChildrenRepeatTheNearestTexels) {
   const uint32_t n = 5, e = n - 1;
   const Quadrants q = quadrants(n, 2, 9);
   const TexelTile *sw = &q.tiles[0], *se = &q.tiles[1], *nw = &q.tiles[2];
-  struct Case {
+  struct MissingCase {
     const char* name;
     std::array<const TexelTile*, 4> children;
     bool east, north;  // which halves exist
   };
-  for (const Case& c : {Case{"SW only", {sw, nullptr, nullptr, nullptr}, false, false},
-                        Case{"SW+SE", {sw, se, nullptr, nullptr}, true, false},
-                        Case{"SW+NW", {sw, nullptr, nw, nullptr}, false, true}}) {
+  for (const MissingCase& c :
+       {MissingCase{"SW only", {sw, nullptr, nullptr, nullptr}, false, false},
+        MissingCase{"SW+SE", {sw, se, nullptr, nullptr}, true, false},
+        MissingCase{"SW+NW", {sw, nullptr, nw, nullptr}, false, true}}) {
     const TexelTile m = mosaicTiles(c.children);
     ASSERT_EQ(m.size, 2 * n - 1) << c.name;
     for (uint32_t y = 0; y < m.size; ++y)

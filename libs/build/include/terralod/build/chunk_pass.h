@@ -7,9 +7,13 @@
 // that are either the whole raster (when it is in memory) or the SparseHeights recorded by the
 // blocks. Blobs are written in a fixed order, so the file does not depend on thread timing.
 
+#include <memory>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "terralod/build/activation_grid.h"
+#include "terralod/build/chunk_mesher.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/height_source.h"
 #include "terralod/build/sparse_heights.h"
@@ -31,6 +35,64 @@ struct ChunkPassOptions {
 
 /// Breadth-first node list of the tree (roots row-major, children SW, SE, NW, NE).
 std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout);
+
+/// The level whose chunks are the blocks (chunk squares of side blockCells).
+int32_t blockLevelOf(const TreeLayout& layout, int32_t blockCells);
+/// The block-level nodes in node order (the order blocks' chunks are written in), and every
+/// node at that level or above (built after them, from sparse heights).
+std::vector<uint32_t> blockNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel);
+std::vector<uint32_t> coarseNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel);
+
+/// One chunk's stored bytes: its mesh blob and (textured builds) its texture blob.
+struct BuiltChunk {
+  uint32_t node = 0;
+  std::vector<uint8_t> blob, texture;
+};
+
+/// What one block's part of pass 2 makes: every chunk below the block node inside it, in
+/// writing order, and what the coarser levels will need from it.
+struct BlockChunks {
+  std::vector<BuiltChunk> chunks;
+  ChunkTiles tiles;                   ///< the block node's texture tiles (textured builds)
+  std::vector<uint8_t> blockTexture;  ///< the block node's texture blob
+  /// Heights of the points whose activation reaches the block level (inside the data).
+  std::vector<std::pair<uint64_t, float>> points;
+};
+
+/// The parts of the build every block shares.
+struct ChunkPassContext {
+  const TreeLayout& layout;
+  const ErrorBudget& budget;
+  std::vector<NodeRecord>& nodes;  ///< statistics of built nodes are filled in
+  int32_t blockCells = 512;
+  int compressionLevel = kDefaultChunkCompressionLevel;
+  TexturePass* textures = nullptr;  ///< null: geometry only
+};
+
+/// Builds the chunks below block node `blockNode` from its (blockCells+1)² `window` of
+/// heights, with `mesher` (whose activation grid covers the block). `windows` serves the
+/// texture pass; `worker` names the calling thread.
+Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t blockNode,
+                                     const float* window, ChunkMesher& mesher,
+                                     const ActivationGrid& grid, HeightWindows& windows,
+                                     unsigned worker);
+
+/// Builds every chunk at the block level and above (`coarseNodes`, in that order), with one
+/// mesher per thread over the coarse heights; `blockTiles` and `blockTextures` are the block
+/// nodes' (in blockNodesOf order; consumed). Returns the chunks in `coarseNodes` order.
+Result<std::vector<BuiltChunk>> buildCoarseChunks(
+    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+    const std::vector<uint32_t>& blockNodes, std::vector<ChunkTiles>& blockTiles,
+    std::vector<std::vector<uint8_t>>& blockTextures,
+    std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress);
+
+/// Appends a chunk's blobs to the file and records where they went in its node.
+Status appendChunk(TilesetWriter& writer, NodeRecord& node, std::span<const uint8_t> blob,
+                   std::span<const uint8_t> texture);
+
+/// Meshes, quantises and encodes one chunk; fills in its node's statistics.
+Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
+                                        NodeRecord& node, int compressionLevel);
 
 /// Builds every node's chunk and appends its blob to `writer` (with its texture blob right
 /// after it when `options.textures` is set), filling in the node records.
