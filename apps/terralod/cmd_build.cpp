@@ -5,6 +5,7 @@
 
 #include "cli_checks.h"
 #include "commands.h"
+#include "staged_build.h"
 #include "terralod/build/builder.h"
 
 namespace terralod::cli {
@@ -99,6 +100,31 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "auto: as many as make one top node, at most 8. Default: auto for maps of "
                   "more than 256 roots (over 2048 cells a side), 0 below")
       ->check(CLI::Range(0, 8) | CLI::IsMember({"auto"}));
+  cmd->add_option("--block-cells", options->blockCells,
+                  "Side of the blocks both passes work in (a power of two, at least the leaf "
+                  "chunk side): the unit of work of a staged build's jobs")
+      ->capture_default_str()
+      ->check(wholeNumber<int32_t>(1));
+  auto staged = std::make_shared<StagedRequest>();
+  cmd->add_option("--scheduler", staged->scheduler,
+                  "Build in stages over --work-dir: local (every stage in this process), slurm "
+                  "(submit the stages as Slurm jobs and follow them), or none (write the plan and "
+                  "print the stage commands, for another scheduler)")
+      ->check(CLI::IsMember({"local", "slurm", "none"}));
+  cmd->add_option("--work-dir", staged->work,
+                  "Staged builds: a directory every job can read and write (shared between "
+                  "nodes); emptied and removed when the build succeeds");
+  cmd->add_option("--jobs", staged->jobs,
+                  "Staged builds: block jobs of passes 1 and 2 (default: one per block, at most "
+                  "64)")
+      ->check(wholeNumber<int>(1));
+  cmd->add_option("--sbatch-args", staged->sbatchArgs,
+                  "--scheduler slurm: more sbatch options for every job (e.g. \"--partition=big "
+                  "--time=2:00:00\")");
+  cmd->add_option("--retries", staged->retries,
+                  "--scheduler slurm: times a killed or lost job task is submitted again")
+      ->capture_default_str()
+      ->check(wholeNumber(0, 10));
   auto verbose = std::make_shared<bool>(false);
   cmd->add_flag("--verbose", *verbose,
                 "Print how the build went: passes, triangles scanned exactly");
@@ -109,12 +135,13 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build tile.png --encoding terrarium -o tile.tlod\n"
       "  terralod build scan.tif --band 2 -o scan.tlod\n"
       "  terralod build dem.tif --kind vipm --materials classes.tif -o dem.tlod\n"
+      "  terralod build big.tif -o big.tlod --scheduler slurm --work-dir /shared/w --jobs 64\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau,
-                 blotError, upperLevels] {
+                 blotError, upperLevels, staged] {
     run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError,
-           upperLevels] {
+           upperLevels, staged] {
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
@@ -161,10 +188,29 @@ void addBuildCommand(CLI::App& root, Runner& run) {
             "1 to 3)");
       if (!spacing->empty())
         options->dem.spacing = std::array<double, 2>{(*spacing)[0], spacing->back()};
+      if (staged->scheduler.empty() != staged->work.empty())
+        return fail("--scheduler and --work-dir go together (a staged build)");
+      if (staged->scheduler.empty())
+        for (auto [given, name] : {std::pair{staged->jobs != 0, "--jobs"},
+                                   std::pair{!staged->sbatchArgs.empty(), "--sbatch-args"}})
+          if (given) return fail(std::string(name) + " applies to staged builds (--scheduler)");
+      if (!staged->sbatchArgs.empty() && staged->scheduler != "slurm")
+        return fail("--sbatch-args applies to --scheduler slurm");
       TerminalProgress progress;
-      auto summary = buildTileset(*options, progress, warn);
+      if (staged->scheduler == "none") return planForOtherScheduler(*options, *staged);
+      auto summary = staged->scheduler.empty() ? buildTileset(*options, progress, warn)
+                                               : buildStaged(*options, *staged, progress);
       if (!summary) return fail(summary.error().message);
       const BuildSummary& s = *summary;
+      if (!staged->scheduler.empty()) {
+        std::printf(
+            "terralod: wrote %s: %d levels, %llu chunks, %llu triangles, %.2f MB, %.2f s "
+            "(staged: %s)\n",
+            options->output.c_str(), s.levels, (unsigned long long)s.chunks,
+            (unsigned long long)s.triangles, s.fileBytes / 1e6, s.totalSeconds,
+            staged->scheduler.c_str());
+        return 0;
+      }
       // A streamed build reads as it goes: its reading time is inside the two passes.
       char read[32] = "streamed";
       if (!s.streamed) std::snprintf(read, sizeof read, "read %.2f s", s.loadSeconds);

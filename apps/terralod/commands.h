@@ -22,6 +22,7 @@ void addClassifyCommand(CLI::App& root, Runner& run);
 void addEditCommand(CLI::App& root, Runner& run);
 void addVegetationCommand(CLI::App& root, Runner& run);
 void addWhereCommand(CLI::App& root, Runner& run);
+void addBuildStageCommand(CLI::App& root, Runner& run);
 
 /// The command line terralod was started with, arguments quoted where the shell needs it (for
 /// reports that say how they were made).

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
   setCommandLine(argc, argv);
   Runner run;
   addBuildCommand(app, run);
+  addBuildStageCommand(app, run);
   addSynthCommand(app, run);
   addInfoCommand(app, run);
   addVerifyCommand(app, run);

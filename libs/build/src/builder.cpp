@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "build_steps.h"
 #include "load_heights.h"
 #include "source_metadata.h"
 #include "terralod/build/activation_pass.h"
@@ -31,53 +32,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
-}
-
-constexpr uint64_t kStreamAbove = uint64_t{1} << 24;  // samples
-
-std::string metadataJson(const DemInfo& info, const BuildOptions& options, const BuildSummary& s,
-                         const TreeLayout& layout, const TextureBuild* textures) {
-  const nlohmann::json source = sourceMetadata(info);
-  nlohmann::json j = {
-      {"generator", "terralod"},
-      {"source", source},
-      {"build",
-       {{"max_error", options.maxError},
-        {"chunk_cells", layout.leafCells},
-        {"vertical_scale", options.dem.verticalScale},
-        {"zstd_level", options.compressionLevel}}},
-      {"stats",
-       {{"vertices", s.vertices},
-        {"triangles", s.triangles},
-        {"skirt_triangles", s.skirtTriangles},
-        {"filled_voids", s.filledVoids}}},
-  };
-  if (textures) {
-    nlohmann::json levels = nlohmann::json::array();
-    for (const TextureLevel& t : textures->plan)
-      levels.push_back({{"color_size", t.colorSize},
-                        {"normal_size", t.normalSize},
-                        {"color_source_limited", t.colorFlags != 0},
-                        {"normal_source_limited", t.normalFlags != 0}});
-    j["texture"] = {
-        {"color", options.textureImage.empty()
-                      ? "generated"
-                      : std::filesystem::path(options.textureImage).filename().string()},
-        {"min_tau", options.textureTau},
-        {"color_refine", s.textureRefine ? s.textureRefine : 1},
-        {"bytes", s.textureBytes},
-        {"levels", levels}};
-    // Where the generated colour's snow line comes from (surface_texels.h).
-    const auto& latitudes = textures->surface.rowLatitudes;
-    if (latitudes && !latitudes->empty()) {
-      const auto [lo, hi] = std::minmax_element(latitudes->begin(), latitudes->end());
-      j["texture"]["latitude"] = {*lo, *hi};
-    } else {
-      j["texture"]["latitude_assumed"] = kUnknownLatitude;
-    }
-    if (textures->surface.seaVoids) j["texture"]["sea_voids"] = textures->surface.seaVoids->count();
-  }
-  return j.dump(2);
 }
 
 // Everything the two passes need to know about where heights come from.
@@ -145,10 +99,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   if (!writer) return writer.error();
 
   const bool fitsMemory = summary.sourceSamples * sizeof(float) <= options.memoryMB << 20;
-  bool stream = options.streaming == Streaming::kAlways ||
-                (options.streaming == Streaming::kAuto &&
-                 (!fitsMemory || summary.sourceSamples > kStreamAbove) &&
-                 info.encoding == HeightEncoding::kPlain);
+  bool stream = streamsInput(options, info);
   if (!stream && !fitsMemory)
     return makeError(info.path,
                      "the raster needs " + std::to_string((summary.sourceSamples * 4) >> 20) +
@@ -166,13 +117,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   if (stream) {
     // Pass 1 reads the raster block by block. Its thresholds depend on the height range,
     // which is estimated first and checked once every sample has been seen.
-    auto estimate = reader.approximateHeightRange();
-    double guessLo = 0, guessHi = 0;
-    if (estimate) {
-      const double span = (*estimate)[1] - (*estimate)[0];
-      guessLo = (*estimate)[0] - 0.25 * span - 50.0;
-      guessHi = (*estimate)[1] + 0.25 * span + 50.0;
-    }
+    auto [guessLo, guessHi] = guessHeightRange(reader);
     plan.sparse = std::make_unique<SparseHeights>(*layout, activationOptions.blockCells);
     plan.windows = std::make_unique<DemWindows>(reader, threads, plan.sparse.get());
     for (int attempt = 0; attempt < 2; ++attempt) {
@@ -230,16 +175,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   chunkOptions.compressionLevel = options.compressionLevel;
   TextureBuild textures;
   if (options.textures) {
-    textures.plan = planTextures(*layout, budget->levelError, info.spacingX, info.spacingY,
-                                 options.textureTau, image ? image->refine() : 1);
-    textures.surface.spacingX = info.spacingX;
-    textures.surface.spacingY = info.spacingY;
-    textures.surface.columns = info.columns;
-    textures.surface.rows = info.rows;
-    textures.surface.rowLatitudes =
-        std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
+    textures = textureBuildFor(options, *layout, *budget, reader, image.get());
     textures.surface.seaVoids = plan.seaVoids;
-    textures.image = image.get();
     chunkOptions.textures = &textures;
   }
   HeightWindows& windows = stream ? static_cast<HeightWindows&>(*plan.windows)
@@ -251,40 +188,13 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     return s.error();
   summary.meshSeconds = secondsSince(meshStart);
 
-  for (const NodeRecord& n : nodes) {
-    summary.textureBytes += n.textureBytes;
-    summary.vertices += n.vertexCount;
-    summary.triangles += n.triangleCount;
-    summary.skirtTriangles += n.skirtTriangleCount;
-  }
+  summarizeNodes(nodes, summary);
   summary.levels = layout->levelCount();
-  summary.chunks = nodes.size();
-
-  TilesetHeader header;
-  header.levelCount = uint32_t(layout->levelCount());
-  header.leafCells = uint32_t(layout->leafCells);
-  header.rootCells = uint32_t(layout->rootCells);
-  header.rootsX = uint32_t(layout->rootsX);
-  header.rootsY = uint32_t(layout->rootsY);
-  header.sourceColumns = uint32_t(info.columns);
-  header.sourceRows = uint32_t(info.rows);
-  header.spacingX = info.spacingX;
-  header.spacingY = info.spacingY;
-  for (int32_t l = 0; l < layout->levelCount(); ++l)
-    header.levelError[size_t(l)] = budget->levelError[size_t(l)];
-  header.extentMin = {0.0, 0.0, plan.zMin};
-  header.extentMax = {layout->cellsX * info.spacingX, layout->cellsY * info.spacingY, plan.zMax};
-  header.filledVoids = summary.filledVoids;
-  header.leafError = options.maxError;
-  header.verticalScale = options.dem.verticalScale;
-  if (options.textures) {
-    header.version = 2;
-    header.flags |= kTilesetTextured;
-    header.textureMinTau = options.textureTau;
-  }
-  if (Status s = (*writer)->finish(
-          header, nodes,
-          metadataJson(info, options, summary, *layout, options.textures ? &textures : nullptr));
+  const TilesetHeader header =
+      staticHeader(info, options, *layout, *budget, plan.zMin, plan.zMax, summary.filledVoids);
+  if (Status s = (*writer)->finish(header, nodes,
+                                   tilesetMetadataJson(info, options, summary, *layout,
+                                                       options.textures ? &textures : nullptr));
       !s)
     return s.error();
   std::error_code ec;

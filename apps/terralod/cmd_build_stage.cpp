@@ -1,0 +1,48 @@
+// terralod build-stage STAGE WORK [--task T]: one task of a staged build, as a job runs it.
+
+#include <cstdlib>
+
+#include "cli_checks.h"
+#include "commands.h"
+#include "terralod/build/build_stages.h"
+#include "terralod/core/parallel.h"
+
+namespace terralod::cli {
+
+void addBuildStageCommand(CLI::App& root, Runner& run) {
+  auto* cmd = root.add_subcommand(
+      "build-stage",
+      "Run one task of a staged build (what `build --scheduler` submits as jobs; see `build "
+      "--scheduler none` for the order)");
+  auto stage = std::make_shared<std::string>();
+  auto work = std::make_shared<std::string>();
+  auto task = std::make_shared<int>(0);
+  auto threads = std::make_shared<unsigned>(0);
+  cmd->add_option("STAGE", *stage, "pass1, reduce, pass2, coarse or assemble")
+      ->required()
+      ->check(CLI::IsMember({"pass1", "reduce", "pass2", "coarse", "assemble"}));
+  cmd->add_option("WORK", *work, "The build's work directory (holding plan.json)")->required();
+  cmd->add_option("--task", *task, "Block job of pass1 and pass2 (0 .. jobs-1)")
+      ->check(wholeNumber<int>());
+  cmd->add_option("--threads", *threads,
+                  "Worker threads (default: $SLURM_CPUS_PER_TASK under Slurm, else all cores)")
+      ->check(wholeNumber<unsigned>(1));
+  cmd->footer(
+      "Exit status: 0 done, 1 failed (one error line; also in WORK/status), 3 reduce found the "
+      "height range estimate wrong and updated the plan (run pass1 and reduce again).\n");
+  cmd->callback([&run, stage, work, task, threads] {
+    run = [stage, work, task, threads] {
+      unsigned n = *threads;
+      if (n == 0) {
+        const char* cpus = std::getenv("SLURM_CPUS_PER_TASK");
+        n = cpus ? unsigned(std::max(1, std::atoi(cpus))) : hardwareThreads();
+      }
+      NullProgress progress;
+      auto end = runStageTask(*work, *parseStageName(*stage), *task, n, progress);
+      if (!end) return fail(end.error().message);
+      return *end == TaskEnd::kReplanned ? 3 : 0;
+    };
+  });
+}
+
+}  // namespace terralod::cli

@@ -1,0 +1,44 @@
+#pragma once
+// A staged build's plan (WORK/plan.json, docs/format.md "Staged build work directory"): the
+// build's options, the height range its error budget is made for, and the blocks every job
+// works through. The plan stage writes it; every other stage reads it and derives the rest
+// (tree layout, budget, node list) from it the way a local build does, so that the bytes match.
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "terralod/build/builder.h"
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+inline constexpr int kBuildPlanVersion = 1;
+
+struct BuildPlan {
+  BuildOptions options;  ///< input, output and texture paths absolute
+  int32_t blockCells = 512;
+  /// The range the error budget is made for: the data's own (`exactRange`, what a local build
+  /// that reads the raster whole uses) or an estimate that the reduce checks (a streamed
+  /// build's first attempt; `attempt` 1 is the second, with the range pass 1 found).
+  double heightLo = 0, heightHi = 0;
+  bool exactRange = false;
+  int attempt = 0;
+  int jobs = 1;  ///< block jobs of pass 1 and pass 2
+  /// Blocks holding data, as (column, row) of the block grid, in the order their chunks are
+  /// written (the block-level nodes' order).
+  std::vector<std::array<int32_t, 2>> blocks;
+
+  /// The blocks job `job` works on: [first, last).
+  std::array<size_t, 2> jobBlocks(int job) const {
+    const size_t n = blocks.size();
+    return {n * size_t(job) / size_t(jobs), n * size_t(job + 1) / size_t(jobs)};
+  }
+};
+
+std::string buildPlanJson(const BuildPlan& plan);
+/// `subject` names the file in errors.
+Result<BuildPlan> parseBuildPlan(const std::string& text, const std::string& subject);
+
+}  // namespace terralod

@@ -1,0 +1,907 @@
+#include "terralod/build/build_stages.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+#include "block_stages.h"
+#include "build_steps.h"
+#include "source_metadata.h"
+#include "stage_files.h"
+#include "terralod/build/chunk_pass.h"
+#include "terralod/build/dem_windows.h"
+#include "terralod/build/sparse_heights.h"
+#include "terralod/core/atomic_file.h"
+#include "terralod/core/parallel.h"
+#include "terralod/format/tileset_writer.h"
+#include "terralod/raster/image_drape.h"
+
+namespace terralod {
+namespace {
+
+namespace fs = std::filesystem;
+
+// ---- Where things are ----------------------------------------------------------------------
+
+// WORK/plan.json; per block K: pass1/K.halo, pass1/K.grid, reduce/K.halo, pass2/K.chunks,
+// pass2/K.coarse; once: reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
+std::string planPath(const std::string& work) {
+  return work + "/plan.json";
+}
+std::string blockFile(const std::string& work, const char* stage, size_t k, const char* ext) {
+  return work + "/" + stage + "/" + std::to_string(k) + "." + ext;
+}
+std::string pass1Halo(const std::string& work, size_t k) {
+  return blockFile(work, "pass1", k, "halo");
+}
+std::string pass1Grid(const std::string& work, size_t k) {
+  return blockFile(work, "pass1", k, "grid");
+}
+std::string reducedHalo(const std::string& work, size_t k) {
+  return blockFile(work, "reduce", k, "halo");
+}
+std::string pass2Chunks(const std::string& work, size_t k) {
+  return blockFile(work, "pass2", k, "chunks");
+}
+std::string pass2Coarse(const std::string& work, size_t k) {
+  return blockFile(work, "pass2", k, "coarse");
+}
+std::string coarsePoints(const std::string& work) {
+  return work + "/reduce/coarse.points";
+}
+std::string coarseChunks(const std::string& work) {
+  return work + "/coarse.chunks";
+}
+constexpr const char* kStageDirs[] = {"pass1", "reduce", "pass2", "status"};
+
+Status makeDirectories(const std::string& work) {
+  for (const char* d : kStageDirs) {
+    std::error_code ec;
+    fs::create_directories(work + "/" + d, ec);
+    if (ec) return makeError(work + "/" + d, "cannot create: " + ec.message());
+  }
+  return {};
+}
+
+// Whether everything in WORK is what the stages write (so it may be cleared).
+bool holdsOnlyStageFiles(const std::string& work) {
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator(work, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name != "plan.json" && name != "coarse.chunks" && name != "logs" &&
+        std::find(std::begin(kStageDirs), std::end(kStageDirs), name) == std::end(kStageDirs))
+      return false;
+  }
+  return !ec;
+}
+
+Status writeText(const std::string& path, const std::string& text) {
+  auto file = AtomicFile::create(path);
+  if (!file) return file.error();
+  if (Status s = file->write(text); !s) return s;
+  return file->commit();
+}
+
+// ---- What every stage derives from the plan ------------------------------------------------
+
+struct Stage {
+  BuildPlan plan;
+  std::unique_ptr<DemReader> reader;
+  TreeLayout layout;
+  ErrorBudget budget;
+  int32_t block = 0;
+  int32_t blocksX = 0;
+  GridPoint origin(size_t k) const {
+    return {plan.blocks[k][0] * block, plan.blocks[k][1] * block};
+  }
+  size_t gridBlock(size_t k) const {
+    return size_t(plan.blocks[k][1]) * size_t(blocksX) + size_t(plan.blocks[k][0]);
+  }
+};
+
+Result<BuildPlan> readPlan(const std::string& work) {
+  std::ifstream in(planPath(work));
+  if (!in) return makeError(planPath(work), "missing (run the plan stage first)");
+  std::stringstream text;
+  text << in.rdbuf();
+  return parseBuildPlan(text.str(), planPath(work));
+}
+
+Result<Stage> loadStage(const std::string& work) {
+  Stage s;
+  auto plan = readPlan(work);
+  if (!plan) return plan.error();
+  s.plan = std::move(plan).value();
+  const BuildOptions& o = s.plan.options;
+  auto reader = DemReader::open(o.input, o.dem);
+  if (!reader) return reader.error();
+  s.reader = std::move(reader).value();
+  const DemInfo& info = s.reader->info();
+  auto layout = makeTreeLayout(info.columns, info.rows, o.chunkCells);
+  if (!layout) return layout.error();
+  s.layout = *layout;
+  s.block = s.plan.blockCells;
+  s.blocksX = s.layout.gridX() / s.block;
+  auto budget = makeErrorBudget(s.layout, o.maxError, s.plan.heightHi - s.plan.heightLo);
+  if (!budget) return makeError(info.path, budget.error().message);
+  s.budget = std::move(budget).value();
+  // The blocks must be this raster's: a plan made for another would build nonsense.
+  const std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevelOf(s.layout, s.block));
+  bool same = blockNodes.size() == s.plan.blocks.size();
+  for (size_t k = 0; same && k < blockNodes.size(); ++k)
+    same = int32_t(nodes[blockNodes[k]].x) == s.plan.blocks[k][0] &&
+           int32_t(nodes[blockNodes[k]].y) == s.plan.blocks[k][1];
+  if (!same)
+    return makeError(planPath(work), "was made for another raster or block size than " + o.input);
+  return s;
+}
+
+Status checkJob(const Stage& s, int job, const std::string& work) {
+  if (job < 0 || job >= s.plan.jobs)
+    return makeError(planPath(work), "has jobs 0.." + std::to_string(s.plan.jobs - 1) + ", not " +
+                                         std::to_string(job));
+  return {};
+}
+
+// Runs fn(k, worker) for the blocks of a job, stopping at the first error.
+Status forBlocks(std::array<size_t, 2> range, unsigned threads,
+                 const std::function<Status(size_t, unsigned)>& fn) {
+  std::mutex mutex;
+  std::optional<Error> failure;
+  std::atomic<bool> failed{false};
+  parallelFor(range[1] - range[0], threads, [&](size_t i, unsigned worker) {
+    if (failed) return;
+    if (Status s = fn(range[0] + i, worker); !s) {
+      std::lock_guard lock(mutex);
+      if (!failure) failure = s.error();
+      failed = true;
+    }
+  });
+  if (failure) return *failure;
+  return {};
+}
+
+// ---- Record layouts -----------------------------------------------------------------------
+
+// Heights on the block grid lines and the data's last row and column that a window crossed
+// (what SparseHeights keeps), as row or column runs.
+struct LineRun {
+  uint8_t row = 0;  // 1: along x at y = fixed; 0: along y at x = fixed
+  int32_t fixed = 0, start = 0;
+  std::vector<float> values;
+};
+
+std::vector<LineRun> linesOf(const TreeLayout& layout, GridPoint o, int32_t block,
+                             const float* window) {
+  std::vector<LineRun> runs;
+  const int32_t stride = block + 1;
+  const int32_t xEnd = std::min(o.x + block, layout.cellsX),
+                yEnd = std::min(o.y + block, layout.cellsY);
+  for (int32_t y = o.y; y <= yEnd; ++y) {
+    if (y % block != 0 && y != layout.cellsY) continue;
+    LineRun r{1, y, o.x, {}};
+    for (int32_t x = o.x; x <= xEnd; ++x)
+      r.values.push_back(window[size_t(y - o.y) * stride + (x - o.x)]);
+    runs.push_back(std::move(r));
+  }
+  for (int32_t x = o.x; x <= xEnd; ++x) {
+    if (x % block != 0 && x != layout.cellsX) continue;
+    LineRun r{0, x, o.y, {}};
+    for (int32_t y = o.y; y <= yEnd; ++y)
+      r.values.push_back(window[size_t(y - o.y) * stride + (x - o.x)]);
+    runs.push_back(std::move(r));
+  }
+  return runs;
+}
+
+void recordLines(SparseHeights& heights, const std::vector<LineRun>& runs) {
+  for (const LineRun& r : runs) {
+    const int32_t n = int32_t(r.values.size());
+    if (r.row)
+      heights.recordLines(r.start, r.fixed, n, 1, r.values.data());
+    else
+      heights.recordLines(r.fixed, r.start, 1, n, r.values.data());
+  }
+}
+
+struct Pass1Halo {
+  double minHeight = 0, maxHeight = 0;
+  bool sawVoid = false;
+  uint64_t scanned = 0, bounded = 0;
+  BlockSquare square;
+  std::vector<uint8_t> halo;
+  std::vector<LineRun> lines;
+};
+
+std::vector<uint8_t> packPass1Halo(const Pass1Halo& h) {
+  Packer p;
+  p.put(h.minHeight);
+  p.put(h.maxHeight);
+  p.put(uint8_t(h.sawVoid));
+  p.put(h.scanned);
+  p.put(h.bounded);
+  p.put(uint8_t(h.square.computed));
+  for (const TriangleErrorBounds& e : h.square.errors) {
+    p.put(e.above);
+    p.put(e.below);
+  }
+  p.putBytes(h.halo);
+  p.put(uint64_t(h.lines.size()));
+  for (const LineRun& r : h.lines) {
+    p.put(r.row);
+    p.put(r.fixed);
+    p.put(r.start);
+    p.putArray(r.values);
+  }
+  return std::move(p.bytes());
+}
+
+Result<Pass1Halo> readPass1Halo(const std::string& path) {
+  auto bytes = readStageFile(path, StageFile::kPass1Halo);
+  if (!bytes) return bytes.error();
+  Unpacker u(*bytes);
+  Pass1Halo h;
+  h.minHeight = u.get<double>();
+  h.maxHeight = u.get<double>();
+  h.sawVoid = u.get<uint8_t>() != 0;
+  h.scanned = u.get<uint64_t>();
+  h.bounded = u.get<uint64_t>();
+  h.square.computed = u.get<uint8_t>() != 0;
+  for (TriangleErrorBounds& e : h.square.errors) {
+    e.above = u.get<float>();
+    e.below = u.get<float>();
+  }
+  h.halo = u.getBytes();
+  const uint64_t runs = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < runs; ++i) {
+    LineRun r;
+    r.row = u.get<uint8_t>();
+    r.fixed = u.get<int32_t>();
+    r.start = u.get<int32_t>();
+    r.values = u.getArray<float>();
+    h.lines.push_back(std::move(r));
+  }
+  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  return h;
+}
+
+void packTile(Packer& p, const TexelTile& t) {
+  p.put(t.size);
+  p.put(t.channels);
+  p.putArray(t.values);
+}
+TexelTile unpackTile(Unpacker& u) {
+  TexelTile t;
+  t.size = u.get<uint32_t>();
+  t.channels = u.get<uint32_t>();
+  t.values = u.getArray<float>();
+  return t;
+}
+void packLayer(Packer& p, const LayerLevels& l) {
+  p.put(uint64_t(l.levels.size()));
+  for (const TexelTile& t : l.levels) packTile(p, t);
+  p.put(uint64_t(l.blocks.size()));
+  for (const auto& b : l.blocks) p.putBytes(b);
+}
+LayerLevels unpackLayer(Unpacker& u) {
+  LayerLevels l;
+  const uint64_t levels = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < levels; ++i) l.levels.push_back(unpackTile(u));
+  const uint64_t blocks = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < blocks; ++i) l.blocks.push_back(u.getBytes());
+  return l;
+}
+
+// Built chunks with their node records (the statistics pass 2 or the coarse stage filled in).
+std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
+                                const std::vector<NodeRecord>& nodes) {
+  Packer p;
+  p.put(uint64_t(chunks.size()));
+  for (const BuiltChunk& c : chunks) {
+    p.put(c.node);
+    uint8_t record[kNodeRecordBytes];
+    serializeNode(nodes[c.node], record);
+    p.putBytes(record);
+    p.putBytes(c.blob);
+    p.putBytes(c.texture);
+  }
+  return std::move(p.bytes());
+}
+
+// Reads built chunks back, copying their statistics into `nodes`, and appends them.
+Status appendChunksFrom(const std::string& path, StageFile kind, std::vector<NodeRecord>& nodes,
+                        TilesetWriter& writer) {
+  auto bytes = readStageFile(path, kind);
+  if (!bytes) return bytes.error();
+  Unpacker u(*bytes);
+  const uint64_t count = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < count; ++i) {
+    const uint32_t node = u.get<uint32_t>();
+    const std::vector<uint8_t> record = u.getBytes();
+    const std::vector<uint8_t> blob = u.getBytes(), texture = u.getBytes();
+    if (!u.ok() || node >= nodes.size() || record.size() != kNodeRecordBytes) break;
+    const NodeRecord built = parseNode(record.data(), 2);
+    NodeRecord& n = nodes[node];
+    n.minZ = built.minZ;
+    n.maxZ = built.maxZ;
+    n.vertexCount = built.vertexCount;
+    n.triangleCount = built.triangleCount;
+    n.skirtTriangleCount = built.skirtTriangleCount;
+    n.maxSkirtDepth = built.maxSkirtDepth;
+    n.blobBytes = built.blobBytes;
+    n.blobCrc = built.blobCrc;
+    if (blob.size() != n.blobBytes || crc32Of(blob) != n.blobCrc)
+      return makeError(path, "damaged (a chunk does not match its record)");
+    if (Status s = appendChunk(writer, n, blob, texture); !s) return s;
+  }
+  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  return {};
+}
+
+// What the coarse stage needs of a block: heights and activations of the points coarse chunks
+// use, and the block node's texture.
+struct BlockCoarse {
+  std::vector<std::pair<uint64_t, float>> heights;
+  std::vector<std::pair<uint64_t, uint8_t>> activations;
+  ChunkTiles tiles;
+  std::vector<uint8_t> texture;
+};
+
+std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
+  Packer p;
+  p.put(uint64_t(c.heights.size()));
+  for (const auto& [key, h] : c.heights) {
+    p.put(key);
+    p.put(h);
+  }
+  p.put(uint64_t(c.activations.size()));
+  for (const auto& [key, a] : c.activations) {
+    p.put(key);
+    p.put(a);
+  }
+  packLayer(p, c.tiles.color);
+  packLayer(p, c.tiles.normal);
+  p.putBytes(c.texture);
+  return std::move(p.bytes());
+}
+
+Result<BlockCoarse> readBlockCoarse(const std::string& path) {
+  auto bytes = readStageFile(path, StageFile::kBlockCoarse);
+  if (!bytes) return bytes.error();
+  Unpacker u(*bytes);
+  BlockCoarse c;
+  const uint64_t heights = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < heights; ++i) {
+    const uint64_t key = u.get<uint64_t>();
+    c.heights.emplace_back(key, u.get<float>());
+  }
+  const uint64_t activations = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < activations; ++i) {
+    const uint64_t key = u.get<uint64_t>();
+    c.activations.emplace_back(key, u.get<uint8_t>());
+  }
+  c.tiles.color = unpackLayer(u);
+  c.tiles.normal = unpackLayer(u);
+  c.texture = u.getBytes();
+  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  return c;
+}
+
+struct ReduceSummary {
+  double zMin = 0, zMax = 0;
+  std::vector<std::pair<uint64_t, uint8_t>> activations;  // halo points at the block level up
+};
+
+Result<ReduceSummary> readReduceSummary(const std::string& work) {
+  auto bytes = readStageFile(coarsePoints(work), StageFile::kCoarsePoints);
+  if (!bytes) return bytes.error();
+  Unpacker u(*bytes);
+  ReduceSummary r;
+  r.zMin = u.get<double>();
+  r.zMax = u.get<double>();
+  const uint64_t n = u.get<uint64_t>();
+  for (uint64_t i = 0; u.ok() && i < n; ++i) {
+    const uint64_t key = u.get<uint64_t>();
+    r.activations.emplace_back(key, u.get<uint8_t>());
+  }
+  if (!u.ok() || !u.atEnd())
+    return makeError(coarsePoints(work), "damaged (records do not add up)");
+  return r;
+}
+
+Result<std::unique_ptr<ImageDrape>> openImage(const BuildOptions& o, const DemInfo& info) {
+  if (!o.textures || o.textureImage.empty()) return std::unique_ptr<ImageDrape>();
+  return ImageDrape::open(o.textureImage, info);
+}
+
+// Heights nobody reads: chunk meshers get their block's window before they build.
+class NoHeights final : public HeightSampler {
+ public:
+  double at(int32_t, int32_t) const override { return std::nan(""); }
+};
+
+std::string absolute(const std::string& path) {
+  if (path.empty() || path.find("://") != std::string::npos || path.rfind("/vsi", 0) == 0)
+    return path;
+  return fs::absolute(path).lexically_normal().string();
+}
+
+}  // namespace
+
+// ---- Stages ------------------------------------------------------------------------------
+
+Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work, int jobs,
+                            Progress& progress, const Warn& warn) {
+  if (options.kind != TilesetKind::kStatic)
+    return Error{"a staged build makes static tilesets (VIPM builds do not stage yet)"};
+  if (jobs < 0) return Error{"--jobs must be at least 1"};
+  BuildPlan plan;
+  plan.options = options;
+  plan.options.input = absolute(options.input);
+  plan.options.output = absolute(options.output);
+  plan.options.textureImage = absolute(options.textureImage);
+  auto opened = DemReader::open(plan.options.input, options.dem);
+  if (!opened) return opened.error();
+  const DemReader& reader = **opened;
+  const DemInfo& info = reader.info();
+  auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
+  if (!layout) return layout.error();
+  if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
+    return Error{"--min-tau must be a positive number of pixels"};
+  if (auto image = openImage(plan.options, info); !image) return image.error();
+  // Fail on an unwritable output before any job runs.
+  if (auto writer = TilesetWriter::create(plan.options.output); !writer) return writer.error();
+  if (fs::exists(work) && !fs::is_directory(work))
+    return makeError(work, "is not a directory (the work directory of a staged build)");
+  if (fs::is_directory(work) && !holdsOnlyStageFiles(work))
+    return makeError(work,
+                     "holds files other than a staged build's: give an empty or new directory");
+
+  plan.blockCells = std::clamp(options.blockCells, layout->leafCells, layout->rootCells);
+  plan.jobs = jobs;
+  // The budget's height range as a local build would take it: the data's own when it would
+  // read the raster whole (read here, in strips), else the estimate a streamed build starts
+  // from.
+  plan.exactRange = !streamsInput(options, info);
+  if (plan.exactRange) {
+    const int32_t strip = std::max(1, int32_t((uint64_t{16} << 20) / (uint64_t(info.columns) * 4)));
+    std::vector<float> rows;
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    progress.begin("range", size_t((info.rows + strip - 1) / strip));
+    for (int32_t y = 0; y < info.rows; y += strip) {
+      const int32_t h = std::min(strip, info.rows - y);
+      rows.resize(size_t(h) * info.columns);
+      if (Status s = reader.readWindow(0, y, info.columns, h, rows.data()); !s) return s.error();
+      for (float v : rows) {
+        if (std::isnan(v))
+          return makeError(info.path,
+                           "has voids; a staged build needs them filled first (e.g. with "
+                           "gdal_fillnodata), or build it on one machine");
+        lo = std::min(lo, double(v));
+        hi = std::max(hi, double(v));
+      }
+      progress.advance();
+    }
+    progress.end();
+    plan.heightLo = lo;
+    plan.heightHi = hi;
+  } else {
+    const auto guess = guessHeightRange(reader);
+    plan.heightLo = guess[0];
+    plan.heightHi = guess[1];
+  }
+  if (auto budget = makeErrorBudget(*layout, options.maxError, plan.heightHi - plan.heightLo);
+      !budget)
+    return makeError(info.path, budget.error().message);
+  const std::vector<NodeRecord> nodes = enumerateNodes(*layout);
+  for (uint32_t n : blockNodesOf(nodes, blockLevelOf(*layout, plan.blockCells)))
+    plan.blocks.push_back({int32_t(nodes[n].x), int32_t(nodes[n].y)});
+  // Default: one job per block, at most 64.
+  plan.jobs = std::min<int>(jobs > 0 ? jobs : 64, int(plan.blocks.size()));
+  warnAboutSource(info, warn);
+  cleanWorkDirectory(work);
+  if (Status s = makeDirectories(work); !s) return s.error();
+  if (Status s = writeText(planPath(work), buildPlanJson(plan)); !s) return s.error();
+  return plan;
+}
+
+Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
+  auto stage = loadStage(work);
+  if (!stage) return stage.error();
+  const Stage& s = *stage;
+  if (Status st = checkJob(s, job, work); !st) return st;
+  threads = std::max(1u, threads);
+  DemWindows windows(*s.reader, threads, nullptr);
+  std::vector<BlockScratch> scratch(threads);
+  std::vector<std::vector<float>> heights(threads);
+  const auto range = s.plan.jobBlocks(job);
+  progress.begin("errors", range[1] - range[0]);
+  Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
+    const GridPoint o = s.origin(k);
+    heights[w].resize(size_t(s.block + 1) * (s.block + 1));
+    if (Status st = windows.read(o.x, o.y, s.block + 1, s.block + 1, heights[w].data(), w); !st)
+      return st;
+    const Pass1Block p = pass1Block(s.layout, s.budget, o, s.block, heights[w].data(), scratch[w]);
+    Pass1Halo h;
+    h.minHeight = p.minHeight;
+    h.maxHeight = p.maxHeight;
+    h.sawVoid = p.sawVoid;
+    h.scanned = p.stats.trianglesScanned;
+    h.bounded = p.stats.trianglesBounded;
+    h.square = p.square;
+    h.halo = haloValues(p.grid, haloOf(s.layout, o, s.block));
+    h.lines = linesOf(s.layout, o, s.block, heights[w].data());
+    if (Status st = writeStageFile(pass1Grid(work, k), StageFile::kPass1Grid, p.grid.nibbles());
+        !st)
+      return st;
+    if (Status st = writeStageFile(pass1Halo(work, k), StageFile::kPass1Halo, packPass1Halo(h));
+        !st)
+      return st;
+    progress.advance();
+    return {};
+  });
+  progress.end();
+  return done;
+}
+
+Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
+  auto stage = loadStage(work);
+  if (!stage) return stage.error();
+  const Stage& s = *stage;
+  HaloStore store(s.layout, s.block);
+  SparseHeights lines(s.layout, s.block);
+  std::vector<BlockSquare> squares(store.blockCount());
+  double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
+  progress.begin("borders", s.plan.blocks.size());
+  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
+    auto h = readPass1Halo(pass1Halo(work, k));
+    if (!h) return h.error();
+    if (h->sawVoid)
+      return makeError(s.plan.options.input,
+                       "has voids; a staged build needs them filled first (e.g. with "
+                       "gdal_fillnodata), or build it on one machine");
+    const size_t b = s.gridBlock(k);
+    if (h->halo.size() != store.values(b).size())
+      return makeError(pass1Halo(work, k), "was written for another block layout");
+    store.values(b) = std::move(h->halo);
+    squares[b] = h->square;
+    recordLines(lines, h->lines);
+    zMin = std::min(zMin, h->minHeight);
+    zMax = std::max(zMax, h->maxHeight);
+    progress.advance();
+  }
+  progress.end();
+  if (!s.plan.exactRange && s.plan.attempt == 0 &&
+      (zMin < s.plan.heightLo || zMax > s.plan.heightHi)) {
+    // The estimate was wrong: pass 1 again with the true range, as a local build's second
+    // attempt.
+    BuildPlan again = s.plan;
+    again.attempt = 1;
+    again.heightLo = zMin;
+    again.heightHi = zMax;
+    if (Status st = writeText(planPath(work), buildPlanJson(again)); !st) return st.error();
+    return ReduceResult::kReplanned;
+  }
+  store.mergeBorders();
+  finishBorders(s.layout, s.budget, lines, store, s.block, squares);
+  if (store.misses() > 0 || lines.misses() > 0)
+    return Error{"internal error: the border reduce reached " + std::to_string(store.misses()) +
+                 " points outside the halos and " + std::to_string(lines.misses()) +
+                 " heights off the block lines"};
+  for (size_t k = 0; k < s.plan.blocks.size(); ++k)
+    if (Status st =
+            writeStageFile(reducedHalo(work, k), StageFile::kReduced, store.values(s.gridBlock(k)));
+        !st)
+      return st.error();
+  // Halo points the coarse levels use (blocks without data have nothing else).
+  const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
+  Packer p;
+  p.put(zMin);
+  p.put(zMax);
+  std::vector<std::pair<uint64_t, uint8_t>> points;
+  const uint32_t stride = uint32_t(s.block) + 1;
+  for (size_t b = 0; b < store.blockCount(); ++b) {
+    const GridPoint o = store.origin(b);
+    const auto& halo = store.pattern(b).points;
+    for (size_t i = 0; i < halo.size(); ++i)
+      if (store.values(b)[i] >= coarse)
+        points.emplace_back(
+            ActivationGrid::key(o.x + int32_t(halo[i] % stride), o.y + int32_t(halo[i] / stride)),
+            store.values(b)[i]);
+  }
+  p.put(uint64_t(points.size()));
+  for (const auto& [key, a] : points) {
+    p.put(key);
+    p.put(a);
+  }
+  if (Status st = writeStageFile(coarsePoints(work), StageFile::kCoarsePoints, p.bytes()); !st)
+    return st.error();
+  return ReduceResult::kDone;
+}
+
+Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
+  auto stage = loadStage(work);
+  if (!stage) return stage.error();
+  const Stage& s = *stage;
+  if (Status st = checkJob(s, job, work); !st) return st;
+  threads = std::max(1u, threads);
+  const BuildOptions& o = s.plan.options;
+  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevelOf(s.layout, s.block));
+  auto image = openImage(o, s.reader->info());
+  if (!image) return image.error();
+  TextureBuild textures;
+  std::unique_ptr<TexturePass> texturePass;
+  if (o.textures) {
+    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+    texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
+    if (Status st = texturePass->open(); !st) return st;
+  }
+  ChunkPassContext context{s.layout, s.budget,           nodes,
+                           s.block,  o.compressionLevel, texturePass.get()};
+  const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
+  DemWindows windows(*s.reader, threads, nullptr);
+  std::vector<std::vector<float>> heights(threads);
+  const NoHeights none;
+  const auto range = s.plan.jobBlocks(job);
+  progress.begin("meshing", range[1] - range[0]);
+  Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
+    const GridPoint origin = s.origin(k);
+    ActivationGrid grid = ActivationGrid::window(origin.x, origin.y, s.block, s.block);
+    auto nibbles = readStageFile(pass1Grid(work, k), StageFile::kPass1Grid);
+    if (!nibbles) return nibbles.error();
+    if (nibbles->size() != grid.nibbles().size())
+      return makeError(pass1Grid(work, k), "was written for another block layout");
+    grid.nibbles() = std::move(nibbles).value();
+    auto reduced = readStageFile(reducedHalo(work, k), StageFile::kReduced);
+    if (!reduced) return reduced.error();
+    const HaloPattern halo = haloOf(s.layout, origin, s.block);
+    if (reduced->size() != halo.points.size())
+      return makeError(reducedHalo(work, k), "was written for another block layout");
+    applyHalo(grid, halo, *reduced);
+    heights[w].resize(size_t(s.block + 1) * (s.block + 1));
+    if (Status st =
+            windows.read(origin.x, origin.y, s.block + 1, s.block + 1, heights[w].data(), w);
+        !st)
+      return st;
+    ChunkMesher mesher(s.layout, s.budget, grid, none);
+    auto built =
+        buildBlockChunks(context, blockNodes[k], heights[w].data(), mesher, grid, windows, w);
+    if (!built) return built.error();
+    BlockCoarse c;
+    c.heights = std::move(built->points);
+    for (int32_t y = origin.y; y <= origin.y + s.block; ++y)
+      for (int32_t x = origin.x; x <= origin.x + s.block; ++x)
+        if (const uint8_t a = grid.get(x, y); a >= coarse)
+          c.activations.emplace_back(ActivationGrid::key(x, y), a);
+    c.tiles = std::move(built->tiles);
+    c.texture = std::move(built->blockTexture);
+    if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
+                                   packChunks(built->chunks, nodes));
+        !st)
+      return st;
+    if (Status st =
+            writeStageFile(pass2Coarse(work, k), StageFile::kBlockCoarse, packBlockCoarse(c));
+        !st)
+      return st;
+    progress.advance();
+    return {};
+  });
+  progress.end();
+  return done;
+}
+
+Status coarseStage(const std::string& work, unsigned threads, Progress& progress) {
+  auto stage = loadStage(work);
+  if (!stage) return stage.error();
+  const Stage& s = *stage;
+  threads = std::max(1u, threads);
+  const BuildOptions& o = s.plan.options;
+  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  const int32_t blockLevel = blockLevelOf(s.layout, s.block);
+  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevel);
+  const std::vector<uint32_t> coarseNodes = coarseNodesOf(nodes, blockLevel);
+
+  SparseHeights heights(s.layout, s.block);
+  auto points = std::make_shared<ActivationGrid::SparsePoints>();
+  auto reduced = readReduceSummary(work);
+  if (!reduced) return reduced.error();
+  points->insert(reduced->activations.begin(), reduced->activations.end());
+  std::vector<ChunkTiles> blockTiles(o.textures ? blockNodes.size() : 0);
+  std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
+  progress.begin("coarse", s.plan.blocks.size() + coarseNodes.size());
+  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
+    auto h = readPass1Halo(pass1Halo(work, k));
+    if (!h) return h.error();
+    recordLines(heights, h->lines);
+    auto c = readBlockCoarse(pass2Coarse(work, k));
+    if (!c) return c.error();
+    heights.recordPoints(c->heights);
+    points->insert(c->activations.begin(), c->activations.end());
+    if (o.textures) {
+      blockTiles[k] = std::move(c->tiles);
+      blockTextures[k] = std::move(c->texture);
+    }
+    progress.advance();
+  }
+  const ActivationGrid grid = ActivationGrid::sparse(points);
+  auto image = openImage(o, s.reader->info());
+  if (!image) return image.error();
+  TextureBuild textures;
+  std::unique_ptr<TexturePass> texturePass;
+  if (o.textures) {
+    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+    texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
+  }
+  ChunkPassContext context{s.layout, s.budget,           nodes,
+                           s.block,  o.compressionLevel, texturePass.get()};
+  std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
+  for (auto& m : meshers) m = std::make_unique<ChunkMesher>(s.layout, s.budget, grid, heights);
+  auto built = buildCoarseChunks(context, coarseNodes, blockNodes, blockTiles, blockTextures,
+                                 meshers, progress);
+  progress.end();
+  if (!built) return built.error();
+  if (heights.misses() > 0)
+    return Error{"internal error: " + std::to_string(heights.misses()) +
+                 " heights were needed that the staged build had not kept"};
+  return writeStageFile(coarseChunks(work), StageFile::kChunks, packChunks(*built, nodes));
+}
+
+Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) {
+  auto stage = loadStage(work);
+  if (!stage) return stage.error();
+  const Stage& s = *stage;
+  const BuildOptions& o = s.plan.options;
+  const DemInfo& info = s.reader->info();
+  auto reduced = readReduceSummary(work);
+  if (!reduced) return reduced.error();
+  auto image = openImage(o, info);
+  if (!image) return image.error();
+  auto writer = TilesetWriter::create(o.output);
+  if (!writer) return writer.error();
+  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  progress.begin("assembling", s.plan.blocks.size() + 1);
+  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
+    if (Status st = appendChunksFrom(pass2Chunks(work, k), StageFile::kChunks, nodes, **writer);
+        !st)
+      return st.error();
+    progress.advance();
+  }
+  if (Status st = appendChunksFrom(coarseChunks(work), StageFile::kChunks, nodes, **writer); !st)
+    return st.error();
+  progress.end();
+  for (const NodeRecord& n : nodes)
+    if (n.blobBytes == 0)
+      return makeError(work, "a chunk is missing from the stage files (" + std::to_string(n.level) +
+                                 "/" + std::to_string(n.x) + "/" + std::to_string(n.y) + ")");
+  BuildSummary summary;
+  summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
+  summary.streamed = true;
+  if (*image) summary.textureRefine = (*image)->refine();
+  summarizeNodes(nodes, summary);
+  summary.levels = s.layout.levelCount();
+  TextureBuild textures;
+  if (o.textures) textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+  const TilesetHeader header =
+      staticHeader(info, o, s.layout, s.budget, reduced->zMin, reduced->zMax, 0);
+  if (Status st = (*writer)->finish(
+          header, nodes,
+          tilesetMetadataJson(info, o, summary, s.layout, o.textures ? &textures : nullptr));
+      !st)
+    return st.error();
+  std::error_code ec;
+  summary.fileBytes = fs::file_size(o.output, ec);
+  return summary;
+}
+
+Result<BuildSummary> buildInStages(const BuildOptions& options, const std::string& work, int jobs,
+                                   Progress& progress, const Warn& warn) {
+  const auto start = std::chrono::steady_clock::now();
+  auto plan = planStage(options, work, jobs, progress, warn);
+  if (!plan) {
+    if (fs::is_directory(work) && holdsOnlyStageFiles(work)) cleanWorkDirectory(work);
+    return plan.error();
+  }
+  auto failed = [&](const Error& e) -> Result<BuildSummary> {
+    cleanWorkDirectory(work);
+    return e;
+  };
+  const unsigned threads = options.threads ? options.threads : hardwareThreads();
+  auto run = [&](BuildStage stage) -> Result<TaskEnd> {
+    Result<TaskEnd> end = TaskEnd::kDone;
+    for (int j = 0; j < (perJob(stage) ? plan->jobs : 1) && end && *end == TaskEnd::kDone; ++j)
+      end = runStageTask(work, stage, j, threads, progress);
+    return end;
+  };
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    if (auto end = run(BuildStage::kPass1); !end) return failed(end.error());
+    auto end = run(BuildStage::kReduce);
+    if (!end) return failed(end.error());
+    if (*end == TaskEnd::kDone) break;
+  }
+  for (BuildStage stage : {BuildStage::kPass2, BuildStage::kCoarse})
+    if (auto end = run(stage); !end) return failed(end.error());
+  auto summary = assembleStage(work, progress);
+  if (!summary) return failed(summary.error());
+  cleanWorkDirectory(work);
+  summary->totalSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+const char* stageName(BuildStage stage) {
+  switch (stage) {
+    case BuildStage::kPass1:
+      return "pass1";
+    case BuildStage::kReduce:
+      return "reduce";
+    case BuildStage::kPass2:
+      return "pass2";
+    case BuildStage::kCoarse:
+      return "coarse";
+    case BuildStage::kAssemble:
+      break;
+  }
+  return "assemble";
+}
+
+std::optional<BuildStage> parseStageName(const std::string& name) {
+  for (BuildStage s : kJobStages)
+    if (name == stageName(s)) return s;
+  return std::nullopt;
+}
+
+std::string taskStatusPath(const std::string& work, BuildStage stage, int task,
+                           const std::string& ending) {
+  return work + "/status/" + stageName(stage) + "-" + std::to_string(task) + "." + ending;
+}
+
+Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task, unsigned threads,
+                             Progress& progress) {
+  std::error_code ec;
+  for (const char* ending : {"ok", "err", "replan"})
+    fs::remove(taskStatusPath(work, stage, task, ending), ec);
+  Result<TaskEnd> end = TaskEnd::kDone;
+  if (!perJob(stage) && task != 0) {
+    end = makeError(planPath(work), std::string("stage ") + stageName(stage) + " has one task, 0");
+  } else if (stage == BuildStage::kPass1) {
+    if (Status st = pass1Stage(work, task, threads, progress); !st) end = st.error();
+  } else if (stage == BuildStage::kReduce) {
+    auto reduced = reduceStage(work, progress);
+    if (!reduced)
+      end = reduced.error();
+    else if (*reduced == ReduceResult::kReplanned)
+      end = TaskEnd::kReplanned;
+  } else if (stage == BuildStage::kPass2) {
+    if (Status st = pass2Stage(work, task, threads, progress); !st) end = st.error();
+  } else if (stage == BuildStage::kCoarse) {
+    if (Status st = coarseStage(work, threads, progress); !st) end = st.error();
+  } else {
+    auto summary = assembleStage(work, progress);
+    if (!summary) end = summary.error();
+  }
+  const std::string ending = !end ? "err" : *end == TaskEnd::kReplanned ? "replan" : "ok";
+  const std::string text = !end ? end.error().message + "\n" : std::string();
+  if (Status st = writeText(taskStatusPath(work, stage, task, ending), text); !st && end)
+    return st.error();
+  return end;
+}
+
+void cleanWorkDirectory(const std::string& work, KeepLogs logs) {
+  std::error_code ec;
+  for (const char* d : kStageDirs) fs::remove_all(work + "/" + d, ec);
+  fs::remove(coarseChunks(work), ec);
+  fs::remove(planPath(work), ec);
+  if (logs == KeepLogs::kNo) fs::remove_all(work + "/logs", ec);
+  if (fs::is_directory(work, ec) && fs::is_empty(work, ec)) fs::remove(work, ec);
+}
+
+}  // namespace terralod

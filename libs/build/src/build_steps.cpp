@@ -1,0 +1,134 @@
+#include "build_steps.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "source_metadata.h"
+#include "terralod/build/surface_texels.h"
+#include "terralod/raster/image_drape.h"
+
+namespace terralod {
+namespace {
+
+constexpr uint64_t kStreamAbove = uint64_t{1} << 24;  // samples
+
+}  // namespace
+
+bool streamsInput(const BuildOptions& options, const DemInfo& info) {
+  const uint64_t samples = uint64_t(info.columns) * uint64_t(info.rows);
+  const bool fitsMemory = samples * sizeof(float) <= options.memoryMB << 20;
+  return options.streaming == Streaming::kAlways ||
+         (options.streaming == Streaming::kAuto && (!fitsMemory || samples > kStreamAbove) &&
+          info.encoding == HeightEncoding::kPlain);
+}
+
+std::array<double, 2> guessHeightRange(const DemReader& reader) {
+  auto estimate = reader.approximateHeightRange();
+  if (!estimate) return {0.0, 0.0};
+  const double span = (*estimate)[1] - (*estimate)[0];
+  return {(*estimate)[0] - 0.25 * span - 50.0, (*estimate)[1] + 0.25 * span + 50.0};
+}
+
+TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layout,
+                             const ErrorBudget& budget, const DemReader& reader,
+                             const ImageDrape* image) {
+  const DemInfo& info = reader.info();
+  TextureBuild textures;
+  textures.plan = planTextures(layout, budget.levelError, info.spacingX, info.spacingY,
+                               options.textureTau, image ? image->refine() : 1);
+  textures.surface.spacingX = info.spacingX;
+  textures.surface.spacingY = info.spacingY;
+  textures.surface.columns = info.columns;
+  textures.surface.rows = info.rows;
+  textures.surface.rowLatitudes =
+      std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
+  textures.image = image;
+  return textures;
+}
+
+void summarizeNodes(const std::vector<NodeRecord>& nodes, BuildSummary& summary) {
+  for (const NodeRecord& n : nodes) {
+    summary.textureBytes += n.textureBytes;
+    summary.vertices += n.vertexCount;
+    summary.triangles += n.triangleCount;
+    summary.skirtTriangles += n.skirtTriangleCount;
+  }
+  summary.chunks = nodes.size();
+}
+
+TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
+                           const TreeLayout& layout, const ErrorBudget& budget, double zMin,
+                           double zMax, uint64_t filledVoids) {
+  TilesetHeader header;
+  header.levelCount = uint32_t(layout.levelCount());
+  header.leafCells = uint32_t(layout.leafCells);
+  header.rootCells = uint32_t(layout.rootCells);
+  header.rootsX = uint32_t(layout.rootsX);
+  header.rootsY = uint32_t(layout.rootsY);
+  header.sourceColumns = uint32_t(info.columns);
+  header.sourceRows = uint32_t(info.rows);
+  header.spacingX = info.spacingX;
+  header.spacingY = info.spacingY;
+  for (int32_t l = 0; l < layout.levelCount(); ++l)
+    header.levelError[size_t(l)] = budget.levelError[size_t(l)];
+  header.extentMin = {0.0, 0.0, zMin};
+  header.extentMax = {layout.cellsX * info.spacingX, layout.cellsY * info.spacingY, zMax};
+  header.filledVoids = filledVoids;
+  header.leafError = options.maxError;
+  header.verticalScale = options.dem.verticalScale;
+  if (options.textures) {
+    header.version = 2;
+    header.flags |= kTilesetTextured;
+    header.textureMinTau = options.textureTau;
+  }
+  return header;
+}
+
+std::string tilesetMetadataJson(const DemInfo& info, const BuildOptions& options,
+                                const BuildSummary& s, const TreeLayout& layout,
+                                const TextureBuild* textures) {
+  const nlohmann::json source = sourceMetadata(info);
+  nlohmann::json j = {
+      {"generator", "terralod"},
+      {"source", source},
+      {"build",
+       {{"max_error", options.maxError},
+        {"chunk_cells", layout.leafCells},
+        {"vertical_scale", options.dem.verticalScale},
+        {"zstd_level", options.compressionLevel}}},
+      {"stats",
+       {{"vertices", s.vertices},
+        {"triangles", s.triangles},
+        {"skirt_triangles", s.skirtTriangles},
+        {"filled_voids", s.filledVoids}}},
+  };
+  if (textures) {
+    nlohmann::json levels = nlohmann::json::array();
+    for (const TextureLevel& t : textures->plan)
+      levels.push_back({{"color_size", t.colorSize},
+                        {"normal_size", t.normalSize},
+                        {"color_source_limited", t.colorFlags != 0},
+                        {"normal_source_limited", t.normalFlags != 0}});
+    j["texture"] = {
+        {"color", options.textureImage.empty()
+                      ? "generated"
+                      : std::filesystem::path(options.textureImage).filename().string()},
+        {"min_tau", options.textureTau},
+        {"color_refine", s.textureRefine ? s.textureRefine : 1},
+        {"bytes", s.textureBytes},
+        {"levels", levels}};
+    // Where the generated colour's snow line comes from (surface_texels.h).
+    const auto& latitudes = textures->surface.rowLatitudes;
+    if (latitudes && !latitudes->empty()) {
+      const auto [lo, hi] = std::minmax_element(latitudes->begin(), latitudes->end());
+      j["texture"]["latitude"] = {*lo, *hi};
+    } else {
+      j["texture"]["latitude_assumed"] = kUnknownLatitude;
+    }
+    if (textures->surface.seaVoids) j["texture"]["sea_voids"] = textures->surface.seaVoids->count();
+  }
+  return j.dump(2);
+}
+
+}  // namespace terralod

@@ -1,0 +1,62 @@
+#include "stage_files.h"
+
+#include <zstd.h>
+
+#include <fstream>
+#include <iterator>
+
+#include "terralod/core/atomic_file.h"
+#include "terralod/format/tileset_format.h"
+
+namespace terralod {
+namespace {
+
+constexpr char kStageMagic[8] = {'T', 'L', 'S', 'T', 'A', 'G', 'E', '1'};
+constexpr size_t kStageHeaderBytes = 8 + 4 + 8 + 8 + 4;
+
+}  // namespace
+
+Status writeStageFile(const std::string& path, StageFile kind, std::span<const uint8_t> payload) {
+  std::vector<uint8_t> packed(ZSTD_compressBound(payload.size()));
+  const size_t n = ZSTD_compress(packed.data(), packed.size(), payload.data(), payload.size(), 1);
+  if (ZSTD_isError(n)) return makeError(path, std::string("zstd: ") + ZSTD_getErrorName(n));
+  packed.resize(n);
+  std::vector<uint8_t> header(kStageHeaderBytes);
+  ByteWriter w(header.data());
+  w.putBytes(kStageMagic, sizeof kStageMagic);
+  w.put(uint32_t(kind));
+  w.put(uint64_t(payload.size()));
+  w.put(uint64_t(packed.size()));
+  w.put(crc32Of(packed));
+  auto file = AtomicFile::create(path);
+  if (!file) return file.error();
+  if (Status s = file->write(header); !s) return s;
+  if (Status s = file->write(packed); !s) return s;
+  return file->commit();
+}
+
+Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile kind) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return makeError(path, "missing (the stage that writes it has not run, or failed)");
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+  if (bytes.size() < kStageHeaderBytes ||
+      std::memcmp(bytes.data(), kStageMagic, sizeof kStageMagic) != 0)
+    return makeError(path, "not a terralod stage file");
+  ByteReader r(bytes.data() + sizeof kStageMagic);
+  const uint32_t fileKind = r.get<uint32_t>();
+  const uint64_t rawBytes = r.get<uint64_t>(), packedBytes = r.get<uint64_t>();
+  const uint32_t crc = r.get<uint32_t>();
+  if (fileKind != uint32_t(kind))
+    return makeError(path, "is a stage file of another kind (" + std::to_string(fileKind) +
+                               ", expected " + std::to_string(uint32_t(kind)) + ")");
+  const std::span<const uint8_t> packed = std::span(bytes).subspan(kStageHeaderBytes);
+  if (packed.size() != packedBytes || crc32Of(packed) != crc)
+    return makeError(path, "damaged (size or checksum does not match)");
+  std::vector<uint8_t> payload(rawBytes);
+  const size_t n = ZSTD_decompress(payload.data(), payload.size(), packed.data(), packed.size());
+  if (ZSTD_isError(n) || n != rawBytes) return makeError(path, "damaged (does not decompress)");
+  return payload;
+}
+
+}  // namespace terralod

@@ -1,0 +1,101 @@
+#pragma once
+// The files a staged build's jobs hand each other in the work directory (docs/format.md,
+// "Staged build work directory"): a small header (magic, kind, sizes, CRC-32) over a zstd
+// payload of little-endian fields. They live only as long as one build, but a job killed
+// mid-write, a full disk or a file from another build must still be told apart from a good
+// one: files are written atomically and checked on reading.
+
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "terralod/core/result.h"
+#include "terralod/format/byte_io.h"
+
+namespace terralod {
+
+enum class StageFile : uint32_t {
+  kPass1Halo = 1,     ///< a block's halo values, square errors, heights on its lines, range
+  kPass1Grid = 2,     ///< a block's activations (closed square, borders one-sided)
+  kReduced = 3,       ///< a block's finished halo values
+  kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
+  kBlockCoarse = 5,   ///< what the coarse levels need of a block (points, block-node texture)
+  kChunks = 6,        ///< built chunks with their node records
+};
+
+/// Growable little-endian writer.
+class Packer {
+ public:
+  template <typename T>
+  void put(T value) {
+    const size_t at = mBytes.size();
+    mBytes.resize(at + sizeof(T));
+    ByteWriter(mBytes.data() + at).put(value);
+  }
+  void putBytes(std::span<const uint8_t> bytes) {
+    put<uint64_t>(bytes.size());
+    mBytes.insert(mBytes.end(), bytes.begin(), bytes.end());
+  }
+  template <typename T>
+  void putArray(const std::vector<T>& values) {
+    put<uint64_t>(values.size());
+    for (const T& v : values) put(v);
+  }
+  std::vector<uint8_t>& bytes() { return mBytes; }
+
+ private:
+  std::vector<uint8_t> mBytes;
+};
+
+/// Bounds-checked reader: past the end it returns zeros and ok() turns false.
+class Unpacker {
+ public:
+  explicit Unpacker(std::span<const uint8_t> bytes) : mBytes(bytes) {}
+  template <typename T>
+  T get() {
+    if (!mOk || mBytes.size() - mPos < sizeof(T)) {
+      mOk = false;
+      return T{};
+    }
+    ByteReader r(mBytes.data() + mPos);
+    mPos += sizeof(T);
+    return r.get<T>();
+  }
+  std::vector<uint8_t> getBytes() {
+    const uint64_t n = get<uint64_t>();
+    if (!mOk || mBytes.size() - mPos < n) {
+      mOk = false;
+      return {};
+    }
+    std::vector<uint8_t> out(mBytes.begin() + ptrdiff_t(mPos),
+                             mBytes.begin() + ptrdiff_t(mPos + n));
+    mPos += n;
+    return out;
+  }
+  template <typename T>
+  std::vector<T> getArray() {
+    const uint64_t n = get<uint64_t>();
+    if (!mOk || (mBytes.size() - mPos) / sizeof(T) < n) {
+      mOk = false;
+      return {};
+    }
+    std::vector<T> out(n);
+    for (T& v : out) v = get<T>();
+    return out;
+  }
+  bool ok() const { return mOk; }
+  bool atEnd() const { return mPos == mBytes.size(); }
+
+ private:
+  std::span<const uint8_t> mBytes;
+  size_t mPos = 0;
+  bool mOk = true;
+};
+
+Status writeStageFile(const std::string& path, StageFile kind, std::span<const uint8_t> payload);
+/// The payload; errors name the file ("missing", "not a stage file", "damaged").
+Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile kind);
+
+}  // namespace terralod

@@ -1,0 +1,107 @@
+#include "terralod/cluster/slurm.h"
+
+#include <sstream>
+
+#include "terralod/core/subprocess.h"
+
+namespace terralod {
+namespace {
+
+std::string firstLine(const std::string& text) {
+  const size_t end = text.find('\n');
+  return end == std::string::npos ? text : text.substr(0, end);
+}
+
+Result<std::string> run(const std::vector<std::string>& argv) {
+  auto out = runProgram(argv);
+  if (!out) return makeError(argv[0], out.error().message + "; is Slurm installed (slurm-wlm)?");
+  if (out->exitStatus != 0) {
+    const std::string why = firstLine(out->err.empty() ? out->out : out->err);
+    return makeError(
+        argv[0],
+        "failed (" + (why.empty() ? "exit status " + std::to_string(out->exitStatus) : why) + ")");
+  }
+  return out->out;
+}
+
+}  // namespace
+
+Result<std::string> sbatch(const SlurmSubmission& job) {
+  std::vector<std::string> argv = {"sbatch",
+                                   "--parsable",
+                                   "--job-name=" + job.name,
+                                   "--array=" + job.tasks,
+                                   "--output=" + job.output,
+                                   "--kill-on-invalid-dep=no"};
+  if (!job.dependency.empty()) argv.push_back("--dependency=" + job.dependency);
+  argv.insert(argv.end(), job.extra.begin(), job.extra.end());
+  argv.push_back("--wrap=" + job.command);
+  auto out = run(argv);
+  if (!out) return out.error();
+  // "123" or "123;cluster".
+  std::string id = firstLine(*out);
+  id = id.substr(0, id.find(';'));
+  if (id.empty() || id.find_first_not_of("0123456789") != std::string::npos)
+    return makeError("sbatch", "printed no job id (\"" + firstLine(*out) + "\")");
+  return id;
+}
+
+Result<std::set<std::string>> liveTasks() {
+  auto out = run({"squeue", "--me", "--noheader", "--array", "--format=%i"});
+  if (!out) return out.error();
+  std::set<std::string> ids;
+  std::istringstream lines(*out);
+  for (std::string line; std::getline(lines, line);) {
+    const size_t a = line.find_first_not_of(' '), b = line.find_last_not_of(' ');
+    if (a != std::string::npos) ids.insert(line.substr(a, b - a + 1));
+  }
+  return ids;
+}
+
+Status setDependency(const std::string& job, const std::string& dependency) {
+  auto out = run({"scontrol", "update", "JobId=" + job, "Dependency=" + dependency});
+  if (!out) return out.error();
+  return {};
+}
+
+void scancel(const std::vector<std::string>& jobs) {
+  if (jobs.empty()) return;
+  std::vector<std::string> argv = {"scancel"};
+  argv.insert(argv.end(), jobs.begin(), jobs.end());
+  (void)runProgram(argv);
+}
+
+std::vector<std::string> splitArguments(const std::string& text) {
+  std::vector<std::string> words;
+  std::string word;
+  bool inWord = false;
+  char quote = 0;
+  for (char c : text) {
+    if (quote) {
+      if (c == quote)
+        quote = 0;
+      else
+        word += c;
+    } else if (c == '\'' || c == '"') {
+      quote = c;
+      inWord = true;
+    } else if (c == ' ' || c == '\t' || c == '\n') {
+      if (inWord) words.push_back(word);
+      word.clear();
+      inWord = false;
+    } else {
+      word += c;
+      inWord = true;
+    }
+  }
+  if (inWord) words.push_back(word);
+  return words;
+}
+
+std::string shellQuoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+}  // namespace terralod

@@ -1,0 +1,204 @@
+#include "terralod/cluster/slurm_build.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <thread>
+
+#include "terralod/cluster/slurm.h"
+#include "terralod/format/tileset_reader.h"
+
+namespace terralod {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One task of a stage: the Slurm task running it now ("123_4"), how often it was submitted.
+struct Task {
+  std::string id;
+  int submissions = 0;
+  bool done = false;
+};
+
+struct StageJobs {
+  BuildStage stage;
+  std::string arrayId;  ///< the stage's first submission (later ones are single retries)
+  std::vector<Task> tasks;
+};
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  return text;
+}
+
+class SlurmDriver {
+ public:
+  SlurmDriver(const SlurmBuildOptions& options, int jobs, Progress& progress)
+      : mOptions(options), mJobs(jobs), mProgress(progress) {}
+
+  Status run() {
+    mProgress.begin("jobs", totalTasks());
+    Status status = submitFrom(0);
+    while (status && !finished()) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(mOptions.pollSeconds));
+      status = step();
+    }
+    mProgress.end();
+    if (!status) cancelAll();
+    return status;
+  }
+
+ private:
+  size_t totalTasks() const {
+    size_t n = 0;
+    for (BuildStage s : kJobStages) n += perJob(s) ? size_t(mJobs) : 1;
+    return n;
+  }
+  bool finished() const { return !mStages.empty() && mStages.back().tasks.front().done; }
+
+  std::string command(BuildStage stage) const {
+    return "exec " + shellQuoted(mOptions.executable) + " build-stage " + stageName(stage) + " " +
+           shellQuoted(mOptions.work) + " --task $SLURM_ARRAY_TASK_ID";
+  }
+  SlurmSubmission submission(BuildStage stage, const std::string& tasks) const {
+    SlurmSubmission job;
+    job.name = std::string("terralod-") + stageName(stage);
+    job.tasks = tasks;
+    job.output = mOptions.work + "/logs/" + stageName(stage) + "-%A_%a.out";
+    job.extra = mOptions.sbatchArgs;
+    job.command = command(stage);
+    return job;
+  }
+  static std::string afterOk(const StageJobs& s) {
+    std::string dependency = "afterok";
+    for (const Task& t : s.tasks) dependency += ":" + t.id;
+    return dependency;
+  }
+
+  // Submits every stage from `first` on, each depending on the one before.
+  Status submitFrom(size_t first) {
+    mStages.resize(first);
+    for (size_t i = first; i < std::size(kJobStages); ++i) {
+      const BuildStage stage = kJobStages[i];
+      const int count = perJob(stage) ? mJobs : 1;
+      SlurmSubmission job = submission(stage, count > 1 ? "0-" + std::to_string(count - 1) : "0");
+      if (i > first) job.dependency = afterOk(mStages.back());
+      auto id = sbatch(job);
+      if (!id) return id.error();
+      StageJobs s{stage, *id, {}};
+      for (int t = 0; t < count; ++t) s.tasks.push_back({*id + "_" + std::to_string(t), 1, false});
+      mStages.push_back(std::move(s));
+    }
+    return {};
+  }
+
+  Status step() {
+    // The queue first, then the status files: a task that records its end and leaves the queue
+    // in between is then seen done, never lost.
+    auto live = liveTasks();
+    if (!live) return live.error();
+    for (size_t i = 0; i < mStages.size(); ++i) {
+      StageJobs& s = mStages[i];
+      for (size_t t = 0; t < s.tasks.size(); ++t) {
+        Task& task = s.tasks[t];
+        if (task.done) continue;
+        const int index = int(t);
+        const std::string err = taskStatusPath(mOptions.work, s.stage, index, "err");
+        if (fs::exists(err))
+          return Error{readText(err) + " (" + stageName(s.stage) + " job " + task.id + ")"};
+        if (fs::exists(taskStatusPath(mOptions.work, s.stage, index, "replan"))) {
+          // Pass 1 again with the corrected height range (the plan is rewritten).
+          if (mReplanned) return Error{"internal error: the reduce asked for a third pass 1"};
+          mReplanned = true;
+          cancelStages(i + 1);
+          std::error_code ec;
+          fs::remove(taskStatusPath(mOptions.work, s.stage, index, "replan"), ec);
+          return submitFrom(0);
+        }
+        if (fs::exists(taskStatusPath(mOptions.work, s.stage, index, "ok"))) {
+          task.done = true;
+          mProgress.advance();
+          continue;
+        }
+        if (live->count(task.id)) continue;
+        if (Status st = resubmit(i, t); !st) return st;
+      }
+    }
+    return {};
+  }
+
+  // A task left the queue without recording how it ended.
+  Status resubmit(size_t stageIndex, size_t t) {
+    StageJobs& s = mStages[stageIndex];
+    Task& task = s.tasks[t];
+    if (task.submissions > mOptions.retries)
+      return Error{std::string(stageName(s.stage)) + " task " + std::to_string(t) +
+                   " ended without finishing " + std::to_string(task.submissions) +
+                   " times (killed, cancelled, out of memory or its node failed); its last log: " +
+                   mOptions.work + "/logs/" + stageName(s.stage) + "-" +
+                   task.id.substr(0, task.id.find('_')) + "_" + std::to_string(t) + ".out"};
+    auto id = sbatch(submission(s.stage, std::to_string(t)));
+    if (!id) return id.error();
+    task.id = *id + "_" + std::to_string(t);
+    ++task.submissions;
+    if (stageIndex + 1 < mStages.size())
+      return setDependency(mStages[stageIndex + 1].arrayId, afterOk(s));
+    return {};
+  }
+
+  void cancelStages(size_t first) {
+    std::vector<std::string> ids;
+    for (size_t i = first; i < mStages.size(); ++i)
+      for (const Task& t : mStages[i].tasks)
+        if (!t.done) ids.push_back(t.id);
+    scancel(ids);
+  }
+  void cancelAll() { cancelStages(0); }
+
+  const SlurmBuildOptions& mOptions;
+  int mJobs;
+  Progress& mProgress;
+  std::vector<StageJobs> mStages;
+  bool mReplanned = false;
+};
+
+}  // namespace
+
+Result<BuildSummary> buildOnSlurm(const BuildOptions& options, const SlurmBuildOptions& slurm,
+                                  Progress& progress, const Warn& warn) {
+  const auto start = std::chrono::steady_clock::now();
+  SlurmBuildOptions absolute = slurm;
+  absolute.work = fs::absolute(slurm.work).lexically_normal().string();
+  NullProgress quiet;
+  auto plan = planStage(options, absolute.work, slurm.jobs, quiet, warn);
+  if (!plan) return plan.error();
+  std::error_code ec;
+  fs::create_directories(absolute.work + "/logs", ec);
+  if (ec) return makeError(absolute.work + "/logs", "cannot create: " + ec.message());
+  SlurmDriver driver(absolute, plan->jobs, progress);
+  if (Status s = driver.run(); !s) {
+    cleanWorkDirectory(absolute.work, KeepLogs::kYes);
+    return s.error();
+  }
+  cleanWorkDirectory(absolute.work, KeepLogs::kNo);
+  auto reader = TilesetReader::openFile(plan->options.output);
+  if (!reader) return reader.error();
+  BuildSummary summary;
+  summary.levels = int32_t((*reader)->header().levelCount);
+  summary.chunks = (*reader)->nodes().size();
+  for (const NodeRecord& n : (*reader)->nodes()) {
+    summary.triangles += n.triangleCount;
+    summary.vertices += n.vertexCount;
+    summary.textureBytes += n.textureBytes;
+  }
+  summary.fileBytes = fs::file_size(plan->options.output, ec);
+  summary.streamed = true;
+  summary.totalSeconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return summary;
+}
+
+}  // namespace terralod
