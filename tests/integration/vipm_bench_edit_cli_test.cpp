@@ -17,8 +17,8 @@ class VipmBenchEditCli : public ::testing::Test {
  protected:
   void SetUp() override {
     // With levels above the roots, which a stroke remakes after its leaves and roots.
-    const RunResult built = runTerralod({"build", kDem, "--kind", "vipm", "--upper-levels", "auto",
-                                         "--threads", "2", "-o", mTileset});
+    const RunResult built = runTerralod({"build", kEditBenchDem, "--kind", "vipm", "--upper-levels",
+                                         "auto", "--threads", "2", "-o", mTileset});
     ASSERT_EQ(built.exitCode, 0) << built.err;
     // Down towards the south-west rim, and strokes where it looks: one over 4 x 4 leaves,
     // then one inside a leaf (each starts once the one before is drawn, so the flight is long
@@ -31,7 +31,7 @@ class VipmBenchEditCli : public ::testing::Test {
         {"brush": "lower", "center": [5156, 6976], "radius": 2000, "amount": 20},
         {"brush": "raise", "center": [7300, 7800], "radius": 300, "amount": 30}]})";
   }
-  const std::string kDem = testData("crater_lake_0513.bt");
+  const std::string kEditBenchDem = testData("crater_lake_0513.bt");
   TempDir mDir;
   const std::string mTileset = mDir.file("c.tlod");
 };
@@ -39,7 +39,7 @@ class VipmBenchEditCli : public ::testing::Test {
 TEST_F(VipmBenchEditCli, StrokesDuringAFlightAreSwappedInAndNoFrameWaits) {
   const RunResult r = runTerralod({"bench", mTileset, "--flight", mDir.file("descend.json"),
                                    "--edit-script", mDir.file("strokes.json"), "--edit-every", "10",
-                                   "--edit-source", kDem, "--json", mDir.file("b.json")});
+                                   "--edit-source", kEditBenchDem, "--json", mDir.file("b.json")});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto j = nlohmann::json::parse(std::ifstream(mDir.file("b.json")));
   EXPECT_EQ(j["edit_strokes"], 2);
@@ -73,14 +73,15 @@ TEST_F(VipmBenchEditCli, EditsDuringAFlightAreRefusedWhereTheyCannotWork) {
     args.insert(args.end(), extra.begin(), extra.end());
     return runTerralod(args);
   };
-  expectOneErrorLine(with({"--source", kDem}), "--edit-script and --source exclude each other");
+  expectOneErrorLine(with({"--source", kEditBenchDem}),
+                     "--edit-script and --source exclude each other");
   // The tileset's source (crater_lake_0513.bt) is neither beside it nor here.
   expectOneErrorLine(with({}), "edit needs the source's full-resolution heights");
   const std::string fixed = mDir.file("static.tlod");
-  ASSERT_EQ(runTerralod({"build", kDem, "--threads", "2", "-o", fixed}).exitCode, 0);
+  ASSERT_EQ(runTerralod({"build", kEditBenchDem, "--threads", "2", "-o", fixed}).exitCode, 0);
   expectOneErrorLine(runTerralod({"bench", fixed, "--flight", mDir.file("descend.json"), "--json",
                                   mDir.file("b.json"), "--edit-script", mDir.file("strokes.json"),
-                                  "--edit-source", kDem}),
+                                  "--edit-source", kEditBenchDem}),
                      fixed + ": is not a VIPM tileset");
 }
 

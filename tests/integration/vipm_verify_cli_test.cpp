@@ -19,7 +19,7 @@
 namespace terralod::test {
 namespace {
 
-const std::string kDem = testData("gzcommon_dem_squared_129.tif");
+const std::string kVerifyDem = testData("gzcommon_dem_squared_129.tif");
 
 class VipmVerifyCli : public ::testing::Test {
  protected:
@@ -28,9 +28,10 @@ class VipmVerifyCli : public ::testing::Test {
 
 TEST_F(VipmVerifyCli, ABuiltTilesetPassesEveryCheck) {
   const std::string out = mDir.file("v.tlod");
-  ASSERT_EQ(runTerralod({"build", kDem, "--kind", "vipm", "--threads", "2", "-o", out}).exitCode,
-            0);
-  const RunResult verified = runTerralod({"verify", out, "--source", kDem, "--threads", "2"});
+  ASSERT_EQ(
+      runTerralod({"build", kVerifyDem, "--kind", "vipm", "--threads", "2", "-o", out}).exitCode,
+      0);
+  const RunResult verified = runTerralod({"verify", out, "--source", kVerifyDem, "--threads", "2"});
   EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
   EXPECT_TRUE(has(verified.out, "verify: OK")) << verified.out;
   EXPECT_TRUE(has(verified.out, ", 0 break a material rule (built with the rules)"))
@@ -46,14 +47,14 @@ TEST_F(VipmVerifyCli, ABuiltTilesetPassesEveryCheck) {
 TEST_F(VipmVerifyCli, BlotRootsPassEveryCheck) {
   const std::string out = mDir.file("b.tlod");
   const RunResult built = runTerralod(
-      {"build", kDem, "--kind", "vipm", "--blot-error", "2", "--threads", "2", "-o", out});
+      {"build", kVerifyDem, "--kind", "vipm", "--blot-error", "2", "--threads", "2", "-o", out});
   ASSERT_EQ(built.exitCode, 0) << built.err;
   auto reader = TilesetReader::openFile(out).value();
   EXPECT_LE(reader->header().levelError[0], 4.0);
   auto root = decodeVipmChunk(reader->readBlob(0).value(), "root").value();
   EXPECT_GT(root.collapseCount(), 100u);  // a blot chunk
   EXPECT_GE(double(root.errors.front()) * root.errorStep, reader->header().levelError[0]);
-  const RunResult verified = runTerralod({"verify", out, "--source", kDem, "--threads", "2"});
+  const RunResult verified = runTerralod({"verify", out, "--source", kVerifyDem, "--threads", "2"});
   EXPECT_EQ(verified.exitCode, 0) << verified.out << verified.err;
   EXPECT_TRUE(has(verified.out, "verify: OK")) << verified.out;
   EXPECT_TRUE(has(verified.out, ", 0 break a material rule (built with the rules)"))
@@ -63,7 +64,8 @@ TEST_F(VipmVerifyCli, BlotRootsPassEveryCheck) {
   const std::string shallow = mDir.file("shallow.tlod");
   writeEditedTileset(
       out, shallow, [](TilesetHeader&, std::vector<NodeRecord>& n) { n[0].maxSkirtDepth = 0.01f; });
-  const RunResult caught = runTerralod({"verify", shallow, "--source", kDem, "--threads", "2"});
+  const RunResult caught =
+      runTerralod({"verify", shallow, "--source", kVerifyDem, "--threads", "2"});
   EXPECT_EQ(caught.exitCode, 1) << caught.out << caught.err;
   EXPECT_TRUE(has(caught.err + caught.out, "do not close the gap between its children's sides"))
       << caught.out << caught.err;
@@ -90,15 +92,16 @@ void damageTexture(const std::string& path, uint32_t node, size_t offset,
 TEST_F(VipmVerifyCli, NormalMapsThatAreNotTheSourcesOrAreDamagedFail) {
   const std::string out = mDir.file("v.tlod");
   // Without blot roots, so the render below draws the leaves.
-  ASSERT_EQ(
-      runTerralod({"build", kDem, "--kind", "vipm", "--blot-error", "off", "-o", out}).exitCode, 0);
+  ASSERT_EQ(runTerralod({"build", kVerifyDem, "--kind", "vipm", "--blot-error", "off", "-o", out})
+                .exitCode,
+            0);
   // Leaf 1's first mip 0 block row: both channels' end points swapped to 0 and 255.
   const std::string wrong = mDir.file("wrong.tlod");
   std::filesystem::copy_file(out, wrong);
   std::vector<uint8_t> extremes;
   for (int b = 0; b < 17 * 2; ++b) extremes.insert(extremes.end(), {0, 255, 0, 0, 0, 0, 0, 0});
   damageTexture(wrong, 1, 32, extremes, true);
-  const RunResult verified = runTerralod({"verify", wrong, "--source", kDem});
+  const RunResult verified = runTerralod({"verify", wrong, "--source", kVerifyDem});
   EXPECT_EQ(verified.exitCode, 1);
   EXPECT_TRUE(has(verified.err, "chunk 1 (level 1, 0,0): its normal map's texel ("))
       << verified.err;
@@ -107,7 +110,7 @@ TEST_F(VipmVerifyCli, NormalMapsThatAreNotTheSourcesOrAreDamagedFail) {
   const std::string damaged = mDir.file("damaged.tlod");
   std::filesystem::copy_file(out, damaged);
   damageTexture(damaged, 1, 40, {0x5A}, false);
-  const RunResult checked = runTerralod({"verify", damaged, "--source", kDem});
+  const RunResult checked = runTerralod({"verify", damaged, "--source", kVerifyDem});
   EXPECT_EQ(checked.exitCode, 1);
   EXPECT_TRUE(
       has(checked.err, "damaged.tlod: chunk 1 (level 1, 0,0): invalid texture: checksum mismatch"))
@@ -123,9 +126,10 @@ TEST_F(VipmVerifyCli, NormalMapsThatAreNotTheSourcesOrAreDamagedFail) {
 
 TEST_F(VipmVerifyCli, RuleBreaksFailOnlyATilesetBuiltWithTheRules) {
   const std::string out = mDir.file("norules.tlod");
-  ASSERT_EQ(
-      runTerralod({"build", kDem, "--kind", "vipm", "--no-material-rules", "-o", out}).exitCode, 0);
-  const RunResult verified = runTerralod({"verify", out, "--source", kDem});
+  ASSERT_EQ(runTerralod({"build", kVerifyDem, "--kind", "vipm", "--no-material-rules", "-o", out})
+                .exitCode,
+            0);
+  const RunResult verified = runTerralod({"verify", out, "--source", kVerifyDem});
   EXPECT_EQ(verified.exitCode, 0) << verified.err;
   EXPECT_TRUE(has(verified.out, "(built with --no-material-rules)")) << verified.out;
   EXPECT_FALSE(has(verified.out, ", 0 break a material rule")) << verified.out;
@@ -133,12 +137,12 @@ TEST_F(VipmVerifyCli, RuleBreaksFailOnlyATilesetBuiltWithTheRules) {
 
 TEST_F(VipmVerifyCli, FailsAgainstASourceItWasNotBuiltFrom) {
   const std::string out = mDir.file("v.tlod");
-  ASSERT_EQ(runTerralod({"build", kDem, "--kind", "vipm", "-o", out}).exitCode, 0);
+  ASSERT_EQ(runTerralod({"build", kVerifyDem, "--kind", "vipm", "-o", out}).exitCode, 0);
   // The same DEM with a 3 m bump in one corner.
   const std::string bumped = mDir.file("bumped.tif");
   GDALAllRegister();
   {
-    GDALDatasetUniquePtr dem(GDALDataset::Open(kDem.c_str(), GDAL_OF_RASTER));
+    GDALDatasetUniquePtr dem(GDALDataset::Open(kVerifyDem.c_str(), GDAL_OF_RASTER));
     ASSERT_TRUE(dem);
     GDALDriver* gtiff = GetGDALDriverManager()->GetDriverByName("GTiff");
     GDALDatasetUniquePtr copy(

@@ -46,16 +46,21 @@ Result<std::string> sbatch(const SlurmSubmission& job) {
   return id;
 }
 
-Result<std::set<std::string>> liveTasks() {
-  auto out = run({"squeue", "--me", "--noheader", "--array", "--format=%i"});
+Result<std::map<std::string, std::string>> liveTasks() {
+  auto out = run({"squeue", "--me", "--noheader", "--array", "--format=%i|%r"});
   if (!out) return out.error();
-  std::set<std::string> ids;
+  std::map<std::string, std::string> tasks;
   std::istringstream lines(*out);
   for (std::string line; std::getline(lines, line);) {
-    const size_t a = line.find_first_not_of(' '), b = line.find_last_not_of(' ');
-    if (a != std::string::npos) ids.insert(line.substr(a, b - a + 1));
+    const size_t bar = line.find('|');
+    if (bar == std::string::npos) continue;
+    auto trim = [](std::string t) {
+      const size_t a = t.find_first_not_of(' '), b = t.find_last_not_of(' ');
+      return a == std::string::npos ? std::string() : t.substr(a, b - a + 1);
+    };
+    tasks[trim(line.substr(0, bar))] = trim(line.substr(bar + 1));
   }
-  return ids;
+  return tasks;
 }
 
 Status setDependency(const std::string& job, const std::string& dependency) {

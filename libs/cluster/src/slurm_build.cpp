@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <thread>
 
 #include "terralod/cluster/slurm.h"
@@ -36,8 +37,8 @@ std::string readText(const std::string& path) {
 
 class SlurmDriver {
  public:
-  SlurmDriver(const SlurmBuildOptions& options, int jobs, Progress& progress)
-      : mOptions(options), mJobs(jobs), mProgress(progress) {}
+  SlurmDriver(const SlurmBuildOptions& options, int jobs, Progress& progress, const Warn& warn)
+      : mOptions(options), mJobs(jobs), mProgress(progress), mWarn(warn) {}
 
   Status run() {
     mProgress.begin("jobs", totalTasks());
@@ -72,10 +73,13 @@ class SlurmDriver {
     job.command = command(stage);
     return job;
   }
+  // Waits for the stage's tasks not yet seen done (those are done: depending on them could
+  // name jobs Slurm has already forgotten). Empty when all are done.
   static std::string afterOk(const StageJobs& s) {
-    std::string dependency = "afterok";
-    for (const Task& t : s.tasks) dependency += ":" + t.id;
-    return dependency;
+    std::string dependency;
+    for (const Task& t : s.tasks)
+      if (!t.done) dependency += ":" + t.id;
+    return dependency.empty() ? dependency : "afterok" + dependency;
   }
 
   // Submits every stage from `first` on, each depending on the one before.
@@ -123,8 +127,14 @@ class SlurmDriver {
           mProgress.advance();
           continue;
         }
-        if (live->count(task.id)) continue;
-        if (Status st = resubmit(i, t); !st) return st;
+        const auto queued = live->find(task.id);
+        if (queued == live->end()) {
+          if (Status st = resubmit(i, t); !st) return st;
+        } else if (queued->second == "DependencyNeverSatisfied" && i > 0) {
+          // It waits on a task that failed and was submitted again after it: point it at the
+          // stage before as it stands now.
+          if (Status st = setDependency(task.id, afterOk(mStages[i - 1])); !st) return st;
+        }
       }
     }
     return {};
@@ -140,12 +150,31 @@ class SlurmDriver {
                    " times (killed, cancelled, out of memory or its node failed); its last log: " +
                    mOptions.work + "/logs/" + stageName(s.stage) + "-" +
                    task.id.substr(0, task.id.find('_')) + "_" + std::to_string(t) + ".out"};
-    auto id = sbatch(submission(s.stage, std::to_string(t)));
+    // A task cancelled while it waited still waits for the stage before.
+    SlurmSubmission job = submission(s.stage, std::to_string(t));
+    if (stageIndex > 0) job.dependency = afterOk(mStages[stageIndex - 1]);
+    auto id = sbatch(job);
     if (!id) return id.error();
+    const std::string lost = task.id;
     task.id = *id + "_" + std::to_string(t);
+    mWarn(std::string(stageName(s.stage)) + " task " + std::to_string(t) + " (job " + lost +
+          ") ended without finishing; submitted again as job " + task.id + " (retry " +
+          std::to_string(task.submissions) + " of " + std::to_string(mOptions.retries) + ")");
     ++task.submissions;
-    if (stageIndex + 1 < mStages.size())
-      return setDependency(mStages[stageIndex + 1].arrayId, afterOk(s));
+    return redirectNextStage(stageIndex);
+  }
+
+  // The next stage's waiting tasks now wait for the stage as it stands: its first array (for
+  // the tasks still in it) and each task submitted again on its own.
+  Status redirectNextStage(size_t stageIndex) {
+    if (stageIndex + 1 >= mStages.size()) return {};
+    const StageJobs& next = mStages[stageIndex + 1];
+    const std::string dependency = afterOk(mStages[stageIndex]);  // not empty: one was just sent
+    std::set<std::string> targets;
+    for (const Task& t : next.tasks)
+      if (!t.done) targets.insert(t.id.rfind(next.arrayId + "_", 0) == 0 ? next.arrayId : t.id);
+    for (const std::string& target : targets)
+      if (Status st = setDependency(target, dependency); !st) return st;
     return {};
   }
 
@@ -161,6 +190,7 @@ class SlurmDriver {
   const SlurmBuildOptions& mOptions;
   int mJobs;
   Progress& mProgress;
+  const Warn& mWarn;
   std::vector<StageJobs> mStages;
   bool mReplanned = false;
 };
@@ -178,7 +208,7 @@ Result<BuildSummary> buildOnSlurm(const BuildOptions& options, const SlurmBuildO
   std::error_code ec;
   fs::create_directories(absolute.work + "/logs", ec);
   if (ec) return makeError(absolute.work + "/logs", "cannot create: " + ec.message());
-  SlurmDriver driver(absolute, plan->jobs, progress);
+  SlurmDriver driver(absolute, plan->jobs, progress, warn);
   if (Status s = driver.run(); !s) {
     cleanWorkDirectory(absolute.work, KeepLogs::kYes);
     return s.error();

@@ -3,7 +3,7 @@
 // queued and running tasks (squeue), change a pending job's dependency (scontrol), cancel
 // (scancel). No accounting database is needed (sacct is not used).
 
-#include <set>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -22,8 +22,9 @@ struct SlurmSubmission {
 
 /// Submits; returns the array job's id.
 Result<std::string> sbatch(const SlurmSubmission& job);
-/// Ids ("123_4") of this user's tasks that Slurm still holds as pending, running or finishing.
-Result<std::set<std::string>> liveTasks();
+/// This user's tasks that Slurm still holds as pending, running or finishing: id ("123_4") ->
+/// squeue's reason (why it waits, e.g. "Dependency", "DependencyNeverSatisfied"; "None").
+Result<std::map<std::string, std::string>> liveTasks();
 Status setDependency(const std::string& job, const std::string& dependency);
 /// Cancels jobs or tasks (ids as sbatch and liveTasks give them); errors are ignored.
 void scancel(const std::vector<std::string>& jobs);

@@ -1,0 +1,135 @@
+// `terralod build --scheduler slurm` on a real single-node Slurm cluster (scripts/slurm-local.sh):
+// a 2049² build (16 blocks) in 8 block jobs makes the local build's bytes, with and without textures; a
+// job task killed mid-way and one cancelled while pending are submitted again and the bytes are
+// still the same; a stage that fails ends the build with its one error line and no tileset.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <atomic>
+#include <filesystem>
+#include <thread>
+
+#include "cli_runner.h"
+#include "temp_dir.h"
+
+namespace terralod::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kClusterScript = std::string(TERRALOD_SOURCE_DIR) + "/scripts/slurm-local.sh";
+
+class SlurmBuild : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    const RunResult started = runProgram(kClusterScript, {"start", cluster()});
+    ASSERT_EQ(started.exitCode, 0) << started.out << started.err;
+    const RunResult synth = runTerralod(
+        {"synth", "--size", "2049", "--spacing", "5", "--seed", "25", "-o", dem()});
+    ASSERT_EQ(synth.exitCode, 0) << synth.err;
+    ASSERT_EQ(runTerralod({"build", dem(), "-o", file("textured.tlod")}).exitCode, 0);
+    // Streamed (the raster does not fit 8 MB): the plan starts from a height estimate.
+    ASSERT_EQ(
+        runTerralod({"build", dem(), "--no-texture", "--memory-mb", "8", "-o", file("plain.tlod")})
+            .exitCode,
+        0);
+  }
+  static void TearDownTestSuite() {
+    runProgram(kClusterScript, {"stop", cluster()});
+    delete sDir;
+    sDir = nullptr;
+  }
+  static std::string cluster() { return sDir->file("cluster"); }
+  static std::string dem() { return sDir->file("dem.tif"); }
+  static std::string file(const std::string& name) { return sDir->file(name); }
+  static std::vector<std::string> env() { return {"SLURM_CONF=" + cluster() + "/slurm.conf"}; }
+  static RunResult slurm(const std::string& program, const std::vector<std::string>& args) {
+    return runProgram(program, args, env());
+  }
+  static TempDir* sDir;
+};
+TempDir* SlurmBuild::sDir = nullptr;
+
+// Eight jobs of two blocks each (Slurm starts a job about a second after the one before it on a
+// busy node, so more jobs only make the test slower).
+TEST_F(SlurmBuild, EightBlockJobsMakeTheLocalBuildsBytes) {
+  for (const auto& [reference, options] :
+       {std::pair{"textured.tlod", std::vector<std::string>{}},
+        std::pair{"plain.tlod", std::vector<std::string>{"--no-texture", "--memory-mb", "8"}}}) {
+    std::vector<std::string> args = {"build",     dem(),           "-o",
+                                     file("cluster.tlod"), "--scheduler", "slurm",
+                                     "--work-dir", file("work"),   "--jobs", "8"};
+    args.insert(args.end(), options.begin(), options.end());
+    const RunResult r = runTerralod(args, env());
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(has(r.out, "staged: slurm")) << r.out;
+    EXPECT_EQ(readWholeFile(file("cluster.tlod")), readWholeFile(file(reference))) << reference;
+    EXPECT_FALSE(fs::exists(file("work"))) << "the work directory is removed";
+    EXPECT_EQ(slurm("squeue", {"--me", "--noheader"}).out, "") << "no job left behind";
+  }
+}
+
+TEST_F(SlurmBuild, KilledAndCancelledTasksAreSubmittedAgain) {
+  const std::string work = file("retried");
+  RunResult result;
+  std::atomic<bool> finished{false};
+  std::thread driver([&] {
+    // Two block jobs of eight blocks each: a pass 2 task runs for a second or so.
+    result = runTerralod({"build", dem(), "-o", file("retried.tlod"), "--scheduler", "slurm",
+                          "--work-dir", work, "--jobs", "2"},
+                         env());
+    finished = true;
+  });
+  // The coarse job, cancelled while it waits for pass 2.
+  bool cancelled = false;
+  for (int i = 0; i < 600 && !cancelled && !finished; ++i) {
+    const std::string queue =
+        slurm("squeue", {"--me", "--noheader", "--array", "--name=terralod-coarse", "--format=%i %T"})
+            .out;
+    if (has(queue, "PENDING"))
+      cancelled = slurm("scancel", {queue.substr(0, queue.find(' '))}).exitCode == 0;
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // A pass 2 task's process, killed while it works.
+  bool killed = false;
+  for (int i = 0; i < 3000 && !killed && !finished; ++i) {
+    const RunResult found = runProgram("pgrep", {"-f", "build-stage pass2 " + work});
+    if (found.exitCode == 0)
+      killed = ::kill(std::stoi(found.out), SIGKILL) == 0;
+    else
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  driver.join();
+  EXPECT_TRUE(cancelled);
+  EXPECT_TRUE(killed);
+  ASSERT_EQ(result.exitCode, 0) << result.err;
+  EXPECT_TRUE(has(result.err, "coarse task 0 (job ")) << result.err;
+  EXPECT_TRUE(has(result.err, "pass2 task ")) << result.err;
+  EXPECT_TRUE(has(result.err, "ended without finishing; submitted again")) << result.err;
+  EXPECT_EQ(readWholeFile(file("retried.tlod")), readWholeFile(file("textured.tlod")));
+  EXPECT_FALSE(fs::exists(work));
+}
+
+TEST_F(SlurmBuild, AFailingStageLeavesNoTilesetAndOneError) {
+  // Zion has voids; streamed (it does not fit 1 MB), only pass 1 sees them, and the reduce
+  // says so.
+  const std::string work = file("failing");
+  const RunResult r =
+      runTerralod({"build", testData("zion_srtm3_utm12_30m.tif"), "--memory-mb", "1", "-o",
+                   file("failed.tlod"), "--scheduler", "slurm", "--work-dir", work, "--jobs", "4"},
+                  env());
+  EXPECT_EQ(r.exitCode, 1);
+  const auto lines = r.errLines();
+  ASSERT_EQ(lines.size(), 1u) << r.err;
+  EXPECT_TRUE(has(lines[0], "zion_srtm3_utm12_30m.tif: has voids")) << lines[0];
+  EXPECT_TRUE(has(lines[0], "(reduce job ")) << lines[0];
+  EXPECT_FALSE(fs::exists(file("failed.tlod")));
+  EXPECT_FALSE(fs::exists(work + "/plan.json")) << "stage files are removed";
+  EXPECT_EQ(slurm("squeue", {"--me", "--noheader"}).out, "") << "the later stages are cancelled";
+}
+
+}  // namespace
+}  // namespace terralod::test

@@ -1,0 +1,144 @@
+// A build as explicit stages over a work directory (`build --scheduler local|none`,
+// `build-stage`), without a scheduler: the same bytes as the local build, whatever the number
+// of jobs, including when the plan's height estimate is wrong and pass 1 runs again; damaged
+// stage files and foreign work directories get one error line and no output.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+#include "temp_dir.h"
+
+namespace terralod::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class StagedBuild : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    const RunResult synth = runTerralod(
+        {"synth", "--size", "1025", "--spacing", "5", "--seed", "21", "-o", dem()});
+    ASSERT_EQ(synth.exitCode, 0) << synth.err;
+  }
+  static void TearDownTestSuite() {
+    delete sDir;
+    sDir = nullptr;
+  }
+  static std::string dem() { return sDir->file("dem.tif"); }
+  static std::string file(const std::string& name) { return sDir->file(name); }
+  static TempDir* sDir;
+};
+TempDir* StagedBuild::sDir = nullptr;
+
+TEST_F(StagedBuild, LocalStagesMatchTheLocalBuild) {
+  // 64 blocks of 128 cells in 5 jobs, with textures (the range read whole, as the local build
+  // does for a raster this small) and without (streamed: the range estimated, as the local
+  // build's --memory-mb makes it stream).
+  for (const std::vector<std::string>& options :
+       {std::vector<std::string>{}, std::vector<std::string>{"--no-texture", "--memory-mb", "2"}}) {
+    std::vector<std::string> local = {"build", dem(), "--block-cells", "128", "-o",
+                                      file("local.tlod")};
+    local.insert(local.end(), options.begin(), options.end());
+    ASSERT_EQ(runTerralod(local).exitCode, 0);
+    std::vector<std::string> staged = {"build", dem(), "--block-cells", "128",
+                                       "-o", file("staged.tlod"), "--scheduler", "local",
+                                       "--work-dir", file("work"), "--jobs", "5"};
+    staged.insert(staged.end(), options.begin(), options.end());
+    const RunResult r = runTerralod(staged);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+    EXPECT_TRUE(has(r.out, "staged: local")) << r.out;
+    EXPECT_EQ(readWholeFile(file("staged.tlod")), readWholeFile(file("local.tlod")));
+    EXPECT_FALSE(fs::exists(file("work"))) << "the work directory is removed";
+  }
+}
+
+// What another scheduler would run, by hand: `build --scheduler none` plans and prints the
+// commands; the plan's height range is made too narrow, as a bad estimate would be; the reduce
+// says so (status 3) and corrects the plan to the data's own range; pass 1 again; the result is
+// what a local build that knows the range (reading the raster whole) makes.
+TEST_F(StagedBuild, StageCommandsRecoverFromAWrongHeightEstimate) {
+  const std::string work = file("manual");
+  ASSERT_EQ(runTerralod({"build", dem(), "--no-texture", "-o", file("whole.tlod")}).exitCode, 0);
+  const RunResult planned =
+      runTerralod({"build", dem(), "--no-texture", "--memory-mb", "2", "-o", file("manual.tlod"),
+                   "--scheduler", "none", "--work-dir", work, "--jobs", "3"});
+  ASSERT_EQ(planned.exitCode, 0) << planned.err;
+  EXPECT_TRUE(has(planned.out, "build-stage pass1 " + work + " --task T")) << planned.out;
+  EXPECT_TRUE(has(planned.out, "build-stage assemble " + work)) << planned.out;
+  EXPECT_FALSE(fs::exists(file("manual.tlod")));
+
+  nlohmann::json plan = nlohmann::json::parse(readWholeFile(work + "/plan.json"));
+  ASSERT_FALSE(plan.at("exact_range").get<bool>());
+  EXPECT_EQ(plan.at("jobs").get<int>(), 3);
+  const double lo = plan.at("height_range")[0].get<double>();
+  plan["height_range"] = {lo, lo + 1.0};
+  std::ofstream(work + "/plan.json") << plan.dump();
+
+  auto stage = [&](const std::string& name, int task = 0) {
+    return runTerralod({"build-stage", name, work, "--task", std::to_string(task)});
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int t = 0; t < 3; ++t) ASSERT_EQ(stage("pass1", t).exitCode, 0) << pass << " " << t;
+    const RunResult reduce = stage("reduce");
+    ASSERT_EQ(reduce.exitCode, pass == 0 ? 3 : 0) << reduce.err;
+    EXPECT_TRUE(fs::exists(work + "/status/reduce-0." + (pass == 0 ? "replan" : "ok")));
+  }
+  EXPECT_EQ(nlohmann::json::parse(readWholeFile(work + "/plan.json")).at("attempt").get<int>(), 1);
+  for (int t = 0; t < 3; ++t) ASSERT_EQ(stage("pass2", t).exitCode, 0);
+  ASSERT_EQ(stage("coarse").exitCode, 0);
+  ASSERT_EQ(stage("assemble").exitCode, 0);
+  EXPECT_EQ(readWholeFile(file("manual.tlod")), readWholeFile(file("whole.tlod")));
+
+  // A task outside the plan is one error line.
+  const RunResult outside = stage("pass2", 3);
+  EXPECT_EQ(outside.exitCode, 1);
+  EXPECT_EQ(outside.errLines().size(), 1u) << outside.err;
+  EXPECT_TRUE(has(outside.err, "plan.json: has jobs 0..2, not 3")) << outside.err;
+}
+
+TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
+  const std::string work = file("damaged");
+  ASSERT_EQ(runTerralod({"build", dem(), "--no-texture", "-o", file("damaged.tlod"),
+                         "--scheduler", "none", "--work-dir", work, "--jobs", "2"})
+                .exitCode,
+            0);
+  for (int t = 0; t < 2; ++t)
+    ASSERT_EQ(runTerralod({"build-stage", "pass1", work, "--task", std::to_string(t)}).exitCode,
+              0);
+  const std::string victim = work + "/pass1/1.halo";
+  const std::string bytes = readWholeFile(victim);
+  ASSERT_GT(bytes.size(), 40u);
+  std::ofstream(victim, std::ios::binary) << bytes.substr(0, bytes.size() - 7);
+  const RunResult r = runTerralod({"build-stage", "reduce", work});
+  EXPECT_EQ(r.exitCode, 1);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_TRUE(has(r.err, victim + ": damaged")) << r.err;
+  EXPECT_EQ(readWholeFile(work + "/status/reduce-0.err"), r.err.substr(r.err.find(victim)));
+  EXPECT_FALSE(fs::exists(file("damaged.tlod")));
+}
+
+TEST_F(StagedBuild, NeverClearsAWorkDirectoryHoldingOtherFiles) {
+  const std::string work = file("precious");
+  fs::create_directories(work);
+  std::ofstream(work + "/notes.txt") << "keep me";
+  const RunResult r = runTerralod({"build", dem(), "-o", file("p.tlod"), "--scheduler", "local",
+                                   "--work-dir", work});
+  EXPECT_EQ(r.exitCode, 1);
+  EXPECT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_TRUE(has(r.err, "holds files other than a staged build's")) << r.err;
+  EXPECT_EQ(readWholeFile(work + "/notes.txt"), "keep me");
+  EXPECT_FALSE(fs::exists(file("p.tlod")));
+  // Options that only make sense together.
+  EXPECT_TRUE(has(runTerralod({"build", dem(), "-o", file("p.tlod"), "--jobs", "4"}).err,
+                  "--jobs applies to staged builds"));
+  EXPECT_TRUE(has(runTerralod({"build", dem(), "-o", file("p.tlod"), "--scheduler", "local"}).err,
+                  "--scheduler and --work-dir go together"));
+}
+
+}  // namespace
+}  // namespace terralod::test
