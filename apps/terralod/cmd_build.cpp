@@ -198,8 +198,10 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return fail("--sbatch-args applies to --scheduler slurm");
       TerminalProgress progress;
       if (staged->scheduler == "none") return planForOtherScheduler(*options, *staged);
-      auto summary = staged->scheduler.empty() ? buildTileset(*options, progress, warn)
-                                               : buildStaged(*options, *staged, progress);
+      auto summary = staged->scheduler.empty()
+                         ? buildTileset(*options, progress, warn)
+                         : buildStaged(*options, *staged, progress,
+                                       *verbose ? StageReport::kFigures : StageReport::kQuiet);
       if (!summary) return fail(summary.error().message);
       const BuildSummary& s = *summary;
       if (!staged->scheduler.empty()) {

@@ -19,7 +19,7 @@ std::string selfExecutable() {
 }
 
 Result<BuildSummary> buildStaged(const BuildOptions& options, const StagedRequest& request,
-                                 Progress& progress) {
+                                 Progress& progress, StageReport report) {
   if (request.scheduler == "local")
     return buildInStages(options, request.work, request.jobs, progress, warn);
   SlurmBuildOptions slurm;
@@ -28,7 +28,13 @@ Result<BuildSummary> buildStaged(const BuildOptions& options, const StagedReques
   slurm.sbatchArgs = splitArguments(request.sbatchArgs);
   slurm.retries = request.retries;
   slurm.executable = selfExecutable();
-  return buildOnSlurm(options, slurm, progress, warn);
+  auto built = buildOnSlurm(options, slurm, progress, warn);
+  if (!built) return built.error();
+  if (report == StageReport::kFigures)
+    for (const StageFigures& f : built->stages)
+      std::printf("terralod: %-8s %3d task(s): %.2f s longest, %.2f s in all, peak RSS %.1f MB\n",
+                  stageName(f.stage), f.tasks, f.maxSeconds, f.totalSeconds, f.maxRssMB);
+  return built->summary;
 }
 
 int planForOtherScheduler(const BuildOptions& options, const StagedRequest& request) {

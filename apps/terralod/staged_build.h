@@ -18,8 +18,10 @@ struct StagedRequest {
   int retries = 2;
 };
 
+/// kFigures: print what each stage's tasks cost (Slurm; `build --verbose`).
+enum class StageReport { kQuiet, kFigures };
 Result<BuildSummary> buildStaged(const BuildOptions& options, const StagedRequest& request,
-                                 Progress& progress);
+                                 Progress& progress, StageReport report);
 
 /// Writes the plan and prints the stage commands; returns the exit status.
 int planForOtherScheduler(const BuildOptions& options, const StagedRequest& request);

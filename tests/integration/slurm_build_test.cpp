@@ -1,7 +1,8 @@
 // `terralod build --scheduler slurm` on a real single-node Slurm cluster (scripts/slurm-local.sh):
-// a 2049² build (16 blocks) in 8 block jobs makes the local build's bytes, with and without textures; a
-// job task killed mid-way and one cancelled while pending are submitted again and the bytes are
-// still the same; a stage that fails ends the build with its one error line and no tileset.
+// a 2049² build (16 blocks) in 8 block jobs makes the local build's bytes, with and without
+// textures; a job task killed mid-way and one cancelled while pending are submitted again and the
+// bytes are still the same; a stage that fails ends the build with its one error line and no
+// tileset.
 
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -26,8 +27,8 @@ class SlurmBuild : public ::testing::Test {
     sDir = new TempDir;
     const RunResult started = runProgram(kClusterScript, {"start", cluster()});
     ASSERT_EQ(started.exitCode, 0) << started.out << started.err;
-    const RunResult synth = runTerralod(
-        {"synth", "--size", "2049", "--spacing", "5", "--seed", "25", "-o", dem()});
+    const RunResult synth =
+        runTerralod({"synth", "--size", "2049", "--spacing", "5", "--seed", "25", "-o", dem()});
     ASSERT_EQ(synth.exitCode, 0) << synth.err;
     ASSERT_EQ(runTerralod({"build", dem(), "-o", file("textured.tlod")}).exitCode, 0);
     // Streamed (the raster does not fit 8 MB): the plan starts from a height estimate.
@@ -58,9 +59,9 @@ TEST_F(SlurmBuild, EightBlockJobsMakeTheLocalBuildsBytes) {
   for (const auto& [reference, options] :
        {std::pair{"textured.tlod", std::vector<std::string>{}},
         std::pair{"plain.tlod", std::vector<std::string>{"--no-texture", "--memory-mb", "8"}}}) {
-    std::vector<std::string> args = {"build",     dem(),           "-o",
-                                     file("cluster.tlod"), "--scheduler", "slurm",
-                                     "--work-dir", file("work"),   "--jobs", "8"};
+    std::vector<std::string> args = {"build",       dem(),   "-o",         file("cluster.tlod"),
+                                     "--scheduler", "slurm", "--work-dir", file("work"),
+                                     "--jobs",      "8"};
     args.insert(args.end(), options.begin(), options.end());
     const RunResult r = runTerralod(args, env());
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -85,9 +86,9 @@ TEST_F(SlurmBuild, KilledAndCancelledTasksAreSubmittedAgain) {
   // The coarse job, cancelled while it waits for pass 2.
   bool cancelled = false;
   for (int i = 0; i < 600 && !cancelled && !finished; ++i) {
-    const std::string queue =
-        slurm("squeue", {"--me", "--noheader", "--array", "--name=terralod-coarse", "--format=%i %T"})
-            .out;
+    const std::string queue = slurm("squeue", {"--me", "--noheader", "--array",
+                                               "--name=terralod-coarse", "--format=%i %T"})
+                                  .out;
     if (has(queue, "PENDING"))
       cancelled = slurm("scancel", {queue.substr(0, queue.find(' '))}).exitCode == 0;
     else

@@ -21,8 +21,8 @@ class StagedBuild : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new TempDir;
-    const RunResult synth = runTerralod(
-        {"synth", "--size", "1025", "--spacing", "5", "--seed", "21", "-o", dem()});
+    const RunResult synth =
+        runTerralod({"synth", "--size", "1025", "--spacing", "5", "--seed", "21", "-o", dem()});
     ASSERT_EQ(synth.exitCode, 0) << synth.err;
   }
   static void TearDownTestSuite() {
@@ -41,13 +41,13 @@ TEST_F(StagedBuild, LocalStagesMatchTheLocalBuild) {
   // build's --memory-mb makes it stream).
   for (const std::vector<std::string>& options :
        {std::vector<std::string>{}, std::vector<std::string>{"--no-texture", "--memory-mb", "2"}}) {
-    std::vector<std::string> local = {"build", dem(), "--block-cells", "128", "-o",
-                                      file("local.tlod")};
+    std::vector<std::string> local = {"build", dem(), "--block-cells",
+                                      "128",   "-o",  file("local.tlod")};
     local.insert(local.end(), options.begin(), options.end());
     ASSERT_EQ(runTerralod(local).exitCode, 0);
-    std::vector<std::string> staged = {"build", dem(), "--block-cells", "128",
-                                       "-o", file("staged.tlod"), "--scheduler", "local",
-                                       "--work-dir", file("work"), "--jobs", "5"};
+    std::vector<std::string> staged = {
+        "build",       dem(),   "--block-cells", "128",        "-o",     file("staged.tlod"),
+        "--scheduler", "local", "--work-dir",    file("work"), "--jobs", "5"};
     staged.insert(staged.end(), options.begin(), options.end());
     const RunResult r = runTerralod(staged);
     ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -103,13 +103,12 @@ TEST_F(StagedBuild, StageCommandsRecoverFromAWrongHeightEstimate) {
 
 TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
   const std::string work = file("damaged");
-  ASSERT_EQ(runTerralod({"build", dem(), "--no-texture", "-o", file("damaged.tlod"),
-                         "--scheduler", "none", "--work-dir", work, "--jobs", "2"})
+  ASSERT_EQ(runTerralod({"build", dem(), "--no-texture", "-o", file("damaged.tlod"), "--scheduler",
+                         "none", "--work-dir", work, "--jobs", "2"})
                 .exitCode,
             0);
   for (int t = 0; t < 2; ++t)
-    ASSERT_EQ(runTerralod({"build-stage", "pass1", work, "--task", std::to_string(t)}).exitCode,
-              0);
+    ASSERT_EQ(runTerralod({"build-stage", "pass1", work, "--task", std::to_string(t)}).exitCode, 0);
   const std::string victim = work + "/pass1/1.halo";
   const std::string bytes = readWholeFile(victim);
   ASSERT_GT(bytes.size(), 40u);
@@ -126,8 +125,8 @@ TEST_F(StagedBuild, NeverClearsAWorkDirectoryHoldingOtherFiles) {
   const std::string work = file("precious");
   fs::create_directories(work);
   std::ofstream(work + "/notes.txt") << "keep me";
-  const RunResult r = runTerralod({"build", dem(), "-o", file("p.tlod"), "--scheduler", "local",
-                                   "--work-dir", work});
+  const RunResult r = runTerralod(
+      {"build", dem(), "-o", file("p.tlod"), "--scheduler", "local", "--work-dir", work});
   EXPECT_EQ(r.exitCode, 1);
   EXPECT_EQ(r.errLines().size(), 1u) << r.err;
   EXPECT_TRUE(has(r.err, "holds files other than a staged build's")) << r.err;

@@ -1,9 +1,12 @@
 #include "terralod/build/build_stages.h"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -52,6 +55,9 @@ std::string pass2Chunks(const std::string& work, size_t k) {
 }
 std::string pass2Coarse(const std::string& work, size_t k) {
   return blockFile(work, "pass2", k, "coarse");
+}
+std::string pass2Tiles(const std::string& work, size_t k) {
+  return blockFile(work, "pass2", k, "tiles");
 }
 std::string coarsePoints(const std::string& work) {
   return work + "/reduce/coarse.points";
@@ -347,13 +353,31 @@ Status appendChunksFrom(const std::string& path, StageFile kind, std::vector<Nod
 }
 
 // What the coarse stage needs of a block: heights and activations of the points coarse chunks
-// use, and the block node's texture.
+// use, and the block node's texture (its tiles go in a file of their own, read only when the
+// pyramid above needs them).
 struct BlockCoarse {
   std::vector<std::pair<uint64_t, float>> heights;
   std::vector<std::pair<uint64_t, uint8_t>> activations;
-  ChunkTiles tiles;
   std::vector<uint8_t> texture;
 };
+
+std::vector<uint8_t> packTiles(const ChunkTiles& tiles) {
+  Packer p;
+  packLayer(p, tiles.color);
+  packLayer(p, tiles.normal);
+  return std::move(p.bytes());
+}
+
+Result<ChunkTiles> readTiles(const std::string& path) {
+  auto bytes = readStageFile(path, StageFile::kBlockTiles);
+  if (!bytes) return bytes.error();
+  Unpacker u(*bytes);
+  ChunkTiles tiles;
+  tiles.color = unpackLayer(u);
+  tiles.normal = unpackLayer(u);
+  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  return tiles;
+}
 
 std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
   Packer p;
@@ -367,8 +391,6 @@ std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
     p.put(key);
     p.put(a);
   }
-  packLayer(p, c.tiles.color);
-  packLayer(p, c.tiles.normal);
   p.putBytes(c.texture);
   return std::move(p.bytes());
 }
@@ -388,8 +410,6 @@ Result<BlockCoarse> readBlockCoarse(const std::string& path) {
     const uint64_t key = u.get<uint64_t>();
     c.activations.emplace_back(key, u.get<uint8_t>());
   }
-  c.tiles.color = unpackLayer(u);
-  c.tiles.normal = unpackLayer(u);
   c.texture = u.getBytes();
   if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
   return c;
@@ -682,8 +702,12 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
       for (int32_t x = origin.x; x <= origin.x + s.block; ++x)
         if (const uint8_t a = grid.get(x, y); a >= coarse)
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
-    c.tiles = std::move(built->tiles);
     c.texture = std::move(built->blockTexture);
+    if (context.textures)
+      if (Status st =
+              writeStageFile(pass2Tiles(work, k), StageFile::kBlockTiles, packTiles(built->tiles));
+          !st)
+        return st;
     if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
                                    packChunks(built->chunks, nodes));
         !st)
@@ -715,8 +739,7 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   auto reduced = readReduceSummary(work);
   if (!reduced) return reduced.error();
   points->insert(reduced->activations.begin(), reduced->activations.end());
-  std::vector<ChunkTiles> blockTiles(o.textures ? blockNodes.size() : 0);
-  std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
+  std::vector<std::vector<uint8_t>> blockTextures(o.textures ? blockNodes.size() : 0);
   progress.begin("coarse", s.plan.blocks.size() + coarseNodes.size());
   for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
     auto h = readPass1Halo(pass1Halo(work, k));
@@ -726,12 +749,11 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
     if (!c) return c.error();
     heights.recordPoints(c->heights);
     points->insert(c->activations.begin(), c->activations.end());
-    if (o.textures) {
-      blockTiles[k] = std::move(c->tiles);
-      blockTextures[k] = std::move(c->texture);
-    }
+    if (o.textures) blockTextures[k] = std::move(c->texture);
     progress.advance();
   }
+  // The block nodes' tiles are read again when the pyramid above them needs them.
+  const BlockTilesSource blockTiles = [&](size_t k) { return readTiles(pass2Tiles(work, k)); };
   const ActivationGrid grid = ActivationGrid::sparse(points);
   auto image = openImage(o, s.reader->info());
   if (!image) return image.error();
@@ -869,6 +891,7 @@ Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task
   std::error_code ec;
   for (const char* ending : {"ok", "err", "replan"})
     fs::remove(taskStatusPath(work, stage, task, ending), ec);
+  const auto start = std::chrono::steady_clock::now();
   Result<TaskEnd> end = TaskEnd::kDone;
   if (!perJob(stage) && task != 0) {
     end = makeError(planPath(work), std::string("stage ") + stageName(stage) + " has one task, 0");
@@ -889,7 +912,19 @@ Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task
     if (!summary) end = summary.error();
   }
   const std::string ending = !end ? "err" : *end == TaskEnd::kReplanned ? "replan" : "ok";
-  const std::string text = !end ? end.error().message + "\n" : std::string();
+  // The error line, or what the task cost (for the driver's figures).
+  std::string text;
+  if (!end) {
+    text = end.error().message + "\n";
+  } else {
+    rusage usage{};
+    ::getrusage(RUSAGE_SELF, &usage);
+    char figures[96];
+    std::snprintf(figures, sizeof figures, "seconds %.3f peak_rss_mb %.1f\n",
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                  double(usage.ru_maxrss) / 1024.0);
+    text = figures;
+  }
   if (Status st = writeText(taskStatusPath(work, stage, task, ending), text); !st && end)
     return st.error();
   return end;

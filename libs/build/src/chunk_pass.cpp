@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <limits>
 #include <mutex>
 #include <optional>
@@ -180,7 +181,7 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
 
 Result<std::vector<BuiltChunk>> buildCoarseChunks(
     const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
-    const std::vector<uint32_t>& blockNodes, std::vector<ChunkTiles>& blockTiles,
+    const std::vector<uint32_t>& blockNodes, const BlockTilesSource& blockTiles,
     std::vector<std::vector<uint8_t>>& blockTextures,
     std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress) {
   std::vector<NodeRecord>& nodes = context.nodes;
@@ -205,35 +206,45 @@ Result<std::vector<BuiltChunk>> buildCoarseChunks(
   });
   if (failure) return *failure;
   if (!context.textures) return out;
-  // Level by level up from the block level, each from its children's tiles.
   const TexturePass& texturePass = *context.textures;
-  std::unordered_map<uint32_t, ChunkTiles> tiles;
-  for (size_t t = 0; t < blockNodes.size(); ++t)
-    tiles.emplace(blockNodes[t], std::move(blockTiles[t]));
-  std::unordered_map<uint32_t, size_t> coarseIndex;
+  std::unordered_map<uint32_t, size_t> coarseIndex, blockIndex;
   for (size_t k = 0; k < coarseNodes.size(); ++k) coarseIndex.emplace(coarseNodes[k], k);
-  for (size_t t = 0; t < blockNodes.size(); ++t)
+  for (size_t t = 0; t < blockNodes.size(); ++t) {
+    blockIndex.emplace(blockNodes[t], t);
     out[coarseIndex.at(blockNodes[t])].texture = std::move(blockTextures[t]);
-  const int32_t blockLevel = blockNodes.empty() ? 0 : nodes[blockNodes[0]].level;
-  for (int32_t level = blockLevel - 1; level >= 0; --level) {
-    std::vector<uint32_t> atLevel;
-    for (uint32_t i : coarseNodes)
-      if (nodes[i].level == level) atLevel.push_back(i);
-    std::vector<ChunkTiles> made(atLevel.size());
-    parallelFor(atLevel.size(), threads, [&](size_t k, unsigned) {
-      const NodeRecord& n = nodes[atLevel[k]];
-      std::array<const ChunkTiles*, 4> children{};
-      uint32_t c = n.firstChild;
-      for (int q = 0; q < 4; ++q)
-        if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);
-      made[k] = texturePass.fromChildren(atLevel[k], children);
-      out[coarseIndex.at(atLevel[k])].texture = texturePass.encode(atLevel[k], made[k]);
-    });
-    for (uint32_t i : atLevel)
-      for (uint32_t j = 0; j < uint32_t(std::popcount(unsigned(nodes[i].childMask))); ++j)
-        tiles.erase(nodes[i].firstChild + j);
-    for (size_t k = 0; k < atLevel.size(); ++k) tiles.emplace(atLevel[k], std::move(made[k]));
   }
+  // Depth first: a node's tiles from its children's, which are dropped once it has them. The
+  // roots' children go to the threads; below them each subtree is one thread's.
+  std::function<Result<ChunkTiles>(uint32_t, bool)> tilesOf =
+      [&](uint32_t node, bool split) -> Result<ChunkTiles> {
+    if (const auto b = blockIndex.find(node); b != blockIndex.end()) return blockTiles(b->second);
+    const NodeRecord& n = nodes[node];
+    std::array<std::optional<Result<ChunkTiles>>, 4> children;
+    std::array<uint32_t, 4> childNode{};
+    size_t count = 0;
+    for (int q = 0; q < 4; ++q)
+      if (n.childMask & (1u << q)) childNode[size_t(q)] = n.firstChild + uint32_t(count++);
+    auto one = [&](size_t q) { children[q] = tilesOf(childNode[q], false); };
+    std::vector<size_t> present;
+    for (size_t q = 0; q < 4; ++q)
+      if (n.childMask & (1u << q)) present.push_back(q);
+    if (split) {
+      parallelFor(present.size(), threads, [&](size_t i, unsigned) { one(present[i]); });
+    } else {
+      for (size_t q : present) one(q);
+    }
+    std::array<const ChunkTiles*, 4> pointers{};
+    for (size_t q : present) {
+      if (!*children[q]) return children[q]->error();
+      pointers[q] = &children[q]->value();
+    }
+    ChunkTiles made = texturePass.fromChildren(node, pointers);
+    out[coarseIndex.at(node)].texture = texturePass.encode(node, made);
+    return made;
+  };
+  for (uint32_t i : coarseNodes)
+    if (nodes[i].level == 0 && !blockIndex.count(i))
+      if (auto root = tilesOf(i, true); !root) return root.error();
   return out;
 }
 
@@ -261,6 +272,9 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
                            texturePass.get()};
   // Block nodes' texture tiles, kept for the coarser levels' textures.
   std::vector<ChunkTiles> blockTiles(options.textures ? blockNodes.size() : 0);
+  const BlockTilesSource heldTiles = [&](size_t t) -> Result<ChunkTiles> {
+    return std::move(blockTiles[t]);
+  };
   std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
 
   // Blobs go to the file in task order whatever order tasks finish in.
@@ -319,7 +333,7 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   if (failure) return *failure;
 
   for (auto& m : meshers) m->setHeights(coarseHeights);
-  auto coarse = buildCoarseChunks(context, coarseNodes, blockNodes, blockTiles, blockTextures,
+  auto coarse = buildCoarseChunks(context, coarseNodes, blockNodes, heldTiles, blockTextures,
                                   meshers, progress);
   if (!coarse) return coarse.error();
   for (const BuiltChunk& chunk : *coarse)

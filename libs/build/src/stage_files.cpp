@@ -3,7 +3,6 @@
 #include <zstd.h>
 
 #include <fstream>
-#include <iterator>
 
 #include "terralod/core/atomic_file.h"
 #include "terralod/format/tileset_format.h"
@@ -17,10 +16,16 @@ constexpr size_t kStageHeaderBytes = 8 + 4 + 8 + 8 + 4;
 }  // namespace
 
 Status writeStageFile(const std::string& path, StageFile kind, std::span<const uint8_t> payload) {
-  std::vector<uint8_t> packed(ZSTD_compressBound(payload.size()));
-  const size_t n = ZSTD_compress(packed.data(), packed.size(), payload.data(), payload.size(), 1);
-  if (ZSTD_isError(n)) return makeError(path, std::string("zstd: ") + ZSTD_getErrorName(n));
-  packed.resize(n);
+  std::vector<uint8_t> compressed;
+  std::span<const uint8_t> packed = payload;
+  if (!storedRaw(kind)) {
+    compressed.resize(ZSTD_compressBound(payload.size()));
+    const size_t n =
+        ZSTD_compress(compressed.data(), compressed.size(), payload.data(), payload.size(), 1);
+    if (ZSTD_isError(n)) return makeError(path, std::string("zstd: ") + ZSTD_getErrorName(n));
+    compressed.resize(n);
+    packed = compressed;
+  }
   std::vector<uint8_t> header(kStageHeaderBytes);
   ByteWriter w(header.data());
   w.putBytes(kStageMagic, sizeof kStageMagic);
@@ -36,10 +41,12 @@ Status writeStageFile(const std::string& path, StageFile kind, std::span<const u
 }
 
 Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile kind) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return makeError(path, "missing (the stage that writes it has not run, or failed)");
-  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                   std::istreambuf_iterator<char>());
+  std::vector<uint8_t> bytes(size_t(in.tellg()));
+  in.seekg(0);
+  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
+    return makeError(path, "cannot be read");
   if (bytes.size() < kStageHeaderBytes ||
       std::memcmp(bytes.data(), kStageMagic, sizeof kStageMagic) != 0)
     return makeError(path, "not a terralod stage file");
@@ -53,6 +60,11 @@ Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile ki
   const std::span<const uint8_t> packed = std::span(bytes).subspan(kStageHeaderBytes);
   if (packed.size() != packedBytes || crc32Of(packed) != crc)
     return makeError(path, "damaged (size or checksum does not match)");
+  if (storedRaw(kind)) {
+    if (rawBytes != packedBytes) return makeError(path, "damaged (sizes do not match)");
+    bytes.erase(bytes.begin(), bytes.begin() + ptrdiff_t(kStageHeaderBytes));
+    return bytes;
+  }
   std::vector<uint8_t> payload(rawBytes);
   const size_t n = ZSTD_decompress(payload.data(), payload.size(), packed.data(), packed.size());
   if (ZSTD_isError(n) || n != rawBytes) return makeError(path, "damaged (does not decompress)");

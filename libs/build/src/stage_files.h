@@ -5,6 +5,7 @@
 // mid-write, a full disk or a file from another build must still be told apart from a good
 // one: files are written atomically and checked on reading.
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -22,8 +23,14 @@ enum class StageFile : uint32_t {
   kReduced = 3,       ///< a block's finished halo values
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
   kBlockCoarse = 5,   ///< what the coarse levels need of a block (points, block-node texture)
-  kChunks = 6,        ///< built chunks with their node records
+  kChunks = 6,        ///< built chunks with their node records (stored as they are)
+  kBlockTiles = 7,    ///< a block node's float texture tiles (stored as they are)
 };
+
+/// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
+inline bool storedRaw(StageFile kind) {
+  return kind == StageFile::kChunks || kind == StageFile::kBlockTiles;
+}
 
 /// Growable little-endian writer.
 class Packer {
@@ -41,7 +48,14 @@ class Packer {
   template <typename T>
   void putArray(const std::vector<T>& values) {
     put<uint64_t>(values.size());
-    for (const T& v : values) put(v);
+    if constexpr (std::endian::native == std::endian::little) {
+      const size_t at = mBytes.size();
+      mBytes.resize(at + values.size() * sizeof(T));
+      if (!values.empty())
+        std::memcpy(mBytes.data() + at, values.data(), values.size() * sizeof(T));
+    } else {
+      for (const T& v : values) put(v);
+    }
   }
   std::vector<uint8_t>& bytes() { return mBytes; }
 
@@ -82,7 +96,12 @@ class Unpacker {
       return {};
     }
     std::vector<T> out(n);
-    for (T& v : out) v = get<T>();
+    if constexpr (std::endian::native == std::endian::little) {
+      if (n) std::memcpy(out.data(), mBytes.data() + mPos, n * sizeof(T));
+      mPos += n * sizeof(T);
+    } else {
+      for (T& v : out) v = get<T>();
+    }
     return out;
   }
   bool ok() const { return mOk; }

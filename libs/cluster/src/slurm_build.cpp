@@ -1,6 +1,8 @@
 #include "terralod/cluster/slurm_build.h"
 
+#include <array>
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -122,8 +124,10 @@ class SlurmDriver {
           fs::remove(taskStatusPath(mOptions.work, s.stage, index, "replan"), ec);
           return submitFrom(0);
         }
-        if (fs::exists(taskStatusPath(mOptions.work, s.stage, index, "ok"))) {
+        if (const std::string ok = taskStatusPath(mOptions.work, s.stage, index, "ok");
+            fs::exists(ok)) {
           task.done = true;
+          record(s.stage, readText(ok));
           mProgress.advance();
           continue;
         }
@@ -187,18 +191,37 @@ class SlurmDriver {
   }
   void cancelAll() { cancelStages(0); }
 
+  // "seconds S peak_rss_mb M" from a task's .ok file.
+  void record(BuildStage stage, const std::string& text) {
+    double seconds = 0, rss = 0;
+    std::sscanf(text.c_str(), "seconds %lf peak_rss_mb %lf", &seconds, &rss);
+    StageFigures& f = mFigures[size_t(stage)];
+    f.stage = stage;
+    ++f.tasks;
+    f.maxSeconds = std::max(f.maxSeconds, seconds);
+    f.totalSeconds += seconds;
+    f.maxRssMB = std::max(f.maxRssMB, rss);
+  }
+
+ public:
+  std::vector<StageFigures> figures() const {
+    return std::vector<StageFigures>(mFigures.begin(), mFigures.end());
+  }
+
+ private:
   const SlurmBuildOptions& mOptions;
   int mJobs;
   Progress& mProgress;
   const Warn& mWarn;
   std::vector<StageJobs> mStages;
   bool mReplanned = false;
+  std::array<StageFigures, std::size(kJobStages)> mFigures{};
 };
 
 }  // namespace
 
-Result<BuildSummary> buildOnSlurm(const BuildOptions& options, const SlurmBuildOptions& slurm,
-                                  Progress& progress, const Warn& warn) {
+Result<SlurmBuildResult> buildOnSlurm(const BuildOptions& options, const SlurmBuildOptions& slurm,
+                                      Progress& progress, const Warn& warn) {
   const auto start = std::chrono::steady_clock::now();
   SlurmBuildOptions absolute = slurm;
   absolute.work = fs::absolute(slurm.work).lexically_normal().string();
@@ -228,7 +251,7 @@ Result<BuildSummary> buildOnSlurm(const BuildOptions& options, const SlurmBuildO
   summary.streamed = true;
   summary.totalSeconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return summary;
+  return SlurmBuildResult{summary, driver.figures()};
 }
 
 }  // namespace terralod

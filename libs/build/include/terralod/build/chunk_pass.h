@@ -7,6 +7,7 @@
 // that are either the whole raster (when it is in memory) or the SparseHeights recorded by the
 // blocks. Blobs are written in a fixed order, so the file does not depend on thread timing.
 
+#include <functional>
 #include <memory>
 #include <span>
 #include <utility>
@@ -77,12 +78,17 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
                                      const ActivationGrid& grid, HeightWindows& windows,
                                      unsigned worker);
 
+/// A block node's texture tiles, by its index in blockNodesOf order (each asked for once).
+using BlockTilesSource = std::function<Result<ChunkTiles>(size_t block)>;
+
 /// Builds every chunk at the block level and above (`coarseNodes`, in that order), with one
-/// mesher per thread over the coarse heights; `blockTiles` and `blockTextures` are the block
-/// nodes' (in blockNodesOf order; consumed). Returns the chunks in `coarseNodes` order.
+/// mesher per thread over the coarse heights; `blockTextures` are the block nodes' texture
+/// blobs (in blockNodesOf order; consumed). Textures above the block level are built from the
+/// leaves up, each subtree depth first, so only a few levels' tiles are held at once. Returns
+/// the chunks in `coarseNodes` order.
 Result<std::vector<BuiltChunk>> buildCoarseChunks(
     const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
-    const std::vector<uint32_t>& blockNodes, std::vector<ChunkTiles>& blockTiles,
+    const std::vector<uint32_t>& blockNodes, const BlockTilesSource& blockTiles,
     std::vector<std::vector<uint8_t>>& blockTextures,
     std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress);
 

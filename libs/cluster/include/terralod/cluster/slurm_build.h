@@ -32,7 +32,20 @@ struct SlurmBuildOptions {
   double pollSeconds = 0.5;
 };
 
-Result<BuildSummary> buildOnSlurm(const BuildOptions& options, const SlurmBuildOptions& slurm,
-                                  Progress& progress, const Warn& warn);
+/// What one stage's tasks cost, as each task measured itself (wall from start to its end,
+/// its process's peak resident memory).
+struct StageFigures {
+  BuildStage stage = BuildStage::kPass1;
+  int tasks = 0;
+  double maxSeconds = 0, totalSeconds = 0, maxRssMB = 0;
+};
+
+struct SlurmBuildResult {
+  BuildSummary summary;
+  std::vector<StageFigures> stages;  ///< in stage order
+};
+
+Result<SlurmBuildResult> buildOnSlurm(const BuildOptions& options, const SlurmBuildOptions& slurm,
+                                      Progress& progress, const Warn& warn);
 
 }  // namespace terralod
