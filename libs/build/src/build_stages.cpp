@@ -253,7 +253,7 @@ std::vector<uint8_t> packPass1Halo(const Pass1Halo& h) {
 Result<Pass1Halo> readPass1Halo(const std::string& path) {
   auto bytes = readStageFile(path, StageFile::kPass1Halo);
   if (!bytes) return bytes.error();
-  Unpacker u(*bytes);
+  Unpacker u(bytes->bytes());
   Pass1Halo h;
   h.minHeight = u.get<double>();
   h.maxHeight = u.get<double>();
@@ -310,6 +310,10 @@ LayerLevels unpackLayer(Unpacker& u) {
 std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
                                 const std::vector<NodeRecord>& nodes) {
   Packer p;
+  size_t bytes = 8;
+  for (const BuiltChunk& c : chunks)
+    bytes += 4 + 3 * 8 + kNodeRecordBytes + c.blob.size() + c.texture.size();
+  p.reserve(bytes);
   p.put(uint64_t(chunks.size()));
   for (const BuiltChunk& c : chunks) {
     p.put(c.node);
@@ -327,12 +331,12 @@ Status appendChunksFrom(const std::string& path, StageFile kind, std::vector<Nod
                         TilesetWriter& writer) {
   auto bytes = readStageFile(path, kind);
   if (!bytes) return bytes.error();
-  Unpacker u(*bytes);
+  Unpacker u(bytes->bytes());
   const uint64_t count = u.get<uint64_t>();
   for (uint64_t i = 0; u.ok() && i < count; ++i) {
     const uint32_t node = u.get<uint32_t>();
-    const std::vector<uint8_t> record = u.getBytes();
-    const std::vector<uint8_t> blob = u.getBytes(), texture = u.getBytes();
+    const std::span<const uint8_t> record = u.getView();
+    const std::span<const uint8_t> blob = u.getView(), texture = u.getView();
     if (!u.ok() || node >= nodes.size() || record.size() != kNodeRecordBytes) break;
     const NodeRecord built = parseNode(record.data(), 2);
     NodeRecord& n = nodes[node];
@@ -363,6 +367,13 @@ struct BlockCoarse {
 
 std::vector<uint8_t> packTiles(const ChunkTiles& tiles) {
   Packer p;
+  size_t bytes = 0;
+  for (const LayerLevels* l : {&tiles.color, &tiles.normal}) {
+    bytes += 16;
+    for (const TexelTile& t : l->levels) bytes += 16 + t.values.size() * sizeof(float);
+    for (const auto& b : l->blocks) bytes += 8 + b.size();
+  }
+  p.reserve(bytes);
   packLayer(p, tiles.color);
   packLayer(p, tiles.normal);
   return std::move(p.bytes());
@@ -371,7 +382,7 @@ std::vector<uint8_t> packTiles(const ChunkTiles& tiles) {
 Result<ChunkTiles> readTiles(const std::string& path) {
   auto bytes = readStageFile(path, StageFile::kBlockTiles);
   if (!bytes) return bytes.error();
-  Unpacker u(*bytes);
+  Unpacker u(bytes->bytes());
   ChunkTiles tiles;
   tiles.color = unpackLayer(u);
   tiles.normal = unpackLayer(u);
@@ -398,7 +409,7 @@ std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
 Result<BlockCoarse> readBlockCoarse(const std::string& path) {
   auto bytes = readStageFile(path, StageFile::kBlockCoarse);
   if (!bytes) return bytes.error();
-  Unpacker u(*bytes);
+  Unpacker u(bytes->bytes());
   BlockCoarse c;
   const uint64_t heights = u.get<uint64_t>();
   for (uint64_t i = 0; u.ok() && i < heights; ++i) {
@@ -423,7 +434,7 @@ struct ReduceSummary {
 Result<ReduceSummary> readReduceSummary(const std::string& work) {
   auto bytes = readStageFile(coarsePoints(work), StageFile::kCoarsePoints);
   if (!bytes) return bytes.error();
-  Unpacker u(*bytes);
+  Unpacker u(bytes->bytes());
   ReduceSummary r;
   r.zMin = u.get<double>();
   r.zMax = u.get<double>();
@@ -678,15 +689,15 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     ActivationGrid grid = ActivationGrid::window(origin.x, origin.y, s.block, s.block);
     auto nibbles = readStageFile(pass1Grid(work, k), StageFile::kPass1Grid);
     if (!nibbles) return nibbles.error();
-    if (nibbles->size() != grid.nibbles().size())
+    if (nibbles->bytes().size() != grid.nibbles().size())
       return makeError(pass1Grid(work, k), "was written for another block layout");
-    grid.nibbles() = std::move(nibbles).value();
+    std::copy(nibbles->bytes().begin(), nibbles->bytes().end(), grid.nibbles().begin());
     auto reduced = readStageFile(reducedHalo(work, k), StageFile::kReduced);
     if (!reduced) return reduced.error();
     const HaloPattern halo = haloOf(s.layout, origin, s.block);
-    if (reduced->size() != halo.points.size())
+    if (reduced->bytes().size() != halo.points.size())
       return makeError(reducedHalo(work, k), "was written for another block layout");
-    applyHalo(grid, halo, *reduced);
+    applyHalo(grid, halo, {reduced->bytes().begin(), reduced->bytes().end()});
     heights[w].resize(size_t(s.block + 1) * (s.block + 1));
     if (Status st =
             windows.read(origin.x, origin.y, s.block + 1, s.block + 1, heights[w].data(), w);

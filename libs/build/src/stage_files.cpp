@@ -37,38 +37,39 @@ Status writeStageFile(const std::string& path, StageFile kind, std::span<const u
   if (!file) return file.error();
   if (Status s = file->write(header); !s) return s;
   if (Status s = file->write(packed); !s) return s;
-  return file->commit();
+  // Atomic, not synced: a file lost with its node is made again by the task that wrote it, and
+  // one damaged is refused (CRC) rather than read.
+  return file->commit(AtomicFile::Durability::kUnsynced);
 }
 
-Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile kind) {
+Result<StagePayload> readStageFile(const std::string& path, StageFile kind) {
   std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return makeError(path, "missing (the stage that writes it has not run, or failed)");
-  std::vector<uint8_t> bytes(size_t(in.tellg()));
+  const size_t fileBytes = size_t(in.tellg());
   in.seekg(0);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), std::streamsize(bytes.size())))
-    return makeError(path, "cannot be read");
-  if (bytes.size() < kStageHeaderBytes ||
-      std::memcmp(bytes.data(), kStageMagic, sizeof kStageMagic) != 0)
+  uint8_t header[kStageHeaderBytes];
+  if (fileBytes < kStageHeaderBytes || !in.read(reinterpret_cast<char*>(header), sizeof header) ||
+      std::memcmp(header, kStageMagic, sizeof kStageMagic) != 0)
     return makeError(path, "not a terralod stage file");
-  ByteReader r(bytes.data() + sizeof kStageMagic);
+  ByteReader r(header + sizeof kStageMagic);
   const uint32_t fileKind = r.get<uint32_t>();
   const uint64_t rawBytes = r.get<uint64_t>(), packedBytes = r.get<uint64_t>();
   const uint32_t crc = r.get<uint32_t>();
   if (fileKind != uint32_t(kind))
     return makeError(path, "is a stage file of another kind (" + std::to_string(fileKind) +
                                ", expected " + std::to_string(uint32_t(kind)) + ")");
-  const std::span<const uint8_t> packed = std::span(bytes).subspan(kStageHeaderBytes);
-  if (packed.size() != packedBytes || crc32Of(packed) != crc)
+  if (fileBytes - kStageHeaderBytes != packedBytes || (storedRaw(kind) && rawBytes != packedBytes))
     return makeError(path, "damaged (size or checksum does not match)");
-  if (storedRaw(kind)) {
-    if (rawBytes != packedBytes) return makeError(path, "damaged (sizes do not match)");
-    bytes.erase(bytes.begin(), bytes.begin() + ptrdiff_t(kStageHeaderBytes));
-    return bytes;
-  }
-  std::vector<uint8_t> payload(rawBytes);
-  const size_t n = ZSTD_decompress(payload.data(), payload.size(), packed.data(), packed.size());
+  auto packed = std::make_unique_for_overwrite<uint8_t[]>(packedBytes);
+  if (!in.read(reinterpret_cast<char*>(packed.get()), std::streamsize(packedBytes)))
+    return makeError(path, "cannot be read");
+  if (crc32Of({packed.get(), packedBytes}) != crc)
+    return makeError(path, "damaged (size or checksum does not match)");
+  if (storedRaw(kind)) return StagePayload(std::move(packed), packedBytes);
+  auto payload = std::make_unique_for_overwrite<uint8_t[]>(rawBytes);
+  const size_t n = ZSTD_decompress(payload.get(), rawBytes, packed.get(), packedBytes);
   if (ZSTD_isError(n) || n != rawBytes) return makeError(path, "damaged (does not decompress)");
-  return payload;
+  return StagePayload(std::move(payload), rawBytes);
 }
 
 }  // namespace terralod

@@ -8,6 +8,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -49,14 +50,14 @@ class Packer {
   void putArray(const std::vector<T>& values) {
     put<uint64_t>(values.size());
     if constexpr (std::endian::native == std::endian::little) {
-      const size_t at = mBytes.size();
-      mBytes.resize(at + values.size() * sizeof(T));
-      if (!values.empty())
-        std::memcpy(mBytes.data() + at, values.data(), values.size() * sizeof(T));
+      const auto* first = reinterpret_cast<const uint8_t*>(values.data());
+      mBytes.insert(mBytes.end(), first, first + values.size() * sizeof(T));
     } else {
       for (const T& v : values) put(v);
     }
   }
+  /// Room for `bytes` more, so that large payloads are not moved as they grow.
+  void reserve(size_t bytes) { mBytes.reserve(mBytes.size() + bytes); }
   std::vector<uint8_t>& bytes() { return mBytes; }
 
  private:
@@ -77,16 +78,20 @@ class Unpacker {
     mPos += sizeof(T);
     return r.get<T>();
   }
-  std::vector<uint8_t> getBytes() {
+  /// A byte string, viewed in place (valid while the payload is).
+  std::span<const uint8_t> getView() {
     const uint64_t n = get<uint64_t>();
     if (!mOk || mBytes.size() - mPos < n) {
       mOk = false;
       return {};
     }
-    std::vector<uint8_t> out(mBytes.begin() + ptrdiff_t(mPos),
-                             mBytes.begin() + ptrdiff_t(mPos + n));
+    const std::span<const uint8_t> out = mBytes.subspan(mPos, n);
     mPos += n;
     return out;
+  }
+  std::vector<uint8_t> getBytes() {
+    const std::span<const uint8_t> view = getView();
+    return std::vector<uint8_t>(view.begin(), view.end());
   }
   template <typename T>
   std::vector<T> getArray() {
@@ -114,7 +119,20 @@ class Unpacker {
 };
 
 Status writeStageFile(const std::string& path, StageFile kind, std::span<const uint8_t> payload);
-/// The payload; errors name the file ("missing", "not a stage file", "damaged").
-Result<std::vector<uint8_t>> readStageFile(const std::string& path, StageFile kind);
+
+/// A stage file's payload (read without first zeroing a buffer its size: these are gigabytes).
+class StagePayload {
+ public:
+  StagePayload(std::unique_ptr<uint8_t[]> data, size_t size)
+      : mData(std::move(data)), mSize(size) {}
+  std::span<const uint8_t> bytes() const { return {mData.get(), mSize}; }
+
+ private:
+  std::unique_ptr<uint8_t[]> mData;
+  size_t mSize;
+};
+
+/// Errors name the file ("missing", "not a stage file", "damaged").
+Result<StagePayload> readStageFile(const std::string& path, StageFile kind);
 
 }  // namespace terralod

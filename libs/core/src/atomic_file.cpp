@@ -107,9 +107,9 @@ Status AtomicFile::writeAt(uint64_t offset, std::span<const uint8_t> bytes) {
   return {};
 }
 
-Status AtomicFile::commit() {
+Status AtomicFile::commit(Durability durability) {
   if (Status s = flush(); !s) return s;
-  if (::fsync(mFd) != 0)
+  if (durability == Durability::kSynced && ::fsync(mFd) != 0)
     return makeError(mPath, std::string("sync failed: ") + std::strerror(errno));
   if (mTempPath.empty()) {
     if (Status s = linkIntoPlace(); !s) return s;
@@ -119,6 +119,7 @@ Status AtomicFile::commit() {
   ::close(mFd);
   mFd = -1;
   mCommitted = true;
+  if (durability == Durability::kUnsynced) return {};
   // The new name is durable once the directory is synced; a failure here loses nothing.
   const std::filesystem::path parent = std::filesystem::path(mPath).parent_path();
   const int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY);

@@ -44,9 +44,13 @@ class AtomicFile {
   /// Overwrites bytes already written, at `offset` (e.g. a header filled in last). Not
   /// thread-safe.
   Status writeAt(uint64_t offset, std::span<const uint8_t> bytes);
-  /// Flushes, syncs and puts the file in place, then syncs the directory so that survives a
-  /// crash. Call once, after the last write.
-  Status commit();
+  /// kSynced: the file and its name survive a crash once commit() returns. kUnsynced: only
+  /// atomic (the name appears with the whole file), for files that are checked on reading and
+  /// made again when lost (a staged build's hand-overs between jobs); skips two fsyncs.
+  enum class Durability { kSynced, kUnsynced };
+  /// Flushes, (syncs) and puts the file in place, then (syncs) the directory. Call once, after
+  /// the last write.
+  Status commit(Durability durability = Durability::kSynced);
 
   const std::string& path() const { return mPath; }
   uint64_t bytesWritten() const { return mBytes; }
