@@ -97,7 +97,7 @@ Status writeText(const std::string& path, const std::string& text) {
 
 // ---- What every stage derives from the plan ------------------------------------------------
 
-struct Stage {
+struct StageContext {
   BuildPlan plan;
   std::unique_ptr<DemReader> reader;
   TreeLayout layout;
@@ -120,8 +120,8 @@ Result<BuildPlan> readPlan(const std::string& work) {
   return parseBuildPlan(text.str(), planPath(work));
 }
 
-Result<Stage> loadStage(const std::string& work) {
-  Stage s;
+Result<StageContext> loadStage(const std::string& work) {
+  StageContext s;
   auto plan = readPlan(work);
   if (!plan) return plan.error();
   s.plan = std::move(plan).value();
@@ -150,7 +150,7 @@ Result<Stage> loadStage(const std::string& work) {
   return s;
 }
 
-Status checkJob(const Stage& s, int job, const std::string& work) {
+Status checkJob(const StageContext& s, int job, const std::string& work) {
   if (job < 0 || job >= s.plan.jobs)
     return makeError(planPath(work), "has jobs 0.." + std::to_string(s.plan.jobs - 1) + ", not " +
                                          std::to_string(job));
@@ -459,6 +459,42 @@ class NoHeights final : public HeightSampler {
   double at(int32_t, int32_t) const override { return std::nan(""); }
 };
 
+Status checkWorkDirectory(const std::string& work) {
+  if (fs::exists(work) && !fs::is_directory(work))
+    return makeError(work, "is not a directory (the work directory of a staged build)");
+  if (fs::is_directory(work) && !holdsOnlyStageFiles(work))
+    return makeError(work,
+                     "holds files other than a staged build's: give an empty or new directory");
+  return {};
+}
+
+const char* const kVoidsRefused =
+    "has voids; a staged build needs them filled first (e.g. with gdal_fillnodata), or build "
+    "it on one machine";
+
+// The data's height range, read in strips of about 16 MB (what a local build that reads the
+// raster whole makes its budget from).
+Result<std::array<double, 2>> exactHeightRange(const DemReader& reader, Progress& progress) {
+  const DemInfo& info = reader.info();
+  const int32_t strip = std::max(1, int32_t((uint64_t{16} << 20) / (uint64_t(info.columns) * 4)));
+  std::vector<float> rows;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  progress.begin("range", size_t((info.rows + strip - 1) / strip));
+  for (int32_t y = 0; y < info.rows; y += strip) {
+    const int32_t h = std::min(strip, info.rows - y);
+    rows.resize(size_t(h) * info.columns);
+    if (Status s = reader.readWindow(0, y, info.columns, h, rows.data()); !s) return s.error();
+    for (float v : rows) {
+      if (std::isnan(v)) return makeError(info.path, kVoidsRefused);
+      lo = std::min(lo, double(v));
+      hi = std::max(hi, double(v));
+    }
+    progress.advance();
+  }
+  progress.end();
+  return std::array<double, 2>{lo, hi};
+}
+
 std::string absolute(const std::string& path) {
   if (path.empty() || path.find("://") != std::string::npos || path.rfind("/vsi", 0) == 0)
     return path;
@@ -490,45 +526,18 @@ Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work
   if (auto image = openImage(plan.options, info); !image) return image.error();
   // Fail on an unwritable output before any job runs.
   if (auto writer = TilesetWriter::create(plan.options.output); !writer) return writer.error();
-  if (fs::exists(work) && !fs::is_directory(work))
-    return makeError(work, "is not a directory (the work directory of a staged build)");
-  if (fs::is_directory(work) && !holdsOnlyStageFiles(work))
-    return makeError(work,
-                     "holds files other than a staged build's: give an empty or new directory");
+  if (Status s = checkWorkDirectory(work); !s) return s.error();
 
   plan.blockCells = std::clamp(options.blockCells, layout->leafCells, layout->rootCells);
-  plan.jobs = jobs;
   // The budget's height range as a local build would take it: the data's own when it would
   // read the raster whole (read here, in strips), else the estimate a streamed build starts
   // from.
   plan.exactRange = !streamsInput(options, info);
-  if (plan.exactRange) {
-    const int32_t strip = std::max(1, int32_t((uint64_t{16} << 20) / (uint64_t(info.columns) * 4)));
-    std::vector<float> rows;
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    progress.begin("range", size_t((info.rows + strip - 1) / strip));
-    for (int32_t y = 0; y < info.rows; y += strip) {
-      const int32_t h = std::min(strip, info.rows - y);
-      rows.resize(size_t(h) * info.columns);
-      if (Status s = reader.readWindow(0, y, info.columns, h, rows.data()); !s) return s.error();
-      for (float v : rows) {
-        if (std::isnan(v))
-          return makeError(info.path,
-                           "has voids; a staged build needs them filled first (e.g. with "
-                           "gdal_fillnodata), or build it on one machine");
-        lo = std::min(lo, double(v));
-        hi = std::max(hi, double(v));
-      }
-      progress.advance();
-    }
-    progress.end();
-    plan.heightLo = lo;
-    plan.heightHi = hi;
-  } else {
-    const auto guess = guessHeightRange(reader);
-    plan.heightLo = guess[0];
-    plan.heightHi = guess[1];
-  }
+  auto range = plan.exactRange ? exactHeightRange(reader, progress)
+                               : Result<std::array<double, 2>>(guessHeightRange(reader));
+  if (!range) return range.error();
+  plan.heightLo = (*range)[0];
+  plan.heightHi = (*range)[1];
   if (auto budget = makeErrorBudget(*layout, options.maxError, plan.heightHi - plan.heightLo);
       !budget)
     return makeError(info.path, budget.error().message);
@@ -547,7 +556,7 @@ Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work
 Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  const Stage& s = *stage;
+  const StageContext& s = *stage;
   if (Status st = checkJob(s, job, work); !st) return st;
   threads = std::max(1u, threads);
   DemWindows windows(*s.reader, threads, nullptr);
@@ -586,7 +595,7 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
 Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  const Stage& s = *stage;
+  const StageContext& s = *stage;
   HaloStore store(s.layout, s.block);
   SparseHeights lines(s.layout, s.block);
   std::vector<BlockSquare> squares(store.blockCount());
@@ -595,10 +604,7 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
   for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
     auto h = readPass1Halo(pass1Halo(work, k));
     if (!h) return h.error();
-    if (h->sawVoid)
-      return makeError(s.plan.options.input,
-                       "has voids; a staged build needs them filled first (e.g. with "
-                       "gdal_fillnodata), or build it on one machine");
+    if (h->sawVoid) return makeError(s.plan.options.input, kVoidsRefused);
     const size_t b = s.gridBlock(k);
     if (h->halo.size() != store.values(b).size())
       return makeError(pass1Halo(work, k), "was written for another block layout");
@@ -661,7 +667,7 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
 Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  const Stage& s = *stage;
+  const StageContext& s = *stage;
   if (Status st = checkJob(s, job, work); !st) return st;
   threads = std::max(1u, threads);
   const BuildOptions& o = s.plan.options;
@@ -737,7 +743,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
 Status coarseStage(const std::string& work, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  const Stage& s = *stage;
+  const StageContext& s = *stage;
   threads = std::max(1u, threads);
   const BuildOptions& o = s.plan.options;
   std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
@@ -791,7 +797,7 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
 Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  const Stage& s = *stage;
+  const StageContext& s = *stage;
   const BuildOptions& o = s.plan.options;
   const DemInfo& info = s.reader->info();
   auto reduced = readReduceSummary(work);

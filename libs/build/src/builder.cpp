@@ -67,6 +67,121 @@ Status loadIntoMemory(const DemReader& reader, Progress& progress, HeightPlan& p
   return {};
 }
 
+// What the build works from once the request has been checked.
+struct LocalBuild {
+  std::unique_ptr<DemReader> reader;
+  TreeLayout layout;
+  std::unique_ptr<ImageDrape> image;  // null: the generated colour (or no textures)
+  std::unique_ptr<TilesetWriter> writer;
+  unsigned threads = 1;
+  int32_t block = 512;
+  bool fitsMemory = false;
+};
+
+// Opens the DEM and the draped image and creates the output, so that every problem with the
+// request is reported before any work.
+Result<LocalBuild> openBuild(const BuildOptions& options, BuildSummary& summary) {
+  LocalBuild b;
+  auto opened = DemReader::open(options.input, options.dem);
+  if (!opened) return opened.error();
+  b.reader = std::move(opened).value();
+  const DemInfo& info = b.reader->info();
+  summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
+  b.threads = options.threads ? options.threads : hardwareThreads();
+  auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
+  if (!layout) return layout.error();
+  b.layout = *layout;
+  b.block = std::clamp(options.blockCells, b.layout.leafCells, b.layout.rootCells);
+  if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
+    return Error{"--min-tau must be a positive number of pixels"};
+  // A draped image is checked (readable, georeferenced, overlapping) before any work.
+  if (options.textures && !options.textureImage.empty()) {
+    auto drape = ImageDrape::open(options.textureImage, info);
+    if (!drape) return drape.error();
+    b.image = std::move(drape).value();
+    summary.textureRefine = b.image->refine();
+  }
+  auto writer = TilesetWriter::create(options.output);
+  if (!writer) return writer.error();
+  b.writer = std::move(writer).value();
+  b.fitsMemory = summary.sourceSamples * sizeof(float) <= options.memoryMB << 20;
+  if (!streamsInput(options, info) && !b.fitsMemory)
+    return makeError(info.path,
+                     "the raster needs " + std::to_string((summary.sourceSamples * 4) >> 20) +
+                         " MB, more than --memory-mb " + std::to_string(options.memoryMB));
+  return b;
+}
+
+// Pass 1's result.
+struct ErrorPass {
+  ErrorBudget budget;
+  ActivationGrid grid;
+};
+
+// Pass 1 over a streamed raster: the budget from the height estimate, again with the true range
+// when the data leave it. Leaves `plan` empty when the raster has voids (they need it whole).
+Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& b, HeightPlan& plan,
+                                 Progress& progress, BuildSummary& summary) {
+  const DemInfo& info = b.reader->info();
+  ActivationOptions activation{b.block, b.threads};
+  auto [guessLo, guessHi] = guessHeightRange(*b.reader);
+  plan.sparse = std::make_unique<SparseHeights>(b.layout, b.block);
+  plan.windows = std::make_unique<DemWindows>(*b.reader, b.threads, plan.sparse.get());
+  Result<ErrorPass> pass = Error{};
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    auto budget = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
+    if (!budget) return makeError(info.path, budget.error().message);
+    const auto errorStart = Clock::now();
+    ActivationStats stats;
+    auto grid = computeActivations(b.layout, *budget, *plan.windows, *plan.sparse, activation,
+                                   progress, &stats);
+    if (!grid) return grid.error();
+    summary.errorSeconds += secondsSince(errorStart);
+    ++summary.errorPasses;
+    summary.trianglesScanned = stats.trianglesScanned;
+    summary.trianglesBounded = stats.trianglesBounded;
+    pass = ErrorPass{std::move(budget).value(), std::move(grid).value()};
+    if (plan.windows->sawVoid()) break;
+    plan.zMin = plan.windows->minHeight();
+    plan.zMax = plan.windows->maxHeight();
+    if (plan.zMin >= guessLo && plan.zMax <= guessHi) break;
+    guessLo = plan.zMin;
+    guessHi = plan.zMax;
+  }
+  if (plan.windows->sawVoid()) {
+    if (!b.fitsMemory)
+      return makeError(info.path, "has voids and is larger than --memory-mb " +
+                                      std::to_string(options.memoryMB) +
+                                      "; filling voids out of core is not supported yet "
+                                      "(fill them first, e.g. with gdal_fillnodata)");
+    plan = HeightPlan{};  // voids need the whole raster to be filled: start over in memory
+    summary.errorPasses = 0;
+    return pass;
+  }
+  plan.windows->stopRecording();
+  return pass;
+}
+
+// Pass 1 over the raster in memory (voids filled).
+Result<ErrorPass> inMemoryErrors(const BuildOptions& options, const LocalBuild& b, HeightPlan& plan,
+                                 Progress& progress, BuildSummary& summary,
+                                 Clock::time_point start) {
+  if (Status s = loadIntoMemory(*b.reader, progress, plan, summary); !s) return s.error();
+  summary.loadSeconds = secondsSince(start);
+  auto budget = makeErrorBudget(b.layout, options.maxError, plan.zMax - plan.zMin);
+  if (!budget) return makeError(b.reader->info().path, budget.error().message);
+  const auto errorStart = Clock::now();
+  ActivationStats stats;
+  auto grid = computeActivations(b.layout, *budget, *plan.memoryHeights, *plan.memoryHeights,
+                                 ActivationOptions{b.block, b.threads}, progress, &stats);
+  if (!grid) return grid.error();
+  summary.errorSeconds = secondsSince(errorStart);
+  summary.errorPasses = 1;
+  summary.trianglesScanned = stats.trianglesScanned;
+  summary.trianglesBounded = stats.trianglesBounded;
+  return ErrorPass{std::move(budget).value(), std::move(grid).value()};
+}
+
 }  // namespace
 
 Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progress,
@@ -75,126 +190,57 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   assert(options.edits.empty());  // edits are for VIPM tilesets (terralod edit refuses others)
   const auto start = Clock::now();
   BuildSummary summary;
-  auto opened = DemReader::open(options.input, options.dem);
+  auto opened = openBuild(options, summary);
   if (!opened) return opened.error();
-  const DemReader& reader = **opened;
-  const DemInfo& info = reader.info();
-  summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
-  const unsigned threads = options.threads ? options.threads : hardwareThreads();
+  LocalBuild& b = *opened;
+  const DemInfo& info = b.reader->info();
 
-  auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
-  if (!layout) return layout.error();
-  if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
-    return Error{"--min-tau must be a positive number of pixels"};
-  // A draped image is checked (readable, georeferenced, overlapping) before any work.
-  std::unique_ptr<ImageDrape> image;
-  if (options.textures && !options.textureImage.empty()) {
-    auto drape = ImageDrape::open(options.textureImage, info);
-    if (!drape) return drape.error();
-    image = std::move(drape).value();
-    summary.textureRefine = image->refine();
-  }
-  // Fail on an unwritable output before doing any work.
-  auto writer = TilesetWriter::create(options.output);
-  if (!writer) return writer.error();
-
-  const bool fitsMemory = summary.sourceSamples * sizeof(float) <= options.memoryMB << 20;
-  bool stream = streamsInput(options, info);
-  if (!stream && !fitsMemory)
-    return makeError(info.path,
-                     "the raster needs " + std::to_string((summary.sourceSamples * 4) >> 20) +
-                         " MB, more than --memory-mb " + std::to_string(options.memoryMB));
-
-  ActivationOptions activationOptions;
-  activationOptions.threads = threads;
-  activationOptions.blockCells =
-      std::clamp(options.blockCells, layout->leafCells, layout->rootCells);
+  // Pass 1: errors into activations.
   HeightPlan plan;
-  Result<ErrorBudget> budget = Error{};
-  Result<ActivationGrid> grid = Error{};
-  ActivationStats activationStats;
-
-  if (stream) {
-    // Pass 1 reads the raster block by block. Its thresholds depend on the height range,
-    // which is estimated first and checked once every sample has been seen.
-    auto [guessLo, guessHi] = guessHeightRange(reader);
-    plan.sparse = std::make_unique<SparseHeights>(*layout, activationOptions.blockCells);
-    plan.windows = std::make_unique<DemWindows>(reader, threads, plan.sparse.get());
-    for (int attempt = 0; attempt < 2; ++attempt) {
-      budget = makeErrorBudget(*layout, options.maxError, guessHi - guessLo);
-      if (!budget) return makeError(info.path, budget.error().message);
-      const auto errorStart = Clock::now();
-      activationStats = {};
-      grid = computeActivations(*layout, *budget, *plan.windows, *plan.sparse, activationOptions,
-                                progress, &activationStats);
-      if (!grid) return grid.error();
-      summary.errorSeconds += secondsSince(errorStart);
-      ++summary.errorPasses;
-      if (plan.windows->sawVoid()) break;
-      plan.zMin = plan.windows->minHeight();
-      plan.zMax = plan.windows->maxHeight();
-      if (plan.zMin >= guessLo && plan.zMax <= guessHi) break;
-      guessLo = plan.zMin;
-      guessHi = plan.zMax;
-    }
-    if (plan.windows->sawVoid()) {
-      if (!fitsMemory)
-        return makeError(info.path, "has voids and is larger than --memory-mb " +
-                                        std::to_string(options.memoryMB) +
-                                        "; filling voids out of core is not supported yet "
-                                        "(fill them first, e.g. with gdal_fillnodata)");
-      stream = false;  // voids need the whole raster to be filled: start over in memory
-      plan = HeightPlan{};
-    } else {
-      plan.windows->stopRecording();
-    }
+  Result<ErrorPass> pass = Error{};
+  summary.streamed = streamsInput(options, info);
+  if (summary.streamed) {
+    pass = streamedErrors(options, b, plan, progress, summary);
+    if (!pass) return pass.error();
+    summary.streamed = plan.windows != nullptr;  // false: voids, so in memory after all
   }
-  if (!stream) {
-    if (Status s = loadIntoMemory(reader, progress, plan, summary); !s) return s.error();
-    summary.loadSeconds = secondsSince(start);
-    budget = makeErrorBudget(*layout, options.maxError, plan.zMax - plan.zMin);
-    if (!budget) return makeError(info.path, budget.error().message);
-    const auto errorStart = Clock::now();
-    grid = computeActivations(*layout, *budget, *plan.memoryHeights, *plan.memoryHeights,
-                              activationOptions, progress, &activationStats);
-    if (!grid) return grid.error();
-    summary.errorSeconds = secondsSince(errorStart);
-    summary.errorPasses = 1;
+  if (!summary.streamed) {
+    pass = inMemoryErrors(options, b, plan, progress, summary, start);
+    if (!pass) return pass.error();
   }
-  summary.streamed = stream;
-  summary.trianglesScanned = activationStats.trianglesScanned;
-  summary.trianglesBounded = activationStats.trianglesBounded;
   // Warn only once the input has proven usable, so a broken input gets its one error line.
   warnAboutSource(info, warn);
 
+  // Pass 2: chunks and textures.
   const auto meshStart = Clock::now();
-  std::vector<NodeRecord> nodes = enumerateNodes(*layout);
+  std::vector<NodeRecord> nodes = enumerateNodes(b.layout);
   ChunkPassOptions chunkOptions;
-  chunkOptions.blockCells = activationOptions.blockCells;
-  chunkOptions.threads = threads;
+  chunkOptions.blockCells = b.block;
+  chunkOptions.threads = b.threads;
   chunkOptions.compressionLevel = options.compressionLevel;
   TextureBuild textures;
   if (options.textures) {
-    textures = textureBuildFor(options, *layout, *budget, reader, image.get());
+    textures = textureBuildFor(options, b.layout, pass->budget, *b.reader, b.image.get());
     textures.surface.seaVoids = plan.seaVoids;
     chunkOptions.textures = &textures;
   }
-  HeightWindows& windows = stream ? static_cast<HeightWindows&>(*plan.windows)
-                                  : static_cast<HeightWindows&>(*plan.memoryHeights);
-  if (Status s = buildChunks(
-          *layout, *budget, *grid, nodes, windows, stream ? nullptr : plan.memoryHeights.get(),
-          stream ? plan.sparse.get() : nullptr, chunkOptions, **writer, progress);
+  HeightWindows& windows = summary.streamed ? static_cast<HeightWindows&>(*plan.windows)
+                                            : static_cast<HeightWindows&>(*plan.memoryHeights);
+  if (Status s = buildChunks(b.layout, pass->budget, pass->grid, nodes, windows,
+                             summary.streamed ? nullptr : plan.memoryHeights.get(),
+                             summary.streamed ? plan.sparse.get() : nullptr, chunkOptions,
+                             *b.writer, progress);
       !s)
     return s.error();
   summary.meshSeconds = secondsSince(meshStart);
 
   summarizeNodes(nodes, summary);
-  summary.levels = layout->levelCount();
-  const TilesetHeader header =
-      staticHeader(info, options, *layout, *budget, plan.zMin, plan.zMax, summary.filledVoids);
-  if (Status s = (*writer)->finish(header, nodes,
-                                   tilesetMetadataJson(info, options, summary, *layout,
-                                                       options.textures ? &textures : nullptr));
+  summary.levels = b.layout.levelCount();
+  const TilesetHeader header = staticHeader(info, options, b.layout, pass->budget, plan.zMin,
+                                            plan.zMax, summary.filledVoids);
+  if (Status s = b.writer->finish(header, nodes,
+                                  tilesetMetadataJson(info, options, summary, b.layout,
+                                                      options.textures ? &textures : nullptr));
       !s)
     return s.error();
   std::error_code ec;
