@@ -25,7 +25,10 @@ class SlurmBuild : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new TempDir;
-    const RunResult started = runProgram(kClusterScript, {"start", cluster()});
+    // Eight processors: the eight block jobs start at once rather than in waves (Slurm starts a
+    // queued job about a second after the one before it ends).
+    const RunResult started =
+        runProgram(kClusterScript, {"start", cluster()}, {"SLURM_LOCAL_CPUS=8"});
     ASSERT_EQ(started.exitCode, 0) << started.out << started.err;
     const RunResult synth =
         runTerralod({"synth", "--size", "2049", "--spacing", "5", "--seed", "25", "-o", dem()});
@@ -53,8 +56,7 @@ class SlurmBuild : public ::testing::Test {
 };
 TempDir* SlurmBuild::sDir = nullptr;
 
-// Eight jobs of two blocks each (Slurm starts a job about a second after the one before it on a
-// busy node, so more jobs only make the test slower).
+// Eight jobs of two blocks each.
 TEST_F(SlurmBuild, EightBlockJobsMakeTheLocalBuildsBytes) {
   for (const auto& [reference, options] :
        {std::pair{"textured.tlod", std::vector<std::string>{}},

@@ -104,6 +104,8 @@ struct StageContext {
   ErrorBudget budget;
   int32_t block = 0;
   int32_t blocksX = 0;
+  std::vector<NodeRecord> nodes;     ///< the tree (enumerateNodes), statistics not filled in
+  std::vector<uint32_t> blockNodes;  ///< plan.blocks' nodes, in the same order
   GridPoint origin(size_t k) const {
     return {plan.blocks[k][0] * block, plan.blocks[k][1] * block};
   }
@@ -139,8 +141,10 @@ Result<StageContext> loadStage(const std::string& work) {
   if (!budget) return makeError(info.path, budget.error().message);
   s.budget = std::move(budget).value();
   // The blocks must be this raster's: a plan made for another would build nonsense.
-  const std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
-  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevelOf(s.layout, s.block));
+  s.nodes = enumerateNodes(s.layout);
+  s.blockNodes = blockNodesOf(s.nodes, blockLevelOf(s.layout, s.block));
+  const std::vector<NodeRecord>& nodes = s.nodes;
+  const std::vector<uint32_t>& blockNodes = s.blockNodes;
   bool same = blockNodes.size() == s.plan.blocks.size();
   for (size_t k = 0; same && k < blockNodes.size(); ++k)
     same = int32_t(nodes[blockNodes[k]].x) == s.plan.blocks[k][0] &&
@@ -671,8 +675,8 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (Status st = checkJob(s, job, work); !st) return st;
   threads = std::max(1u, threads);
   const BuildOptions& o = s.plan.options;
-  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
-  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevelOf(s.layout, s.block));
+  std::vector<NodeRecord> nodes = s.nodes;
+  const std::vector<uint32_t>& blockNodes = s.blockNodes;
   auto image = openImage(o, s.reader->info());
   if (!image) return image.error();
   TextureBuild textures;
@@ -746,9 +750,9 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   const StageContext& s = *stage;
   threads = std::max(1u, threads);
   const BuildOptions& o = s.plan.options;
-  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  std::vector<NodeRecord> nodes = s.nodes;
   const int32_t blockLevel = blockLevelOf(s.layout, s.block);
-  const std::vector<uint32_t> blockNodes = blockNodesOf(nodes, blockLevel);
+  const std::vector<uint32_t>& blockNodes = s.blockNodes;
   const std::vector<uint32_t> coarseNodes = coarseNodesOf(nodes, blockLevel);
 
   SparseHeights heights(s.layout, s.block);
@@ -806,7 +810,7 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   if (!image) return image.error();
   auto writer = TilesetWriter::create(o.output);
   if (!writer) return writer.error();
-  std::vector<NodeRecord> nodes = enumerateNodes(s.layout);
+  std::vector<NodeRecord> nodes = s.nodes;
   progress.begin("assembling", s.plan.blocks.size() + 1);
   for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
     if (Status st = appendChunksFrom(pass2Chunks(work, k), StageFile::kChunks, nodes, **writer);
@@ -952,7 +956,9 @@ void cleanWorkDirectory(const std::string& work, KeepLogs logs) {
   for (const char* d : kStageDirs) fs::remove_all(work + "/" + d, ec);
   fs::remove(coarseChunks(work), ec);
   fs::remove(planPath(work), ec);
-  if (logs == KeepLogs::kNo) fs::remove_all(work + "/logs", ec);
+  if (logs == KeepLogs::kNo ||
+      (fs::is_directory(work + "/logs", ec) && fs::is_empty(work + "/logs", ec)))
+    fs::remove_all(work + "/logs", ec);
   if (fs::is_directory(work, ec) && fs::is_empty(work, ec)) fs::remove(work, ec);
 }
 

@@ -1,5 +1,6 @@
 #include "terralod/cluster/slurm.h"
 
+#include <cstdlib>
 #include <sstream>
 
 #include "terralod/core/subprocess.h"
@@ -12,14 +13,22 @@ std::string firstLine(const std::string& text) {
   return end == std::string::npos ? text : text.substr(0, end);
 }
 
+// Slurm's commands print their reasons first and their conclusion last.
+std::string lastLine(std::string text) {
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  const size_t start = text.rfind('\n');
+  return start == std::string::npos ? text : text.substr(start + 1);
+}
+
 Result<std::string> run(const std::vector<std::string>& argv) {
   auto out = runProgram(argv);
   if (!out) return makeError(argv[0], out.error().message + "; is Slurm installed (slurm-wlm)?");
   if (out->exitStatus != 0) {
-    const std::string why = firstLine(out->err.empty() ? out->out : out->err);
-    return makeError(
-        argv[0],
-        "failed (" + (why.empty() ? "exit status " + std::to_string(out->exitStatus) : why) + ")");
+    std::string why = lastLine(out->err.empty() ? out->out : out->err);
+    if (why.empty()) why = "exit status " + std::to_string(out->exitStatus);
+    if (!std::getenv("SLURM_CONF"))
+      why += "; SLURM_CONF is not set (scripts/slurm-local.sh start prints it for a local cluster)";
+    return makeError(argv[0], "failed (" + why + ")");
   }
   return out->out;
 }
