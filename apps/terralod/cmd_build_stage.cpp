@@ -29,7 +29,8 @@ void addBuildStageCommand(CLI::App& root, Runner& run) {
       ->check(wholeNumber<unsigned>(1));
   cmd->footer(
       "Exit status: 0 done, 1 failed (one error line; also in WORK/status), 3 reduce found the "
-      "height range estimate wrong and updated the plan (run pass1 and reduce again).\n");
+      "height range estimate wrong and updated the plan (run pass1 and reduce again), 4 the stage "
+      "before has not finished (nothing done; run it again later).\n");
   cmd->callback([&run, stage, work, task, threads] {
     run = [stage, work, task, threads] {
       unsigned n = *threads;
@@ -40,6 +41,10 @@ void addBuildStageCommand(CLI::App& root, Runner& run) {
       NullProgress progress;
       auto end = runStageTask(*work, *parseStageName(*stage), *task, n, progress);
       if (!end) return fail(end.error().message);
+      if (*end == TaskEnd::kNotReady) {
+        fail(*work + ": the stage before " + *stage + " has not finished");
+        return 4;
+      }
       return *end == TaskEnd::kReplanned ? 3 : 0;
     };
   });

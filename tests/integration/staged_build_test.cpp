@@ -82,6 +82,13 @@ TEST_F(StagedBuild, StageCommandsRecoverFromAWrongHeightEstimate) {
   auto stage = [&](const std::string& name, int task = 0) {
     return runTerralod({"build-stage", name, work, "--task", std::to_string(task)});
   };
+  // A stage started before the one it needs (as Slurm does when a job it waited for is
+  // cancelled while pending) does nothing and records nothing.
+  const RunResult early = stage("reduce");
+  EXPECT_EQ(early.exitCode, 4) << early.err;
+  EXPECT_TRUE(has(early.err, "the stage before reduce has not finished")) << early.err;
+  EXPECT_FALSE(fs::exists(work + "/status/reduce-0.err"));
+  EXPECT_FALSE(fs::exists(work + "/reduce/coarse.points"));
   for (int pass = 0; pass < 2; ++pass) {
     for (int t = 0; t < 3; ++t) ASSERT_EQ(stage("pass1", t).exitCode, 0) << pass << " " << t;
     const RunResult reduce = stage("reduce");

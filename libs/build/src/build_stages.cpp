@@ -628,6 +628,10 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
     again.attempt = 1;
     again.heightLo = zMin;
     again.heightHi = zMax;
+    // Pass 1's tasks must run again: their ends no longer count.
+    std::error_code ec;
+    for (int t = 0; t < s.plan.jobs; ++t)
+      fs::remove(taskStatusPath(work, BuildStage::kPass1, t, "ok"), ec);
     if (Status st = writeText(planPath(work), buildPlanJson(again)); !st) return st.error();
     return ReduceResult::kReplanned;
   }
@@ -862,6 +866,8 @@ Result<BuildSummary> buildInStages(const BuildOptions& options, const std::strin
     Result<TaskEnd> end = TaskEnd::kDone;
     for (int j = 0; j < (perJob(stage) ? plan->jobs : 1) && end && *end == TaskEnd::kDone; ++j)
       end = runStageTask(work, stage, j, threads, progress);
+    if (end && *end == TaskEnd::kNotReady)
+      return Result<TaskEnd>(Error{"internal error: a stage ran before the one it needs"});
     return end;
   };
   for (int attempt = 0; attempt < 2; ++attempt) {
@@ -879,6 +885,21 @@ Result<BuildSummary> buildInStages(const BuildOptions& options, const std::strin
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }
+
+namespace {
+
+// Whether every task of the stage before `stage` has recorded that it finished.
+Result<bool> stageBeforeFinished(const std::string& work, BuildStage stage) {
+  if (stage == BuildStage::kPass1) return true;
+  auto plan = readPlan(work);
+  if (!plan) return plan.error();
+  const BuildStage before = kJobStages[size_t(stage) - 1];
+  for (int t = 0; t < (perJob(before) ? plan->jobs : 1); ++t)
+    if (!fs::exists(taskStatusPath(work, before, t, "ok"))) return false;
+  return true;
+}
+
+}  // namespace
 
 const char* stageName(BuildStage stage) {
   switch (stage) {
@@ -913,6 +934,8 @@ Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task
   for (const char* ending : {"ok", "err", "replan"})
     fs::remove(taskStatusPath(work, stage, task, ending), ec);
   const auto start = std::chrono::steady_clock::now();
+  if (auto ready = stageBeforeFinished(work, stage); !ready || !*ready)
+    return ready ? Result<TaskEnd>(TaskEnd::kNotReady) : Result<TaskEnd>(ready.error());
   Result<TaskEnd> end = TaskEnd::kDone;
   if (!perJob(stage) && task != 0) {
     end = makeError(planPath(work), std::string("stage ") + stageName(stage) + " has one task, 0");

@@ -137,7 +137,7 @@ class SlurmDriver {
         } else if (queued->second == "DependencyNeverSatisfied" && i > 0) {
           // It waits on a task that failed and was submitted again after it: point it at the
           // stage before as it stands now.
-          if (Status st = setDependency(task.id, afterOk(mStages[i - 1])); !st) return st;
+          (void)setDependency(task.id, afterOk(mStages[i - 1]));
         }
       }
     }
@@ -177,8 +177,10 @@ class SlurmDriver {
     std::set<std::string> targets;
     for (const Task& t : next.tasks)
       if (!t.done) targets.insert(t.id.rfind(next.arrayId + "_", 0) == 0 ? next.arrayId : t.id);
-    for (const std::string& target : targets)
-      if (Status st = setDependency(target, dependency); !st) return st;
+    // A task that has started or ended meanwhile cannot be redirected; one that started early
+    // finds the stage before unfinished and leaves without a status, and is submitted again
+    // like any lost task.
+    for (const std::string& target : targets) (void)setDependency(target, dependency);
     return {};
   }
 

@@ -65,7 +65,10 @@ inline bool perJob(BuildStage stage) {
 
 /// How a stage task ended, recorded in WORK/status/STAGE-TASK.ok, .replan or .err (the error
 /// line) for whatever follows the jobs.
-enum class TaskEnd { kDone, kReplanned };
+/// kNotReady: the stage before has not finished (a scheduler started the task early, e.g. after
+/// a job it depended on was cancelled while it waited); nothing is recorded, so a driver sees
+/// the task lost and submits it again.
+enum class TaskEnd { kDone, kReplanned, kNotReady };
 std::string taskStatusPath(const std::string& work, BuildStage stage, int task,
                            const std::string& ending);
 /// Runs task `task` of a stage (a job index for pass 1 and 2, 0 otherwise) and records its end.
