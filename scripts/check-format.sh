@@ -8,9 +8,16 @@ if [ "${1:-}" = "--fix" ]; then
   clang-format -i "${files[@]}"
   exit 0
 fi
+present=()
+for f in "${files[@]}"; do [ -f "$f" ] && present+=("$f"); done
+# One clang-format for all files (a process per file took most of a minute); only when that
+# fails, file by file to name the ones that are not formatted.
+if clang-format --dry-run -Werror "${present[@]}" >/dev/null 2>&1; then
+  echo "check-format: ${#files[@]} files clean"
+  exit 0
+fi
 bad=()
-for f in "${files[@]}"; do
-  [ -f "$f" ] || continue
+for f in "${present[@]}"; do
   clang-format --dry-run -Werror "$f" >/dev/null 2>&1 || bad+=("$f")
 done
 if [ ${#bad[@]} -gt 0 ]; then
