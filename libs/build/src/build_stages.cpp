@@ -396,16 +396,8 @@ Result<ChunkTiles> readTiles(const std::string& path) {
 
 std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
   Packer p;
-  p.put(uint64_t(c.heights.size()));
-  for (const auto& [key, h] : c.heights) {
-    p.put(key);
-    p.put(h);
-  }
-  p.put(uint64_t(c.activations.size()));
-  for (const auto& [key, a] : c.activations) {
-    p.put(key);
-    p.put(a);
-  }
+  p.putKeyed(c.heights);
+  p.putKeyed(c.activations);
   p.putBytes(c.texture);
   return std::move(p.bytes());
 }
@@ -415,16 +407,8 @@ Result<BlockCoarse> readBlockCoarse(const std::string& path) {
   if (!bytes) return bytes.error();
   Unpacker u(bytes->bytes());
   BlockCoarse c;
-  const uint64_t heights = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < heights; ++i) {
-    const uint64_t key = u.get<uint64_t>();
-    c.heights.emplace_back(key, u.get<float>());
-  }
-  const uint64_t activations = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < activations; ++i) {
-    const uint64_t key = u.get<uint64_t>();
-    c.activations.emplace_back(key, u.get<uint8_t>());
-  }
+  c.heights = u.getKeyed<float>();
+  c.activations = u.getKeyed<uint8_t>();
   c.texture = u.getBytes();
   if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
   return c;
@@ -442,11 +426,7 @@ Result<ReduceSummary> readReduceSummary(const std::string& work) {
   ReduceSummary r;
   r.zMin = u.get<double>();
   r.zMax = u.get<double>();
-  const uint64_t n = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < n; ++i) {
-    const uint64_t key = u.get<uint64_t>();
-    r.activations.emplace_back(key, u.get<uint8_t>());
-  }
+  r.activations = u.getKeyed<uint8_t>();
   if (!u.ok() || !u.atEnd())
     return makeError(coarsePoints(work), "damaged (records do not add up)");
   return r;
@@ -662,11 +642,7 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
             ActivationGrid::key(o.x + int32_t(halo[i] % stride), o.y + int32_t(halo[i] / stride)),
             store.values(b)[i]);
   }
-  p.put(uint64_t(points.size()));
-  for (const auto& [key, a] : points) {
-    p.put(key);
-    p.put(a);
-  }
+  p.putKeyed(points);
   if (Status st = writeStageFile(coarsePoints(work), StageFile::kCoarsePoints, p.bytes()); !st)
     return st.error();
   return ReduceResult::kDone;

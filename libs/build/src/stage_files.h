@@ -11,6 +11,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "terralod/core/result.h"
@@ -54,6 +55,15 @@ class Packer {
       mBytes.insert(mBytes.end(), first, first + values.size() * sizeof(T));
     } else {
       for (const T& v : values) put(v);
+    }
+  }
+  /// A u64 count, then each (u64 key, value).
+  template <typename V>
+  void putKeyed(const std::vector<std::pair<uint64_t, V>>& entries) {
+    put<uint64_t>(entries.size());
+    for (const auto& [key, value] : entries) {
+      put(key);
+      put(value);
     }
   }
   /// Room for `bytes` more, so that large payloads are not moved as they grow.
@@ -106,6 +116,17 @@ class Unpacker {
       mPos += n * sizeof(T);
     } else {
       for (T& v : out) v = get<T>();
+    }
+    return out;
+  }
+  /// What putKeyed wrote.
+  template <typename V>
+  std::vector<std::pair<uint64_t, V>> getKeyed() {
+    const uint64_t n = get<uint64_t>();
+    std::vector<std::pair<uint64_t, V>> out;
+    for (uint64_t i = 0; mOk && i < n; ++i) {
+      const uint64_t key = get<uint64_t>();
+      out.emplace_back(key, get<V>());
     }
     return out;
   }
