@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "staged_build.h"
 #include "terralod/build/builder.h"
+#include "terralod/core/batch_memory.h"
 
 namespace terralod::cli {
 
@@ -142,6 +143,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                  blotError, upperLevels, staged] {
     run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError,
            upperLevels, staged] {
+      keepFreedMemoryForReuse();
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;

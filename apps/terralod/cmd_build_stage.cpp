@@ -5,6 +5,7 @@
 #include "cli_checks.h"
 #include "commands.h"
 #include "terralod/build/build_stages.h"
+#include "terralod/core/batch_memory.h"
 #include "terralod/core/parallel.h"
 
 namespace terralod::cli {
@@ -25,7 +26,8 @@ void addBuildStageCommand(CLI::App& root, Runner& run) {
   cmd->add_option("--task", *task, "Block job of pass1 and pass2 (0 .. jobs-1)")
       ->check(wholeNumber<int>());
   cmd->add_option("--threads", *threads,
-                  "Worker threads (default: $SLURM_CPUS_PER_TASK under Slurm, else all cores)")
+                  "Worker threads (default: the CPUs Slurm allocated, $SLURM_CPUS_PER_TASK or "
+                  "$SLURM_CPUS_ON_NODE, else all cores)")
       ->check(wholeNumber<unsigned>(1));
   cmd->footer(
       "Exit status: 0 done, 1 failed (one error line; also in WORK/status), 3 reduce found the "
@@ -33,9 +35,12 @@ void addBuildStageCommand(CLI::App& root, Runner& run) {
       "before has not finished (nothing done; run it again later).\n");
   cmd->callback([&run, stage, work, task, threads] {
     run = [stage, work, task, threads] {
+      keepFreedMemoryForReuse();
       unsigned n = *threads;
       if (n == 0) {
+        // The CPUs Slurm gave the job (one unless asked), not the node's.
         const char* cpus = std::getenv("SLURM_CPUS_PER_TASK");
+        if (!cpus) cpus = std::getenv("SLURM_CPUS_ON_NODE");
         n = cpus ? unsigned(std::max(1, std::atoi(cpus))) : hardwareThreads();
       }
       NullProgress progress;

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 #include <sstream>
+#include <unordered_map>
 
 #include "block_stages.h"
 #include "build_steps.h"
@@ -21,6 +22,7 @@
 #include "terralod/build/chunk_pass.h"
 #include "terralod/build/dem_windows.h"
 #include "terralod/build/sparse_heights.h"
+#include "terralod/build/tile_pyramid.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/core/parallel.h"
 #include "terralod/format/tileset_writer.h"
@@ -34,7 +36,8 @@ namespace fs = std::filesystem;
 // ---- Where things are ----------------------------------------------------------------------
 
 // WORK/plan.json; per block K: pass1/K.halo, pass1/K.grid, reduce/K.halo, pass2/K.chunks,
-// pass2/K.coarse; once: reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
+// pass2/K.coarse; per job J (textured): pass2/job-J.textures, pass2/job-J.tiles; once:
+// reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
 std::string planPath(const std::string& work) {
   return work + "/plan.json";
 }
@@ -56,8 +59,11 @@ std::string pass2Chunks(const std::string& work, size_t k) {
 std::string pass2Coarse(const std::string& work, size_t k) {
   return blockFile(work, "pass2", k, "coarse");
 }
-std::string pass2Tiles(const std::string& work, size_t k) {
-  return blockFile(work, "pass2", k, "tiles");
+std::string jobTextures(const std::string& work, int job) {
+  return work + "/pass2/job-" + std::to_string(job) + ".textures";
+}
+std::string jobTiles(const std::string& work, int job) {
+  return work + "/pass2/job-" + std::to_string(job) + ".tiles";
 }
 std::string coarsePoints(const std::string& work) {
   return work + "/reduce/coarse.points";
@@ -152,6 +158,12 @@ Result<StageContext> loadStage(const std::string& work) {
   if (!same)
     return makeError(planPath(work), "was made for another raster or block size than " + o.input);
   return s;
+}
+
+// The block nodes job `job` works on.
+std::vector<uint32_t> jobBlockNodes(const StageContext& s, int job) {
+  const auto range = s.plan.jobBlocks(job);
+  return {s.blockNodes.begin() + ptrdiff_t(range[0]), s.blockNodes.begin() + ptrdiff_t(range[1])};
 }
 
 Status checkJob(const StageContext& s, int job, const std::string& work) {
@@ -310,7 +322,17 @@ LayerLevels unpackLayer(Unpacker& u) {
   return l;
 }
 
-// Built chunks with their node records (the statistics pass 2 or the coarse stage filled in).
+// A built chunk's node, record (with the statistics its stage filled in) and mesh blob; its
+// texture blob follows.
+void packChunkMesh(Packer& p, const BuiltChunk& c, const std::vector<NodeRecord>& nodes) {
+  p.put(c.node);
+  uint8_t record[kNodeRecordBytes];
+  serializeNode(nodes[c.node], record);
+  p.putBytes(record);
+  p.putBytes(c.blob);
+}
+
+// Built chunks with their node records.
 std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
                                 const std::vector<NodeRecord>& nodes) {
   Packer p;
@@ -320,30 +342,28 @@ std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
   p.reserve(bytes);
   p.put(uint64_t(chunks.size()));
   for (const BuiltChunk& c : chunks) {
-    p.put(c.node);
-    uint8_t record[kNodeRecordBytes];
-    serializeNode(nodes[c.node], record);
-    p.putBytes(record);
-    p.putBytes(c.blob);
+    packChunkMesh(p, c, nodes);
     p.putBytes(c.texture);
   }
   return std::move(p.bytes());
 }
 
-// Reads built chunks back, copying their statistics into `nodes`, and appends them.
-Status appendChunksFrom(const std::string& path, StageFile kind, std::vector<NodeRecord>& nodes,
+// Reads built chunks back, copying their statistics into `nodes`, and appends them (a piece
+// at a time: the file's checksum is checked at its end, before the tileset can be finished).
+Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
                         TilesetWriter& writer) {
-  auto bytes = readStageFile(path, kind);
-  if (!bytes) return bytes.error();
-  Unpacker u(bytes->bytes());
-  const uint64_t count = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < count; ++i) {
-    const uint32_t node = u.get<uint32_t>();
-    const std::span<const uint8_t> record = u.getView();
-    const std::span<const uint8_t> blob = u.getView(), texture = u.getView();
-    if (!u.ok() || node >= nodes.size() || record.size() != kNodeRecordBytes) break;
-    const NodeRecord built = parseNode(record.data(), 2);
-    NodeRecord& n = nodes[node];
+  auto in = StageFileReader::open(path, StageFile::kChunks);
+  if (!in) return in.error();
+  auto damaged = [&] { return makeError(path, "damaged (records do not add up)"); };
+  const auto count = in->get<uint64_t>();
+  if (!count) return damaged();
+  for (uint64_t i = 0; i < *count; ++i) {
+    const auto node = in->get<uint32_t>();
+    const auto record = in->getView();
+    if (!node || !record || *node >= nodes.size() || record->size() != kNodeRecordBytes)
+      return damaged();
+    const NodeRecord built = parseNode(record->data(), 2);
+    NodeRecord& n = nodes[*node];
     n.minZ = built.minZ;
     n.maxZ = built.maxZ;
     n.vertexCount = built.vertexCount;
@@ -352,46 +372,82 @@ Status appendChunksFrom(const std::string& path, StageFile kind, std::vector<Nod
     n.maxSkirtDepth = built.maxSkirtDepth;
     n.blobBytes = built.blobBytes;
     n.blobCrc = built.blobCrc;
-    if (blob.size() != n.blobBytes || crc32Of(blob) != n.blobCrc)
-      return makeError(path, "damaged (a chunk does not match its record)");
-    if (Status s = appendChunk(writer, n, blob, texture); !s) return s;
+    const auto blob = in->getView();
+    if (!blob || blob->size() != n.blobBytes) return damaged();
+    auto offset = writer.appendBlob(*blob);
+    if (!offset) return offset.error();
+    n.blobOffset = *offset;
+    const auto texture = in->getView();
+    if (!texture) return damaged();
+    if (!texture->empty()) {
+      if (auto at = writer.appendBlob(*texture); !at) return at.error();
+      n.flags |= kNodeHasTexture;
+      n.textureBytes = uint32_t(texture->size());
+    }
   }
-  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
-  return {};
+  return in->finish();
 }
 
 // What the coarse stage needs of a block: heights and activations of the points coarse chunks
-// use, and the block node's texture (its tiles go in a file of their own, read only when the
-// pyramid above needs them).
+// use, and the block node's texture (copied into coarse.chunks).
 struct BlockCoarse {
   std::vector<std::pair<uint64_t, float>> heights;
   std::vector<std::pair<uint64_t, uint8_t>> activations;
   std::vector<uint8_t> texture;
 };
 
-std::vector<uint8_t> packTiles(const ChunkTiles& tiles) {
+// A pass-2 job's frontier: the tiles of the nodes whose parent it could not build.
+std::vector<uint8_t> packFrontier(const std::vector<std::pair<uint32_t, ChunkTiles>>& frontier) {
   Packer p;
-  size_t bytes = 0;
-  for (const LayerLevels* l : {&tiles.color, &tiles.normal}) {
-    bytes += 16;
-    for (const TexelTile& t : l->levels) bytes += 16 + t.values.size() * sizeof(float);
-    for (const auto& b : l->blocks) bytes += 8 + b.size();
-  }
+  size_t bytes = 8;
+  for (const auto& [node, tiles] : frontier)
+    for (const LayerLevels* l : {&tiles.color, &tiles.normal}) {
+      bytes += 4 + 16;
+      for (const TexelTile& t : l->levels) bytes += 16 + t.values.size() * sizeof(float);
+      for (const auto& b : l->blocks) bytes += 8 + b.size();
+    }
   p.reserve(bytes);
-  packLayer(p, tiles.color);
-  packLayer(p, tiles.normal);
+  p.put(uint64_t(frontier.size()));
+  for (const auto& [node, tiles] : frontier) {
+    p.put(node);
+    packLayer(p, tiles.color);
+    packLayer(p, tiles.normal);
+  }
   return std::move(p.bytes());
 }
 
-Result<ChunkTiles> readTiles(const std::string& path) {
-  auto bytes = readStageFile(path, StageFile::kBlockTiles);
+// Reads a job's frontier back; `expected` lists its nodes.
+Result<std::vector<std::pair<uint32_t, ChunkTiles>>> readFrontier(
+    const std::string& path, const std::vector<uint32_t>& expected) {
+  auto bytes = readStageFile(path, StageFile::kJobTiles);
   if (!bytes) return bytes.error();
   Unpacker u(bytes->bytes());
-  ChunkTiles tiles;
-  tiles.color = unpackLayer(u);
-  tiles.normal = unpackLayer(u);
+  std::vector<std::pair<uint32_t, ChunkTiles>> out;
+  const uint64_t count = u.get<uint64_t>();
+  if (count != expected.size()) return makeError(path, "was written for another block layout");
+  for (uint64_t i = 0; u.ok() && i < count; ++i) {
+    const uint32_t node = u.get<uint32_t>();
+    if (node != expected[i]) return makeError(path, "was written for another block layout");
+    ChunkTiles tiles;
+    tiles.color = unpackLayer(u);
+    tiles.normal = unpackLayer(u);
+    out.emplace_back(node, std::move(tiles));
+  }
   if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
-  return tiles;
+  return out;
+}
+
+std::vector<uint8_t> packTextures(const NodeTextures& textures) {
+  Packer p;
+  size_t bytes = 8;
+  for (const auto& t : textures) bytes += 12 + t.second.size();
+  p.reserve(bytes);
+  p.put(uint64_t(textures.size()));
+  for (const auto& [node, blob] : textures) {
+    p.put(node);
+    p.putBytes(blob);
+  }
+  return std::move(p.bytes());
 }
 
 std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
@@ -673,6 +729,12 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   std::vector<std::vector<float>> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
+  // The textures above this job's blocks that need no other job's (whole subtrees).
+  std::optional<TilePyramid> pyramid;
+  if (texturePass)
+    pyramid.emplace(
+        *texturePass, nodes,
+        TilePyramid::buildableFrom(nodes, blockLevelOf(s.layout, s.block), jobBlockNodes(s, job)));
   progress.begin("meshing", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint origin = s.origin(k);
@@ -704,11 +766,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
         if (const uint8_t a = grid.get(x, y); a >= coarse)
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
     c.texture = std::move(built->blockTexture);
-    if (context.textures)
-      if (Status st =
-              writeStageFile(pass2Tiles(work, k), StageFile::kBlockTiles, packTiles(built->tiles));
-          !st)
-        return st;
+    if (pyramid) pyramid->add(blockNodes[k], std::move(built->tiles));
     if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
                                    packChunks(built->chunks, nodes));
         !st)
@@ -721,8 +779,102 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     return {};
   });
   progress.end();
-  return done;
+  if (!done || !pyramid) return done;
+  if (Status st = writeStageFile(jobTextures(work, job), StageFile::kJobTextures,
+                                 packTextures(pyramid->takeTextures()));
+      !st)
+    return st;
+  return writeStageFile(jobTiles(work, job), StageFile::kJobTiles,
+                        packFrontier(pyramid->takeFrontier()));
 }
+
+namespace {
+
+// The textures of the nodes above the pass-2 jobs' frontiers, from the frontiers' tiles.
+Result<NodeTextures> topTextures(const std::string& work, const StageContext& s,
+                                 const TexturePass& pass, unsigned threads) {
+  const int32_t blockLevel = blockLevelOf(s.layout, s.block);
+  std::vector<std::vector<uint32_t>> frontiers;
+  std::vector<uint32_t> all;
+  for (int job = 0; job < s.plan.jobs; ++job) {
+    const std::vector<uint32_t> blocks = jobBlockNodes(s, job);
+    frontiers.push_back(TilePyramid::frontierOf(
+        s.nodes, TilePyramid::buildableFrom(s.nodes, blockLevel, blocks), blocks));
+    all.insert(all.end(), frontiers.back().begin(), frontiers.back().end());
+  }
+  TilePyramid pyramid(pass, s.nodes, TilePyramid::ancestorsOf(s.nodes, all));
+  Status read = forBlocks({0, size_t(s.plan.jobs)}, threads, [&](size_t job, unsigned) -> Status {
+    auto tiles = readFrontier(jobTiles(work, int(job)), frontiers[job]);
+    if (!tiles) return tiles.error();
+    for (auto& [node, t] : *tiles) pyramid.add(node, std::move(t));
+    return {};
+  });
+  if (!read) return read.error();
+  return pyramid.takeTextures();
+}
+
+// Writes coarse.chunks: the coarse chunks in their order, each with its texture from where it
+// was made: the block's pass2/K.coarse, the job that built it (pass2/job-J.textures, read in
+// step: both are in node order) or `top`. Streamed: one texture is held at a time.
+Status writeCoarseChunks(const std::string& work, const StageContext& s,
+                         const std::vector<BuiltChunk>& chunks,
+                         const std::vector<NodeRecord>& nodes, NodeTextures top, bool textured) {
+  const int32_t blockLevel = blockLevelOf(s.layout, s.block);
+  std::unordered_map<uint32_t, size_t> blockOf, topOf;
+  for (size_t k = 0; k < s.blockNodes.size(); ++k) blockOf.emplace(s.blockNodes[k], k);
+  for (size_t i = 0; i < top.size(); ++i) topOf.emplace(top[i].first, i);
+  std::vector<int> builtBy(nodes.size(), -1);
+  std::vector<std::optional<StageFileReader>> jobs(size_t(s.plan.jobs));
+  std::vector<uint64_t> left(jobs.size(), 0);
+  if (textured)
+    for (int job = 0; job < s.plan.jobs; ++job) {
+      const std::vector<uint8_t> builds =
+          TilePyramid::buildableFrom(nodes, blockLevel, jobBlockNodes(s, job));
+      for (size_t i = 0; i < nodes.size(); ++i)
+        if (builds[i]) builtBy[i] = job;
+      auto reader = StageFileReader::open(jobTextures(work, job), StageFile::kJobTextures);
+      if (!reader) return reader.error();
+      auto count = reader->get<uint64_t>();
+      if (!count) return makeError(reader->path(), "damaged (records do not add up)");
+      left[size_t(job)] = *count;
+      jobs[size_t(job)].emplace(std::move(*reader));
+    }
+  auto out = StageFileWriter::create(coarseChunks(work), StageFile::kChunks);
+  if (!out) return out.error();
+  Packer p;
+  p.put(uint64_t(chunks.size()));
+  for (const BuiltChunk& c : chunks) {
+    packChunkMesh(p, c, nodes);
+    if (!textured) {
+      p.putBytes(c.texture);
+    } else if (auto b = blockOf.find(c.node); b != blockOf.end()) {
+      auto block = readBlockCoarse(pass2Coarse(work, b->second));
+      if (!block) return block.error();
+      p.putBytes(block->texture);
+    } else if (auto t = topOf.find(c.node); t != topOf.end()) {
+      p.putBytes(top[t->second].second);
+    } else if (const int job = builtBy[c.node]; job >= 0 && left[size_t(job)] > 0) {
+      StageFileReader& r = *jobs[size_t(job)];
+      --left[size_t(job)];
+      auto node = r.get<uint32_t>();
+      auto texture = node && *node == c.node ? r.getView() : std::nullopt;
+      if (!texture) return makeError(r.path(), "damaged (records do not add up)");
+      p.putBytes(*texture);
+    } else {
+      return Error{"internal error: chunk " + std::to_string(nodes[c.node].level) + "/" +
+                   std::to_string(nodes[c.node].x) + "/" + std::to_string(nodes[c.node].y) +
+                   " has no texture"};
+    }
+    if (Status st = out->write(p.bytes()); !st) return st;
+    p.bytes().clear();
+  }
+  for (auto& r : jobs)
+    if (r)
+      if (Status st = r->finish(); !st) return st;
+  return out->commit();
+}
+
+}  // namespace
 
 Status coarseStage(const std::string& work, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
@@ -732,7 +884,6 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   const BuildOptions& o = s.plan.options;
   std::vector<NodeRecord> nodes = s.nodes;
   const int32_t blockLevel = blockLevelOf(s.layout, s.block);
-  const std::vector<uint32_t>& blockNodes = s.blockNodes;
   const std::vector<uint32_t> coarseNodes = coarseNodesOf(nodes, blockLevel);
 
   SparseHeights heights(s.layout, s.block);
@@ -740,7 +891,6 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   auto reduced = readReduceSummary(work);
   if (!reduced) return reduced.error();
   points->insert(reduced->activations.begin(), reduced->activations.end());
-  std::vector<std::vector<uint8_t>> blockTextures(o.textures ? blockNodes.size() : 0);
   progress.begin("coarse", s.plan.blocks.size() + coarseNodes.size());
   for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
     auto h = readPass1Halo(pass1Halo(work, k));
@@ -750,32 +900,30 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
     if (!c) return c.error();
     heights.recordPoints(c->heights);
     points->insert(c->activations.begin(), c->activations.end());
-    if (o.textures) blockTextures[k] = std::move(c->texture);
     progress.advance();
   }
-  // The block nodes' tiles are read again when the pyramid above them needs them.
-  const BlockTilesSource blockTiles = [&](size_t k) { return readTiles(pass2Tiles(work, k)); };
   const ActivationGrid grid = ActivationGrid::sparse(points);
   auto image = openImage(o, s.reader->info());
   if (!image) return image.error();
-  TextureBuild textures;
-  std::unique_ptr<TexturePass> texturePass;
+  NodeTextures top;
   if (o.textures) {
-    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
-    texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
+    const TextureBuild textureBuild =
+        textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+    const TexturePass pass(s.layout, textureBuild, nodes, threads);
+    auto made = topTextures(work, s, pass, threads);
+    if (!made) return made.error();
+    top = std::move(made).value();
   }
-  ChunkPassContext context{s.layout, s.budget,           nodes,
-                           s.block,  o.compressionLevel, texturePass.get()};
+  ChunkPassContext context{s.layout, s.budget, nodes, s.block, o.compressionLevel, nullptr};
   std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
   for (auto& m : meshers) m = std::make_unique<ChunkMesher>(s.layout, s.budget, grid, heights);
-  auto built = buildCoarseChunks(context, coarseNodes, blockNodes, blockTiles, blockTextures,
-                                 meshers, progress);
+  auto built = buildCoarseChunks(context, coarseNodes, meshers, progress);
   progress.end();
   if (!built) return built.error();
   if (heights.misses() > 0)
     return Error{"internal error: " + std::to_string(heights.misses()) +
                  " heights were needed that the staged build had not kept"};
-  return writeStageFile(coarseChunks(work), StageFile::kChunks, packChunks(*built, nodes));
+  return writeCoarseChunks(work, s, *built, nodes, std::move(top), o.textures);
 }
 
 Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) {
@@ -793,13 +941,10 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   std::vector<NodeRecord> nodes = s.nodes;
   progress.begin("assembling", s.plan.blocks.size() + 1);
   for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
-    if (Status st = appendChunksFrom(pass2Chunks(work, k), StageFile::kChunks, nodes, **writer);
-        !st)
-      return st.error();
+    if (Status st = appendChunksFrom(pass2Chunks(work, k), nodes, **writer); !st) return st.error();
     progress.advance();
   }
-  if (Status st = appendChunksFrom(coarseChunks(work), StageFile::kChunks, nodes, **writer); !st)
-    return st.error();
+  if (Status st = appendChunksFrom(coarseChunks(work), nodes, **writer); !st) return st.error();
   progress.end();
   for (const NodeRecord& n : nodes)
     if (n.blobBytes == 0)

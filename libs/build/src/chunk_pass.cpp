@@ -13,6 +13,7 @@
 
 #include "terralod/build/chunk_encoder.h"
 #include "terralod/build/chunk_mesher.h"
+#include "terralod/build/tile_pyramid.h"
 #include "terralod/core/parallel.h"
 
 namespace terralod {
@@ -181,8 +182,6 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
 
 Result<std::vector<BuiltChunk>> buildCoarseChunks(
     const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
-    const std::vector<uint32_t>& blockNodes, const BlockTilesSource& blockTiles,
-    std::vector<std::vector<uint8_t>>& blockTextures,
     std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress) {
   std::vector<NodeRecord>& nodes = context.nodes;
   const unsigned threads = unsigned(meshers.size());
@@ -205,47 +204,21 @@ Result<std::vector<BuiltChunk>> buildCoarseChunks(
     progress.advance();
   });
   if (failure) return *failure;
-  if (!context.textures) return out;
-  const TexturePass& texturePass = *context.textures;
-  std::unordered_map<uint32_t, size_t> coarseIndex, blockIndex;
-  for (size_t k = 0; k < coarseNodes.size(); ++k) coarseIndex.emplace(coarseNodes[k], k);
-  for (size_t t = 0; t < blockNodes.size(); ++t) {
-    blockIndex.emplace(blockNodes[t], t);
-    out[coarseIndex.at(blockNodes[t])].texture = std::move(blockTextures[t]);
-  }
-  // Depth first: a node's tiles from its children's, which are dropped once it has them. The
-  // roots' children go to the threads; below them each subtree is one thread's.
-  std::function<Result<ChunkTiles>(uint32_t, bool)> tilesOf =
-      [&](uint32_t node, bool split) -> Result<ChunkTiles> {
-    if (const auto b = blockIndex.find(node); b != blockIndex.end()) return blockTiles(b->second);
-    const NodeRecord& n = nodes[node];
-    std::array<std::optional<Result<ChunkTiles>>, 4> children;
-    std::array<uint32_t, 4> childNode{};
-    size_t count = 0;
-    for (int q = 0; q < 4; ++q)
-      if (n.childMask & (1u << q)) childNode[size_t(q)] = n.firstChild + uint32_t(count++);
-    auto one = [&](size_t q) { children[q] = tilesOf(childNode[q], false); };
-    std::vector<size_t> present;
-    for (size_t q = 0; q < 4; ++q)
-      if (n.childMask & (1u << q)) present.push_back(q);
-    if (split) {
-      parallelFor(present.size(), threads, [&](size_t i, unsigned) { one(present[i]); });
-    } else {
-      for (size_t q : present) one(q);
-    }
-    std::array<const ChunkTiles*, 4> pointers{};
-    for (size_t q : present) {
-      if (!*children[q]) return children[q]->error();
-      pointers[q] = &children[q]->value();
-    }
-    ChunkTiles made = texturePass.fromChildren(node, pointers);
-    out[coarseIndex.at(node)].texture = texturePass.encode(node, made);
-    return made;
-  };
-  for (uint32_t i : coarseNodes)
-    if (nodes[i].level == 0 && !blockIndex.count(i))
-      if (auto root = tilesOf(i, true); !root) return root.error();
   return out;
+}
+
+Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
+                      const std::vector<NodeRecord>& nodes) {
+  std::unordered_map<uint32_t, size_t> index;
+  for (size_t k = 0; k < chunks.size(); ++k) index.emplace(chunks[k].node, k);
+  for (auto& [node, blob] : textures)
+    if (auto k = index.find(node); k != index.end()) chunks[k->second].texture = std::move(blob);
+  for (const BuiltChunk& c : chunks)
+    if (c.texture.empty())
+      return Error{"internal error: chunk " + std::to_string(nodes[c.node].level) + "/" +
+                   std::to_string(nodes[c.node].x) + "/" + std::to_string(nodes[c.node].y) +
+                   " has no texture"};
+  return {};
 }
 
 Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const ActivationGrid& grid,
@@ -270,12 +243,11 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   }
   ChunkPassContext context{layout,           budget, nodes, block, options.compressionLevel,
                            texturePass.get()};
-  // Block nodes' texture tiles, kept for the coarser levels' textures.
-  std::vector<ChunkTiles> blockTiles(options.textures ? blockNodes.size() : 0);
-  const BlockTilesSource heldTiles = [&](size_t t) -> Result<ChunkTiles> {
-    return std::move(blockTiles[t]);
-  };
-  std::vector<std::vector<uint8_t>> blockTextures(blockTiles.size());
+  // The textures above the blocks are built as the blocks come in.
+  std::optional<TilePyramid> pyramid;
+  if (texturePass)
+    pyramid.emplace(*texturePass, nodes, TilePyramid::buildableFrom(nodes, blockLevel, blockNodes));
+  NodeTextures blockTextures(options.textures ? blockNodes.size() : 0);
 
   // Blobs go to the file in task order whatever order tasks finish in.
   std::mutex writeMutex;
@@ -311,9 +283,9 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     auto built = buildBlockChunks(context, blockNodes[task], window, *meshers[w], grid, windows, w);
     if (!built) return fail(built.error());
     for (size_t k = 0; k < built->chunks.size(); ++k) progress.advance();
-    if (texturePass) {
-      blockTiles[task] = std::move(built->tiles);
-      blockTextures[task] = std::move(built->blockTexture);
+    if (pyramid) {
+      pyramid->add(blockNodes[task], std::move(built->tiles));
+      blockTextures[task] = {blockNodes[task], std::move(built->blockTexture)};
     }
     if (sparse) sparse->recordPoints(built->points);
     std::lock_guard lock(writeMutex);
@@ -333,9 +305,12 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   if (failure) return *failure;
 
   for (auto& m : meshers) m->setHeights(coarseHeights);
-  auto coarse = buildCoarseChunks(context, coarseNodes, blockNodes, heldTiles, blockTextures,
-                                  meshers, progress);
+  if (pyramid)
+    for (auto& t : pyramid->takeTextures()) blockTextures.push_back(std::move(t));
+  auto coarse = buildCoarseChunks(context, coarseNodes, meshers, progress);
   if (!coarse) return coarse.error();
+  if (pyramid)
+    if (Status s = attachTextures(*coarse, std::move(blockTextures), nodes); !s) return s;
   for (const BuiltChunk& chunk : *coarse)
     if (Status s = append(chunk); !s) return s;
   progress.end();

@@ -13,6 +13,48 @@ namespace {
 constexpr char kStageMagic[8] = {'T', 'L', 'S', 'T', 'A', 'G', 'E', '1'};
 constexpr size_t kStageHeaderBytes = 8 + 4 + 8 + 8 + 4;
 
+std::vector<uint8_t> stageHeader(StageFile kind, uint64_t rawBytes, uint64_t packedBytes,
+                                 uint32_t crc) {
+  std::vector<uint8_t> header(kStageHeaderBytes);
+  ByteWriter w(header.data());
+  w.putBytes(kStageMagic, sizeof kStageMagic);
+  w.put(uint32_t(kind));
+  w.put(rawBytes);
+  w.put(packedBytes);
+  w.put(crc);
+  return header;
+}
+
+// What a stage file's header says, once its magic, kind and sizes are checked; `in` is left
+// at the payload.
+struct StageHeader {
+  uint64_t rawBytes = 0, packedBytes = 0;
+  uint32_t crc = 0;
+};
+Result<StageHeader> openStageFile(const std::string& path, StageFile kind, std::ifstream& in) {
+  if (!in) return makeError(path, "missing (the stage that writes it has not run, or failed)");
+  in.seekg(0, std::ios::end);
+  const size_t fileBytes = size_t(in.tellg());
+  in.seekg(0);
+  uint8_t header[kStageHeaderBytes];
+  if (fileBytes < kStageHeaderBytes || !in.read(reinterpret_cast<char*>(header), sizeof header) ||
+      std::memcmp(header, kStageMagic, sizeof kStageMagic) != 0)
+    return makeError(path, "not a terralod stage file");
+  ByteReader r(header + sizeof kStageMagic);
+  const uint32_t fileKind = r.get<uint32_t>();
+  StageHeader h;
+  h.rawBytes = r.get<uint64_t>();
+  h.packedBytes = r.get<uint64_t>();
+  h.crc = r.get<uint32_t>();
+  if (fileKind != uint32_t(kind))
+    return makeError(path, "is a stage file of another kind (" + std::to_string(fileKind) +
+                               ", expected " + std::to_string(uint32_t(kind)) + ")");
+  if (fileBytes - kStageHeaderBytes != h.packedBytes ||
+      (storedRaw(kind) && h.rawBytes != h.packedBytes))
+    return makeError(path, "damaged (size or checksum does not match)");
+  return h;
+}
+
 }  // namespace
 
 Status writeStageFile(const std::string& path, StageFile kind, std::span<const uint8_t> payload) {
@@ -26,13 +68,8 @@ Status writeStageFile(const std::string& path, StageFile kind, std::span<const u
     compressed.resize(n);
     packed = compressed;
   }
-  std::vector<uint8_t> header(kStageHeaderBytes);
-  ByteWriter w(header.data());
-  w.putBytes(kStageMagic, sizeof kStageMagic);
-  w.put(uint32_t(kind));
-  w.put(uint64_t(payload.size()));
-  w.put(uint64_t(packed.size()));
-  w.put(crc32Of(packed));
+  const std::vector<uint8_t> header =
+      stageHeader(kind, payload.size(), packed.size(), crc32Of(packed));
   auto file = AtomicFile::create(path);
   if (!file) return file.error();
   if (Status s = file->write(header); !s) return s;
@@ -43,23 +80,11 @@ Status writeStageFile(const std::string& path, StageFile kind, std::span<const u
 }
 
 Result<StagePayload> readStageFile(const std::string& path, StageFile kind) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return makeError(path, "missing (the stage that writes it has not run, or failed)");
-  const size_t fileBytes = size_t(in.tellg());
-  in.seekg(0);
-  uint8_t header[kStageHeaderBytes];
-  if (fileBytes < kStageHeaderBytes || !in.read(reinterpret_cast<char*>(header), sizeof header) ||
-      std::memcmp(header, kStageMagic, sizeof kStageMagic) != 0)
-    return makeError(path, "not a terralod stage file");
-  ByteReader r(header + sizeof kStageMagic);
-  const uint32_t fileKind = r.get<uint32_t>();
-  const uint64_t rawBytes = r.get<uint64_t>(), packedBytes = r.get<uint64_t>();
-  const uint32_t crc = r.get<uint32_t>();
-  if (fileKind != uint32_t(kind))
-    return makeError(path, "is a stage file of another kind (" + std::to_string(fileKind) +
-                               ", expected " + std::to_string(uint32_t(kind)) + ")");
-  if (fileBytes - kStageHeaderBytes != packedBytes || (storedRaw(kind) && rawBytes != packedBytes))
-    return makeError(path, "damaged (size or checksum does not match)");
+  std::ifstream in(path, std::ios::binary);
+  auto h = openStageFile(path, kind, in);
+  if (!h) return h.error();
+  const uint64_t rawBytes = h->rawBytes, packedBytes = h->packedBytes;
+  const uint32_t crc = h->crc;
   auto packed = std::make_unique_for_overwrite<uint8_t[]>(packedBytes);
   if (!in.read(reinterpret_cast<char*>(packed.get()), std::streamsize(packedBytes)))
     return makeError(path, "cannot be read");
@@ -70,6 +95,52 @@ Result<StagePayload> readStageFile(const std::string& path, StageFile kind) {
   const size_t n = ZSTD_decompress(payload.get(), rawBytes, packed.get(), packedBytes);
   if (ZSTD_isError(n) || n != rawBytes) return makeError(path, "damaged (does not decompress)");
   return StagePayload(std::move(payload), rawBytes);
+}
+
+Result<StageFileWriter> StageFileWriter::create(const std::string& path, StageFile kind) {
+  if (!storedRaw(kind)) return Error{"internal error: only stored-raw stage files are streamed"};
+  auto file = AtomicFile::create(path);
+  if (!file) return file.error();
+  if (Status s = file->write(stageHeader(kind, 0, 0, 0)); !s) return s.error();
+  return StageFileWriter(std::move(*file), kind);
+}
+
+Status StageFileWriter::write(std::span<const uint8_t> bytes) {
+  mCrc = crc32Continue(mCrc, bytes);
+  mBytes += bytes.size();
+  return mFile.write(bytes);
+}
+
+Status StageFileWriter::commit() {
+  if (Status s = mFile.writeAt(0, stageHeader(mKind, mBytes, mBytes, mCrc)); !s) return s;
+  return mFile.commit(AtomicFile::Durability::kUnsynced);
+}
+
+Result<StageFileReader> StageFileReader::open(const std::string& path, StageFile kind) {
+  if (!storedRaw(kind)) return Error{"internal error: only stored-raw stage files are streamed"};
+  auto in = std::make_unique<std::ifstream>(path, std::ios::binary);
+  auto h = openStageFile(path, kind, *in);
+  if (!h) return h.error();
+  return StageFileReader(path, std::move(in), h->packedBytes, h->crc);
+}
+
+std::optional<std::span<const uint8_t>> StageFileReader::read(size_t n) {
+  if (n > mLeft) return std::nullopt;
+  if (mBuffer.size() < n) mBuffer.resize(n);
+  if (!mIn->read(reinterpret_cast<char*>(mBuffer.data()), std::streamsize(n))) {
+    mLeft = 0;
+    return std::nullopt;
+  }
+  mLeft -= n;
+  const std::span<const uint8_t> bytes(mBuffer.data(), n);
+  mCrc = crc32Continue(mCrc, bytes);
+  return bytes;
+}
+
+Status StageFileReader::finish() {
+  if (mLeft != 0) return makeError(mPath, "damaged (records do not add up)");
+  if (mCrc != mExpectedCrc) return makeError(mPath, "damaged (size or checksum does not match)");
+  return {};
 }
 
 }  // namespace terralod

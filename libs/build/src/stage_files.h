@@ -8,12 +8,15 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <fstream>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "terralod/core/atomic_file.h"
 #include "terralod/core/result.h"
 #include "terralod/format/byte_io.h"
 
@@ -26,12 +29,15 @@ enum class StageFile : uint32_t {
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
   kBlockCoarse = 5,   ///< what the coarse levels need of a block (points, block-node texture)
   kChunks = 6,        ///< built chunks with their node records (stored as they are)
-  kBlockTiles = 7,    ///< a block node's float texture tiles (stored as they are)
+  // 7 held one block node's float texture tiles (before job frontiers)
+  kJobTiles = 8,     ///< a pass-2 job's frontier: nodes' float texture tiles (stored as they are)
+  kJobTextures = 9,  ///< the texture blobs of the nodes above its blocks a pass-2 job built
 };
 
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
 inline bool storedRaw(StageFile kind) {
-  return kind == StageFile::kChunks || kind == StageFile::kBlockTiles;
+  return kind == StageFile::kChunks || kind == StageFile::kJobTiles ||
+         kind == StageFile::kJobTextures;
 }
 
 /// Growable little-endian writer.
@@ -155,5 +161,57 @@ class StagePayload {
 
 /// Errors name the file ("missing", "not a stage file", "damaged").
 Result<StagePayload> readStageFile(const std::string& path, StageFile kind);
+
+/// A stored-raw stage file written a piece at a time, for payloads not worth holding whole;
+/// the same bytes as writeStageFile of the pieces joined.
+class StageFileWriter {
+ public:
+  static Result<StageFileWriter> create(const std::string& path, StageFile kind);
+  Status write(std::span<const uint8_t> bytes);
+  /// Fills in the header and puts the file in place.
+  Status commit();
+
+ private:
+  StageFileWriter(AtomicFile file, StageFile kind) : mFile(std::move(file)), mKind(kind) {}
+  AtomicFile mFile;
+  StageFile mKind;
+  uint64_t mBytes = 0;
+  uint32_t mCrc = 0;
+};
+
+/// A stored-raw stage file read a piece at a time. Its checksum covers the whole payload, so
+/// finish() says whether what was read can be trusted; use nothing read before it succeeds
+/// for anything that cannot be undone.
+class StageFileReader {
+ public:
+  static Result<StageFileReader> open(const std::string& path, StageFile kind);
+  /// Little-endian values, as Unpacker reads them; nullopt past the payload's end.
+  template <typename T>
+  std::optional<T> get() {
+    auto b = read(sizeof(T));
+    if (!b) return std::nullopt;
+    return ByteReader(b->data()).get<T>();
+  }
+  /// A byte string (u64 length, then its bytes), valid until the next read.
+  std::optional<std::span<const uint8_t>> getView() {
+    auto n = get<uint64_t>();
+    if (!n) return std::nullopt;
+    return read(size_t(*n));
+  }
+  /// Whether the payload was read to its end, and its checksum matches.
+  Status finish();
+  const std::string& path() const { return mPath; }
+
+ private:
+  StageFileReader(std::string path, std::unique_ptr<std::ifstream> in, uint64_t bytes, uint32_t crc)
+      : mPath(std::move(path)), mIn(std::move(in)), mLeft(bytes), mExpectedCrc(crc) {}
+  std::optional<std::span<const uint8_t>> read(size_t n);
+
+  std::string mPath;
+  std::unique_ptr<std::ifstream> mIn;
+  uint64_t mLeft;
+  uint32_t mExpectedCrc, mCrc = 0;
+  std::vector<uint8_t> mBuffer;
+};
 
 }  // namespace terralod

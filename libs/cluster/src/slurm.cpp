@@ -43,6 +43,7 @@ Result<std::string> sbatch(const SlurmSubmission& job) {
                                    "--output=" + job.output,
                                    "--kill-on-invalid-dep=no"};
   if (!job.dependency.empty()) argv.push_back("--dependency=" + job.dependency);
+  if (job.wholeNode) argv.push_back("--exclusive");
   argv.insert(argv.end(), job.extra.begin(), job.extra.end());
   argv.push_back("--wrap=" + job.command);
   auto out = run(argv);

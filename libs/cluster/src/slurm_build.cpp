@@ -72,6 +72,8 @@ class SlurmDriver {
     job.tasks = tasks;
     job.output = mOptions.work + "/logs/" + stageName(stage) + "-%A_%a.out";
     job.extra = mOptions.sbatchArgs;
+    // The coarse job is alone on the critical path and builds its chunks on every thread.
+    job.wholeNode = stage == BuildStage::kCoarse;
     job.command = command(stage);
     return job;
   }

@@ -11,8 +11,8 @@
 
 namespace terralod {
 
-uint32_t crc32Of(std::span<const uint8_t> bytes) {
-  uLong crc = crc32(0L, Z_NULL, 0);
+uint32_t crc32Continue(uint32_t previous, std::span<const uint8_t> bytes) {
+  uLong crc = previous;
   // zlib takes uInt lengths; feed large ranges in pieces.
   size_t done = 0;
   while (done < bytes.size()) {
@@ -21,6 +21,10 @@ uint32_t crc32Of(std::span<const uint8_t> bytes) {
     done += n;
   }
   return static_cast<uint32_t>(crc);
+}
+
+uint32_t crc32Of(std::span<const uint8_t> bytes) {
+  return crc32Continue(uint32_t(crc32(0L, Z_NULL, 0)), bytes);
 }
 
 std::vector<uint8_t> serializeHeader(const TilesetHeader& h) {

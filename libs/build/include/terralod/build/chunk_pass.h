@@ -78,19 +78,18 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
                                      const ActivationGrid& grid, HeightWindows& windows,
                                      unsigned worker);
 
-/// A block node's texture tiles, by its index in blockNodesOf order (each asked for once).
-using BlockTilesSource = std::function<Result<ChunkTiles>(size_t block)>;
+/// Encoded texture blobs by node.
+using NodeTextures = std::vector<std::pair<uint32_t, std::vector<uint8_t>>>;
 
 /// Builds every chunk at the block level and above (`coarseNodes`, in that order), with one
-/// mesher per thread over the coarse heights; `blockTextures` are the block nodes' texture
-/// blobs (in blockNodesOf order; consumed). Textures above the block level are built from the
-/// leaves up, each subtree depth first, so only a few levels' tiles are held at once. Returns
-/// the chunks in `coarseNodes` order.
+/// mesher per thread over the coarse heights. Returns the chunks in `coarseNodes` order,
+/// without textures: those above the block level come from a TilePyramid.
 Result<std::vector<BuiltChunk>> buildCoarseChunks(
     const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
-    const std::vector<uint32_t>& blockNodes, const BlockTilesSource& blockTiles,
-    std::vector<std::vector<uint8_t>>& blockTextures,
     std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress);
+/// Gives each chunk its blob in `textures` (consumed); an internal error when one has none.
+Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
+                      const std::vector<NodeRecord>& nodes);
 
 /// Appends a chunk's blobs to the file and records where they went in its node.
 Status appendChunk(TilesetWriter& writer, NodeRecord& node, std::span<const uint8_t> blob,

@@ -17,6 +17,7 @@ struct SlurmSubmission {
   std::string output;              ///< --output pattern
   std::string dependency;          ///< --dependency, empty: none
   std::vector<std::string> extra;  ///< the user's sbatch options
+  bool wholeNode = false;          ///< --exclusive (every CPU of a node; its threads use them)
   std::string command;             ///< run by sh (--wrap); $SLURM_ARRAY_TASK_ID is the task
 };
 

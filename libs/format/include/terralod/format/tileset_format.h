@@ -99,6 +99,8 @@ struct NodeRecord {
 
 /// CRC-32 (zlib polynomial) of a byte range.
 uint32_t crc32Of(std::span<const uint8_t> bytes);
+/// The CRC-32 of bytes whose start had `crc`, followed by `bytes` (crc32Of in pieces).
+uint32_t crc32Continue(uint32_t crc, std::span<const uint8_t> bytes);
 
 std::vector<uint8_t> serializeHeader(const TilesetHeader& header);
 /// Validates magic, version, size fields and CRC; `subject` names the file in errors.
