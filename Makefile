@@ -13,7 +13,7 @@ DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
 
-.PHONY: all deps configure build demo test test-tsan test-sanitize test-asan format check-format clean
+.PHONY: all deps configure build app demo test test-tsan test-sanitize test-asan format check-format clean
 
 all: build
 
@@ -26,7 +26,11 @@ configure: deps
 build: configure
 	cmake --build --preset $(PRESET)
 
-demo: build
+# Only the terralod program (and the libraries it links), not the tests: what the demo runs.
+app: configure
+	cmake --build --preset $(PRESET) --target terralod
+
+demo: app
 	mkdir -p $(DEMO_DIR)
 	$(TERRALOD) build $(DEMO_DEM) --texture $(DEMO_IMAGE) -o $(DEMO_DIR)/zion.tlod
 	$(TERRALOD) info $(DEMO_DIR)/zion.tlod
