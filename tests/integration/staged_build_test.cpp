@@ -128,6 +128,47 @@ TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
   EXPECT_FALSE(fs::exists(file("damaged.tlod")));
 }
 
+// The files the coarse job and assemble read a piece at a time (a job's textures, a block's
+// chunks) are checked against their CRC only at their end, after what they held has been
+// written on: a byte changed in the middle must still give one line and no output.
+TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
+  const std::string work = file("streamed");
+  const std::string out = file("streamed.tlod");
+  ASSERT_EQ(runTerralod({"build", dem(), "--block-cells", "128", "-o", out, "--scheduler", "none",
+                         "--work-dir", work, "--jobs", "4"})
+                .exitCode,
+            0);
+  auto stage = [&](const std::string& name, int task = 0) {
+    return runTerralod({"build-stage", name, work, "--task", std::to_string(task)});
+  };
+  for (const char* name : {"pass1", "reduce", "pass2"})
+    for (int t = 0; t < (std::string(name) == "reduce" ? 1 : 4); ++t)
+      ASSERT_EQ(stage(name, t).exitCode, 0) << name << " " << t;
+  // Flips one byte halfway through a file, keeping its size; returns the original bytes.
+  auto damage = [](const std::string& path) {
+    const std::string bytes = readWholeFile(path);
+    std::string changed = bytes;
+    changed[changed.size() / 2] = char(changed[changed.size() / 2] ^ 0x5a);
+    std::ofstream(path, std::ios::binary | std::ios::trunc) << changed;
+    return bytes;
+  };
+  auto expectOneDamagedLine = [&](const RunResult& r, const std::string& victim) {
+    EXPECT_EQ(r.exitCode, 1);
+    ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+    EXPECT_TRUE(has(r.err, victim + ": damaged")) << r.err;
+  };
+  const std::string textures = work + "/pass2/job-1.textures";
+  const std::string original = damage(textures);
+  expectOneDamagedLine(stage("coarse"), textures);
+  EXPECT_FALSE(fs::exists(work + "/coarse.chunks")) << "no coarse.chunks from damaged input";
+  std::ofstream(textures, std::ios::binary | std::ios::trunc) << original;
+  ASSERT_EQ(stage("coarse").exitCode, 0);
+  const std::string chunks = work + "/pass2/5.chunks";
+  damage(chunks);
+  expectOneDamagedLine(stage("assemble"), chunks);
+  EXPECT_FALSE(fs::exists(out)) << "no tileset from damaged input";
+}
+
 TEST_F(StagedBuild, NeverClearsAWorkDirectoryHoldingOtherFiles) {
   const std::string work = file("precious");
   fs::create_directories(work);
