@@ -388,12 +388,11 @@ Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
   return in->finish();
 }
 
-// What the coarse stage needs of a block: heights and activations of the points coarse chunks
-// use, and the block node's texture (copied into coarse.chunks).
+// What the coarse stage needs of a block to mesh the levels above it: heights and activations
+// of the points coarse chunks use. (The block node's texture goes in its job's textures.)
 struct BlockCoarse {
   std::vector<std::pair<uint64_t, float>> heights;
   std::vector<std::pair<uint64_t, uint8_t>> activations;
-  std::vector<uint8_t> texture;
 };
 
 // A pass-2 job's frontier: the tiles of the nodes whose parent it could not build.
@@ -454,7 +453,6 @@ std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
   Packer p;
   p.putKeyed(c.heights);
   p.putKeyed(c.activations);
-  p.putBytes(c.texture);
   return std::move(p.bytes());
 }
 
@@ -465,7 +463,6 @@ Result<BlockCoarse> readBlockCoarse(const std::string& path) {
   BlockCoarse c;
   c.heights = u.getKeyed<float>();
   c.activations = u.getKeyed<uint8_t>();
-  c.texture = u.getBytes();
   if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
   return c;
 }
@@ -729,8 +726,11 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   std::vector<std::vector<float>> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
-  // The textures above this job's blocks that need no other job's (whole subtrees).
+  // The textures above this job's blocks that need no other job's (whole subtrees), and the
+  // block nodes' own.
   std::optional<TilePyramid> pyramid;
+  std::mutex blobsMutex;
+  NodeTextures blobs;
   if (texturePass)
     pyramid.emplace(
         *texturePass, nodes,
@@ -765,8 +765,11 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
       for (int32_t x = origin.x; x <= origin.x + s.block; ++x)
         if (const uint8_t a = grid.get(x, y); a >= coarse)
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
-    c.texture = std::move(built->blockTexture);
-    if (pyramid) pyramid->add(blockNodes[k], std::move(built->tiles));
+    if (pyramid) {
+      pyramid->add(blockNodes[k], std::move(built->tiles));
+      std::lock_guard lock(blobsMutex);
+      blobs.emplace_back(blockNodes[k], std::move(built->blockTexture));
+    }
     if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
                                    packChunks(built->chunks, nodes));
         !st)
@@ -780,8 +783,11 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   });
   progress.end();
   if (!done || !pyramid) return done;
-  if (Status st = writeStageFile(jobTextures(work, job), StageFile::kJobTextures,
-                                 packTextures(pyramid->takeTextures()));
+  for (auto& t : pyramid->takeTextures()) blobs.push_back(std::move(t));
+  std::sort(blobs.begin(), blobs.end(),
+            [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (Status st =
+          writeStageFile(jobTextures(work, job), StageFile::kJobTextures, packTextures(blobs));
       !st)
     return st;
   return writeStageFile(jobTiles(work, job), StageFile::kJobTiles,
@@ -814,24 +820,24 @@ Result<NodeTextures> topTextures(const std::string& work, const StageContext& s,
 }
 
 // Writes coarse.chunks: the coarse chunks in their order, each with its texture from where it
-// was made: the block's pass2/K.coarse, the job that built it (pass2/job-J.textures, read in
-// step: both are in node order) or `top`. Streamed: one texture is held at a time.
+// was made: the job of its blocks (pass2/job-J.textures, read in step: both are in node
+// order) or `top`. Streamed: one texture is held at a time.
 Status writeCoarseChunks(const std::string& work, const StageContext& s,
                          const std::vector<BuiltChunk>& chunks,
                          const std::vector<NodeRecord>& nodes, NodeTextures top, bool textured) {
   const int32_t blockLevel = blockLevelOf(s.layout, s.block);
-  std::unordered_map<uint32_t, size_t> blockOf, topOf;
-  for (size_t k = 0; k < s.blockNodes.size(); ++k) blockOf.emplace(s.blockNodes[k], k);
+  std::unordered_map<uint32_t, size_t> topOf;
   for (size_t i = 0; i < top.size(); ++i) topOf.emplace(top[i].first, i);
   std::vector<int> builtBy(nodes.size(), -1);
   std::vector<std::optional<StageFileReader>> jobs(size_t(s.plan.jobs));
   std::vector<uint64_t> left(jobs.size(), 0);
   if (textured)
     for (int job = 0; job < s.plan.jobs; ++job) {
-      const std::vector<uint8_t> builds =
-          TilePyramid::buildableFrom(nodes, blockLevel, jobBlockNodes(s, job));
+      const std::vector<uint32_t> blocks = jobBlockNodes(s, job);
+      const std::vector<uint8_t> builds = TilePyramid::buildableFrom(nodes, blockLevel, blocks);
       for (size_t i = 0; i < nodes.size(); ++i)
         if (builds[i]) builtBy[i] = job;
+      for (uint32_t b : blocks) builtBy[b] = job;
       auto reader = StageFileReader::open(jobTextures(work, job), StageFile::kJobTextures);
       if (!reader) return reader.error();
       auto count = reader->get<uint64_t>();
@@ -847,10 +853,6 @@ Status writeCoarseChunks(const std::string& work, const StageContext& s,
     packChunkMesh(p, c, nodes);
     if (!textured) {
       p.putBytes(c.texture);
-    } else if (auto b = blockOf.find(c.node); b != blockOf.end()) {
-      auto block = readBlockCoarse(pass2Coarse(work, b->second));
-      if (!block) return block.error();
-      p.putBytes(block->texture);
     } else if (auto t = topOf.find(c.node); t != topOf.end()) {
       p.putBytes(top[t->second].second);
     } else if (const int job = builtBy[c.node]; job >= 0 && left[size_t(job)] > 0) {

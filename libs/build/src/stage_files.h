@@ -27,11 +27,11 @@ enum class StageFile : uint32_t {
   kPass1Grid = 2,     ///< a block's activations (closed square, borders one-sided)
   kReduced = 3,       ///< a block's finished halo values
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
-  kBlockCoarse = 5,   ///< what the coarse levels need of a block (points, block-node texture)
+  kBlockCoarse = 5,   ///< what the coarse levels need of a block (points)
   kChunks = 6,        ///< built chunks with their node records (stored as they are)
   // 7 held one block node's float texture tiles (before job frontiers)
   kJobTiles = 8,     ///< a pass-2 job's frontier: nodes' float texture tiles (stored as they are)
-  kJobTextures = 9,  ///< the texture blobs of the nodes above its blocks a pass-2 job built
+  kJobTextures = 9,  ///< the texture blobs of a pass-2 job's block nodes and the nodes it built
 };
 
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
