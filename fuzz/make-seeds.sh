@@ -24,9 +24,10 @@ withMode() { { printf "\\x$(printf %02x "$1")"; cat "$2"; } >"$3"; }
 # cut FILE OFFSET LENGTH OUT
 cut() { dd if="$1" of="$4" bs=64K iflag=skip_bytes,count_bytes skip="$2" count="$3" status=none; }
 
-# Tilesets: both goldens with checksums recomputed by the harness, v1 also as given.
+# Tilesets: the goldens with checksums recomputed by the harness, v1 also as given.
 withMode 0 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully"
 withMode 0 "$golden/v2/gully.tlod" "$out/tileset_reader_fuzzer/v2_gully"
+withMode 0 "$golden/v3/gully.tlod" "$out/tileset_reader_fuzzer/v3_gully"
 withMode 1 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully_checksums_kept"
 withMode 0 "$golden/vipm/gully.tlod" "$out/tileset_reader_fuzzer/vipm_gully"
 # meshKind is a u32 (header offset 24): 0x101 must be refused, not narrowed to kind 1.
@@ -35,7 +36,7 @@ printf '\x01\x01\x00\x00' | dd of="$work/kind.tlod" bs=1 seek=24 conv=notrunc st
 withMode 0 "$work/kind.tlod" "$out/tileset_reader_fuzzer/v2_gully_mesh_kind_0x101"
 
 # Chunk blobs (geometry: stored and decompressed) and texture blobs of every node.
-for version in v1 v2 vipm; do
+for version in v1 v2 v3 vipm; do
   tlod=$golden/$version/gully.tlod
   table=$(u64 "$tlod" $((0x100)))
   count=$(u64 "$tlod" $((0xF8)))

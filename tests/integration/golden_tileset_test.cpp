@@ -1,5 +1,5 @@
-// The format is frozen: tilesets written by format versions 1 and 2 (static RTIN chunks, and
-// VIPM chunks in version 1) must always read, and
+// The format is frozen: tilesets written by format versions 1, 2 and 3 (static RTIN chunks,
+// and VIPM chunks in version 2) must always read, and
 // building their source again must give the same bytes (or scripts/update-golden-tileset.sh
 // was run on purpose and the change reviewed).
 
@@ -17,7 +17,7 @@ namespace terralod::test {
 namespace {
 
 const std::string kGolden = testData("golden/v1/gully.tlod");
-const std::string kGoldenV2 = testData("golden/v2/gully.tlod");
+const std::string kGoldenV3 = testData("golden/v3/gully.tlod");
 const std::string kGoldenVipm = testData("golden/vipm/gully.tlod");
 
 void expectGoldenReads(const std::string& version) {
@@ -26,7 +26,7 @@ void expectGoldenReads(const std::string& version) {
   auto opened = TilesetReader::openFile(testData("golden/" + version + "/gully.tlod"));
   ASSERT_TRUE(opened.ok()) << opened.error().message;
   const TilesetReader& t = **opened;
-  EXPECT_EQ(t.header().version, version == "v1" ? 1u : 2u);
+  EXPECT_EQ(t.header().version, uint32_t(version[1] - '0'));
   EXPECT_EQ(t.header().textured(), version != "v1");
   EXPECT_EQ(t.header().levelCount, expected["levels"].get<uint32_t>());
   EXPECT_EQ(t.nodes().size(), expected["chunks"].get<size_t>());
@@ -58,6 +58,9 @@ TEST(GoldenTileset, VersionOneStillReads) {
 TEST(GoldenTileset, VersionTwoStillReads) {
   expectGoldenReads("v2");
 }
+TEST(GoldenTileset, VersionThreeStillReads) {
+  expectGoldenReads("v3");
+}
 
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
   TempDir dir;
@@ -75,7 +78,7 @@ TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
       runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
                    dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenV2))
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenV3))
       << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
 }
 

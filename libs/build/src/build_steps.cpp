@@ -44,6 +44,7 @@ TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layo
   textures.surface.rowLatitudes =
       std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
   textures.image = image;
+  textures.zstdLevel = options.compressionLevel;
   return textures;
 }
 
@@ -78,7 +79,7 @@ TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;
   if (options.textures) {
-    header.version = 2;
+    header.version = kTilesetVersionTextured;
     header.flags |= kTilesetTextured;
     header.textureMinTau = options.textureTau;
   }

@@ -17,9 +17,10 @@ uint8_t toByte(float v) {
 }
 
 // Encodes one mip level of 8-bit texels (`bytes` per texel, row-major) block by block;
-// texels past the edge repeat the last row/column.
-template <typename Block>
-std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t size, uint32_t bytes,
+// texels past the edge repeat the last row/column. `bytes` is a template argument so that
+// gathering a texel is one load and one store, not a call to memcpy.
+template <uint32_t bytes, typename Block>
+std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t size,
                                   size_t blockBytes, Block&& block) {
   const uint32_t blocks = (size + 3) / 4;
   std::vector<uint8_t> out(size_t(blocks) * blocks * blockBytes);
@@ -72,7 +73,7 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
     std::vector<uint8_t> rgba(n * 4, 255);
     for (size_t i = 0; i < n; ++i)
       for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = toByte(level.values[i * 3 + c]);
-    return encodeBlocks(rgba, level.size, 4, 8, [](uint8_t* out, uint8_t* t) {
+    return encodeBlocks<4>(rgba, level.size, 8, [](uint8_t* out, uint8_t* t) {
       stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
     });
   }
@@ -84,8 +85,8 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
     rg[i * 2 + 0] = toByte(0.5f * (v[0] * inv + 1.0f));
     rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
   }
-  return encodeBlocks(rg, level.size, 2, 16,
-                      [](uint8_t* out, uint8_t* t) { stb_compress_bc5_block(out, t); });
+  return encodeBlocks<2>(rg, level.size, 16,
+                         [](uint8_t* out, uint8_t* t) { stb_compress_bc5_block(out, t); });
 }
 
 TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {

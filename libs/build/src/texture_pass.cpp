@@ -119,7 +119,7 @@ std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles)
       layer(tiles.color, TextureLayerKind::kColor, TextureEncoding::kBc1, plan.colorFlags));
   texture.layers.push_back(
       layer(tiles.normal, TextureLayerKind::kNormal, TextureEncoding::kBc5, plan.normalFlags));
-  return encodeTexture(texture);
+  return encodeTexture(texture, mBuild.zstdLevel);
 }
 
 Result<ChunkTiles> TexturePass::buildBlock(

@@ -565,7 +565,7 @@ std::vector<uint8_t> buildVipmNormalMap(const Heightfield& heights, int32_t x0, 
       [&](int32_t gx, int32_t gy) { return heights.at(gx * stride, gy * stride); });
   ChunkTexture texture;
   texture.layers.push_back(encodeNormalLayer(tile, kTextureSourceLimited));
-  return encodeTexture(texture);
+  return encodeRawTexture(texture);
 }
 
 }  // namespace terralod

@@ -570,7 +570,7 @@ void checkLayerShape(const TextureLayer& l, TextureLayerKind kind, TextureEncodi
   // And the layer goes through the codec as it is.
   ChunkTexture t;
   t.layers.push_back(l);
-  auto decoded = decodeTexture(encodeTexture(t), "test");
+  auto decoded = decodeTexture(encodeTexture(t, 3), "test");
   ASSERT_TRUE(decoded.ok()) << decoded.error().message;
   EXPECT_EQ(decoded->layers[0].mips, l.mips);
 }

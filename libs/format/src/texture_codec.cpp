@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <memory>
+
+#include <zstd.h>
 
 #include "terralod/format/byte_io.h"
 #include "terralod/format/tileset_format.h"
@@ -10,7 +13,8 @@ namespace terralod {
 namespace {
 
 constexpr uint32_t kTextureMagic = 0x58544C54;  // "TLTX"
-constexpr uint16_t kTextureBlobVersion = 1;
+constexpr uint16_t kRawBlobVersion = 1;
+constexpr uint16_t kZstdBlobVersion = 2;
 constexpr size_t kBlobHeaderBytes = 16;
 constexpr size_t kLayerHeaderBytes = 16;
 constexpr uint32_t kMaxLayers = 4;
@@ -50,14 +54,17 @@ uint64_t ChunkTexture::bytes() const {
   return total;
 }
 
-std::vector<uint8_t> encodeTexture(const ChunkTexture& texture) {
-  size_t total = kBlobHeaderBytes + texture.layers.size() * kLayerHeaderBytes;
-  for (const TextureLayer& l : texture.layers)
-    for (const auto& m : l.mips) total += m.size();
-  std::vector<uint8_t> out(total, 0);
+namespace {
+
+// The blob header and the layer headers (the same in both versions; `bytes` is a layer's
+// stored-as-is size), with `data` after them; the checksum covers everything from byte 12.
+std::vector<uint8_t> assembleBlob(const ChunkTexture& texture, uint16_t version,
+                                  std::span<const uint8_t> data) {
+  const size_t headers = kBlobHeaderBytes + texture.layers.size() * kLayerHeaderBytes;
+  std::vector<uint8_t> out(headers + data.size(), 0);
   ByteWriter w(out.data());
   w.put<uint32_t>(kTextureMagic);
-  w.put<uint16_t>(kTextureBlobVersion);
+  w.put<uint16_t>(version);
   w.put<uint16_t>(uint16_t(texture.layers.size()));
   w.seek(kBlobHeaderBytes);
   for (const TextureLayer& l : texture.layers) {
@@ -71,12 +78,34 @@ std::vector<uint8_t> encodeTexture(const ChunkTexture& texture) {
     w.put<uint32_t>(bytes);
     w.put<uint32_t>(0);
   }
-  for (const TextureLayer& l : texture.layers)
-    for (const auto& m : l.mips) w.putBytes(m.data(), m.size());
+  w.putBytes(data.data(), data.size());
   ByteWriter crc(out.data());
   crc.seek(8);
   crc.put<uint32_t>(crc32Of(std::span(out).subspan(12)));
   return out;
+}
+
+std::vector<uint8_t> layerData(const ChunkTexture& texture) {
+  std::vector<uint8_t> data;
+  data.reserve(texture.bytes());
+  for (const TextureLayer& l : texture.layers)
+    for (const auto& m : l.mips) data.insert(data.end(), m.begin(), m.end());
+  return data;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encodeTexture(const ChunkTexture& texture, int zstdLevel) {
+  const std::vector<uint8_t> data = layerData(texture);
+  std::vector<uint8_t> frame(ZSTD_compressBound(data.size()));
+  const size_t n = ZSTD_compress(frame.data(), frame.size(), data.data(), data.size(), zstdLevel);
+  // Only a level outside zstd's range fails, and the options refuse those.
+  if (ZSTD_isError(n)) return {};
+  return assembleBlob(texture, kZstdBlobVersion, std::span(frame).first(n));
+}
+
+std::vector<uint8_t> encodeRawTexture(const ChunkTexture& texture) {
+  return assembleBlob(texture, kRawBlobVersion, layerData(texture));
 }
 
 Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::string& subject) {
@@ -86,7 +115,9 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
   if (blob.size() < kBlobHeaderBytes) return bad("too short");
   ByteReader r(blob.data());
   if (r.get<uint32_t>() != kTextureMagic) return bad("wrong magic");
-  if (r.get<uint16_t>() != kTextureBlobVersion) return bad("unknown texture blob version");
+  const uint16_t version = r.get<uint16_t>();
+  if (version != kRawBlobVersion && version != kZstdBlobVersion)
+    return bad("unknown texture blob version");
   const uint32_t layerCount = r.get<uint16_t>();
   const uint32_t crc = r.get<uint32_t>();
   if (crc != crc32Of(blob.subspan(12))) return bad("checksum mismatch");
@@ -95,7 +126,7 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
   if (blob.size() < kBlobHeaderBytes + layerCount * kLayerHeaderBytes) return bad("too short");
   r.seek(kBlobHeaderBytes);
   ChunkTexture texture;
-  uint64_t offset = kBlobHeaderBytes + layerCount * kLayerHeaderBytes;
+  uint64_t total = 0;  // the layers' data, stored as it is (version 1) or compressed
   for (uint32_t i = 0; i < layerCount; ++i) {
     const uint8_t kind = r.get<uint8_t>(), encoding = r.get<uint8_t>();
     const uint32_t mips = r.get<uint8_t>();
@@ -103,7 +134,7 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
     const uint32_t size = r.get<uint32_t>(), bytes = r.get<uint32_t>();
     const uint32_t reserved = r.get<uint32_t>();
     if (!knownKind(kind) || !knownEncoding(encoding)) return bad("unknown layer kind or encoding");
-    // Version 1 pairs each kind with one encoding: colour BC1, normals BC5.
+    // Each kind has one encoding: colour BC1, normals BC5.
     if ((kind == uint8_t(TextureLayerKind::kColor)) != (encoding == uint8_t(TextureEncoding::kBc1)))
       return bad("layer kind and encoding do not match");
     if (reserved != 0) return bad("reserved bytes are not zero");
@@ -118,16 +149,39 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
     uint64_t expected = 0;
     for (uint32_t m = 0; m < mips; ++m) expected += mipBytes(layer.encoding, size, m);
     if (bytes != expected) return bad("layer byte count does not match its size");
-    if (offset + bytes > blob.size()) return bad("layer data runs past the end");
-    for (uint32_t m = 0; m < mips; ++m) {
-      const uint64_t n = mipBytes(layer.encoding, size, m);
-      layer.mips.emplace_back(blob.begin() + ptrdiff_t(offset),
-                              blob.begin() + ptrdiff_t(offset + n));
-      offset += n;
-    }
+    total += bytes;
     texture.layers.push_back(std::move(layer));
   }
-  if (offset != blob.size()) return bad("trailing bytes");
+  const std::span<const uint8_t> stored =
+      blob.subspan(kBlobHeaderBytes + layerCount * kLayerHeaderBytes);
+  std::span<const uint8_t> data = stored;
+  std::unique_ptr<uint8_t[]> decompressed;
+  if (version == kRawBlobVersion) {
+    if (total > stored.size()) return bad("layer data runs past the end");
+    if (total < stored.size()) return bad("trailing bytes");
+  } else {
+    // One zstd frame recording its content size, which the layer headers fix, and nothing
+    // after it. The size is at most four 4097-texel layers' worth, so allocating it is safe.
+    const unsigned long long size = ZSTD_getFrameContentSize(stored.data(), stored.size());
+    if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
+      return bad("layer data is not a zstd frame with its size");
+    if (size != total) return bad("layer data's size does not match the layer headers");
+    const size_t frame = ZSTD_findFrameCompressedSize(stored.data(), stored.size());
+    if (ZSTD_isError(frame)) return bad("layer data does not decompress");
+    if (frame != stored.size()) return bad("trailing bytes");
+    decompressed = std::make_unique_for_overwrite<uint8_t[]>(total);
+    const size_t got = ZSTD_decompress(decompressed.get(), total, stored.data(), stored.size());
+    if (ZSTD_isError(got) || got != total) return bad("layer data does not decompress");
+    data = std::span<const uint8_t>(decompressed.get(), total);
+  }
+  size_t offset = 0;
+  for (TextureLayer& layer : texture.layers)
+    for (uint32_t m = 0; m < mipCount(layer.size); ++m) {
+      const size_t n = mipBytes(layer.encoding, layer.size, m);
+      layer.mips.emplace_back(data.begin() + ptrdiff_t(offset),
+                              data.begin() + ptrdiff_t(offset + n));
+      offset += n;
+    }
   for (size_t i = 0; i < texture.layers.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (texture.layers[i].kind == texture.layers[j].kind) return bad("duplicate layer");

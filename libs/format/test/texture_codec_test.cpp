@@ -6,6 +6,8 @@
 #include <cstring>
 #include <random>
 
+#include <zstd.h>
+
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {
@@ -13,7 +15,8 @@ namespace {
 
 // Blob layout (texture_codec.cpp): a 16-byte header (magic, version, layer count, CRC-32 of
 // bytes [12, end), reserved), one 16-byte header per layer (kind, encoding, mips, flags,
-// size, bytes, reserved), then every layer's mips in order.
+// size, bytes, reserved), then every layer's mips in order: as they are (version 1,
+// encodeRawTexture) or in one zstd frame (version 2, encodeTexture).
 constexpr size_t kHeader = 16, kLayerHeader = 16;
 
 TextureLayer makeLayer(TextureLayerKind kind, TextureEncoding encoding, uint32_t size,
@@ -77,7 +80,7 @@ TEST(TextureCodec, MipCountAndBytes) {
 
 TEST(TextureCodec, TwoLayerRoundTrip) {
   const ChunkTexture t = makeTexture();
-  const std::vector<uint8_t> blob = encodeTexture(t);
+  const std::vector<uint8_t> blob = encodeRawTexture(t);
   uint64_t data = 0;
   for (const TextureLayer& l : t.layers)
     for (uint32_t m = 0; m < mipCount(l.size); ++m) data += mipBytes(l.encoding, l.size, m);
@@ -116,7 +119,7 @@ TEST(TextureCodec, TwoLayerRoundTrip) {
 TEST(TextureCodec, SingleLayerRoundTrip) {
   ChunkTexture t;
   t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 2, 0, 7));
-  auto r = decodeTexture(encodeTexture(t), "test");
+  auto r = decodeTexture(encodeRawTexture(t), "test");
   ASSERT_TRUE(r.ok()) << r.error().message;
   ASSERT_EQ(r->layers.size(), 1u);
   EXPECT_EQ(r->layers[0].mips, t.layers[0].mips);
@@ -124,13 +127,13 @@ TEST(TextureCodec, SingleLayerRoundTrip) {
 }
 
 TEST(TextureCodec, RejectsWrongMagic) {
-  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
   blob[0] ^= 0x01;
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: wrong magic");
 }
 
 TEST(TextureCodec, RejectsFlippedDataByte) {
-  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  const std::vector<uint8_t> good = encodeRawTexture(makeTexture());
   for (size_t at :
        {size_t(12), kHeader + 4, kHeader + 2 * kLayerHeader, good.size() / 2, good.size() - 1}) {
     std::vector<uint8_t> blob = good;
@@ -140,7 +143,7 @@ TEST(TextureCodec, RejectsFlippedDataByte) {
 }
 
 TEST(TextureCodec, RejectsTruncatedBlob) {
-  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  const std::vector<uint8_t> good = encodeRawTexture(makeTexture());
   // Shorter than the header.
   EXPECT_EQ(decodeError(std::vector<uint8_t>(good.begin(), good.begin() + 10)),
             "chunk 3/1/2: invalid texture: too short");
@@ -163,14 +166,14 @@ TEST(TextureCodec, RejectsTruncatedBlob) {
 }
 
 TEST(TextureCodec, RejectsUnknownEncoding) {
-  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
   blob[kHeader + kLayerHeader + 1] = 3;  // second layer's encoding
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
   blob[kHeader + kLayerHeader + 1] = 0;
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
-  blob = encodeTexture(makeTexture());
+  blob = encodeRawTexture(makeTexture());
   blob[kHeader] = 3;  // first layer's kind
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
@@ -178,7 +181,7 @@ TEST(TextureCodec, RejectsUnknownEncoding) {
 
 TEST(TextureCodec, RejectsInconsistentMipCount) {
   for (uint8_t mips : {uint8_t(6), uint8_t(8), uint8_t(0)}) {
-    std::vector<uint8_t> blob = encodeTexture(makeTexture());
+    std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
     blob[kHeader + 2] = mips;  // the 65-texel layer has 7
     fixCrc(blob);
     EXPECT_EQ(decodeError(blob),
@@ -188,16 +191,16 @@ TEST(TextureCodec, RejectsInconsistentMipCount) {
   // A layer that left out its last mip is caught when encoded as it is.
   ChunkTexture t = makeTexture();
   t.layers[1].mips.pop_back();
-  EXPECT_EQ(decodeError(encodeTexture(t)),
+  EXPECT_EQ(decodeError(encodeRawTexture(t)),
             "chunk 3/1/2: invalid texture: mip count does not match the layer size");
 }
 
 TEST(TextureCodec, RejectsDuplicateLayerKind) {
   ChunkTexture t = makeTexture();
   t.layers[1] = makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 33, 0, 3);
-  EXPECT_EQ(decodeError(encodeTexture(t)), "chunk 3/1/2: invalid texture: duplicate layer");
+  EXPECT_EQ(decodeError(encodeRawTexture(t)), "chunk 3/1/2: invalid texture: duplicate layer");
   // Editing a valid blob's second kind (BC5) to colour pairs colour with the wrong encoding.
-  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
   blob[kHeader + kLayerHeader] = uint8_t(TextureLayerKind::kColor);
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob),
@@ -205,18 +208,18 @@ TEST(TextureCodec, RejectsDuplicateLayerKind) {
 }
 
 TEST(TextureCodec, RejectsNonZeroReservedBytes) {
-  std::vector<uint8_t> blob = encodeTexture(makeTexture());
+  std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
   blob[12] = 1;  // the blob header's reserved word
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: reserved bytes are not zero");
-  blob = encodeTexture(makeTexture());
+  blob = encodeRawTexture(makeTexture());
   blob[kHeader + 12] = 1;  // the first layer header's
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: reserved bytes are not zero");
 }
 
 TEST(TextureCodec, RejectsOtherHeaderDamage) {
-  const std::vector<uint8_t> good = encodeTexture(makeTexture());
+  const std::vector<uint8_t> good = encodeRawTexture(makeTexture());
   auto edited = [&](size_t at, uint8_t value) {
     std::vector<uint8_t> b = good;
     b[at] = value;
@@ -224,7 +227,11 @@ TEST(TextureCodec, RejectsOtherHeaderDamage) {
     return decodeError(b);
   };
   // The version (bytes 4-5) is outside the checksum.
-  EXPECT_EQ(edited(4, 2), "chunk 3/1/2: invalid texture: unknown texture blob version");
+  EXPECT_EQ(edited(4, 3), "chunk 3/1/2: invalid texture: unknown texture blob version");
+  EXPECT_EQ(edited(4, 0), "chunk 3/1/2: invalid texture: unknown texture blob version");
+  // Version 2 keeps its blocks in a zstd frame, which raw blocks are not.
+  EXPECT_EQ(edited(4, 2),
+            "chunk 3/1/2: invalid texture: layer data is not a zstd frame with its size");
   EXPECT_EQ(edited(6, 0), "chunk 3/1/2: invalid texture: layer count");
   EXPECT_EQ(edited(6, 5), "chunk 3/1/2: invalid texture: layer count");
   EXPECT_EQ(edited(kHeader + 3, 2), "chunk 3/1/2: invalid texture: unknown layer flags");
@@ -233,34 +240,111 @@ TEST(TextureCodec, RejectsOtherHeaderDamage) {
             "chunk 3/1/2: invalid texture: layer byte count does not match its size");
 }
 
+uint16_t blobVersion(const std::vector<uint8_t>& blob) {
+  return uint16_t(blob[4] | blob[5] << 8);
+}
+
+TEST(TextureCodec, CompressedRoundTrip) {
+  const ChunkTexture t = makeTexture();
+  const std::vector<uint8_t> blob = encodeTexture(t, 3);
+  EXPECT_EQ(std::string(blob.begin(), blob.begin() + 4), "TLTX");
+  EXPECT_EQ(blobVersion(blob), 2u);
+  EXPECT_EQ(blobVersion(encodeRawTexture(t)), 1u);
+  auto r = decodeTexture(blob, "test");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_EQ(r->layers.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(r->layers[i].kind, t.layers[i].kind);
+    EXPECT_EQ(r->layers[i].flags, t.layers[i].flags);
+    EXPECT_EQ(r->layers[i].size, t.layers[i].size);
+    EXPECT_EQ(r->layers[i].mips, t.layers[i].mips) << "layer " << i;
+  }
+  // The layer headers are the same in both versions; only the data after them differs.
+  const std::vector<uint8_t> raw = encodeRawTexture(t);
+  EXPECT_TRUE(std::equal(blob.begin() + 16, blob.begin() + 48, raw.begin() + 16));
+}
+
+// Sea, flats and the padding around the data give runs of identical blocks: they must cost
+// next to nothing, where random blocks cost what they are.
+TEST(TextureCodec, UniformLayersCostNextToNothing) {
+  ChunkTexture uniform;
+  uniform.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 1025, 1, 0));
+  for (auto& mip : uniform.layers[0].mips)
+    for (size_t i = 0; i < mip.size(); ++i) mip[i] = uint8_t(i % 16 < 2 ? 0x80 : 0);
+  const uint64_t raw = uniform.bytes();
+  const std::vector<uint8_t> blob = encodeTexture(uniform, 3);
+  EXPECT_LT(blob.size() * 100, raw) << blob.size() << " bytes for " << raw;
+  ASSERT_TRUE(decodeTexture(blob, "test").ok());
+  EXPECT_EQ(decodeTexture(blob, "test")->layers[0].mips, uniform.layers[0].mips);
+  const ChunkTexture noisy = makeTexture();
+  EXPECT_GT(encodeTexture(noisy, 3).size(), noisy.bytes());  // incompressible: a little more
+}
+
+TEST(TextureCodec, RejectsADamagedFrame) {
+  const ChunkTexture t = makeTexture();
+  const std::vector<uint8_t> good = encodeTexture(t, 3);
+  const size_t frameAt = kHeader + 2 * kLayerHeader;
+  // Any flipped byte: the checksum.
+  for (size_t at : {frameAt, frameAt + 7, good.size() / 2, good.size() - 1}) {
+    std::vector<uint8_t> blob = good;
+    blob[at] ^= 0x10;
+    EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: checksum mismatch") << at;
+  }
+  // With the checksum made to match: cut short, a byte too many, not a frame at all.
+  std::vector<uint8_t> blob(good.begin(), good.end() - 1);
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: layer data does not decompress");
+  blob = good;
+  blob.push_back(0);
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: trailing bytes");
+  blob.assign(good.begin(), good.begin() + ptrdiff_t(frameAt));
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob),
+            "chunk 3/1/2: invalid texture: layer data is not a zstd frame with its size");
+  // A frame of another size than the layer headers say (a whole frame, 16 bytes short).
+  std::vector<uint8_t> data;
+  for (const TextureLayer& l : t.layers)
+    for (const auto& m : l.mips) data.insert(data.end(), m.begin(), m.end());
+  data.resize(data.size() - 16);
+  std::vector<uint8_t> frame(ZSTD_compressBound(data.size()));
+  frame.resize(ZSTD_compress(frame.data(), frame.size(), data.data(), data.size(), 3));
+  blob.assign(good.begin(), good.begin() + ptrdiff_t(frameAt));
+  blob.insert(blob.end(), frame.begin(), frame.end());
+  fixCrc(blob);
+  EXPECT_EQ(decodeError(blob),
+            "chunk 3/1/2: invalid texture: layer data's size does not match the layer headers");
+}
+
 TEST(VipmNormalMapLayer, OneBc5NormalLayerOfTheChunksGridPointsIsAccepted) {
   ChunkTexture t;
   t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 65, 1, 3));
-  auto leaf = decodeVipmNormalMap(encodeTexture(t), 64, "v.tlod chunk 5");
+  auto leaf = decodeVipmNormalMap(encodeRawTexture(t), 64, "v.tlod chunk 5");
   ASSERT_TRUE(leaf.ok()) << leaf.error().message;
   EXPECT_EQ(leaf->size, 65u);
   EXPECT_EQ(leaf->mips, t.layers[0].mips);
   const std::string wrong =
       "v.tlod chunk 5: invalid texture: a VIPM chunk's texture must be one BC5 normal layer of "
       "129 texels";
-  EXPECT_EQ(decodeVipmNormalMap(encodeTexture(t), 128, "v.tlod chunk 5").error().message, wrong);
+  EXPECT_EQ(decodeVipmNormalMap(encodeRawTexture(t), 128, "v.tlod chunk 5").error().message, wrong);
   // A colour layer too, a colour layer alone, a normal layer in BC1: refused.
   ChunkTexture root;
   root.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 129, 1, 4));
-  ASSERT_TRUE(decodeVipmNormalMap(encodeTexture(root), 128, "v.tlod chunk 5").ok());
+  ASSERT_TRUE(decodeVipmNormalMap(encodeRawTexture(root), 128, "v.tlod chunk 5").ok());
   ChunkTexture both = root;
   both.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 129, 0, 5));
-  EXPECT_EQ(decodeVipmNormalMap(encodeTexture(both), 128, "v.tlod chunk 5").error().message, wrong);
+  EXPECT_EQ(decodeVipmNormalMap(encodeRawTexture(both), 128, "v.tlod chunk 5").error().message,
+            wrong);
   ChunkTexture colour;
   colour.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 129, 0, 6));
-  EXPECT_FALSE(decodeVipmNormalMap(encodeTexture(colour), 128, "v.tlod chunk 5").ok());
+  EXPECT_FALSE(decodeVipmNormalMap(encodeRawTexture(colour), 128, "v.tlod chunk 5").ok());
   ChunkTexture bc1;
   bc1.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc1, 129, 0, 7));
-  EXPECT_FALSE(decodeVipmNormalMap(encodeTexture(bc1), 128, "v.tlod chunk 5").ok());
+  EXPECT_FALSE(decodeVipmNormalMap(encodeRawTexture(bc1), 128, "v.tlod chunk 5").ok());
   // Missing or damaged.
   EXPECT_EQ(decodeVipmNormalMap({}, 128, "v.tlod chunk 5").error().message,
             "v.tlod chunk 5: invalid texture: a VIPM chunk has no normal map");
-  std::vector<uint8_t> damaged = encodeTexture(root);
+  std::vector<uint8_t> damaged = encodeRawTexture(root);
   damaged[100] ^= 1;
   EXPECT_EQ(decodeVipmNormalMap(damaged, 128, "v.tlod chunk 5").error().message,
             "v.tlod chunk 5: invalid texture: checksum mismatch");

@@ -76,10 +76,10 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
             "a.tlod: not a terralod tileset (wrong magic bytes)");
   auto future = bytes;
-  future[8] = 3;
+  future[8] = 4;
   EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
-            "b.tlod: tileset format version 3 is not supported (this terralod reads versions 1 "
-            "to 2)");
+            "b.tlod: tileset format version 4 is not supported (this terralod reads versions 1 "
+            "to 3)");
   auto flipped = bytes;
   flipped[100] ^= 1;
   EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,

@@ -26,6 +26,7 @@ struct TextureBuild {
   std::vector<TextureLevel> plan;  ///< per level, root first
   SurfaceTexelOptions surface;
   const ImageDrape* image = nullptr;  ///< null: the generated colour
+  int zstdLevel = 3;                  ///< for the texture blobs (`--zstd-level`)
 };
 
 /// One layer of a chunk while the pyramid is built: every mip level, as floats (for the parent

@@ -1,6 +1,7 @@
 #pragma once
-// Texture blobs (format version 2): the colour and normal-map tiles of one chunk, each a
-// square of GPU block-compressed texels with its whole mip chain, ready to upload as they are.
+// Texture blobs (format versions 2 and 3): the colour and normal-map tiles of one chunk, each a
+// square of GPU block-compressed texels with its whole mip chain, ready to upload once the
+// zstd frame they are stored in (blob version 2) is undone.
 // The blob sits right after the chunk's geometry blob, so one read fetches both.
 //
 // Texel placement is edge-aligned: texel i of a tile of `size` texels lies at i / (size - 1)
@@ -56,8 +57,15 @@ inline uint32_t mipSize(uint32_t size, uint32_t m) {
 /// Bytes of one mip level of `size`-texel tile (whole 4x4 blocks).
 uint64_t mipBytes(TextureEncoding encoding, uint32_t size, uint32_t m);
 
-std::vector<uint8_t> encodeTexture(const ChunkTexture& texture);
-/// Decodes and validates a texture blob (never trusts it); `subject` names it in errors.
+/// A texture blob of version 2 (format version 3): the layers' blocks in one zstd frame at
+/// `zstdLevel`, so uniform areas (sea, flats, the padding around the data) cost next to
+/// nothing. Static tilesets write these.
+std::vector<uint8_t> encodeTexture(const ChunkTexture& texture, int zstdLevel);
+/// A texture blob of version 1 (format version 2): the blocks as they are. VIPM tilesets
+/// write these (their normal maps are small, and their tilesets stay version 2).
+std::vector<uint8_t> encodeRawTexture(const ChunkTexture& texture);
+/// Decodes and validates a texture blob of either version (never trusts it); `subject` names
+/// it in errors.
 Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::string& subject);
 
 }  // namespace terralod

@@ -1,8 +1,9 @@
 #pragma once
-// The terralod tileset file, versions 1 and 2. docs/format.md is the normative description;
+// The terralod tileset file, versions 1 to 3. docs/format.md is the normative description;
 // this header mirrors it. Little-endian throughout. Version 2 adds per-chunk textures (a
-// texture blob right after each chunk's geometry blob); files without textures are written
-// as version 1, byte for byte as before.
+// texture blob right after each chunk's geometry blob); version 3 is version 2 with the
+// texture blobs' blocks zstd-compressed. Files without textures are written as version 1,
+// byte for byte as before.
 //
 //   [0, 512)            header (fixed size, CRC-protected)
 //   [512, ...)          chunk blobs, each readable with one read at a known offset
@@ -20,8 +21,11 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 2;  ///< the newest version this code reads
+inline constexpr uint32_t kTilesetVersion = 3;  ///< the newest version this code reads
 inline constexpr uint32_t kTilesetVersionUntextured = 1;
+/// What textured static tilesets are written as: version 2's layout, texture blobs of version 2
+/// (zstd-compressed). VIPM tilesets are still written as version 2 (raw texture blobs).
+inline constexpr uint32_t kTilesetVersionTextured = 3;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;
 inline constexpr int kMaxLevels = 16;
