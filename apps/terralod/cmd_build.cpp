@@ -43,7 +43,8 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       ->capture_default_str()
       ->check(positiveNumber());
   cmd->add_option("--chunk-cells", options->chunkCells,
-                  "Leaf chunk side in cells, a power of two (default: 64, less for small rasters)")
+                  "Leaf chunk side in cells, a power of two up to 256 (default: from the terrain's "
+                  "roughness, 64 to 256 cells; less for small rasters)")
       ->check(wholeNumber<int32_t>(0));
   cmd->add_option("--threads", options->threads, "Worker threads (default: all cores)")
       ->check(wholeNumber<unsigned>());

@@ -21,6 +21,7 @@
 #include "stage_files.h"
 #include "terralod/build/chunk_pass.h"
 #include "terralod/build/dem_windows.h"
+#include "terralod/build/leaf_size.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tile_pyramid.h"
 #include "terralod/core/atomic_file.h"
@@ -556,14 +557,21 @@ Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work
   if (!opened) return opened.error();
   const DemReader& reader = **opened;
   const DemInfo& info = reader.info();
-  auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
-  if (!layout) return layout.error();
+  if (auto checked = makeTreeLayout(info.columns, info.rows, options.chunkCells); !checked)
+    return checked.error();
   if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
     return Error{"--min-tau must be a positive number of pixels"};
   if (auto image = openImage(plan.options, info); !image) return image.error();
   // Fail on an unwritable output before any job runs.
   if (auto writer = TilesetWriter::create(plan.options.output); !writer) return writer.error();
   if (Status s = checkWorkDirectory(work); !s) return s.error();
+  // The plan records the leaf size, so that every job makes the same tree (an automatic one
+  // reads some of the raster, so it comes after the checks).
+  auto leafCells = leafCellsFor(options, reader);
+  if (!leafCells) return leafCells.error();
+  plan.options.chunkCells = *leafCells;
+  auto layout = makeTreeLayout(info.columns, info.rows, *leafCells);
+  if (!layout) return layout.error();
 
   plan.blockCells = std::clamp(options.blockCells, layout->leafCells, layout->rootCells);
   // The budget's height range as a local build would take it: the data's own when it would

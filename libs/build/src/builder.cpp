@@ -17,6 +17,7 @@
 #include "terralod/build/dem_windows.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/height_source.h"
+#include "terralod/build/leaf_size.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/build/vipm_builder.h"
@@ -88,10 +89,10 @@ Result<LocalBuild> openBuild(const BuildOptions& options, BuildSummary& summary)
   const DemInfo& info = b.reader->info();
   summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
   b.threads = options.threads ? options.threads : hardwareThreads();
-  auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells);
-  if (!layout) return layout.error();
-  b.layout = *layout;
-  b.block = std::clamp(options.blockCells, b.layout.leafCells, b.layout.rootCells);
+  // The raster's size and an explicit --chunk-cells are checked here; an automatic leaf size
+  // is chosen last, since it reads some of the raster.
+  if (auto layout = makeTreeLayout(info.columns, info.rows, options.chunkCells); !layout)
+    return layout.error();
   if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
     return Error{"--min-tau must be a positive number of pixels"};
   // A draped image is checked (readable, georeferenced, overlapping) before any work.
@@ -109,6 +110,12 @@ Result<LocalBuild> openBuild(const BuildOptions& options, BuildSummary& summary)
     return makeError(info.path,
                      "the raster needs " + std::to_string((summary.sourceSamples * 4) >> 20) +
                          " MB, more than --memory-mb " + std::to_string(options.memoryMB));
+  auto leafCells = leafCellsFor(options, *b.reader);
+  if (!leafCells) return leafCells.error();
+  auto layout = makeTreeLayout(info.columns, info.rows, *leafCells);
+  if (!layout) return layout.error();
+  b.layout = *layout;
+  b.block = std::clamp(options.blockCells, b.layout.leafCells, b.layout.rootCells);
   return b;
 }
 

@@ -1,0 +1,45 @@
+#pragma once
+// The leaf chunks' size when the user does not choose one (`--chunk-cells`), from the
+// terrain's roughness at the requested error.
+//
+// A chunk costs a node record, a blob's headers, skirts along its sides and a draw call
+// whatever it holds. Smooth terrain at a metre holds a few dozen triangles per 64-cell chunk,
+// where those fixed costs are most of the file and of the frame; rough terrain holds hundreds,
+// where bigger chunks would draw many more triangles than the view needs. So the leaves are
+// made as small as they can be (64 cells) while they still hold kTargetLeafTriangles each on
+// average, and larger (128, 256 cells) where they would not. The average comes from pass 1
+// itself run on a few blocks spread over the raster (`estimateLeafTriangles`).
+
+#include <cstdint>
+
+#include "terralod/core/result.h"
+
+namespace terralod {
+
+class DemReader;
+struct BuildOptions;
+
+/// Average surface triangles per leaf chunk the automatic size aims at, at least.
+inline constexpr double kTargetLeafTriangles = 250.0;
+
+/// The automatic leaf size for a raster whose shorter side has `cells` cells (rounded up to a
+/// power of two) and whose leaf meshes hold `trianglesPer64` triangles per 64 x 64 cells:
+/// 64 · 2^k for the smallest k with trianglesPer64 · 4^k >= kTargetLeafTriangles, at most 256
+/// and at most shortSide / 8 (a tree of at least four levels). Rasters too small for 64-cell
+/// leaves in such a tree keep shortSide / 4 (16 to 64), as before. Pure.
+int32_t automaticLeafCells(int32_t shortSide, double trianglesPer64);
+
+struct LeafTriangleEstimate {
+  double trianglesPer64 = 0;  ///< estimated leaf triangles per 64 x 64 cells
+  int32_t blocks = 0;         ///< sample blocks measured (0: none fitted, no estimate)
+};
+
+/// Runs pass 1 on up to 16 blocks of 256 cells spread over the raster (blocks with voids are
+/// skipped) and counts the points the leaf level keeps: twice that is about its triangles.
+Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError);
+
+/// options.chunkCells when set, else automaticLeafCells from estimateLeafTriangles (static
+/// tilesets; VIPM tilesets have their own fixed leaves and get 0 back).
+Result<int32_t> leafCellsFor(const BuildOptions& options, const DemReader& reader);
+
+}  // namespace terralod

@@ -1,0 +1,102 @@
+#include "terralod/build/leaf_size.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <vector>
+
+#include "block_pass.h"
+#include "build_steps.h"
+#include "terralod/build/builder.h"
+#include "terralod/build/error_budget.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/raster/dem_reader.h"
+
+namespace terralod {
+namespace {
+
+constexpr int32_t kSampleCells = 256;  // a sample block's side
+constexpr int32_t kSamplesPerSide = 4;
+constexpr int32_t kMaxAutomaticLeafCells = 256;
+
+int32_t shortSideOf(const DemInfo& info) {
+  return int32_t(std::bit_ceil(uint32_t(std::max(1, std::min(info.columns, info.rows) - 1))));
+}
+
+// The automatic size can only differ from 64 where a tree of four levels has room for 128.
+bool mayGrow(int32_t shortSide) {
+  return shortSide / 8 >= 128;
+}
+
+}  // namespace
+
+int32_t automaticLeafCells(int32_t shortSide, double trianglesPer64) {
+  if (shortSide / 4 <= 64) return std::clamp(shortSide / 4, 16, 64);
+  const int32_t most = std::clamp(shortSide / 8, 64, kMaxAutomaticLeafCells);
+  int32_t cells = 64;
+  double triangles = trianglesPer64;
+  while (cells < most && triangles < kTargetLeafTriangles) {
+    cells *= 2;
+    triangles *= 4;
+  }
+  return cells;
+}
+
+Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError) {
+  const DemInfo& info = reader.info();
+  auto layout = makeTreeLayout(info.columns, info.rows, 64);
+  if (!layout) return layout.error();
+  LeafTriangleEstimate estimate;
+  const int32_t blocksX = layout->cellsX / kSampleCells, blocksY = layout->cellsY / kSampleCells;
+  if (blocksX < 1 || blocksY < 1 || layout->rootCells < kSampleCells) return estimate;
+  const auto [lo, hi] = guessHeightRange(reader);
+  auto budget = makeErrorBudget(*layout, maxError, hi - lo);
+  if (!budget) return budget.error();
+
+  const int32_t nx = std::min(kSamplesPerSide, blocksX), ny = std::min(kSamplesPerSide, blocksY);
+  BlockScratch scratch;
+  ActivationStats stats;
+  uint64_t points = 0, interior = 0;
+  for (int32_t j = 0; j < ny; ++j)
+    for (int32_t i = 0; i < nx; ++i) {
+      const int32_t bx = int32_t((i + 0.5) * blocksX / nx) * kSampleCells;
+      const int32_t by = int32_t((j + 0.5) * blocksY / ny) * kSampleCells;
+      scratch.reset(kSampleCells);
+      if (Status s =
+              reader.readWindow(bx, by, kSampleCells + 1, kSampleCells + 1, scratch.heights.data());
+          !s)
+        return s.error();
+      if (std::any_of(scratch.heights.begin(), scratch.heights.end(),
+                      [](float h) { return std::isnan(h); }))
+        continue;  // voids are filled before the real pass 1; a sample need not be
+      BlockGeometry geometry;
+      geometry.side = kSampleCells;
+      geometry.origin = {bx, by};
+      geometry.realX = geometry.realY = kSampleCells;
+      ActivationGrid grid = ActivationGrid::window(bx, by, kSampleCells, kSampleCells);
+      BlockResult result;
+      computeBlock(geometry, *budget, scratch, grid, result, stats);
+      // The block's inner points: its border lines are shared with its neighbours.
+      const size_t stride = size_t(kSampleCells) + 1;
+      for (int32_t y = 1; y < kSampleCells; ++y)
+        for (int32_t x = 1; x < kSampleCells; ++x)
+          points += scratch.activation[size_t(y) * stride + size_t(x)] >= 1;
+      interior += uint64_t(kSampleCells - 1) * (kSampleCells - 1);
+      ++estimate.blocks;
+    }
+  // A triangulation of V points has about 2V triangles.
+  if (interior > 0) estimate.trianglesPer64 = 2.0 * double(points) / double(interior) * 64 * 64;
+  return estimate;
+}
+
+Result<int32_t> leafCellsFor(const BuildOptions& options, const DemReader& reader) {
+  if (options.chunkCells != 0 || options.kind != TilesetKind::kStatic) return options.chunkCells;
+  const int32_t shortSide = shortSideOf(reader.info());
+  if (!mayGrow(shortSide)) return automaticLeafCells(shortSide, kTargetLeafTriangles);
+  auto estimate = estimateLeafTriangles(reader, options.maxError);
+  if (!estimate) return estimate.error();
+  if (estimate->blocks == 0) return automaticLeafCells(shortSide, kTargetLeafTriangles);
+  return automaticLeafCells(shortSide, estimate->trianglesPer64);
+}
+
+}  // namespace terralod
