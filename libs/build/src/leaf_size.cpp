@@ -1,7 +1,6 @@
 #include "terralod/build/leaf_size.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <vector>
 
@@ -19,20 +18,10 @@ constexpr int32_t kSampleCells = 256;  // a sample block's side
 constexpr int32_t kSamplesPerSide = 4;
 constexpr int32_t kMaxAutomaticLeafCells = 256;
 
-int32_t shortSideOf(const DemInfo& info) {
-  return int32_t(std::bit_ceil(uint32_t(std::max(1, std::min(info.columns, info.rows) - 1))));
-}
-
-// The automatic size can only differ from 64 where a tree of four levels has room for 128.
-bool mayGrow(int32_t shortSide) {
-  return shortSide / 8 >= 128;
-}
-
 }  // namespace
 
-int32_t automaticLeafCells(int32_t shortSide, double trianglesPer64) {
-  if (shortSide / 4 <= 64) return std::clamp(shortSide / 4, 16, 64);
-  const int32_t most = std::clamp(shortSide / 8, 64, kMaxAutomaticLeafCells);
+int32_t automaticLeafCells(int32_t rootCells, double trianglesPer64) {
+  const int32_t most = std::clamp(rootCells / 8, 64, kMaxAutomaticLeafCells);
   int32_t cells = 64;
   double triangles = trianglesPer64;
   while (cells < most && triangles < kTargetLeafTriangles) {
@@ -91,12 +80,16 @@ Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, doub
 
 Result<int32_t> leafCellsFor(const BuildOptions& options, const DemReader& reader) {
   if (options.chunkCells != 0 || options.kind != TilesetKind::kStatic) return options.chunkCells;
-  const int32_t shortSide = shortSideOf(reader.info());
-  if (!mayGrow(shortSide)) return automaticLeafCells(shortSide, kTargetLeafTriangles);
+  // makeTreeLayout's own choice for 0 (at most 64 cells) stands unless roots have room for
+  // 128-cell leaves in four levels.
+  const DemInfo& info = reader.info();
+  auto layout = makeTreeLayout(info.columns, info.rows, 0);
+  if (!layout) return layout.error();
+  if (layout->rootCells / 8 < 128) return 0;
   auto estimate = estimateLeafTriangles(reader, options.maxError);
   if (!estimate) return estimate.error();
-  if (estimate->blocks == 0) return automaticLeafCells(shortSide, kTargetLeafTriangles);
-  return automaticLeafCells(shortSide, estimate->trianglesPer64);
+  if (estimate->blocks == 0) return 0;
+  return automaticLeafCells(layout->rootCells, estimate->trianglesPer64);
 }
 
 }  // namespace terralod

@@ -17,12 +17,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(AutomaticLeafCells, SmallRastersKeepTheOldRule) {
-  // shortSide / 4, 16 to 64, whatever the terrain.
-  EXPECT_EQ(automaticLeafCells(32, 1.0), 16);
-  EXPECT_EQ(automaticLeafCells(128, 1.0), 32);
-  EXPECT_EQ(automaticLeafCells(256, 1.0), 64);
+TEST(AutomaticLeafCells, SmallRootsKeepSixtyFourCells) {
   EXPECT_EQ(automaticLeafCells(512, 1.0), 64);  // 128-cell leaves would leave three levels
+  EXPECT_EQ(automaticLeafCells(256, 1.0), 64);  // never below 64 (leafCellsFor gives 0 here)
 }
 
 TEST(AutomaticLeafCells, GrowsUntilLeavesHoldTheTarget) {
@@ -32,7 +29,7 @@ TEST(AutomaticLeafCells, GrowsUntilLeavesHoldTheTarget) {
   EXPECT_EQ(automaticLeafCells(8192, 40.0), 128);  // 160 at 128
   EXPECT_EQ(automaticLeafCells(8192, 18.0), 256);  // 72 at 128, 288 at 256
   EXPECT_EQ(automaticLeafCells(8192, 0.0), 256);   // flat: as large as allowed
-  // At most shortSide / 8.
+  // At most rootCells / 8.
   EXPECT_EQ(automaticLeafCells(1024, 1.0), 128);
   EXPECT_EQ(automaticLeafCells(2048, 1.0), 256);
 }

@@ -25,12 +25,11 @@ struct BuildOptions;
 /// than 128-cell ones, and the smooth one (18) gets 256-cell leaves, 12 % faster than 64.
 inline constexpr double kTargetLeafTriangles = 100.0;
 
-/// The automatic leaf size for a raster whose shorter side has `cells` cells (rounded up to a
-/// power of two) and whose leaf meshes hold `trianglesPer64` triangles per 64 x 64 cells:
-/// 64 · 2^k for the smallest k with trianglesPer64 · 4^k >= kTargetLeafTriangles, at most 256
-/// and at most shortSide / 8 (a tree of at least four levels). Rasters too small for 64-cell
-/// leaves in such a tree keep shortSide / 4 (16 to 64), as before. Pure.
-int32_t automaticLeafCells(int32_t shortSide, double trianglesPer64);
+/// The automatic leaf size for roots of `rootCells` cells whose leaf meshes hold
+/// `trianglesPer64` triangles per 64 x 64 cells: 64 · 2^k for the smallest k with
+/// trianglesPer64 · 4^k >= kTargetLeafTriangles, at most 256 and at most rootCells / 8 (a tree
+/// of at least four levels), never below 64. Pure.
+int32_t automaticLeafCells(int32_t rootCells, double trianglesPer64);
 
 struct LeafTriangleEstimate {
   double trianglesPer64 = 0;  ///< estimated leaf triangles per 64 x 64 cells
@@ -41,8 +40,10 @@ struct LeafTriangleEstimate {
 /// skipped) and counts the points the leaf level keeps: twice that is about its triangles.
 Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError);
 
-/// options.chunkCells when set, else automaticLeafCells from estimateLeafTriangles (static
-/// tilesets; VIPM tilesets have their own fixed leaves and get 0 back).
+/// options.chunkCells when set; else, for static tilesets whose roots (makeTreeLayout with 0)
+/// have room for 128-cell leaves in four levels, automaticLeafCells from
+/// estimateLeafTriangles; else 0, which leaves the choice to makeTreeLayout (at most 64 cells;
+/// VIPM tilesets have their own fixed leaves).
 Result<int32_t> leafCellsFor(const BuildOptions& options, const DemReader& reader);
 
 }  // namespace terralod
