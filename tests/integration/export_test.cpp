@@ -24,6 +24,7 @@
 #include "cli_expectations.h"
 #include "cli_runner.h"
 #include "gltf_validator.h"
+#include "shared_directory.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/image.h"
@@ -501,14 +502,24 @@ LevelFacts runExport(const std::string& tileset, uint32_t levels, const std::str
   return facts;
 }
 
-// A real tileset per case, built fresh for every test.
+// A real tileset per case.
 class Export : public ::testing::TestWithParam<Dem> {
  protected:
+  // The tileset is built once per DEM for every test of the suite (and every process).
   void SetUp() override {
-    std::vector<std::string> build = {"build", testData(GetParam().file), "-o", mTileset};
-    build.insert(build.end(), GetParam().options.begin(), GetParam().options.end());
-    const RunResult built = runTerralod(build);
-    ASSERT_EQ(built.exitCode, 0) << built.err;
+    const Dem& dem = GetParam();
+    std::string options;  // part of the stamp: other options, another tileset
+    for (const std::string& o : dem.options) options += " " + o;
+    const SharedDirectory shared = sharedDirectory(
+        "export-" + dem.file.substr(0, dem.file.find('_')), programStamp(TERRALOD_CLI) + options,
+        [&dem](const std::string& dir) {
+          std::vector<std::string> build = {"build", testData(dem.file), "-o", dir + "/t.tlod"};
+          build.insert(build.end(), dem.options.begin(), dem.options.end());
+          const RunResult built = runTerralod(build);
+          return built.exitCode == 0 ? std::string() : built.err;
+        });
+    ASSERT_EQ(shared.error, "");
+    mTileset = shared.file("t.tlod");
     mInfo = infoJson(mTileset);
     ASSERT_FALSE(mInfo.is_discarded());
     mLevels = mInfo["levels"].get<uint32_t>();
@@ -518,8 +529,8 @@ class Export : public ::testing::TestWithParam<Dem> {
     return runExport(mTileset, mLevels, output, level, std::move(extra));
   }
 
-  TempDir mDir;
-  std::string mTileset = mDir.file("t.tlod");
+  TempDir mDir;          // what a test writes
+  std::string mTileset;  // shared: never modified
   nlohmann::json mInfo;
   uint32_t mLevels = 0;
 };
@@ -561,7 +572,7 @@ TEST_P(Export, ObjIsTheWeldedSurfaceOfTheFinestLevel) {
   ASSERT_TRUE(image.ok()) << image.error().message;
   EXPECT_EQ(std::max(image->width, image->height), 64);
   EXPECT_EQ(filesIn(mDir.path()),
-            (std::vector<std::string>{"surface.mtl", "surface.obj", "surface.png", "t.tlod"}));
+            (std::vector<std::string>{"surface.mtl", "surface.obj", "surface.png"}));
 }
 
 TEST_P(Export, PlyIsTheWeldedSurfaceOfEveryLevel) {
@@ -610,9 +621,9 @@ TEST_P(Export, GlbPassesTheKhronosValidator) {
     const Image image = readPngBytes(mDir, embeddedPng(parsed));
     EXPECT_EQ(std::max(image.width, image.height), 128);
   }
-  EXPECT_EQ(filesIn(mDir.path()),
-            (std::vector<std::string>{"level0.glb", "level" + std::to_string(mLevels - 1) + ".glb",
-                                      "t.tlod"}))
+  EXPECT_EQ(
+      filesIn(mDir.path()),
+      (std::vector<std::string>{"level0.glb", "level" + std::to_string(mLevels - 1) + ".glb"}))
       << "a .glb needs no side files";
 }
 
@@ -690,27 +701,30 @@ TEST_P(Export, FailureNeverTouchesAnExistingOutput) {
   EXPECT_TRUE(readPng(mDir.file("old.png")).ok());
 }
 
-// Square and power-of-two sized; small, odd-sized and mostly void; and one whose neighbouring
-// chunks at the finest level round a few shared heights differently (the exporter warns).
+// Square and power-of-two sized; small, odd-sized and mostly void; and a real SRTM tile of 414
+// chunks at its finest level, at --max-error 8 so the meshes the tests read back stay small (at
+// the default 1 m its finest level is a 188 MB OBJ of 1.78 M triangles, whose parsing took
+// most of this suite's time).
 INSTANTIATE_TEST_SUITE_P(Dems, Export,
                          ::testing::Values(Dem{"gzcommon_dem_squared_129.tif", {}},
                                            Dem{"landlab_west_bijou_gully_3m.asc",
                                                {"--max-error", "0.1"}},
-                                           Dem{"zion_srtm3_utm12_30m.tif", {}}),
+                                           Dem{"zion_srtm3_utm12_30m.tif", {"--max-error", "8"}}),
                          [](const ::testing::TestParamInfo<Dem>& param) {
                            return param.param.file.substr(0, param.param.file.find('_'));
                          });
 
 // Zion with its Landsat image draped: a real picture, not symmetric, so an image upside down
-// or mirrored would show. Built once for the suite.
+// or mirrored would show. Built once for the suite, at --max-error 8 (the meshes read back stay
+// small; the textures are the same).
 class ExportDrapedTexture : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     sDir = new TempDir;
     sTileset = sDir->file("zion.tlod");
-    const RunResult built =
-        runTerralod({"build", testData("zion_srtm3_utm12_30m.tif"), "--texture",
-                     testData("zion_landsat8_rgb_utm12_30m.tif"), "-o", sTileset});
+    const RunResult built = runTerralod({"build", testData("zion_srtm3_utm12_30m.tif"), "--texture",
+                                         testData("zion_landsat8_rgb_utm12_30m.tif"), "--max-error",
+                                         "8", "-o", sTileset});
     ASSERT_EQ(built.exitCode, 0) << built.err;
     sInfo = infoJson(sTileset);
     sLevels = sInfo["levels"].get<uint32_t>();
