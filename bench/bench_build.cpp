@@ -10,6 +10,7 @@
 #include "terralod/build/activation_pass.h"
 #include "terralod/build/chunk_encoder.h"
 #include "terralod/build/chunk_mesher.h"
+#include "terralod/build/chunk_pass.h"
 #include "terralod/raster/void_fill.h"
 
 namespace terralod {
@@ -83,7 +84,9 @@ void meshLeafLevel(benchmark::State& state) {
       for (int32_t ix = 0; ix < p.layout.chunksX(p.layout.depth); ++ix) {
         ChunkMesh mesh = mesher.build(p.layout.depth, ix, iy);
         triangles += mesh.surfaceIndices.size() / 3;
-        if (encode) benchmark::DoNotOptimize(encodeChunk(quantizeChunk(mesh, p.budget).value(), 3));
+        if (encode)
+          benchmark::DoNotOptimize(encodeChunk(
+              quantizeChunk(mesh, p.budget, kStaticChunkPayload).value(), 3, kStaticChunkPayload));
       }
   }
   state.counters["Mtriangles/s"] =
@@ -143,10 +146,10 @@ void encodedSize(benchmark::State& state) {
     for (int32_t iy = 0; iy < p.layout.chunksY(p.layout.depth); ++iy)
       for (int32_t ix = 0; ix < p.layout.chunksX(p.layout.depth); ++ix) {
         const ChunkMesh mesh = mesher.build(p.layout.depth, ix, iy);
-        ChunkGeometry g = quantizeChunk(mesh, p.budget).value();
+        ChunkGeometry g = quantizeChunk(mesh, p.budget, kStaticChunkPayload).value();
         if (optimise)
           for (ChunkPart& part : g.parts) optimizeChunkPart(part);
-        bytes += encodeChunk(g).size();
+        bytes += encodeChunk(g, 3, kStaticChunkPayload).size();
         triangles += mesh.surfaceIndices.size() / 3;
         vertices += mesh.surfaceVertexCount;
       }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the seed corpora in fuzz/corpus/<target>/ from the golden tilesets and the
-# rasters in tests/data (needs gdal_translate and zstd). The seeds are committed: run this
+# rasters in tests/data (needs gdal_translate, zstd and python3). The seeds are committed: run this
 # only to renew them, and review what changed. Every seed but the flights starts with the
 # target's mode byte (see each target's header comment).
 set -euo pipefail
@@ -28,6 +28,8 @@ cut() { dd if="$1" of="$4" bs=64K iflag=skip_bytes,count_bytes skip="$2" count="
 withMode 0 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully"
 withMode 0 "$golden/v2/gully.tlod" "$out/tileset_reader_fuzzer/v2_gully"
 withMode 0 "$golden/v3/gully.tlod" "$out/tileset_reader_fuzzer/v3_gully"
+withMode 0 "$golden/v4/gully.tlod" "$out/tileset_reader_fuzzer/v4_gully"
+withMode 0 "$golden/v4/gully-untextured.tlod" "$out/tileset_reader_fuzzer/v4_gully_untextured"
 withMode 1 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully_checksums_kept"
 withMode 0 "$golden/vipm/gully.tlod" "$out/tileset_reader_fuzzer/vipm_gully"
 # meshKind is a u32 (header offset 24): 0x101 must be refused, not narrowed to kind 1.
@@ -56,6 +58,26 @@ for version in v1 v2 v3 vipm; do
       withMode 0 "$work/texture" "$out/texture_codec_fuzzer/${version}_node${i}"
     fi
   done
+done
+
+# Version 4 chunk blobs (payload version 2, skirts derived): the node table is a zstd frame of
+# shuffled records (docs/format.md "Version 4"), read here with python3.
+tlod=$golden/v4/gully-untextured.tlod
+python3 - "$tlod" <<'PY' | while read -r i offset bytes; do
+import struct, subprocess, sys
+data = open(sys.argv[1], "rb").read()
+count, table, length = struct.unpack_from("<QQQ", data, 0xF8)
+shuffled = subprocess.run(["zstd", "-q", "-d", "-c"], input=data[table:table + length],
+                          capture_output=True, check=True).stdout
+record = lambda i: bytes(shuffled[k * count + i] for k in range(64))
+for i in range(count):
+    offset, size = struct.unpack_from("<QI", record(i), 40)
+    print(i, offset, size)
+PY
+  cut "$tlod" "$offset" "$bytes" "$work/blob"
+  withMode 0 "$work/blob" "$out/chunk_codec_fuzzer/v4_node${i}_stored"
+  zstd -q -d -c "$work/blob" >"$work/payload"
+  withMode 1 "$work/payload" "$out/chunk_codec_fuzzer/v4_node${i}_payload"
 done
 
 # Flights: the README's example, a recorded one, the least a flight needs, and near misses.

@@ -5,17 +5,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terralod=${TERRALOD:-build/release/apps/terralod/terralod}
-# Version 1 is what untextured builds write; version 3 is what textured ones write (version 2,
-# textures stored as they are, is no longer written: its golden stays as it is).
-for version in v1 v3; do
-  out=tests/data/golden/$version
-  mkdir -p "$out"
+# Static builds write version 4, textured (gully) and not (gully-untextured). Versions 1 to 3
+# are no longer written: their goldens stay as they are.
+out=tests/data/golden/v4
+mkdir -p "$out"
+for name in gully gully-untextured; do
   extra=()
-  [ "$version" = v1 ] && extra=(--no-texture)
-  "$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/gully.tlod" \
+  [ "$name" = gully-untextured ] && extra=(--no-texture)
+  "$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/$name.tlod" \
     --max-error 0.25 --threads 1 "${extra[@]}"
-  "$terralod" info "$out/gully.tlod" --json > "$out/gully.json"
-  echo "updated $out/gully.tlod and $out/gully.json"
+  "$terralod" info "$out/$name.tlod" --json > "$out/$name.json"
+  echo "updated $out/$name.tlod and $out/$name.json"
 done
 # VIPM tilesets (mesh kind 2, written as version 2: a normal map per node).
 out=tests/data/golden/vipm

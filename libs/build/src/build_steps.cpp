@@ -78,8 +78,8 @@ TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
   header.filledVoids = filledVoids;
   header.leafError = options.maxError;
   header.verticalScale = options.dem.verticalScale;
+  header.version = kTilesetVersionStatic;
   if (options.textures) {
-    header.version = kTilesetVersionTextured;
     header.flags |= kTilesetTextured;
     header.textureMinTau = options.textureTau;
   }

@@ -58,9 +58,9 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
       return Error{"internal error: chunk " + std::to_string(node.level) + "/" +
                    std::to_string(node.x) + "/" + std::to_string(node.y) +
                    " has a vertex without a height"};
-  auto geometry = quantizeChunk(mesh, budget);
+  auto geometry = quantizeChunk(mesh, budget, kStaticChunkPayload);
   if (!geometry) return geometry.error();
-  std::vector<uint8_t> blob = encodeChunk(*geometry, compressionLevel);
+  std::vector<uint8_t> blob = encodeChunk(*geometry, compressionLevel, kStaticChunkPayload);
   // Quantisation moves a drawn height (own or morphed) by up to half a step either way.
   const double halfStep = 0.5 * geometry->zStep;
   node.minZ = floatBelow(mesh.minZ - halfStep);
@@ -68,8 +68,10 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
   node.vertexCount = mesh.surfaceVertexCount;
   node.triangleCount = uint32_t(mesh.surfaceIndices.size() / 3);
   node.skirtTriangleCount = uint32_t(mesh.skirtIndices.size() / 3);
-  node.maxSkirtDepth =
-      floatAbove(*std::max_element(mesh.skirtDepth.begin(), mesh.skirtDepth.end()));
+  // The skirts as drawn: whole steps below the rounded tops, at least the depth asked for.
+  const uint16_t steps =
+      *std::max_element(geometry->skirtSteps.begin(), geometry->skirtSteps.end());
+  node.maxSkirtDepth = floatAbove(steps * geometry->zStep);
   node.blobBytes = uint32_t(blob.size());
   node.blobCrc = crc32Of(blob);
   return blob;

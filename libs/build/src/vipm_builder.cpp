@@ -207,7 +207,7 @@ Status writeChunkSet(TilesetWriter& writer, const VipmChunkSet& set, BuildSummar
   summary.chunks = nodes.size();
 
   TilesetHeader header;
-  header.version = 2;  // with texture blobs: the normal maps
+  header.version = kTilesetVersionVipm;  // with texture blobs: the normal maps
   header.flags |= kTilesetTextured;
   header.textureMinTau = kVipmTextureTau;
   header.meshKind = MeshKind::kVipm;

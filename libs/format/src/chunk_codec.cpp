@@ -3,9 +3,11 @@
 #include <meshoptimizer.h>
 #include <zstd.h>
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <span>
@@ -19,9 +21,11 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "terralod's format is little-endian");
 
 constexpr uint32_t kChunkMagic = 0x42434C54;  // "TLCB"
-constexpr uint16_t kChunkVersion = 1;
-constexpr size_t kChunkHeaderBytes = 4 + 2 + 2 + 8 + 8;
-constexpr size_t kPartHeaderBytes = 5 * 4;
+// The payload's fixed header and a part's header, by payload version (docs/format.md).
+constexpr size_t kHeaderBytesV1 = 4 + 2 + 2 + 8 + 8;      // ... zBase f64, zStep f64
+constexpr size_t kHeaderBytesV2 = 4 + 2 + 2 + 8 + 4 + 8;  // ... zStep f64, zBase i32 steps, skirts
+constexpr size_t kPartHeaderBytesV1 = 5 * 4;
+constexpr size_t kPartHeaderBytesV2 = 4 * 4;  // no surfaceIndexCount: every index is surface
 constexpr uint64_t kMaxDecodedBytes = uint64_t{1} << 28;
 
 // The frozen format pins the codec versions; newer meshoptimizer releases still decode them.
@@ -34,7 +38,98 @@ void pinCodecVersions() {
   });
 }
 
+// The largest x and y of the chunk's vertices: where its north and east sides lie.
+std::array<uint16_t, 2> extentOf(const ChunkGeometry& g) {
+  std::array<uint16_t, 2> extent{};
+  for (const ChunkPart& part : g.parts)
+    for (const ChunkVertex& v : part.vertices)
+      extent = {std::max(extent[0], v.x), std::max(extent[1], v.y)};
+  return extent;
+}
+
 }  // namespace
+
+std::vector<SkirtEdge> skirtEdges(const ChunkPart& part, const std::array<uint16_t, 4>& skirtSteps,
+                                  uint16_t extentX, uint16_t extentY) {
+  // The line of each side: the coordinate (x for east and west, y for south and north) and
+  // its value.
+  const std::array<uint16_t, 4> line = {0, extentX, extentY, 0};
+  auto coordinate = [](const ChunkVertex& v, int side) {
+    return (side == kSideEast || side == kSideWest) ? v.x : v.y;
+  };
+  auto alongOf = [](const ChunkVertex& v, int side) {
+    return (side == kSideEast || side == kSideWest) ? v.y : v.x;
+  };
+  std::vector<SkirtEdge> edges;
+  for (size_t t = 0; t < part.surfaceIndexCount; t += 3) {
+    const uint32_t* tri = &part.indices[t];
+    for (int side = 0; side < 4; ++side) {
+      if (skirtSteps[size_t(side)] == 0) continue;
+      bool on[3];
+      for (int k = 0; k < 3; ++k)
+        on[k] = coordinate(part.vertices[tri[k]], side) == line[size_t(side)];
+      if (on[0] && on[1] && on[2]) continue;  // degenerate: no inside to hang a skirt from
+      for (int k = 0; k < 3; ++k) {
+        if (!on[k] || !on[(k + 1) % 3]) continue;
+        const uint32_t p = tri[k], q = tri[(k + 1) % 3];
+        const uint16_t along =
+            std::min(alongOf(part.vertices[p], side), alongOf(part.vertices[q], side));
+        edges.push_back({uint8_t(side), along, p, q});
+      }
+    }
+  }
+  std::sort(edges.begin(), edges.end(), [](const SkirtEdge& a, const SkirtEdge& b) {
+    return a.side != b.side ? a.side < b.side : a.along < b.along;
+  });
+  return edges;
+}
+
+Status appendDerivedSkirts(ChunkGeometry& g) {
+  const auto [extentX, extentY] = extentOf(g);
+  for (ChunkPart& part : g.parts) {
+    const std::vector<SkirtEdge> edges = skirtEdges(part, g.skirtSteps, extentX, extentY);
+    if (edges.empty()) continue;
+    // The bottom of each (vertex, side), appended in the order the side's edges come.
+    std::vector<uint32_t> bottomOf;
+    int bottomSide = -1;
+    auto bottom = [&](uint32_t top, int side) -> Result<uint32_t> {
+      if (side != bottomSide) {
+        bottomOf.assign(part.vertices.size(), ~0u);
+        bottomSide = side;
+      }
+      if (bottomOf[top] != ~0u) return bottomOf[top];
+      ChunkVertex v = part.vertices[top];
+      const uint16_t steps = g.skirtSteps[size_t(side)];
+      if (v.z < steps) return Error{"skirt reaches below the height range"};
+      if (part.vertices.size() >= 65536) return Error{"too many vertices with its skirts"};
+      v.z = uint16_t(v.z - steps);
+      bottomOf[top] = uint32_t(part.vertices.size());
+      part.vertices.push_back(v);
+      return bottomOf[top];
+    };
+    part.indices.resize(part.surfaceIndexCount);
+    for (const SkirtEdge& e : edges) {
+      // Ends in increasing coordinate along the side, so bottoms come in that order.
+      const bool pFirst = [&] {
+        const ChunkVertex &a = part.vertices[e.p], &b = part.vertices[e.q];
+        return (e.side == kSideEast || e.side == kSideWest) ? a.y < b.y : a.x < b.x;
+      }();
+      auto first = bottom(pFirst ? e.p : e.q, e.side);
+      if (!first) return first.error();
+      auto second = bottom(pFirst ? e.q : e.p, e.side);
+      if (!second) return second.error();
+      const uint32_t p2 = pFirst ? *first : *second, q2 = pFirst ? *second : *first;
+      // Outwards (counter-clockwise seen from outside the chunk), split as version 1 splits
+      // them: along the diagonal from the side's lower end on the south and east sides...
+      if (e.side == kSideSouth || e.side == kSideEast)
+        part.indices.insert(part.indices.end(), {e.p, p2, q2, e.p, q2, e.q});
+      else  // ...and from its lower end, q, on the north and west sides
+        part.indices.insert(part.indices.end(), {e.q, p2, q2, e.q, e.p, p2});
+    }
+    if (part.indices.size() > (1u << 24)) return Error{"too many indices with its skirts"};
+  }
+  return {};
+}
 
 void optimizeChunkPart(ChunkPart& part) {
   const size_t vertexCount = part.vertices.size();
@@ -52,16 +147,20 @@ void optimizeChunkPart(ChunkPart& part) {
   part.indices = std::move(ordered);
 }
 
-std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionLevel) {
+std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionLevel,
+                                 ChunkPayloadVersion payload) {
   pinCodecVersions();
+  const bool derived = payload == ChunkPayloadVersion::kDerivedSkirts;
   struct Encoded {
     std::vector<uint8_t> vertices, indices;
   };
   std::vector<Encoded> encoded(geometry.parts.size());
-  size_t total = kChunkHeaderBytes + kPartHeaderBytes * geometry.parts.size();
+  size_t total = derived ? kHeaderBytesV2 + kPartHeaderBytesV2 * geometry.parts.size()
+                         : kHeaderBytesV1 + kPartHeaderBytesV1 * geometry.parts.size();
   for (size_t p = 0; p < geometry.parts.size(); ++p) {
     const ChunkPart& part = geometry.parts[p];
     assert(part.vertices.size() <= 65536 && part.indices.size() % 3 == 0);
+    assert(!derived || part.surfaceIndexCount == part.indices.size());
     Encoded& e = encoded[p];
     e.vertices.resize(meshopt_encodeVertexBufferBound(part.vertices.size(), sizeof(ChunkVertex)));
     e.vertices.resize(meshopt_encodeVertexBuffer(e.vertices.data(), e.vertices.size(),
@@ -75,15 +174,25 @@ std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionL
   std::vector<uint8_t> raw(total);
   ByteWriter w(raw.data());
   w.put<uint32_t>(kChunkMagic);
-  w.put<uint16_t>(kChunkVersion);
+  w.put<uint16_t>(static_cast<uint16_t>(payload));
   w.put<uint16_t>(static_cast<uint16_t>(geometry.parts.size()));
-  w.put<double>(geometry.zBase);
-  w.put<double>(geometry.zStep);
+  if (derived) {
+    // zBase is a whole number of steps (the builder rounds heights on the level's grid).
+    const double baseSteps = std::round(geometry.zBase / geometry.zStep);
+    assert(baseSteps >= INT32_MIN && baseSteps <= INT32_MAX &&
+           baseSteps * geometry.zStep == geometry.zBase);
+    w.put<double>(geometry.zStep);
+    w.put<int32_t>(static_cast<int32_t>(baseSteps));
+    for (uint16_t steps : geometry.skirtSteps) w.put<uint16_t>(steps);
+  } else {
+    w.put<double>(geometry.zBase);
+    w.put<double>(geometry.zStep);
+  }
   for (size_t p = 0; p < geometry.parts.size(); ++p) {
     const ChunkPart& part = geometry.parts[p];
     w.put<uint32_t>(static_cast<uint32_t>(part.vertices.size()));
     w.put<uint32_t>(static_cast<uint32_t>(part.indices.size()));
-    w.put<uint32_t>(part.surfaceIndexCount);
+    if (!derived) w.put<uint32_t>(part.surfaceIndexCount);
     w.put<uint32_t>(static_cast<uint32_t>(encoded[p].vertices.size()));
     w.put<uint32_t>(static_cast<uint32_t>(encoded[p].indices.size()));
   }
@@ -104,7 +213,7 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   const unsigned long long size = ZSTD_getFrameContentSize(blob.data(), blob.size());
   if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
     return bad("not a zstd frame");
-  if (size < kChunkHeaderBytes || size > kMaxDecodedBytes) return bad("implausible size");
+  if (size < kHeaderBytesV1 || size > kMaxDecodedBytes) return bad("implausible size");
   // Not zero-filled: zstd writes every byte of a frame that decodes, and a corrupt frame that
   // claims a huge size then costs address space, not 256 MiB of zeroed pages.
   const auto buffer = std::make_unique_for_overwrite<uint8_t[]>(size);
@@ -114,14 +223,27 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
 
   ByteReader r(raw.data());
   if (r.get<uint32_t>() != kChunkMagic) return bad("wrong magic");
-  if (r.get<uint16_t>() != kChunkVersion) return bad("unknown chunk version");
+  const uint16_t version = r.get<uint16_t>();
+  if (version != uint16_t(ChunkPayloadVersion::kStoredSkirts) &&
+      version != uint16_t(ChunkPayloadVersion::kDerivedSkirts))
+    return bad("unknown chunk version");
+  const bool derived = version == uint16_t(ChunkPayloadVersion::kDerivedSkirts);
+  const size_t headerBytes = derived ? kHeaderBytesV2 : kHeaderBytesV1;
+  const size_t partHeaderBytes = derived ? kPartHeaderBytesV2 : kPartHeaderBytesV1;
+  if (raw.size() < headerBytes) return bad("implausible size");
   const uint16_t partCount = r.get<uint16_t>();
   ChunkGeometry g;
-  g.zBase = r.get<double>();
-  g.zStep = r.get<double>();
+  if (derived) {
+    g.zStep = r.get<double>();
+    g.zBase = r.get<int32_t>() * g.zStep;
+    for (uint16_t& steps : g.skirtSteps) steps = r.get<uint16_t>();
+  } else {
+    g.zBase = r.get<double>();
+    g.zStep = r.get<double>();
+  }
   if (!std::isfinite(g.zBase) || !(g.zStep > 0) || !std::isfinite(g.zStep))
     return bad("bad height scale");
-  if (partCount == 0 || kChunkHeaderBytes + size_t(partCount) * kPartHeaderBytes > raw.size())
+  if (partCount == 0 || headerBytes + size_t(partCount) * partHeaderBytes > raw.size())
     return bad("bad part count");
   struct PartHeader {
     uint32_t vertexCount, indexCount, surfaceIndexCount, vertexBytes, indexBytes;
@@ -129,8 +251,11 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   std::vector<PartHeader> headers(partCount);
   uint64_t payload = 0;
   for (PartHeader& ph : headers) {
-    ph = {r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(), r.get<uint32_t>(),
-          r.get<uint32_t>()};
+    ph.vertexCount = r.get<uint32_t>();
+    ph.indexCount = r.get<uint32_t>();
+    ph.surfaceIndexCount = derived ? ph.indexCount : r.get<uint32_t>();
+    ph.vertexBytes = r.get<uint32_t>();
+    ph.indexBytes = r.get<uint32_t>();
     // meshoptimizer's index codec spends at least a byte per triangle: a count its stream
     // cannot hold is refused before anything is allocated for it.
     if (ph.vertexCount == 0 || ph.vertexCount > 65536 || ph.indexCount % 3 != 0 ||
@@ -159,6 +284,10 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
     r.seek(r.position() + ph.indexBytes);
     for (uint32_t index : part.indices)
       if (index >= ph.vertexCount) return bad("index out of range");
+  }
+  if (derived) {
+    const Status skirts = appendDerivedSkirts(g);
+    if (!skirts) return bad(skirts.error().message);
   }
   return g;
 }

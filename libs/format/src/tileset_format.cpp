@@ -1,9 +1,11 @@
 #include "terralod/format/tileset_format.h"
 
 #include <zlib.h>
+#include <zstd.h>
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 
@@ -147,8 +149,11 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
     return bad("spacing");
   for (uint32_t l = 0; l < h.levelCount; ++l)
     if (!(h.levelError[l] > 0) || !std::isfinite(h.levelError[l])) return bad("level error");
+  // From version 4 the table is compressed; every node still owns at least a byte of blob,
+  // so a count the file cannot hold is refused before anything is decompressed.
   if (h.nodeCount == 0 || h.nodeCount > (uint64_t{1} << 32) - 1 ||
-      h.nodeTableBytes != h.nodeCount * kNodeRecordBytes)
+      (h.version < 4 ? h.nodeTableBytes != h.nodeCount * kNodeRecordBytes
+                     : h.nodeTableBytes == 0 || h.nodeCount > h.fileBytes))
     return bad("node count");
   // Offsets come from the file: compared so that no sum can wrap around.
   auto insideFile = [&](uint64_t offset, uint64_t length) {
@@ -212,6 +217,50 @@ NodeRecord parseNode(const uint8_t* in, uint32_t version) {
     n.flags = 0;  // reserved in version 1
   }
   return n;
+}
+
+std::vector<uint8_t> encodeNodeTable(const std::vector<NodeRecord>& nodes, uint32_t version) {
+  std::vector<uint8_t> table(nodes.size() * kNodeRecordBytes);
+  for (size_t i = 0; i < nodes.size(); ++i)
+    serializeNode(nodes[i], table.data() + i * kNodeRecordBytes);
+  if (version < 4) return table;
+  std::vector<uint8_t> shuffled(table.size());
+  for (size_t i = 0; i < nodes.size(); ++i)
+    for (size_t k = 0; k < kNodeRecordBytes; ++k)
+      shuffled[k * nodes.size() + i] = table[i * kNodeRecordBytes + k];
+  std::vector<uint8_t> stored(ZSTD_compressBound(shuffled.size()));
+  const size_t n = ZSTD_compress(stored.data(), stored.size(), shuffled.data(), shuffled.size(),
+                                 kNodeTableCompressionLevel);
+  assert(!ZSTD_isError(n));
+  stored.resize(n);
+  return stored;
+}
+
+Result<std::vector<NodeRecord>> decodeNodeTable(std::span<const uint8_t> stored,
+                                                const TilesetHeader& header,
+                                                const std::string& subject) {
+  const size_t count = header.nodeCount;
+  std::vector<uint8_t> table;
+  if (header.version < 4) {
+    table.assign(stored.begin(), stored.end());
+  } else {
+    const unsigned long long size = ZSTD_getFrameContentSize(stored.data(), stored.size());
+    if (size != count * kNodeRecordBytes)
+      return makeError(subject, "node table is corrupt (not " + std::to_string(count) +
+                                    " records in one zstd frame)");
+    std::vector<uint8_t> shuffled(size);
+    const size_t got = ZSTD_decompress(shuffled.data(), size, stored.data(), stored.size());
+    if (ZSTD_isError(got) || got != size)
+      return makeError(subject, "node table is corrupt (does not decompress)");
+    table.resize(size);
+    for (size_t i = 0; i < count; ++i)
+      for (size_t k = 0; k < kNodeRecordBytes; ++k)
+        table[i * kNodeRecordBytes + k] = shuffled[k * count + i];
+  }
+  std::vector<NodeRecord> nodes(count);
+  for (size_t i = 0; i < count; ++i)
+    nodes[i] = parseNode(table.data() + i * kNodeRecordBytes, header.version);
+  return nodes;
 }
 
 namespace {

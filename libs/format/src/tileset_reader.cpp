@@ -37,9 +37,9 @@ Result<std::unique_ptr<TilesetReader>> TilesetReader::open(std::unique_ptr<ByteS
   if (!table) return table.error();
   if (crc32Of(*table) != t->mHeader.nodeTableCrc)
     return makeError(name, "node table is corrupt (checksum mismatch)");
-  t->mNodes.resize(t->mHeader.nodeCount);
-  for (size_t i = 0; i < t->mNodes.size(); ++i)
-    t->mNodes[i] = parseNode(table->data() + i * kNodeRecordBytes, t->mHeader.version);
+  auto nodes = decodeNodeTable(*table, t->mHeader, name);
+  if (!nodes) return nodes.error();
+  t->mNodes = std::move(nodes).value();
   if (Status s = validateNodes(t->mHeader, t->mNodes, name); !s) return s.error();
 
   auto metadata = source->read(t->mHeader.metadataOffset, t->mHeader.metadataBytes);

@@ -20,9 +20,7 @@ Result<uint64_t> TilesetWriter::appendBlob(std::span<const uint8_t> bytes) {
 
 Status TilesetWriter::finish(TilesetHeader header, const std::vector<NodeRecord>& nodes,
                              const std::string& metadata) {
-  std::vector<uint8_t> table(nodes.size() * kNodeRecordBytes);
-  for (size_t i = 0; i < nodes.size(); ++i)
-    serializeNode(nodes[i], table.data() + i * kNodeRecordBytes);
+  const std::vector<uint8_t> table = encodeNodeTable(nodes, header.version);
   header.nodeCount = nodes.size();
   header.nodeTableOffset = mFile.bytesWritten();
   header.nodeTableBytes = table.size();

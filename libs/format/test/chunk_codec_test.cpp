@@ -125,6 +125,79 @@ TEST(ChunkCodec, CorruptBlobsNeverCrash) {
   EXPECT_FALSE(decodeChunk(noise, "noise").ok());
 }
 
+// makeGeometry's surface alone (its vertices span 0 .. 3n on both axes), with skirt depths.
+ChunkGeometry surfaceOnly(int n, uint32_t seed, std::array<uint16_t, 4> skirtSteps) {
+  ChunkGeometry g = makeGeometry(n, seed);
+  ChunkPart& p = g.parts[0];
+  p.vertices.resize(size_t(n + 1) * (n + 1));
+  p.indices.resize(p.surfaceIndexCount);
+  g.zBase = 1234 * g.zStep;  // version 2 stores it in whole steps
+  g.skirtSteps = skirtSteps;
+  return g;
+}
+
+// Payload version 2: the reader hangs a skirt from every side with a depth, outwards, each
+// bottom that many steps below its top; the surface round-trips as stored.
+TEST(ChunkCodec, DerivedSkirtsHangOutwardsFromTheSidesWithADepth) {
+  const int n = 8;
+  const ChunkGeometry g = surfaceOnly(n, 6, {100, 0, 200, 50});  // south, -, north, west
+  const std::vector<uint8_t> blob = encodeChunk(g, 3, ChunkPayloadVersion::kDerivedSkirts);
+  auto decoded = decodeChunk(blob, "test");
+  ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+  EXPECT_EQ(decoded->zBase, g.zBase);
+  EXPECT_EQ(decoded->skirtSteps, g.skirtSteps);
+  const ChunkPart &p = decoded->parts[0], &o = g.parts[0];
+  ASSERT_EQ(p.surfaceIndexCount, o.surfaceIndexCount);
+  EXPECT_EQ(triangles(p, 0, p.surfaceIndexCount), triangles(o, 0, o.surfaceIndexCount));
+  // A bottom per side vertex of the three sides, two triangles per side edge.
+  EXPECT_EQ(p.vertices.size(), o.vertices.size() + 3 * size_t(n + 1));
+  EXPECT_EQ(p.indices.size() - p.surfaceIndexCount, 3 * 2 * 3 * size_t(n));
+  const int side = 3 * n;
+  for (size_t k = p.surfaceIndexCount; k < p.indices.size(); k += 3) {
+    std::array<std::array<double, 3>, 3> v;
+    for (int j = 0; j < 3; ++j) {
+      const ChunkVertex& c = p.vertices[p.indices[k + j]];
+      v[j] = {double(c.x), double(c.y), double(c.z)};
+    }
+    // Which side: the coordinate all three share.
+    std::array<double, 2> outwards{};
+    if (v[0][1] == 0 && v[1][1] == 0 && v[2][1] == 0)
+      outwards = {0, -1};
+    else if (v[0][1] == side && v[1][1] == side && v[2][1] == side)
+      outwards = {0, 1};
+    else if (v[0][0] == 0 && v[1][0] == 0 && v[2][0] == 0)
+      outwards = {-1, 0};
+    else
+      FAIL() << "a skirt triangle off the skirted sides";
+    const std::array<double, 3> e1 = {v[1][0] - v[0][0], v[1][1] - v[0][1], v[1][2] - v[0][2]},
+                                e2 = {v[2][0] - v[0][0], v[2][1] - v[0][1], v[2][2] - v[0][2]};
+    const double nx = e1[1] * e2[2] - e1[2] * e2[1], ny = e1[2] * e2[0] - e1[0] * e2[2];
+    EXPECT_GT(nx * outwards[0] + ny * outwards[1], 0) << "faces inwards";
+  }
+  // Each bottom lies its side's steps below the top at its (x, y).
+  for (size_t i = o.vertices.size(); i < p.vertices.size(); ++i) {
+    const ChunkVertex& b = p.vertices[i];
+    const ChunkVertex& top = o.vertices[size_t(b.y / 3) * (n + 1) + b.x / 3];
+    const int steps = top.z - b.z;
+    EXPECT_TRUE(steps == 100 || steps == 200 || steps == 50) << steps;
+    EXPECT_EQ(b.morphDelta, top.morphDelta);
+  }
+  // No depth anywhere: no skirts.
+  auto bare = decodeChunk(
+      encodeChunk(surfaceOnly(n, 6, {}), 3, ChunkPayloadVersion::kDerivedSkirts), "test");
+  ASSERT_TRUE(bare.ok());
+  EXPECT_EQ(bare->parts[0].indices.size(), bare->parts[0].surfaceIndexCount);
+}
+
+TEST(ChunkCodec, DerivedSkirtsBelowTheHeightRangeAreRefused) {
+  // makeGeometry's heights are 30000 .. 31999: 40000 steps down is below 0.
+  const auto r = decodeChunk(
+      encodeChunk(surfaceOnly(4, 7, {0, 40000, 0, 0}), 3, ChunkPayloadVersion::kDerivedSkirts),
+      "c");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "c: corrupt chunk: skirt reaches below the height range");
+}
+
 std::vector<uint8_t> decompress(const std::vector<uint8_t>& blob) {
   std::vector<uint8_t> raw(ZSTD_getFrameContentSize(blob.data(), blob.size()));
   EXPECT_EQ(ZSTD_decompress(raw.data(), raw.size(), blob.data(), blob.size()), raw.size());
@@ -154,6 +227,17 @@ TEST(ChunkCodec, PartsClaimingMoreIndicesThanTheirStreamHoldsAreRefused) {
 }
 
 // A frame that claims 250 MiB and holds 24 bytes fails without touching 250 MiB of memory.
+// Version 2's header is 28 bytes: a payload that ends inside it is refused before any read.
+TEST(ChunkCodec, AVersionTwoPayloadShorterThanItsHeaderIsRefused) {
+  std::vector<uint8_t> raw = decompress(
+      encodeChunk(surfaceOnly(4, 1, {5, 5, 5, 5}), 3, ChunkPayloadVersion::kDerivedSkirts));
+  ASSERT_EQ(raw[4], 2);  // payload version
+  raw.resize(26);
+  const auto r = decodeChunk(compress(raw), "c");
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.error().message, "c: corrupt chunk: implausible size");
+}
+
 TEST(ChunkCodec, AFrameClaimingAHugeSizeCostsNoMemory) {
   const uint64_t claimed = 250ull << 20;
   std::vector<uint8_t> frame = {0x28, 0xB5, 0x2F, 0xFD, 0xE0};  // magic; 8-byte size, 1 segment

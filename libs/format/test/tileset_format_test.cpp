@@ -76,10 +76,10 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
             "a.tlod: not a terralod tileset (wrong magic bytes)");
   auto future = bytes;
-  future[8] = 4;
+  future[8] = 5;
   EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
-            "b.tlod: tileset format version 4 is not supported (this terralod reads versions 1 "
-            "to 3)");
+            "b.tlod: tileset format version 5 is not supported (this terralod reads versions 1 "
+            "to 4)");
   auto flipped = bytes;
   flipped[100] ^= 1;
   EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,
@@ -139,6 +139,47 @@ TEST(NodeRecord, RoundTrips) {
   EXPECT_EQ(m.blobCrc, 0xDEADBEEFu);
   EXPECT_EQ(m.maxZ, 8848.0f);
   EXPECT_EQ(m.maxSkirtDepth, 3.25f);
+}
+
+// Version 4 stores the node table as one zstd frame of shuffled records: the same records
+// come back, in a fraction of the bytes; a frame of another size or one that does not
+// decompress is refused with its own line.
+TEST(NodeTable, VersionFourStoresTheRecordsCompressed) {
+  std::vector<NodeRecord> nodes(500);
+  for (uint32_t i = 0; i < nodes.size(); ++i) {
+    NodeRecord& n = nodes[i];
+    n.level = uint8_t(i % 7);
+    n.x = i * 3;
+    n.y = i / 5;
+    n.parent = i ? i / 4 : kNoNode;
+    n.minZ = float(i) * 0.5f;
+    n.maxZ = n.minZ + 30;
+    n.vertexCount = 100 + i % 50;
+    n.blobOffset = kHeaderBytes + uint64_t(i) * 900;
+    n.blobBytes = 900;
+    n.blobCrc = i * 2654435761u;
+  }
+  TilesetHeader h;
+  h.nodeCount = nodes.size();
+  const std::vector<uint8_t> v3 = encodeNodeTable(nodes, 3), v4 = encodeNodeTable(nodes, 4);
+  EXPECT_EQ(v3.size(), nodes.size() * kNodeRecordBytes);
+  EXPECT_LT(v4.size() * 3, v3.size());
+  for (uint32_t version : {3u, 4u}) {
+    h.version = version;
+    auto decoded = decodeNodeTable(version == 3 ? v3 : v4, h, "t.tlod");
+    ASSERT_TRUE(decoded.ok()) << decoded.error().message;
+    EXPECT_EQ(encodeNodeTable(*decoded, 3), v3);
+  }
+  h.version = 4;
+  h.nodeCount = nodes.size() + 1;
+  EXPECT_EQ(decodeNodeTable(v4, h, "t.tlod").error().message,
+            "t.tlod: node table is corrupt (not 501 records in one zstd frame)");
+  h.nodeCount = nodes.size();
+  std::vector<uint8_t> damaged = v4;
+  damaged[damaged.size() / 2] ^= 0x5A;
+  damaged.resize(damaged.size() - 1);
+  EXPECT_EQ(decodeNodeTable(damaged, h, "t.tlod").error().message,
+            "t.tlod: node table is corrupt (does not decompress)");
 }
 
 // Two roots side by side, one level, blobs at 512 and 612, then the node table and metadata.

@@ -95,6 +95,9 @@ Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
 Status appendChunk(TilesetWriter& writer, NodeRecord& node, std::span<const uint8_t> blob,
                    std::span<const uint8_t> texture);
 
+/// How static builds store chunks: skirts derived by the reader (file version 4).
+inline constexpr ChunkPayloadVersion kStaticChunkPayload = ChunkPayloadVersion::kDerivedSkirts;
+
 /// Meshes, quantises and encodes one chunk; fills in its node's statistics.
 Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
                                         NodeRecord& node, int compressionLevel);

@@ -1,9 +1,9 @@
 #pragma once
-// The terralod tileset file, versions 1 to 3. docs/format.md is the normative description;
+// The terralod tileset file, versions 1 to 4. docs/format.md is the normative description;
 // this header mirrors it. Little-endian throughout. Version 2 adds per-chunk textures (a
 // texture blob right after each chunk's geometry blob); version 3 is version 2 with the
-// texture blobs' blocks zstd-compressed. Files without textures are written as version 1,
-// byte for byte as before.
+// texture blobs' blocks zstd-compressed; version 4 is version 3 whose chunk blobs may leave
+// the skirts to the reader (chunk payload version 2), textured or not.
 //
 //   [0, 512)            header (fixed size, CRC-protected)
 //   [512, ...)          chunk blobs, each readable with one read at a known offset
@@ -21,13 +21,16 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 3;  ///< the newest version this code reads
-inline constexpr uint32_t kTilesetVersionUntextured = 1;
-/// What textured static tilesets are written as: version 2's layout, texture blobs of version 2
-/// (zstd-compressed). VIPM tilesets are still written as version 2 (raw texture blobs).
-inline constexpr uint32_t kTilesetVersionTextured = 3;
+inline constexpr uint32_t kTilesetVersion = 4;  ///< the newest version this code reads
+/// What static tilesets are written as, textured or not: version 3 with chunk payloads of
+/// version 2 (skirts derived by the reader). VIPM tilesets are still written as version 2 (raw
+/// texture blobs); version 1 is no longer written.
+inline constexpr uint32_t kTilesetVersionStatic = 4;
+inline constexpr uint32_t kTilesetVersionVipm = 2;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;
+/// zstd level of version 4's node table (written once per tileset; higher levels gain ~3 %).
+inline constexpr int kNodeTableCompressionLevel = 3;
 inline constexpr int kMaxLevels = 16;
 inline constexpr uint32_t kNoNode = 0xFFFFFFFFu;
 
@@ -49,7 +52,7 @@ inline constexpr uint32_t kTilesetTextured = 1u;  ///< every node has a texture 
 inline constexpr uint8_t kNodeHasTexture = 1u;
 
 struct TilesetHeader {
-  uint32_t version = kTilesetVersionUntextured;
+  uint32_t version = kTilesetVersionStatic;
   uint32_t flags = 0;
   MeshKind meshKind = MeshKind::kStaticRtin;
   uint32_t levelCount = 0;
@@ -113,6 +116,16 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
 void serializeNode(const NodeRecord& node, uint8_t* out);
 /// `version` is the file's: fields a version reserves are not read.
 NodeRecord parseNode(const uint8_t* in, uint32_t version);
+
+/// The node table as a file of `version` stores it: up to version 3 the records one after
+/// another; from version 4 one zstd frame of the same bytes shuffled (byte 0 of every record,
+/// then byte 1, and so on), which puts alike bytes together.
+std::vector<uint8_t> encodeNodeTable(const std::vector<NodeRecord>& nodes, uint32_t version);
+/// The records of a stored node table (its CRC already checked); `header` says how many and
+/// which version.
+Result<std::vector<NodeRecord>> decodeNodeTable(std::span<const uint8_t> stored,
+                                                const TilesetHeader& header,
+                                                const std::string& subject);
 
 /// Checks the node table's structure: levels, parent/child links, ranges inside the file.
 Status validateNodes(const TilesetHeader& header, const std::vector<NodeRecord>& nodes,
