@@ -57,11 +57,14 @@ if [ ${#missing[@]} -gt 0 ]; then
   fi
 fi
 
-# npm packages the tests run, pinned by tests/tools/package-lock.json: the Khronos glTF validator
-# (the export tests) and CesiumJS (scripts/cesium-screenshot.sh).
+# npm packages the tests and benchmarks run, pinned by tests/tools/package-lock.json: the Khronos
+# glTF validator (the export tests), CesiumJS (scripts/cesium-screenshot.sh), and delatin and
+# @mapbox/martini (bench/triangles_per_error.sh's yardsticks).
 here=$(cd "$(dirname "$0")/.." && pwd)
-if [ -f "$here/tests/tools/package.json" ] && { [ ! -d "$here/tests/tools/node_modules/gltf-validator" ] ||
-  [ ! -f "$here/tests/tools/node_modules/cesium/package.json" ]; }; then
+modules=$here/tests/tools/node_modules
+if [ -f "$here/tests/tools/package.json" ] && { [ ! -d "$modules/gltf-validator" ] ||
+  [ ! -f "$modules/cesium/package.json" ] || [ ! -f "$modules/delatin/package.json" ] ||
+  [ ! -f "$modules/@mapbox/martini/package.json" ]; }; then
   (cd "$here/tests/tools" && npm ci --silent --no-audit --no-fund >/dev/null)
 fi
 echo "install-deps: all dependencies present"
