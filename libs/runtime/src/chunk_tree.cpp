@@ -4,6 +4,15 @@
 #include <bit>
 
 namespace terralod {
+namespace {
+
+// Grows `box`'s height range to hold `inner`'s.
+void growZ(Box& box, const Box& inner) {
+  box.min[2] = std::min(box.min[2], inner.min[2]);
+  box.max[2] = std::max(box.max[2], inner.max[2]);
+}
+
+}  // namespace
 
 ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> nodes) {
   const double cellsX = double(header.sourceColumns - 1), cellsY = double(header.sourceRows - 1);
@@ -26,6 +35,13 @@ ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> no
     n.skirtTriangleCount = r.skirtTriangleCount;
     if (r.level == 0) ++mRootCount;
   }
+  // Nested boxes: a node's box also holds its children's (breadth-first order puts every child
+  // after its parent). A child's surface may rise above its parent's or dip below it; with a
+  // box of its own it could then be nearer the eye than its parent's, and at the split its
+  // screen error more than half the parent's: it would appear partly morphed, a pop. Nested,
+  // a child is never nearer, so it starts fully morphed (selection.h).
+  for (size_t i = nodes.size(); i-- > 0;)
+    if (mNodes[i].parent != kNoNode) growZ(mNodes[mNodes[i].parent].box, mNodes[i].box);
   mLevelError.assign(header.levelError.begin(), header.levelError.begin() + header.levelCount);
   mExtent.min = header.extentMin;
   mExtent.max = header.extentMax;
@@ -37,6 +53,11 @@ void ChunkTree::updateNode(uint32_t i, const NodeRecord& r) {
   ChunkNode& n = mNodes[i];
   n.box.min[2] = double(r.minZ);
   n.box.max[2] = double(r.maxZ);
+  // Still nested: its children's boxes, and its ancestors' grow to hold it (they never shrink,
+  // which keeps them conservative).
+  for (uint32_t c = n.firstChild; n.childCount > 0 && c < n.firstChild + n.childCount; ++c)
+    growZ(n.box, mNodes[c].box);
+  for (uint32_t a = n.parent; a != kNoNode; a = mNodes[a].parent) growZ(mNodes[a].box, n.box);
   n.skirtBottom = double(r.minZ) - double(r.maxSkirtDepth);
   n.triangleCount = r.triangleCount;
   n.skirtTriangleCount = r.skirtTriangleCount;

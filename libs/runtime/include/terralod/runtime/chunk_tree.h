@@ -18,7 +18,9 @@ struct Box {
 };
 
 struct ChunkNode {
-  Box box;                 ///< footprint clipped to the data x [minZ, maxZ] of the drawn surface
+  /// Footprint clipped to the data x [minZ, maxZ] of the drawn surface, grown to hold its
+  /// children's boxes (nested: a child's box is never nearer the eye than its parent's).
+  Box box;
   double skirtBottom = 0;  ///< lowest point of its skirts (for culling)
   uint32_t firstChild = kNoNode;
   uint32_t parent = kNoNode;

@@ -17,8 +17,9 @@
 //    parent's own). So the morphed error is at most (1 + t) δ(L), which on screen is
 //    (1 + t) ρ. Our t makes that exactly τ wherever 0 < t < 1, and less elsewhere: the drawn
 //    surface never exceeds τ. Eq. 4 reaches 2τ just before a split.
-//  - Continuity. At a split the parent's ρ' is τ; each child's box lies inside the parent's,
-//    so its distance is no smaller and its ρ is at most ρ'/2 = τ/2, which gives t = 1: the
+//  - Continuity. At a split the parent's ρ' is τ; each child's box lies inside the parent's
+//    (ChunkTree nests them: a child's own surface may rise above its parent's), so its
+//    distance is no smaller and its ρ is at most ρ'/2 = τ/2, which gives t = 1: the
 //    children start out as the parent's surface. When a chunk itself splits, ρ = τ and t = 0.
 //    Merges are the same moments in reverse. So no frame shows a pop from selection alone
 //    (up to the height quantisation of the two levels, a few hundredths of a pixel).
