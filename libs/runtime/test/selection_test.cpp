@@ -57,34 +57,50 @@ TEST(Selection, SplitsExactlyWhereRhoPassesTau) {
   EXPECT_EQ(split.deepestLevel, 1);
 }
 
-TEST(Selection, ChildrenStartAsTheirParentAndSplitAtZeroMorph) {
-  const FullTree f(4);
-  const ChunkTree tree = f.tree();
+// Every split seen while the eye walks in small steps: the child's t when it appeared and its
+// parent's t the frame before. `viewAt(gap)` is the camera for each gap from `from` down to
+// `to`, shrinking 0.1 % a step.
+struct Split {
+  uint32_t child;
+  float childMorph, parentMorphBefore;
+};
+template <typename ViewAt>
+std::vector<Split> splitsAlong(const ChunkTree& tree, size_t nodes, double from, double to,
+                               ViewAt viewAt) {
   SelectionOptions o;
   o.tau = 2.0;
   std::vector<SelectedChunk> out;
-  // Walk the eye towards the terrain in small steps; at every frame where a chunk appears that
-  // was not there before, it must start at t = 1 (its parent's shape); a chunk that is about
-  // to split must be at t = 0 the frame before.
-  std::vector<float> previous(f.nodes.size(), -1.0f);
-  int splits = 0;
-  for (double gap = 5000; gap > 10; gap *= 0.999) {
-    const View v = viewFrom({300, -gap, 60}, {300, 512, 40});
-    selectChunks(tree, v, o, out);
-    std::vector<float> now(f.nodes.size(), -1.0f);
+  std::vector<Split> splits;
+  std::vector<float> previous(nodes, -1.0f);
+  for (double gap = from; gap > to; gap *= 0.999) {
+    selectChunks(tree, viewAt(gap), o, out);
+    std::vector<float> now(nodes, -1.0f);
     for (const SelectedChunk& c : out) now[c.node] = c.morph;
     for (const SelectedChunk& c : out) {
       const uint32_t parent = tree.node(c.node).parent;
-      if (previous[c.node] < 0 && parent != kNoNode && previous[parent] >= 0) {
-        ++splits;
-        EXPECT_GT(c.morph, 0.995f) << "chunk " << c.node << " appeared at t=" << c.morph;
-        EXPECT_LT(previous[parent], 0.01f)
-            << "parent " << parent << " split at t=" << previous[parent];
-      }
+      if (previous[c.node] < 0 && parent != kNoNode && previous[parent] >= 0)
+        splits.push_back({c.node, c.morph, previous[parent]});
     }
     previous = now;
   }
-  EXPECT_GT(splits, 10);
+  return splits;
+}
+
+TEST(Selection, ChildrenStartAsTheirParentAndSplitAtZeroMorph) {
+  const FullTree f(4);
+  const ChunkTree tree = f.tree();
+  // Walk the eye towards the terrain in small steps; at every frame where a chunk appears that
+  // was not there before, it must start at t = 1 (its parent's shape); a chunk that is about
+  // to split must be at t = 0 the frame before.
+  const auto splits = splitsAlong(tree, f.nodes.size(), 5000, 10, [](double gap) {
+    return viewFrom({300, -gap, 60}, {300, 512, 40});
+  });
+  for (const Split& s : splits) {
+    EXPECT_GT(s.childMorph, 0.995f) << "chunk " << s.child << " appeared at t=" << s.childMorph;
+    EXPECT_LT(s.parentMorphBefore, 0.01f)
+        << "chunk " << s.child << "'s parent split at t=" << s.parentMorphBefore;
+  }
+  EXPECT_GT(splits.size(), 10u);
 }
 
 // Finer levels rise above coarser ones (a child's surface may: it refines its parent's). The
@@ -102,26 +118,12 @@ TEST(Selection, ChildrenRisingAboveTheirParentStillStartAsTheirParent) {
       EXPECT_LE(child.max[k], parent.max[k]);
     }
   }
-  SelectionOptions o;
-  o.tau = 2.0;
-  std::vector<SelectedChunk> out;
-  std::vector<float> previous(f.nodes.size(), -1.0f);
-  int splits = 0;
-  for (double gap = 3000; gap > 2; gap *= 0.999) {
-    const View v = viewFrom({300, 300, 190 + gap}, {300, 310, 0});
-    selectChunks(tree, v, o, out);
-    std::vector<float> now(f.nodes.size(), -1.0f);
-    for (const SelectedChunk& c : out) now[c.node] = c.morph;
-    for (const SelectedChunk& c : out) {
-      const uint32_t parent = tree.node(c.node).parent;
-      if (previous[c.node] < 0 && parent != kNoNode && previous[parent] >= 0) {
-        ++splits;
-        EXPECT_GT(c.morph, 0.995f) << "chunk " << c.node << " appeared at t=" << c.morph;
-      }
-    }
-    previous = now;
-  }
-  EXPECT_GT(splits, 3);
+  const auto splits = splitsAlong(tree, f.nodes.size(), 3000, 2, [](double gap) {
+    return viewFrom({300, 300, 190 + gap}, {300, 310, 0});
+  });
+  for (const Split& s : splits)
+    EXPECT_GT(s.childMorph, 0.995f) << "chunk " << s.child << " appeared at t=" << s.childMorph;
+  EXPECT_GT(splits.size(), 3u);
 }
 
 TEST(Selection, MorphRunsOverTheAllowedErrorBetweenLevelsThatDoNotHalve) {
