@@ -149,11 +149,12 @@ Result<TilesetHeader> parseHeader(std::span<const uint8_t> bytes, const std::str
     return bad("spacing");
   for (uint32_t l = 0; l < h.levelCount; ++l)
     if (!(h.levelError[l] > 0) || !std::isfinite(h.levelError[l])) return bad("level error");
-  // From version 4 the table is compressed; every node still owns at least a byte of blob,
-  // so a count the file cannot hold is refused before anything is decompressed.
+  // From version 4 the table is compressed. Every record holds a CRC, 4 bytes no compressor
+  // shrinks, so a table of fewer bytes than records is damage: refused before anything is
+  // decompressed (which bounds the records to 64 bytes for every stored byte).
   if (h.nodeCount == 0 || h.nodeCount > (uint64_t{1} << 32) - 1 ||
       (h.version < 4 ? h.nodeTableBytes != h.nodeCount * kNodeRecordBytes
-                     : h.nodeTableBytes == 0 || h.nodeCount > h.fileBytes))
+                     : h.nodeTableBytes < h.nodeCount))
     return bad("node count");
   // Offsets come from the file: compared so that no sum can wrap around.
   auto insideFile = [&](uint64_t offset, uint64_t length) {
@@ -242,6 +243,9 @@ Result<std::vector<NodeRecord>> decodeNodeTable(std::span<const uint8_t> stored,
   const size_t count = header.nodeCount;
   std::vector<uint8_t> table;
   if (header.version < 4) {
+    if (stored.size() != count * kNodeRecordBytes)
+      return makeError(subject,
+                       "node table is corrupt (not " + std::to_string(count) + " records)");
     table.assign(stored.begin(), stored.end());
   } else {
     const unsigned long long size = ZSTD_getFrameContentSize(stored.data(), stored.size());

@@ -110,6 +110,18 @@ TEST(TilesetHeader, RejectsImpossibleValuesEvenWithAValidChecksum) {
   h = sampleHeader();
   h.spacingX = -1;
   EXPECT_FALSE(parseHeader(serializeHeader(h), "x").ok());
+  // Version 4's compressed table: at least a byte a record (each holds a 4-byte CRC), so a
+  // header cannot make a few bytes decompress into billions of records.
+  h = sampleHeader();
+  h.version = 4;
+  h.nodeTableBytes = 2;
+  EXPECT_TRUE(parseHeader(serializeHeader(h), "x").ok());
+  h.nodeTableBytes = 1;
+  EXPECT_EQ(parseHeader(serializeHeader(h), "x").error().message,
+            "x: invalid tileset header: node count");
+  h.version = 3;
+  h.nodeTableBytes = 2;
+  EXPECT_FALSE(parseHeader(serializeHeader(h), "x").ok()) << "versions 1-3 store 64 a record";
 }
 
 TEST(NodeRecord, RoundTrips) {
