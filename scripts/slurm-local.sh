@@ -17,7 +17,7 @@
 #
 # SLURM_LOCAL_CPUS=N gives the node N processors whatever the machine has (slurmd told to
 # believe the configuration): the tests use 8, so that 8 small jobs start at once instead of
-# in waves a second apart. Benchmarks leave it unset.
+# in waves. Benchmarks leave it unset.
 set -euo pipefail
 
 action=${1:-}
@@ -118,6 +118,11 @@ overrides=
 [ "$cpus" -le "$(nproc)" ] || overrides="SlurmdParameters=config_overrides"
 memory=$(awk '/MemTotal/ { print int($2 / 1024 * 0.9) }' /proc/meminfo)
 user=$(id -un)
+# An epilog, even one that does nothing, makes slurmd report each job's end
+# (MESSAGE_EPILOG_COMPLETE), on which slurmctld runs its scheduler at once. Without one the end
+# is only noticed on slurmctld's once-a-second background pass, so each wave of queued array
+# tasks waited up to a second (and dependent jobs as long).
+epilog=$(type -P true)
 cat >"$conf" <<CONF
 # Written by scripts/slurm-local.sh: a single-node cluster under $dir.
 ClusterName=terralod
@@ -136,7 +141,8 @@ AccountingStorageType=accounting_storage/none
 JobCompType=jobcomp/none
 MpiDefault=none
 SchedulerType=sched/builtin
-SchedulerParameters=batch_sched_delay=0,sched_min_interval=100000
+SchedulerParameters=batch_sched_delay=0,sched_min_interval=0
+Epilog=$epilog
 SelectType=select/cons_tres
 SelectTypeParameters=CR_CPU
 ReturnToService=2

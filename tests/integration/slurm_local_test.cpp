@@ -97,7 +97,8 @@ TEST(SlurmLocal, RunsArrayJobsWithDependenciesAndStopsCleanly) {
   }
 
   // A running job cancelled.
-  const RunResult sleeper = slurm(conf, "sbatch", {"--parsable", "--wrap", "sleep 300"});
+  const RunResult sleeper =
+      slurm(conf, "sbatch", {"--parsable", "-o", out + "/sleeper.txt", "--wrap", "sleep 300"});
   ASSERT_EQ(sleeper.exitCode, 0);
   const std::string sleeperId = sleeper.out.substr(0, sleeper.out.find('\n'));
   ASSERT_TRUE(waitFor(
