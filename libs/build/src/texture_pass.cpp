@@ -39,6 +39,21 @@ LayerLevels levelsOf(TexelTile level0, TextureEncoding encoding) {
   return l;
 }
 
+// For each of a parent's mip levels (of a layer of `size` texels), the level of its children's
+// that it is made of side by side, or 0 where it is made from the parent's level above: their
+// mip m where the parent holds them unresampled, their mip m + 1 where it halves them.
+std::vector<uint32_t> sideBySideSources(const LayerLevels& child, uint32_t size) {
+  const uint32_t childSize = child.levels[0].size;
+  const bool unresampled = 2 * childSize - 1 == size, halved = childSize == size;
+  std::vector<uint32_t> from(mipCount(size), 0);
+  for (uint32_t m = 1; m < from.size(); ++m) {
+    const uint32_t f = unresampled ? m : halved ? m + 1 : 0;
+    if (f > 0 && f < child.levels.size() && 2 * child.levels[f].size == mipSize(size, m))
+      from[m] = f;
+  }
+  return from;
+}
+
 // A parent's layer of `size` texels from its children's layers (null: no such child).
 LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint32_t size,
                          TextureEncoding encoding) {
@@ -62,19 +77,15 @@ LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint
   };
   const uint32_t childSize = any->levels[0].size;
   LayerLevels l;
-  l.levels.push_back(resampleTile(mosaicTiles(childLevel(0)), size));
+  l.levels.push_back(resampleMosaic(childLevel(0), size));
   std::vector<uint8_t> blocks0;
-  const bool unresampled = 2 * childSize - 1 == size, halved = childSize == size;
-  if (unresampled && all) blocks0 = mosaicBlocks(childBlocks(0), childSize, encoding);
+  if (2 * childSize - 1 == size && all) blocks0 = mosaicBlocks(childBlocks(0), childSize, encoding);
   l.blocks.push_back(blocks0.empty() ? encodeLevel(l.levels[0], encoding) : std::move(blocks0));
-  const uint32_t mips = mipCount(size);
-  for (uint32_t m = 1; m < mips; ++m) {
-    const uint32_t levelSize = mipSize(size, m);
-    const uint32_t from = unresampled ? m : halved ? m + 1 : 0;
-    const bool side =
-        from > 0 && from < any->levels.size() && 2 * any->levels[from].size == levelSize;
-    if (!side) {
-      l.levels.push_back(nextMip(l.levels.back(), levelSize));
+  const std::vector<uint32_t> sources = sideBySideSources(*any, size);
+  for (uint32_t m = 1; m < sources.size(); ++m) {
+    const uint32_t from = sources[m];
+    if (from == 0) {
+      l.levels.push_back(nextMip(l.levels.back(), mipSize(size, m)));
       l.blocks.push_back(encodeLevel(l.levels.back(), encoding));
       continue;
     }
@@ -87,19 +98,52 @@ LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint
   return l;
 }
 
+// Frees what parentLevels will not read of a child's layer (`all`: the parent has four
+// children), keeping each level's size.
+void keepWhatTheParentReads(LayerLevels& l, uint32_t parentSize, bool all) {
+  std::vector<uint8_t> keepLevel(l.levels.size(), 0), keepBlocks(l.blocks.size(), 0);
+  keepLevel[0] = 1;
+  if (all && 2 * l.levels[0].size - 1 == parentSize) keepBlocks[0] = 1;
+  for (uint32_t from : sideBySideSources(l, parentSize))
+    if (from > 0) {
+      keepLevel[from] = 1;
+      if (all) keepBlocks[from] = 1;
+    }
+  for (size_t i = 0; i < l.levels.size(); ++i)
+    if (!keepLevel[i]) std::vector<float>().swap(l.levels[i].values);
+  for (size_t i = 0; i < l.blocks.size(); ++i)
+    if (!keepBlocks[i]) std::vector<uint8_t>().swap(l.blocks[i]);
+}
+
 }  // namespace
 
 ChunkTiles TexturePass::fromChildren(uint32_t node,
-                                     const std::array<const ChunkTiles*, 4>& children) const {
-  std::array<const LayerLevels*, 4> color{}, normal{};
-  for (size_t q = 0; q < 4; ++q)
-    if (children[q]) {
-      color[q] = &children[q]->color;
-      normal[q] = &children[q]->normal;
-    }
+                                     const std::array<ChunkTiles*, 4>& children) const {
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
-  return {parentLevels(color, plan.colorSize, TextureEncoding::kBc1),
-          parentLevels(normal, plan.normalSize, TextureEncoding::kBc5)};
+  // One layer at a time, each child's layer released once used: the peak holds the children's
+  // normals and the parent's colour, not both layers of all five.
+  auto layerOf = [&](LayerLevels ChunkTiles::*layer, uint32_t size, TextureEncoding encoding) {
+    std::array<const LayerLevels*, 4> from{};
+    for (size_t q = 0; q < 4; ++q)
+      if (children[q]) from[q] = &(children[q]->*layer);
+    LayerLevels made = parentLevels(from, size, encoding);
+    for (ChunkTiles* c : children)
+      if (c) c->*layer = {};
+    return made;
+  };
+  ChunkTiles out;
+  out.color = layerOf(&ChunkTiles::color, plan.colorSize, TextureEncoding::kBc1);
+  out.normal = layerOf(&ChunkTiles::normal, plan.normalSize, TextureEncoding::kBc5);
+  return out;
+}
+
+void TexturePass::keepWhatTheParentReads(uint32_t node, ChunkTiles& tiles) const {
+  const uint32_t parent = mNodes[node].parent;
+  if (parent == kNoNode) return;
+  const bool all = std::popcount(unsigned(mNodes[parent].childMask)) == 4;
+  const TextureLevel& plan = mBuild.plan[mNodes[parent].level];
+  terralod::keepWhatTheParentReads(tiles.color, plan.colorSize, all);
+  terralod::keepWhatTheParentReads(tiles.normal, plan.normalSize, all);
 }
 
 std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles) const {
@@ -153,7 +197,7 @@ Result<ChunkTiles> TexturePass::buildBlock(
       t.normal =
           levelsOf(resampleTile(texels.normals(x0, y0, c), plan.normalSize), TextureEncoding::kBc5);
     } else {
-      std::array<const ChunkTiles*, 4> children{};
+      std::array<ChunkTiles*, 4> children{};
       uint32_t c = n.firstChild;
       for (int q = 0; q < 4; ++q)
         if (n.childMask & (1u << q)) children[size_t(q)] = &tiles.at(c++);

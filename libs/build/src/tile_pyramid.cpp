@@ -30,10 +30,11 @@ TilePyramid::TilePyramid(const TexturePass& pass, const std::vector<NodeRecord>&
 
 void TilePyramid::add(uint32_t node, ChunkTiles tiles) {
   for (;;) {
+    mPass.keepWhatTheParentReads(node, tiles);
     const NodeRecord& n = mNodes[node];
     const uint32_t parent = n.parent;
     std::array<ChunkTiles, 4> siblings;
-    std::array<const ChunkTiles*, 4> children{};
+    std::array<ChunkTiles*, 4> children{};
     {
       std::lock_guard lock(mMutex);
       if (parent == kNoNode || !mBuilds[parent]) {

@@ -57,8 +57,13 @@ class TexturePass {
   /// Tiles of a node from its children's (entries null where a child does not exist). A
   /// parent's mip levels are its children's levels side by side wherever the sizes allow (its
   /// mip m is their mip m when it holds them unresampled, their mip m + 1 when it halves
-  /// them), reusing their encoded blocks: the same pixels on both sides of a split.
-  ChunkTiles fromChildren(uint32_t node, const std::array<const ChunkTiles*, 4>& children) const;
+  /// them), reusing their encoded blocks: the same pixels on both sides of a split. The
+  /// children's tiles are used up (emptied layer by layer as the parent's are made).
+  ChunkTiles fromChildren(uint32_t node, const std::array<ChunkTiles*, 4>& children) const;
+  /// Frees what fromChildren will not read of a node's tiles when it builds the node's parent
+  /// (float levels and encoded blocks its parent does not take side by side; their sizes stay),
+  /// for tiles that wait for a sibling or are handed on.
+  void keepWhatTheParentReads(uint32_t node, ChunkTiles& tiles) const;
   /// The stored texture blob of a node's tiles.
   std::vector<uint8_t> encode(uint32_t node, const ChunkTiles& tiles) const;
 
