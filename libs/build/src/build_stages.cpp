@@ -437,19 +437,6 @@ Result<std::vector<std::pair<uint32_t, ChunkTiles>>> readFrontier(
   return out;
 }
 
-std::vector<uint8_t> packTextures(const NodeTextures& textures) {
-  Packer p;
-  size_t bytes = 8;
-  for (const auto& t : textures) bytes += 12 + t.second.size();
-  p.reserve(bytes);
-  p.put(uint64_t(textures.size()));
-  for (const auto& [node, blob] : textures) {
-    p.put(node);
-    p.putBytes(blob);
-  }
-  return std::move(p.bytes());
-}
-
 std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
   Packer p;
   p.putKeyed(c.heights);
@@ -736,13 +723,14 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   const auto range = s.plan.jobBlocks(job);
   // The textures above this job's blocks that need no other job's (whole subtrees), and the
   // block nodes' own.
+  // Its texture blobs (blocks' and the pyramid's) wait in a temporary file, not in memory.
   std::optional<TilePyramid> pyramid;
-  std::mutex blobsMutex;
-  NodeTextures blobs;
+  TextureSpool spool;
   if (texturePass)
     pyramid.emplace(
         *texturePass, nodes,
-        TilePyramid::buildableFrom(nodes, blockLevelOf(s.layout, s.block), jobBlockNodes(s, job)));
+        TilePyramid::buildableFrom(nodes, blockLevelOf(s.layout, s.block), jobBlockNodes(s, job)),
+        [&spool](uint32_t node, std::vector<uint8_t> texture) { spool.add(node, texture); });
   progress.begin("meshing", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint origin = s.origin(k);
@@ -775,8 +763,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
     if (pyramid) {
       pyramid->add(blockNodes[k], std::move(built->tiles));
-      std::lock_guard lock(blobsMutex);
-      blobs.emplace_back(blockNodes[k], std::move(built->blockTexture));
+      spool.add(blockNodes[k], built->blockTexture);
     }
     if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
                                    packChunks(built->chunks, nodes));
@@ -791,13 +778,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   });
   progress.end();
   if (!done || !pyramid) return done;
-  for (auto& t : pyramid->takeTextures()) blobs.push_back(std::move(t));
-  std::sort(blobs.begin(), blobs.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
-  if (Status st =
-          writeStageFile(jobTextures(work, job), StageFile::kJobTextures, packTextures(blobs));
-      !st)
-    return st;
+  if (Status st = spool.writeSorted(jobTextures(work, job)); !st) return st;
   return writeStageFile(jobTiles(work, job), StageFile::kJobTiles,
                         packFrontier(pyramid->takeFrontier()));
 }

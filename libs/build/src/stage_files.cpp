@@ -2,6 +2,9 @@
 
 #include <zstd.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 #include "terralod/core/atomic_file.h"
@@ -141,6 +144,54 @@ Status StageFileReader::finish() {
   if (mLeft != 0) return makeError(mPath, "damaged (records do not add up)");
   if (mCrc != mExpectedCrc) return makeError(mPath, "damaged (size or checksum does not match)");
   return {};
+}
+
+TextureSpool::TextureSpool() : mFile(std::tmpfile()) {
+  if (!mFile)
+    mFailure = Error{std::string("cannot make a temporary file: ") + std::strerror(errno)};
+}
+
+TextureSpool::~TextureSpool() {
+  if (mFile) std::fclose(mFile);
+}
+
+void TextureSpool::add(uint32_t node, std::span<const uint8_t> blob) {
+  std::lock_guard lock(mMutex);
+  if (mFailure) return;
+  if (std::fwrite(blob.data(), 1, blob.size(), mFile) != blob.size()) {
+    mFailure = Error{std::string("cannot write a temporary file: ") + std::strerror(errno)};
+    return;
+  }
+  mEntries.push_back({node, mEnd, blob.size()});
+  mEnd += blob.size();
+}
+
+Status TextureSpool::writeSorted(const std::string& path) {
+  std::lock_guard lock(mMutex);
+  if (mFailure) return makeError(path, mFailure->message);
+  if (std::fflush(mFile) != 0)
+    return makeError(path, std::string("cannot write a temporary file: ") + std::strerror(errno));
+  std::sort(mEntries.begin(), mEntries.end(),
+            [](const Entry& a, const Entry& b) { return a.node < b.node; });
+  auto out = StageFileWriter::create(path, StageFile::kJobTextures);
+  if (!out) return out.error();
+  auto put = [&](auto value) {
+    uint8_t bytes[sizeof(value)];
+    ByteWriter(bytes).put(value);
+    return out->write(bytes);
+  };
+  if (Status s = put(uint64_t(mEntries.size())); !s) return s;
+  std::vector<uint8_t> blob;
+  for (const Entry& e : mEntries) {
+    blob.resize(size_t(e.bytes));
+    if (fseeko(mFile, off_t(e.offset), SEEK_SET) != 0 ||
+        std::fread(blob.data(), 1, blob.size(), mFile) != blob.size())
+      return makeError(path, "cannot read back a temporary file");
+    if (Status s = put(e.node); !s) return s;
+    if (Status s = put(uint64_t(e.bytes)); !s) return s;
+    if (Status s = out->write(blob); !s) return s;
+  }
+  return out->commit();
 }
 
 }  // namespace terralod

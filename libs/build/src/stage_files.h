@@ -7,9 +7,11 @@
 
 #include <bit>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
@@ -212,6 +214,31 @@ class StageFileReader {
   uint64_t mLeft;
   uint32_t mExpectedCrc, mCrc = 0;
   std::vector<uint8_t> mBuffer;
+};
+
+/// Texture blobs as a pass-2 job makes them, in any order, kept in an unnamed temporary file
+/// (gone when the job ends, however it ends) instead of in memory, and written out in node
+/// order as a kJobTextures stage file (u64 count, then each: u32 node, u64 size, the blob).
+class TextureSpool {
+ public:
+  TextureSpool();
+  ~TextureSpool();
+  TextureSpool(const TextureSpool&) = delete;
+  TextureSpool& operator=(const TextureSpool&) = delete;
+  /// Thread-safe. A failure (a full disk) is kept and returned by writeSorted.
+  void add(uint32_t node, std::span<const uint8_t> blob);
+  Status writeSorted(const std::string& path);
+
+ private:
+  struct Entry {
+    uint32_t node;
+    uint64_t offset, bytes;
+  };
+  std::mutex mMutex;
+  std::FILE* mFile = nullptr;
+  uint64_t mEnd = 0;
+  std::vector<Entry> mEntries;
+  std::optional<Error> mFailure;
 };
 
 }  // namespace terralod

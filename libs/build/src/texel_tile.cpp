@@ -9,14 +9,10 @@
 #include <tuple>
 #include <utility>
 
+#include "resample_taps.h"
+
 namespace terralod {
 namespace {
-
-// Filter taps of one output texel along one axis.
-struct Taps {
-  uint32_t first = 0;
-  std::vector<float> weights;
-};
 
 // Output texel k's centre in source texel coordinates (borders excepted): edge-aligned
 // (k / (to - 1) of the side), or where the GPU samples a mip level of `to` texels below one of
@@ -100,20 +96,11 @@ TexelTile resampleRows(uint32_t from, uint32_t c, uint32_t size, Placement place
     const Taps& t = taps[y];
     float* sums = columns.data();
     std::fill_n(sums, sourceRow, 0.0f);
-    for (size_t i = 0; i < t.weights.size(); ++i) {
-      const float* in = rowOf(uint32_t(t.first + i));
-      const float w = t.weights[i];
-      for (size_t k = 0; k < sourceRow; ++k) sums[k] += w * in[k];
-    }
+    for (size_t i = 0; i < t.weights.size(); ++i)
+      addWeightedRow(sums, rowOf(uint32_t(t.first + i)), t.weights[i], sourceRow);
     float* out = result.at(0, y);
-    for (uint32_t x = 0; x < size; ++x, out += c) {
-      const Taps& tx = taps[x];
-      const float* in = sums + size_t(tx.first) * c;
-      for (size_t i = 0; i < tx.weights.size(); ++i, in += c) {
-        const float w = tx.weights[i];
-        for (uint32_t ch = 0; ch < c; ++ch) out[ch] += w * in[ch];
-      }
-    }
+    for (uint32_t x = 0; x < size; ++x, out += c)
+      resampleTexel(out, sums + size_t(taps[x].first) * c, taps[x], c);
   }
   return result;
 }

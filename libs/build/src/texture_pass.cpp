@@ -3,6 +3,7 @@
 #include <bit>
 #include <unordered_map>
 
+#include "terralod/build/mosaic_builder.h"
 #include "terralod/build/texture_encoder.h"
 #include "terralod/raster/image_drape.h"
 
@@ -15,6 +16,11 @@ TexturePass::TexturePass(const TreeLayout& layout, const TextureBuild& build,
 }
 
 TexturePass::~TexturePass() = default;
+
+PartialTiles::PartialTiles() = default;
+PartialTiles::PartialTiles(PartialTiles&&) noexcept = default;
+PartialTiles& PartialTiles::operator=(PartialTiles&&) noexcept = default;
+PartialTiles::~PartialTiles() = default;
 
 Status TexturePass::open() {
   if (!mBuild.image) return {};
@@ -54,9 +60,10 @@ std::vector<uint32_t> sideBySideSources(const LayerLevels& child, uint32_t size)
   return from;
 }
 
-// A parent's layer of `size` texels from its children's layers (null: no such child).
+// A parent's layer of `size` texels from its children's layers (null: no such child) and its
+// level 0 (resampleMosaic of theirs, which they need not hold any more).
 LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint32_t size,
-                         TextureEncoding encoding) {
+                         TextureEncoding encoding, TexelTile level0) {
   const LayerLevels* any = nullptr;
   bool all = true;
   for (const LayerLevels* c : children) {
@@ -77,7 +84,7 @@ LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint
   };
   const uint32_t childSize = any->levels[0].size;
   LayerLevels l;
-  l.levels.push_back(resampleMosaic(childLevel(0), size));
+  l.levels.push_back(std::move(level0));
   std::vector<uint8_t> blocks0;
   if (2 * childSize - 1 == size && all) blocks0 = mosaicBlocks(childBlocks(0), childSize, encoding);
   l.blocks.push_back(blocks0.empty() ? encodeLevel(l.levels[0], encoding) : std::move(blocks0));
@@ -126,7 +133,10 @@ ChunkTiles TexturePass::fromChildren(uint32_t node,
     std::array<const LayerLevels*, 4> from{};
     for (size_t q = 0; q < 4; ++q)
       if (children[q]) from[q] = &(children[q]->*layer);
-    LayerLevels made = parentLevels(from, size, encoding);
+    std::array<const TexelTile*, 4> level0{};
+    for (size_t q = 0; q < 4; ++q)
+      if (from[q]) level0[q] = &from[q]->levels[0];
+    LayerLevels made = parentLevels(from, size, encoding, resampleMosaic(level0, size));
     for (ChunkTiles* c : children)
       if (c) c->*layer = {};
     return made;
@@ -134,6 +144,46 @@ ChunkTiles TexturePass::fromChildren(uint32_t node,
   ChunkTiles out;
   out.color = layerOf(&ChunkTiles::color, plan.colorSize, TextureEncoding::kBc1);
   out.normal = layerOf(&ChunkTiles::normal, plan.normalSize, TextureEncoding::kBc5);
+  return out;
+}
+
+void TexturePass::startParent(uint32_t node, PartialTiles& partial, const ChunkTiles& child) const {
+  if (partial.color) return;
+  const NodeRecord& n = mNodes[node];
+  std::array<bool, 4> present{};
+  for (size_t q = 0; q < 4; ++q) present[q] = n.childMask & (1u << q);
+  const TextureLevel& plan = mBuild.plan[n.level];
+  auto builder = [&](const LayerLevels& l, uint32_t size) {
+    return std::make_unique<MosaicBuilder>(l.levels[0].size, l.levels[0].channels, size, present);
+  };
+  partial.color = builder(child.color, plan.colorSize);
+  partial.normal = builder(child.normal, plan.normalSize);
+}
+
+void TexturePass::addChild(PartialTiles& partial, size_t quadrant, ChunkTiles& child) const {
+  partial.color->add(quadrant, child.color.levels[0]);
+  std::vector<float>().swap(child.color.levels[0].values);
+  partial.normal->add(quadrant, child.normal.levels[0]);
+  std::vector<float>().swap(child.normal.levels[0].values);
+}
+
+ChunkTiles TexturePass::finishParent(uint32_t node, PartialTiles& partial,
+                                     const std::array<ChunkTiles*, 4>& children) const {
+  const TextureLevel& plan = mBuild.plan[mNodes[node].level];
+  auto layerOf = [&](LayerLevels ChunkTiles::*layer, MosaicBuilder& builder, uint32_t size,
+                     TextureEncoding encoding) {
+    std::array<const LayerLevels*, 4> from{};
+    for (size_t q = 0; q < 4; ++q)
+      if (children[q]) from[q] = &(children[q]->*layer);
+    LayerLevels made = parentLevels(from, size, encoding, builder.finish());
+    for (ChunkTiles* c : children)
+      if (c) c->*layer = {};
+    return made;
+  };
+  ChunkTiles out;
+  out.color = layerOf(&ChunkTiles::color, *partial.color, plan.colorSize, TextureEncoding::kBc1);
+  out.normal =
+      layerOf(&ChunkTiles::normal, *partial.normal, plan.normalSize, TextureEncoding::kBc5);
   return out;
 }
 

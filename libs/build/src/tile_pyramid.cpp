@@ -22,8 +22,12 @@ std::vector<std::pair<uint32_t, T>> sortedByNode(std::vector<std::pair<uint32_t,
 }  // namespace
 
 TilePyramid::TilePyramid(const TexturePass& pass, const std::vector<NodeRecord>& nodes,
-                         std::vector<uint8_t> builds)
-    : mPass(pass), mNodes(nodes), mBuilds(std::move(builds)), mMissing(nodes.size(), 0) {
+                         std::vector<uint8_t> builds, TextureSink sink)
+    : mPass(pass),
+      mNodes(nodes),
+      mBuilds(std::move(builds)),
+      mSink(std::move(sink)),
+      mMissing(nodes.size(), 0) {
   for (size_t i = 0; i < nodes.size(); ++i)
     if (mBuilds[i]) mMissing[i] = childCount(nodes[i]);
 }
@@ -31,22 +35,35 @@ TilePyramid::TilePyramid(const TexturePass& pass, const std::vector<NodeRecord>&
 void TilePyramid::add(uint32_t node, ChunkTiles tiles) {
   for (;;) {
     mPass.keepWhatTheParentReads(node, tiles);
-    const NodeRecord& n = mNodes[node];
-    const uint32_t parent = n.parent;
-    std::array<ChunkTiles, 4> siblings;
-    std::array<ChunkTiles*, 4> children{};
+    const uint32_t parent = mNodes[node].parent;
+    PartialTiles* partial = nullptr;
     {
       std::lock_guard lock(mMutex);
       if (parent == kNoNode || !mBuilds[parent]) {
         mFrontier.emplace_back(node, std::move(tiles));
         return;
       }
+      partial = &mPartial[parent];
+      mPass.startParent(parent, *partial, tiles);
+    }
+    // The parent's texels this child alone reaches, outside the lock (siblings concurrently).
+    const NodeRecord& p = mNodes[parent];
+    size_t quadrant = 0;
+    for (uint32_t c = p.firstChild, q = 0; q < 4; ++q)
+      if (p.childMask & (1u << q)) {
+        if (c++ == node) quadrant = q;
+      }
+    mPass.addChild(*partial, quadrant, tiles);
+    std::array<ChunkTiles, 4> siblings;
+    std::array<ChunkTiles*, 4> children{};
+    PartialTiles made0;
+    {
+      std::lock_guard lock(mMutex);
       if (--mMissing[parent] > 0) {
         mWaiting.emplace(node, std::move(tiles));
         return;
       }
-      // The last child: take its siblings' tiles and build the parent here.
-      const NodeRecord& p = mNodes[parent];
+      // The last child: take its siblings' tiles and finish the parent here.
       uint32_t c = p.firstChild;
       for (size_t q = 0; q < 4; ++q) {
         if (!(p.childMask & (1u << q))) continue;
@@ -60,10 +77,15 @@ void TilePyramid::add(uint32_t node, ChunkTiles tiles) {
         children[q] = &siblings[q];
         ++c;
       }
+      auto it = mPartial.find(parent);
+      made0 = std::move(it->second);
+      mPartial.erase(it);
     }
-    ChunkTiles made = mPass.fromChildren(parent, children);
+    ChunkTiles made = mPass.finishParent(parent, made0, children);
     std::vector<uint8_t> texture = mPass.encode(parent, made);
-    {
+    if (mSink) {
+      mSink(parent, std::move(texture));
+    } else {
       std::lock_guard lock(mMutex);
       mTextures.emplace_back(parent, std::move(texture));
     }

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "terralod/build/builder.h"
+#include "terralod/build/tree_layout.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/materials/terrain_edits.h"
 

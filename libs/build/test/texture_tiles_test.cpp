@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <functional>
@@ -11,6 +12,7 @@
 #include "bc_decode.h"
 #include "temp_dir.h"
 #include "terralod/build/height_source.h"
+#include "terralod/build/mosaic_builder.h"
 #include "terralod/build/surface_texels.h"
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
@@ -298,6 +300,33 @@ TEST(MosaicTiles, ResamplingWithoutTheMosaicGivesTheSameFloats) {
       for (size_t i = 0; i < got.values.size(); ++i)
         ASSERT_TRUE(bitwiseEqual(got.values[i], expected.values[i])) << "value " << i;
     }
+}
+
+TEST(MosaicBuilder, ChildrenAddedOneAtATimeGiveTheSameFloatsInAnyOrder) {
+  const uint32_t n = 33;
+  std::array<TexelTile, 4> t;
+  for (uint32_t q = 0; q < 4; ++q) t[q] = randomTile(n, 3, 60 + q);
+  for (const std::array<bool, 4> present :
+       {std::array{true, true, true, true}, std::array{true, false, false, false},
+        std::array{true, true, false, false}, std::array{true, false, true, false}}) {
+    std::array<const TexelTile*, 4> children{};
+    std::vector<size_t> order;
+    for (size_t q = 0; q < 4; ++q)
+      if (present[q]) children[q] = &t[q], order.push_back(q);
+    for (uint32_t size : {2 * n - 1, n, 17u, 9u, 2u}) {
+      const TexelTile expected = resampleMosaic(children, size);
+      do {
+        SCOPED_TRACE(testing::Message()
+                     << order.size() << " children, first " << order[0] << ", to " << size);
+        MosaicBuilder builder(n, 3, size, present);
+        for (size_t q : order) builder.add(q, t[q]);
+        const TexelTile got = builder.finish();
+        ASSERT_EQ(got.size, expected.size);
+        for (size_t i = 0; i < got.values.size(); ++i)
+          ASSERT_TRUE(bitwiseEqual(got.values[i], expected.values[i])) << "value " << i;
+      } while (std::next_permutation(order.begin(), order.end()));
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -40,6 +40,17 @@ struct ChunkTiles {
   LayerLevels color, normal;
 };
 
+class MosaicBuilder;
+
+/// A node's level-0 tiles while its children come in one by one (TilePyramid).
+struct PartialTiles {
+  PartialTiles();
+  PartialTiles(PartialTiles&&) noexcept;
+  PartialTiles& operator=(PartialTiles&&) noexcept;
+  ~PartialTiles();
+  std::unique_ptr<MosaicBuilder> color, normal;
+};
+
 class TexturePass {
  public:
   TexturePass(const TreeLayout& layout, const TextureBuild& build,
@@ -60,6 +71,13 @@ class TexturePass {
   /// them), reusing their encoded blocks: the same pixels on both sides of a split. The
   /// children's tiles are used up (emptied layer by layer as the parent's are made).
   ChunkTiles fromChildren(uint32_t node, const std::array<ChunkTiles*, 4>& children) const;
+  /// The same made child by child: startParent (once, with the first child to come; not
+  /// thread-safe), addChild for each child as it comes (children concurrently; the child's
+  /// level-0 floats are used and freed), then finishParent with every child's remaining tiles.
+  void startParent(uint32_t node, PartialTiles& partial, const ChunkTiles& child) const;
+  void addChild(PartialTiles& partial, size_t quadrant, ChunkTiles& child) const;
+  ChunkTiles finishParent(uint32_t node, PartialTiles& partial,
+                          const std::array<ChunkTiles*, 4>& children) const;
   /// Frees what fromChildren will not read of a node's tiles when it builds the node's parent
   /// (float levels and encoded blocks its parent does not take side by side; their sizes stay),
   /// for tiles that wait for a sibling or are handed on.
