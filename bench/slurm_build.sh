@@ -9,7 +9,8 @@
 #
 #   bench/slurm_build.sh          scratch in $BENCH_DIR/slurm (default build/bench); about
 #                                 25 minutes and 40 GB of disk on 2 cores
-# ONLY="16385" or ONLY="65537" runs one part. Needs `make` first and slurm-wlm (install-deps).
+# ONLY="16385" or ONLY="65537" runs one part; RUNS=N times the 16385² builds N times each, in
+# turn, and reports medians. Needs `make` first and slurm-wlm (install-deps).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 terralod=${TERRALOD:-$here/build/release/apps/terralod/terralod}
@@ -47,18 +48,30 @@ if want 16385; then
   [ -e s16385.tif ] || "$terralod" synth --size 16385 --spacing 5 --seed 1 -o s16385.tif >/dev/null
   echo "| build | local wall s | local peak RSS MB | 16 jobs wall s | wall ratio | largest job RSS MB | RSS ratio | identical |"
   echo "|---|---|---|---|---|---|---|---|"
+  # RUNS pairs (default 1), local and staged in turn; the row gives each figure's median and
+  # the ratio of the medians (this machine's speed drifts by 20 % between runs).
+  median() { sort -n | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
   for variant in textured untextured; do
     args=()
     [ "$variant" = untextured ] && args=(--no-texture)
-    read -r lwall lrss < <(local_build "local_$variant" s16385.tif "${args[@]}")
-    swall=$(staged_build "slurm_$variant" s16385.tif 16 "${args[@]}")
-    jrss=$(awk '/peak RSS/ {v=$(NF-1); if (v > m) m = v} END {print m}' "slurm_$variant.stages")
-    same=no
-    cmp -s "local_$variant.tlod" "slurm_$variant.tlod" && same=yes
-    awk -v n="$variant" -v lw="$lwall" -v lr="$lrss" -v sw="$swall" -v jr="$jrss" -v s="$same" \
+    : >pairs.txt
+    for _ in $(seq "${RUNS:-1}"); do
+      read -r lwall lrss < <(local_build "local_$variant" s16385.tif "${args[@]}")
+      swall=$(staged_build "slurm_$variant" s16385.tif 16 "${args[@]}")
+      jrss=$(awk '/peak RSS/ {v=$(NF-1); if (v > m) m = v} END {print m}' "slurm_$variant.stages")
+      same=no
+      cmp -s "local_$variant.tlod" "slurm_$variant.tlod" && same=yes
+      echo "$lwall $lrss $swall $jrss $same" >>pairs.txt
+    done
+    lw=$(cut -d' ' -f1 pairs.txt | median) lr=$(cut -d' ' -f2 pairs.txt | median)
+    sw=$(cut -d' ' -f3 pairs.txt | median) jr=$(cut -d' ' -f4 pairs.txt | median)
+    same=yes
+    grep -q ' no$' pairs.txt && same=no
+    awk -v n="$variant" -v lw="$lw" -v lr="$lr" -v sw="$sw" -v jr="$jr" -v s="$same" \
       'BEGIN { printf "| %s | %.1f | %d | %.1f | %.2f | %.0f | %.3f | %s |\n", n, lw, lr, sw, sw / lw, jr, jr / lr, s }'
+    [ "${RUNS:-1}" = 1 ] || sed 's/^/    run: local s, MB, staged s, largest job MB, identical: /' pairs.txt
     sed 's/^terralod: /    /' "slurm_$variant.stages"
-    rm -f "local_$variant.tlod" "slurm_$variant.tlod"
+    rm -f "local_$variant.tlod" "slurm_$variant.tlod" pairs.txt
   done
 fi
 
