@@ -74,11 +74,12 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
   const uint32_t held = std::min(k1, ox + n);  // k0 .. held - 1 are the child's own
   auto rowOf = [&](uint32_t r) {
     const float* in = child.at(k0 - ox, std::min(r - oy, n - 1));
+    if (held == k1) return in;  // no repeats: the child's row itself
     std::memcpy(segment.data(), in, sizeof(float) * (held - k0) * c);
     for (uint32_t k = held; k < k1; ++k)
       std::memcpy(segment.data() + size_t(k - k0) * c, in + size_t(held - 1 - k0) * c,
                   sizeof(float) * c);
-    return segment.data();
+    return static_cast<const float*>(segment.data());
   };
   if (mSize == mSource) {
     for (uint32_t r = r0; r < r1; ++r)
@@ -101,7 +102,8 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
     for (size_t i = 0; i < t.weights.size(); ++i)
       addWeightedRow(part, rowOf(uint32_t(t.first + i)), t.weights[i], size_t(k1 - k0) * c);
     for (uint32_t x = 0; x < mSize; ++x)
-      if (mColClass[x] == hx) resampleTexel(mOut.at(x, y), sums.data() + size_t(taps[x].first) * c, taps[x], c);
+      if (mColClass[x] == hx)
+        resampleTexel(mOut.at(x, y), sums.data() + size_t(taps[x].first) * c, taps[x], c);
     for (uint32_t k = std::max(k0, mBandCol0); k < std::min(k1, mBandCol0 + mBandCols); ++k)
       std::memcpy(mBandColSums.data() + (size_t(y) * mBandCols + (k - mBandCol0)) * c,
                   sums.data() + size_t(k) * c, sizeof(float) * c);

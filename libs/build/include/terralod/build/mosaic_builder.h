@@ -20,8 +20,7 @@ class MosaicBuilder {
  public:
   /// Children of `childSize` texels and `channels` channels, those marked in `present`
   /// (quadrants SW, SE, NW, NE), making a tile of `size` texels.
-  MosaicBuilder(uint32_t childSize, uint32_t channels, uint32_t size,
-                std::array<bool, 4> present);
+  MosaicBuilder(uint32_t childSize, uint32_t channels, uint32_t size, std::array<bool, 4> present);
 
   /// Uses child `quadrant`'s tile. Children may be added in any order, and concurrently
   /// (each writes its own texels).
