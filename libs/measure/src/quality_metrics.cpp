@@ -181,23 +181,36 @@ Result<double> QualityMetrics::maxPopPixels(const View& view, const SelectionOpt
   for (const std::vector<uint32_t>* nodes : {&gone, &added})
     for (uint32_t node : *nodes)
       if (auto cached = chunk(node); !cached) return cached.error();
-  std::unordered_map<uint64_t, double> before;
+  // A sample on a border between chunks of different levels has one height in each (the
+  // T-junction gap the skirts cover); it pops only if no height after meets a height before,
+  // so each side keeps the range of its chunks' heights there. Inside a chunk the range is one
+  // height. (Keeping the last chunk's height instead measured a 1.2 px pop where a coarser
+  // neighbour's height, never drawn over that sample's pixel, met the new chunk's.)
+  struct Range {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    glm::dvec3 at;  // a point of the sample at its height after, for the distance
+    void add(double z) { lo = std::min(lo, z), hi = std::max(hi, z); }
+  };
+  std::unordered_map<uint64_t, Range> before, after;
   for (uint32_t node : gone)
     rasterizeChunk(node, morphParameter(mTree, view, options, node), view,
-                   [&](int64_t x, int64_t y, double z) { before[sampleKey(x, y)] = z; });
-  double worst = 0.0;
+                   [&](int64_t x, int64_t y, double z) { before[sampleKey(x, y)].add(z); });
   for (uint32_t node : added)
-    rasterizeChunk(
-        node, morphParameter(mTree, view, options, node), view,
-        [&](int64_t x, int64_t y, double z) {
-          const auto it = before.find(sampleKey(x, y));
-          if (it == before.end()) return;
-          const double truth = mSource(int32_t(x), int32_t(y));
-          if (!inView(view, x, y, truth)) return;
-          const glm::dvec3 p{double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
-          worst = std::max(worst, screenSpaceError(view, std::fabs(z - it->second),
-                                                   glm::length(p - view.camera.eye)));
-        });
+    rasterizeChunk(node, morphParameter(mTree, view, options, node), view,
+                   [&](int64_t x, int64_t y, double z) {
+                     if (!before.count(sampleKey(x, y))) return;
+                     const double truth = mSource(int32_t(x), int32_t(y));
+                     if (!inView(view, x, y, truth)) return;
+                     Range& r = after[sampleKey(x, y)];
+                     r.add(z);
+                     r.at = {double(x) * mTree.spacing()[0], double(y) * mTree.spacing()[1], z};
+                   });
+  double worst = 0.0;
+  for (const auto& [key, a] : after) {
+    const Range& b = before.at(key);
+    const double gap = std::max({0.0, a.lo - b.hi, b.lo - a.hi});
+    worst = std::max(worst, screenSpaceError(view, gap, glm::length(a.at - view.camera.eye)));
+  }
   return worst;
 }
 

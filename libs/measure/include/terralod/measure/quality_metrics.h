@@ -4,7 +4,9 @@
 //  - screen-space error: over every source sample in view, |true height - drawn (morphed)
 //    surface height| * K / distance from the eye;
 //  - pops: from frame i's camera, the surface of frame i-1's selection and of frame i's, both
-//    morphed for frame i, compared at every sample in view where the selections differ;
+//    morphed for frame i, compared at every sample in view where the selections differ (on a
+//    border between chunks of different levels, where each side has several heights, the
+//    least difference between them);
 //  - holes: background pixels of a look-down image over the data.
 
 #include <cstdint>
