@@ -722,8 +722,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
   // The textures above this job's blocks that need no other job's (whole subtrees), and the
-  // block nodes' own.
-  // Its texture blobs (blocks' and the pyramid's) wait in a temporary file, not in memory.
+  // block nodes' own. Their blobs wait in a temporary file, not in memory.
   std::optional<TilePyramid> pyramid;
   TextureSpool spool;
   if (texturePass)
