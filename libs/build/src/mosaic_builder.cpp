@@ -62,13 +62,10 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
   assert(mPresent[quadrant] && child.size == mChild && child.channels == mChannels);
   const uint8_t hx = uint8_t(quadrant & 1), hy = uint8_t(quadrant >> 1);
   const uint32_t n = mChild, c = mChannels, ox = hx * (n - 1), oy = hy * (n - 1);
-  // The mosaic's rows and columns this child holds: its own, and beyond them the repeats
-  // standing in for a missing neighbour.
-  uint32_t k0 = mSource, k1 = 0, r0 = mSource, r1 = 0;
-  for (uint32_t k = 0; k < mSource; ++k)
-    if (colOwner(k) == hx) k0 = std::min(k0, k), k1 = k + 1;
-  for (uint32_t r = 0; r < mSource; ++r)
-    if (rowOwner(r) == hy) r0 = std::min(r0, r), r1 = r + 1;
+  // The mosaic's rows and columns this child holds (as rowOwner and colOwner give them): its
+  // own, and beyond them the repeats standing in for a missing neighbour.
+  const uint32_t k0 = ox, k1 = hx || !mPresent[1] ? mSource : n - 1;
+  const uint32_t r0 = oy, r1 = hy || !mPresent[2] ? mSource : n - 1;
   // Mosaic row r's texels k0 .. k1 - 1, as placeChildren would hold them.
   std::vector<float> segment(size_t(k1 - k0) * c);
   const uint32_t held = std::min(k1, ox + n);  // k0 .. held - 1 are the child's own
@@ -92,7 +89,7 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
                   sizeof(float) * (k1 - k0) * c);
   const std::vector<Taps>& taps = tapsFor(mSource, mSize, Placement::kEdgeAligned);
   // Sums over the whole width, though only k0 .. k1 - 1 are made here, so that texels index
-  // them as resampleMosaic does.
+  // them as resampleTile does.
   std::vector<float> sums(size_t(mSource) * c);
   for (uint32_t y = 0; y < mSize; ++y) {
     if (mRowClass[y] != hy) continue;

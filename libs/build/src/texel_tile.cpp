@@ -78,40 +78,27 @@ const std::vector<Taps>& tapsFor(uint32_t from, uint32_t to, Placement placement
   return it->second;
 }
 
-namespace {
-
-// `from` x `from` source texels of `c` channels, whose row y `rowOf(y)` gives, resampled to
-// `size` per side.
-template <typename RowOf>
-TexelTile resampleRows(uint32_t from, uint32_t c, uint32_t size, Placement placement,
-                       RowOf&& rowOf) {
-  const std::vector<Taps>& taps = tapsFor(from, size, placement);
-  // Each output row from one row of column sums (whole source rows at a time, which
-  // vectorises), then along it.
-  const size_t sourceRow = size_t(from) * c;
-  thread_local std::vector<float> columns;
-  columns.resize(sourceRow);
-  TexelTile result(size, c);
-  for (uint32_t y = 0; y < size; ++y) {
-    const Taps& t = taps[y];
-    float* sums = columns.data();
-    std::fill_n(sums, sourceRow, 0.0f);
-    for (size_t i = 0; i < t.weights.size(); ++i)
-      addWeightedRow(sums, rowOf(uint32_t(t.first + i)), t.weights[i], sourceRow);
-    float* out = result.at(0, y);
-    for (uint32_t x = 0; x < size; ++x, out += c)
-      resampleTexel(out, sums + size_t(taps[x].first) * c, taps[x], c);
-  }
-  return result;
-}
-
-}  // namespace
-
 TexelTile resampleTile(const TexelTile& source, uint32_t size, Placement placement) {
   assert(source.size >= 2 && size >= 2);
   if (size == source.size) return source;
-  return resampleRows(source.size, source.channels, size, placement,
-                      [&](uint32_t y) { return source.at(0, y); });
+  const uint32_t c = source.channels;
+  const std::vector<Taps>& taps = tapsFor(source.size, size, placement);
+  // Each output row from one row of column sums (whole source rows at a time, which
+  // vectorises), then along it.
+  const size_t sourceRow = size_t(source.size) * c;
+  thread_local std::vector<float> sums;
+  sums.resize(sourceRow);
+  TexelTile result(size, c);
+  for (uint32_t y = 0; y < size; ++y) {
+    const Taps& t = taps[y];
+    std::fill(sums.begin(), sums.end(), 0.0f);
+    for (size_t i = 0; i < t.weights.size(); ++i)
+      addWeightedRow(sums.data(), source.at(0, t.first + uint32_t(i)), t.weights[i], sourceRow);
+    float* out = result.at(0, y);
+    for (uint32_t x = 0; x < size; ++x, out += c)
+      resampleTexel(out, sums.data() + size_t(taps[x].first) * c, taps[x], c);
+  }
+  return result;
 }
 
 TexelTile resampleTile(TexelTile&& source, uint32_t size) {
@@ -174,48 +161,6 @@ TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children) {
 
 TexelTile concatTiles(const std::array<const TexelTile*, 4>& children) {
   return placeChildren(children, anyOf(children)->size);
-}
-
-TexelTile resampleMosaic(const std::array<const TexelTile*, 4>& children, uint32_t size) {
-  const TexelTile* any = anyOf(children);
-  assert(any);
-  const uint32_t n = any->size, c = any->channels, stride = n - 1, m = stride + n;
-  if (size == m) return mosaicTiles(children);
-  // Row y of the mosaic as placeChildren makes it: each child's row where it lies (later
-  // quadrants over earlier ones on the shared lines), the east end repeating the last texel
-  // placed; rows no west child reaches repeat the row below. Recently made rows are kept, as
-  // neighbouring output rows share most of their taps.
-  auto covers = [&](int q, uint32_t y) {
-    const uint32_t oy = uint32_t(q >> 1) * stride;
-    return children[size_t(q)] && y >= oy && y < oy + n;
-  };
-  constexpr size_t kKept = 8;
-  std::array<std::vector<float>, kKept> kept;
-  std::array<int64_t, kKept> keptRow;
-  keptRow.fill(-1);
-  std::vector<uint8_t> filled(m);
-  auto rowOf = [&](uint32_t y) -> const float* {
-    const size_t slot = y % kKept;
-    std::vector<float>& row = kept[slot];
-    if (keptRow[slot] == int64_t(y)) return row.data();
-    keptRow[slot] = y;
-    row.resize(size_t(m) * c);
-    uint32_t from = y;
-    while (!covers(0, from) && !covers(2, from)) --from;  // child 0 always holds row 0
-    std::fill(filled.begin(), filled.end(), uint8_t(0));
-    for (int q = 0; q < 4; ++q) {
-      if (!covers(q, from)) continue;
-      const uint32_t ox = uint32_t(q & 1) * stride, oy = uint32_t(q >> 1) * stride;
-      std::memcpy(row.data() + size_t(ox) * c, children[size_t(q)]->at(0, from - oy),
-                  sizeof(float) * n * c);
-      std::fill_n(filled.begin() + ox, n, uint8_t(1));
-    }
-    for (uint32_t x = 1; x < m; ++x)
-      if (!filled[x])
-        std::memcpy(row.data() + size_t(x) * c, row.data() + size_t(x - 1) * c, sizeof(float) * c);
-    return row.data();
-  };
-  return resampleRows(m, c, size, Placement::kEdgeAligned, rowOf);
 }
 
 }  // namespace terralod

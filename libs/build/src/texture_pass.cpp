@@ -61,7 +61,7 @@ std::vector<uint32_t> sideBySideSources(const LayerLevels& child, uint32_t size)
 }
 
 // A parent's layer of `size` texels from its children's layers (null: no such child) and its
-// level 0 (resampleMosaic of theirs, which they need not hold any more).
+// level 0 (MosaicBuilder's, from theirs, which they need not hold any more).
 LayerLevels parentLevels(const std::array<const LayerLevels*, 4>& children, uint32_t size,
                          TextureEncoding encoding, TexelTile level0) {
   const LayerLevels* any = nullptr;
@@ -126,25 +126,13 @@ void keepWhatTheParentReads(LayerLevels& l, uint32_t parentSize, bool all) {
 
 ChunkTiles TexturePass::fromChildren(uint32_t node,
                                      const std::array<ChunkTiles*, 4>& children) const {
-  const TextureLevel& plan = mBuild.plan[mNodes[node].level];
-  // One layer at a time, each child's layer released once used: the peak holds the children's
-  // normals and the parent's colour, not both layers of all five.
-  auto layerOf = [&](LayerLevels ChunkTiles::*layer, uint32_t size, TextureEncoding encoding) {
-    std::array<const LayerLevels*, 4> from{};
-    for (size_t q = 0; q < 4; ++q)
-      if (children[q]) from[q] = &(children[q]->*layer);
-    std::array<const TexelTile*, 4> level0{};
-    for (size_t q = 0; q < 4; ++q)
-      if (from[q]) level0[q] = &from[q]->levels[0];
-    LayerLevels made = parentLevels(from, size, encoding, resampleMosaic(level0, size));
-    for (ChunkTiles* c : children)
-      if (c) c->*layer = {};
-    return made;
-  };
-  ChunkTiles out;
-  out.color = layerOf(&ChunkTiles::color, plan.colorSize, TextureEncoding::kBc1);
-  out.normal = layerOf(&ChunkTiles::normal, plan.normalSize, TextureEncoding::kBc5);
-  return out;
+  PartialTiles partial;
+  for (size_t q = 0; q < 4; ++q)
+    if (children[q]) {
+      startParent(node, partial, *children[q]);
+      addChild(partial, q, *children[q]);
+    }
+  return finishParent(node, partial, children);
 }
 
 void TexturePass::startParent(uint32_t node, PartialTiles& partial, const ChunkTiles& child) const {
@@ -180,6 +168,8 @@ ChunkTiles TexturePass::finishParent(uint32_t node, PartialTiles& partial,
       if (c) c->*layer = {};
     return made;
   };
+  // One layer at a time, each child's layer released once used: the peak holds the children's
+  // normals and the parent's colour, not both layers of all five.
   ChunkTiles out;
   out.color = layerOf(&ChunkTiles::color, *partial.color, plan.colorSize, TextureEncoding::kBc1);
   out.normal =

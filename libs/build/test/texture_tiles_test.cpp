@@ -279,29 +279,6 @@ TEST(MosaicTiles, MissingChildrenRepeatTheNearestTexels) {
   }
 }
 
-TEST(MosaicTiles, ResamplingWithoutTheMosaicGivesTheSameFloats) {
-  const uint32_t n = 33;
-  std::array<TexelTile, 4> t;
-  for (uint32_t q = 0; q < 4; ++q) t[q] = randomTile(n, 3, 40 + q);
-  struct Case {
-    const char* name;
-    std::array<const TexelTile*, 4> children;
-  };
-  for (const Case& c : {Case{"all four", {&t[0], &t[1], &t[2], &t[3]}},
-                        Case{"SW only", {&t[0], nullptr, nullptr, nullptr}},
-                        Case{"SW+SE", {&t[0], &t[1], nullptr, nullptr}},
-                        Case{"SW+NW", {&t[0], nullptr, &t[2], nullptr}}})
-    for (uint32_t size : {2 * n - 1, n, 17u, 9u, 2u}) {
-      SCOPED_TRACE(testing::Message() << c.name << " to " << size);
-      const TexelTile expected = resampleTile(mosaicTiles(c.children), size);
-      const TexelTile got = resampleMosaic(c.children, size);
-      ASSERT_EQ(got.size, expected.size);
-      ASSERT_EQ(got.channels, expected.channels);
-      for (size_t i = 0; i < got.values.size(); ++i)
-        ASSERT_TRUE(bitwiseEqual(got.values[i], expected.values[i])) << "value " << i;
-    }
-}
-
 TEST(MosaicBuilder, ChildrenAddedOneAtATimeGiveTheSameFloatsInAnyOrder) {
   const uint32_t n = 33;
   std::array<TexelTile, 4> t;
@@ -314,7 +291,7 @@ TEST(MosaicBuilder, ChildrenAddedOneAtATimeGiveTheSameFloatsInAnyOrder) {
     for (size_t q = 0; q < 4; ++q)
       if (present[q]) children[q] = &t[q], order.push_back(q);
     for (uint32_t size : {2 * n - 1, n, 17u, 9u, 2u}) {
-      const TexelTile expected = resampleMosaic(children, size);
+      const TexelTile expected = resampleTile(mosaicTiles(children), size);
       do {
         SCOPED_TRACE(testing::Message()
                      << order.size() << " children, first " << order[0] << ", to " << size);

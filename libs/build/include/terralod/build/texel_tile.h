@@ -84,9 +84,4 @@ TexelTile mosaicTiles(const std::array<const TexelTile*, 4>& children);
 /// Missing children repeat the nearest existing texels, as in mosaicTiles.
 TexelTile concatTiles(const std::array<const TexelTile*, 4>& children);
 
-/// resampleTile(mosaicTiles(children), size) without the mosaic: its rows are made as the
-/// filter reaches them, so a parent from four 1025² children needs a few rows, not 2049²
-/// texels. The same sums in the same order: the same floats.
-TexelTile resampleMosaic(const std::array<const TexelTile*, 4>& children, uint32_t size);
-
 }  // namespace terralod
