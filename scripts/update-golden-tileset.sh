@@ -5,13 +5,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 terralod=${TERRALOD:-build/release/apps/terralod/terralod}
-# Static builds write version 4, textured (gully) and not (gully-untextured). Versions 1 to 3
-# are no longer written: their goldens stay as they are.
-out=tests/data/golden/v4
-mkdir -p "$out"
+# Static builds write version 5 textured (gully: chunks may share their parent's texture) and
+# version 4 without textures (gully-untextured). Versions 1 to 3, and version 4 textured, are
+# no longer written: their goldens stay as they are.
 for name in gully gully-untextured; do
+  out=tests/data/golden/v5
   extra=()
-  [ "$name" = gully-untextured ] && extra=(--no-texture)
+  [ "$name" = gully-untextured ] && out=tests/data/golden/v4 && extra=(--no-texture)
+  mkdir -p "$out"
   "$terralod" build tests/data/landlab_west_bijou_gully_3m.asc -o "$out/$name.tlod" \
     --max-error 0.25 --threads 1 "${extra[@]}"
   "$terralod" info "$out/$name.tlod" --json > "$out/$name.json"

@@ -68,6 +68,11 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto noTexture = std::make_shared<bool>(false);
   cmd->add_flag("--no-texture", *noTexture,
                 "Geometry only (a version 1 tileset; lit from the geometry's own normals)");
+  auto perChunk = std::make_shared<bool>(false);
+  cmd->add_flag("--texture-per-chunk", *perChunk,
+                "Store every chunk's own texture, also where its parent's already holds the same "
+                "texels (by default such chunks draw their parent's: levels capped at the "
+                "source's resolution store their texels once; this shows what that saves)");
   auto kind = std::make_shared<std::string>("static");
   cmd->add_option("--kind", *kind,
                   "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
@@ -140,14 +145,17 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "  terralod build big.tif -o big.tlod --scheduler slurm --work-dir /shared/w --jobs 64\n"
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
-  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, kind, noRules, minTau,
-                 blotError, upperLevels, staged] {
-    run = [options, encoding, spacing, verbose, noTexture, kind, noRules, minTau, blotError,
-           upperLevels, staged] {
+  cmd->callback([&run, options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules,
+                 minTau, blotError, upperLevels, staged] {
+    run = [options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules, minTau,
+           blotError, upperLevels, staged] {
       keepFreedMemoryForReuse();
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
       options->textures = !*noTexture;
+      if (*perChunk && *noTexture)
+        return fail("--texture-per-chunk and --no-texture contradict each other");
+      options->textureSharing = *perChunk ? TextureSharing::kEveryChunk : TextureSharing::kInherit;
       if (*kind == "vipm") {
         if (!options->textureImage.empty())
           return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
@@ -155,6 +163,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
           return fail(
               "--min-tau does not apply to --kind vipm (its normal maps have one texel per grid "
               "point)");
+        if (*perChunk)
+          return fail(
+              "--texture-per-chunk does not apply to --kind vipm (its normal maps are per chunk)");
         if (*noTexture)
           return fail(
               "--no-texture does not apply to --kind vipm (its chunks are lit by their stored "

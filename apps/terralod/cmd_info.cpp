@@ -143,10 +143,11 @@ int printInfo(const std::string& path, bool json) {
       std::printf("  %13llu", (unsigned long long)s.textureBytes);
       if (texturePlan && texturePlan->is_array() && l < texturePlan->size()) {
         const auto& level = (*texturePlan)[l];
-        std::printf("  %5u%s/%u%s", level.value("color_size", 0u),
+        std::printf("  %5u%s/%u%s%s", level.value("color_size", 0u),
                     level.value("color_source_limited", false) ? "*" : "",
                     level.value("normal_size", 0u),
-                    level.value("normal_source_limited", false) ? "*" : "");
+                    level.value("normal_source_limited", false) ? "*" : "",
+                    level.value("inherited", false) ? " (the parent's)" : "");
       } else if (h.meshKind == MeshKind::kVipm) {
         std::printf("  %5s/%u*", "-", vipmNormalMapCells(h.rootCells >> l) + 1);  // normals only
       }
@@ -161,7 +162,8 @@ int printInfo(const std::string& path, bool json) {
   std::printf("\n");
   if (h.textured())
     std::printf(
-        "  (texels/side: colour/normal; * = source-limited: the source's own resolution)\n");
+        "  (texels/side: colour/normal; * = source-limited: the source's own resolution;\n"
+        "   the parent's: the level draws its parents' textures, which hold its texels)\n");
   std::printf("  file            %llu bytes, %.3f bytes per source sample\n",
               (unsigned long long)h.fileBytes, double(h.fileBytes) / double(samples));
   return 0;

@@ -20,12 +20,12 @@
 #include <set>
 #include <sstream>
 
-#include "bc_decode.h"
 #include "cli_expectations.h"
 #include "cli_runner.h"
 #include "gltf_validator.h"
 #include "shared_directory.h"
 #include "terralod/format/chunk_position.h"
+#include "terralod/format/node_colour.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/render/image.h"
 
@@ -318,7 +318,7 @@ void expectNormalsAndTexcoords(const Mesh& mesh, const nlohmann::json& info) {
 }
 
 // The tileset's colour averaged over a grid x grid of regions of the data's extent, from every
-// texel of the finest level's tiles (decoded here by the tests' own BC1 decoder), row 0 south.
+// texel the finest level draws (its own tile or its part of its parent's), row 0 south.
 using RegionColours = std::vector<std::array<double, 3>>;
 constexpr int kRegions = 8;
 
@@ -334,23 +334,20 @@ RegionColours tilesetRegionColours(const std::string& path) {
   for (uint32_t i = 0; i < t.nodes().size(); ++i) {
     const NodeRecord& n = t.nodes()[i];
     if (n.level + 1u != h.levelCount) continue;
-    auto data = t.readChunkData(i);
-    EXPECT_TRUE(data.ok() && data->texture) << i;
-    if (!data.ok() || !data->texture) continue;
-    const TextureLayer* color = data->texture->find(TextureLayerKind::kColor);
-    EXPECT_NE(color, nullptr);
-    if (!color) continue;
-    const std::vector<uint8_t> rgb = decodeBc1Layer(color->mips[0], color->size);
-    const double side = h.chunkCells(n.level), step = side / (color->size - 1);
+    auto colour = readNodeColour(t, i);  // its own, or its part of its parent's
+    EXPECT_TRUE(colour.ok() && !colour->rgb.empty()) << i;
+    if (!colour.ok() || colour->rgb.empty()) continue;
+    const std::vector<uint8_t>& rgb = colour->rgb;
+    const double side = h.chunkCells(n.level), step = side / (colour->size - 1);
     const auto [x0, y0] = chunkCellOrigin(h, n);
-    for (uint32_t y = 0; y < color->size; ++y)
-      for (uint32_t x = 0; x < color->size; ++x) {
+    for (uint32_t y = 0; y < colour->size; ++y)
+      for (uint32_t x = 0; x < colour->size; ++x) {
         const double cx = x0 + x * step, cy = y0 + y * step;
         if (cx > cellsX || cy > cellsY) continue;
         const int rx = std::min(kRegions - 1, int(cx / cellsX * kRegions));
         const int ry = std::min(kRegions - 1, int(cy / cellsY * kRegions));
         for (int c = 0; c < 3; ++c)
-          sums[ry * kRegions + rx][c] += rgb[(y * color->size + x) * 3 + c];
+          sums[ry * kRegions + rx][c] += rgb[(y * colour->size + x) * 3 + c];
         counts[ry * kRegions + rx] += 1;
       }
   }

@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "bc_decode.h"
 #include "cli_runner.h"
+#include "terralod/format/node_colour.h"
 #include "terralod/format/tileset_reader.h"
 
 namespace terralod::test {
@@ -61,12 +61,10 @@ std::vector<int> waterTexels(const std::string& tileset, const Dem& dem) {
   for (uint32_t i = 0; i < t.nodes().size(); ++i) {
     const NodeRecord& n = t.nodes()[i];
     if (n.level != leaf) continue;
-    auto chunk = t.readChunkData(i);
-    EXPECT_TRUE(chunk.ok() && chunk->texture);
-    const TextureLayer* color = chunk->texture->find(TextureLayerKind::kColor);
-    EXPECT_TRUE(color);
-    const uint32_t size = color->size;
-    const std::vector<uint8_t> rgb = decodeBc1Layer(color->mips[0], size);
+    auto colour = readNodeColour(t, i);  // its own, or its part of its parent's
+    EXPECT_TRUE(colour.ok() && !colour->rgb.empty());
+    const uint32_t size = colour->size;
+    const std::vector<uint8_t>& rgb = colour->rgb;
     EXPECT_EQ(rgb.size(), size_t(size) * size * 3);
     for (uint32_t j = 0; j < size; ++j)
       for (uint32_t k = 0; k < size; ++k) {

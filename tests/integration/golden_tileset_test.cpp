@@ -1,4 +1,4 @@
-// The format is frozen: tilesets written by format versions 1, 2 and 3 (static RTIN chunks,
+// The format is frozen: tilesets written by format versions 1 to 5 (static RTIN chunks,
 // and VIPM chunks in version 2) must always read, and
 // building their source again must give the same bytes (or scripts/update-golden-tileset.sh
 // was run on purpose and the change reviewed).
@@ -16,9 +16,9 @@
 namespace terralod::test {
 namespace {
 
-// What the builder writes today (version 4), textured and not.
+// What the builder writes today: version 4 without textures, version 5 with.
 const std::string kGolden = testData("golden/v4/gully-untextured.tlod");
-const std::string kGoldenTextured = testData("golden/v4/gully.tlod");
+const std::string kGoldenTextured = testData("golden/v5/gully.tlod");
 const std::string kGoldenVipm = testData("golden/vipm/gully.tlod");
 
 // golden/VERSION/NAME.tlod against its NAME.json.
@@ -40,7 +40,7 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
     EXPECT_EQ(t.header().extentMin[k], expected["extent"]["min"][k].get<double>());
     EXPECT_EQ(t.header().extentMax[k], expected["extent"]["max"][k].get<double>());
   }
-  uint64_t triangles = 0, vertices = 0, withTexture = 0;
+  uint64_t triangles = 0, vertices = 0, withTexture = 0, inherited = 0;
   uint64_t skirtTriangles = 0, nodeSkirtTriangles = 0;  // decoded (or derived), and recorded
   for (uint32_t i = 0; i < t.nodes().size(); ++i) {
     auto chunk = t.readChunkData(i);
@@ -54,12 +54,20 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
     if (chunk->texture && chunk->texture->find(TextureLayerKind::kColor) &&
         chunk->texture->find(TextureLayerKind::kNormal))
       ++withTexture;
+    // Version 5: a chunk may draw its parent's texture instead (its square of it).
+    if (t.nodes()[i].inheritsTexture()) {
+      ++inherited;
+      const TextureSource source = textureSourceOf(t.nodes(), i);
+      EXPECT_NE(source.owner, kNoNode);
+      EXPECT_LT(source.owner, i);
+    }
   }
   EXPECT_GT(skirtTriangles, 0u);
   EXPECT_EQ(skirtTriangles, nodeSkirtTriangles);
   EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
   EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
-  EXPECT_EQ(withTexture, textured ? t.nodes().size() : 0u);
+  EXPECT_EQ(withTexture + inherited, textured ? t.nodes().size() : 0u);
+  EXPECT_EQ(inherited > 0, version == "v5") << "only version 5 shares textures (and gully's do)";
 }
 
 TEST(GoldenTileset, VersionOneStillReads) {
@@ -71,9 +79,12 @@ TEST(GoldenTileset, VersionTwoStillReads) {
 TEST(GoldenTileset, VersionThreeStillReads) {
   expectGoldenReads("v3");
 }
-TEST(GoldenTileset, VersionFourReads) {
+TEST(GoldenTileset, VersionFourStillReads) {
   expectGoldenReads("v4");
   expectGoldenReads("v4", "gully-untextured");
+}
+TEST(GoldenTileset, VersionFiveReads) {
+  expectGoldenReads("v5");
 }
 
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {

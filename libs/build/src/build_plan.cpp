@@ -54,6 +54,7 @@ std::string buildPlanJson(const BuildPlan& plan) {
       {"textures", o.textures},
       {"texture_image", o.textureImage},
       {"min_tau", o.textureTau},
+      {"texture_sharing", o.textureSharing == TextureSharing::kInherit ? "inherit" : "every-chunk"},
       {"block_cells", plan.blockCells},
       {"height_range", {plan.heightLo, plan.heightHi}},
       {"exact_range", plan.exactRange},
@@ -96,6 +97,11 @@ Result<BuildPlan> parseBuildPlan(const std::string& text, const std::string& sub
     o.textures = j.at("textures").get<bool>();
     o.textureImage = j.at("texture_image").get<std::string>();
     o.textureTau = j.at("min_tau").get<double>();
+    const std::string sharing = j.at("texture_sharing").get<std::string>();
+    if (sharing != "inherit" && sharing != "every-chunk")
+      return makeError(subject, "unknown texture sharing \"" + sharing + "\"");
+    o.textureSharing =
+        sharing == "inherit" ? TextureSharing::kInherit : TextureSharing::kEveryChunk;
     plan.blockCells = j.at("block_cells").get<int32_t>();
     const auto range = j.at("height_range").get<std::array<double, 2>>();
     plan.heightLo = range[0];

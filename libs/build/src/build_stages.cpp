@@ -944,10 +944,13 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
   summary.streamed = true;
   if (*image) summary.textureRefine = (*image)->refine();
+  TextureBuild textures;
+  if (o.textures) {
+    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+    markInheritedTextures(textures.plan, nodes);
+  }
   summarizeNodes(nodes, summary);
   summary.levels = s.layout.levelCount();
-  TextureBuild textures;
-  if (o.textures) textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
   const TilesetHeader header =
       staticHeader(info, o, s.layout, s.budget, reduced->zMin, reduced->zMax, 0);
   if (Status st = (*writer)->finish(

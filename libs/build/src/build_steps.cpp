@@ -37,6 +37,8 @@ TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layo
   TextureBuild textures;
   textures.plan = planTextures(layout, budget.levelError, info.spacingX, info.spacingY,
                                options.textureTau, image ? image->refine() : 1);
+  if (options.textureSharing == TextureSharing::kEveryChunk)
+    for (TextureLevel& level : textures.plan) level.inherited = false;
   textures.surface.spacingX = info.spacingX;
   textures.surface.spacingY = info.spacingY;
   textures.surface.columns = info.columns;
@@ -56,6 +58,11 @@ void summarizeNodes(const std::vector<NodeRecord>& nodes, BuildSummary& summary)
     summary.skirtTriangles += n.skirtTriangleCount;
   }
   summary.chunks = nodes.size();
+}
+
+void markInheritedTextures(const std::vector<TextureLevel>& plan, std::vector<NodeRecord>& nodes) {
+  for (NodeRecord& n : nodes)
+    if (n.level < plan.size() && plan[n.level].inherited) n.flags |= kNodeInheritsTexture;
 }
 
 TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
@@ -80,6 +87,7 @@ TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
   header.verticalScale = options.dem.verticalScale;
   header.version = kTilesetVersionStatic;
   if (options.textures) {
+    header.version = kTilesetVersionStaticTextured;
     header.flags |= kTilesetTextured;
     header.textureMinTau = options.textureTau;
   }
@@ -110,7 +118,8 @@ std::string tilesetMetadataJson(const DemInfo& info, const BuildOptions& options
       levels.push_back({{"color_size", t.colorSize},
                         {"normal_size", t.normalSize},
                         {"color_source_limited", t.colorFlags != 0},
-                        {"normal_source_limited", t.normalFlags != 0}});
+                        {"normal_source_limited", t.normalFlags != 0},
+                        {"inherited", t.inherited}});
     j["texture"] = {
         {"color", options.textureImage.empty()
                       ? "generated"

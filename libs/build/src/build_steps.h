@@ -34,6 +34,9 @@ TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layo
 
 /// Vertex, triangle and texture totals of the built nodes.
 void summarizeNodes(const std::vector<NodeRecord>& nodes, BuildSummary& summary);
+/// Flags the nodes of the plan's inherited levels (kNodeInheritsTexture): they were written
+/// without a texture blob and draw their parent's.
+void markInheritedTextures(const std::vector<TextureLevel>& plan, std::vector<NodeRecord>& nodes);
 
 TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
                            const TreeLayout& layout, const ErrorBudget& budget, double zMin,

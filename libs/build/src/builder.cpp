@@ -241,6 +241,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     return s.error();
   summary.meshSeconds = secondsSince(meshStart);
 
+  if (options.textures) markInheritedTextures(textures.plan, nodes);
   summarizeNodes(nodes, summary);
   summary.levels = b.layout.levelCount();
   const TilesetHeader header = staticHeader(info, options, b.layout, pass->budget, plan.zMin,

@@ -213,10 +213,14 @@ Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
                       const std::vector<NodeRecord>& nodes) {
   std::unordered_map<uint32_t, size_t> index;
   for (size_t k = 0; k < chunks.size(); ++k) index.emplace(chunks[k].node, k);
+  std::vector<uint8_t> attached(chunks.size(), 0);  // (empty for a node that inherits its texture)
   for (auto& [node, blob] : textures)
-    if (auto k = index.find(node); k != index.end()) chunks[k->second].texture = std::move(blob);
-  for (const BuiltChunk& c : chunks)
-    if (c.texture.empty())
+    if (auto k = index.find(node); k != index.end()) {
+      chunks[k->second].texture = std::move(blob);
+      attached[k->second] = 1;
+    }
+  for (size_t k = 0; k < chunks.size(); ++k)
+    if (const BuiltChunk& c = chunks[k]; !attached[k])
       return Error{"internal error: chunk " + std::to_string(nodes[c.node].level) + "/" +
                    std::to_string(nodes[c.node].x) + "/" + std::to_string(nodes[c.node].y) +
                    " has no texture"};

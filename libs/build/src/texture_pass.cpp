@@ -188,6 +188,7 @@ void TexturePass::keepWhatTheParentReads(uint32_t node, ChunkTiles& tiles) const
 
 std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles) const {
   const TextureLevel& plan = mBuild.plan[mNodes[node].level];
+  if (plan.inherited) return {};  // the parent's texture holds these texels
   auto layer = [](const LayerLevels& l, TextureLayerKind kind, TextureEncoding encoding,
                   uint8_t flags) {
     TextureLayer out;

@@ -38,6 +38,11 @@ std::vector<TextureLevel> planTextures(const TreeLayout& layout,
     TextureLevel& t = plan[size_t(level)];
     t.normalSize = intervals(wanted, cells, t.normalFlags) + 1;
     t.colorSize = intervals(wanted, cells * colorRefine, t.colorFlags) + 1;
+    if (level > 0) {
+      const TextureLevel& parent = plan[size_t(level - 1)];
+      t.inherited =
+          parent.colorSize == 2 * t.colorSize - 1 && parent.normalSize == 2 * t.normalSize - 1;
+    }
   }
   return plan;
 }

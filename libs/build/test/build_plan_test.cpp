@@ -1,5 +1,5 @@
 // The staged build's plan.json is read by every job, possibly of another terralod build on
-// another node: its fields are frozen (tests/data/golden/build_plan/v1.json).
+// another node: its fields are frozen (tests/data/golden/build_plan/v2.json).
 
 #include "terralod/build/build_plan.h"
 
@@ -12,7 +12,7 @@ namespace terralod {
 namespace {
 
 std::string golden() {
-  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v1.json");
+  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v2.json");
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -47,7 +47,7 @@ TEST(BuildPlan, WritesTheFrozenFields) {
 }
 
 TEST(BuildPlan, ReadsTheFrozenFields) {
-  auto plan = parseBuildPlan(golden(), "v1.json");
+  auto plan = parseBuildPlan(golden(), "v2.json");
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(buildPlanJson(*plan), golden());
   EXPECT_EQ(plan->options.input, "/data/dem.tif");
@@ -61,13 +61,17 @@ TEST(BuildPlan, ReadsTheFrozenFields) {
 TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   EXPECT_EQ(parseBuildPlan("{", "p.json").error().message, "p.json: not a terralod build plan");
   std::string newer = golden();
-  newer.replace(newer.find("\"version\": 1"), 12, "\"version\": 9");
+  newer.replace(newer.find("\"version\": 2"), 12, "\"version\": 9");
   EXPECT_EQ(parseBuildPlan(newer, "p.json").error().message,
-            "p.json: build plan version 9 (this terralod reads version 1)");
+            "p.json: build plan version 9 (this terralod reads version 2)");
   std::string broken = golden();
   broken.replace(broken.find("\"jobs\""), 6, "\"jabs\"");
   EXPECT_NE(parseBuildPlan(broken, "p.json").error().message.find("p.json: build plan field"),
             std::string::npos);
+  std::string sharing = golden();
+  sharing.replace(sharing.find("\"inherit\""), 9, "\"maybe\"");
+  EXPECT_EQ(parseBuildPlan(sharing, "p.json").error().message,
+            "p.json: unknown texture sharing \"maybe\"");
 }
 
 }  // namespace

@@ -28,6 +28,7 @@
 #include "terralod/build/builder.h"
 #include "terralod/build/texel_tile.h"
 #include "terralod/build/texture_encoder.h"
+#include "terralod/format/node_colour.h"
 #include "terralod/format/tileset_reader.h"
 
 namespace terralod {
@@ -131,19 +132,27 @@ std::ostream& operator<<(std::ostream& out, const Comparison& c) {
 
 class TextureAlignment : public ::testing::Test {
  protected:
+  // Zion with Landsat draped, 8 m at the leaves (coarser meshes build faster than the default
+  // 1 m): τ 2 still asks for texels of 4 m there and 8 m a level up, far finer than the 30 m
+  // cells, so both levels are capped at one texel per cell (source-limited).
+  static BuildOptions zionOptions(const std::string& name, TextureSharing sharing) {
+    BuildOptions options;
+    options.input = test::testData(kDem);
+    options.output = sDir->file(name);
+    options.textureImage = test::testData(kImage);
+    options.threads = 2;
+    options.maxError = 8;
+    options.textureSharing = sharing;
+    return options;
+  }
+
   static void SetUpTestSuite() {
     sDir = std::make_unique<test::TempDir>();
     sDem = std::make_unique<Raster>(readRaster(test::testData(kDem)));
     sImage = std::make_unique<Raster>(readRaster(test::testData(kImage)));
-    BuildOptions options;
-    options.input = test::testData(kDem);
-    options.output = sDir->file("zion.tlod");
-    options.textureImage = test::testData(kImage);
-    options.threads = 2;
-    // 8 m at the leaves (coarser meshes build faster than the default 1 m): τ 2 still asks
-    // for texels of 4 m there and 8 m a level up, far finer than the 30 m cells, so both
-    // levels are capped at one texel per cell (source-limited).
-    options.maxError = 8;
+    // Every chunk its own texture: these tests look at leaves' texels, and at parents' blocks
+    // against their children's (what lets children draw their parents' textures by default).
+    const BuildOptions options = zionOptions("zion.tlod", TextureSharing::kEveryChunk);
     NullProgress progress;
     auto summary = buildTileset(options, progress, [](const std::string&) {});
     if (!summary) {
@@ -487,6 +496,57 @@ TEST_F(TextureAlignment, ParentMipLevelsAreTheirChildrensBlocksSideBySide) {
     }
   }
   EXPECT_GE(checked, 2) << "no unresampled parent with four children was found";
+}
+
+// By default (TextureSharing::kInherit) the children of a parent that holds them unresampled
+// store no texture and draw their part of the parent's: the same texels as their own, except
+// the east and north border, which the parent encodes in its neighbour's BC1 block (the
+// neighbour's own encoding of the same texel: BC1's error, which on a photograph reaches a few
+// dozen levels on single texels).
+TEST_F(TextureAlignment, ChildrenSharingTheirParentsTextureDrawTheirOwnTexels) {
+  const BuildOptions options = zionOptions("zion-shared.tlod", TextureSharing::kInherit);
+  NullProgress progress;
+  auto summary = buildTileset(options, progress, [](const std::string&) {});
+  ASSERT_TRUE(summary.ok()) << summary.error().message;
+  auto shared = TilesetReader::openFile(options.output);
+  ASSERT_TRUE(shared.ok()) << shared.error().message;
+  const TilesetReader& t = **shared;
+  ASSERT_EQ(t.nodes().size(), sReader->nodes().size());
+  EXPECT_EQ(t.header().version, 5u);
+  EXPECT_LT(t.header().fileBytes, sReader->header().fileBytes);
+  int compared = 0;
+  double borderSum = 0, borderCount = 0;
+  for (uint32_t i = 0; i < t.nodes().size(); ++i) {
+    if (!t.nodes()[i].inheritsTexture()) continue;
+    EXPECT_EQ(t.nodes()[i].textureBytes, 0u);
+    auto own = readNodeColour(*sReader, i);
+    auto drawn = readNodeColour(t, i);
+    ASSERT_TRUE(own.ok() && drawn.ok());
+    ASSERT_EQ(own->size, drawn->size) << "chunk " << i;
+    const uint32_t n = own->size;
+    int inside = 0, border = 0;
+    for (uint32_t y = 0; y < n; ++y)
+      for (uint32_t x = 0; x < n; ++x)
+        for (size_t c = 0; c < 3; ++c) {
+          const size_t k = (size_t(y) * n + x) * 3 + c;
+          const int d = std::abs(int(own->rgb[k]) - int(drawn->rgb[k]));
+          if (x + 1 == n || y + 1 == n) {
+            border = std::max(border, d);
+            borderSum += d;
+            ++borderCount;
+          } else {
+            inside = std::max(inside, d);
+          }
+        }
+    EXPECT_EQ(inside, 0) << "chunk " << i;
+    EXPECT_LE(border, 96) << "chunk " << i;
+    ++compared;
+  }
+  EXPECT_GE(compared, 8) << "no chunk shares its parent's texture";
+  const double borderMean = borderSum / std::max(1.0, borderCount);
+  std::printf("shared textures: %d chunks, border texels differ by %.2f/255 on average\n", compared,
+              borderMean);
+  EXPECT_LT(borderMean, 4.0);
 }
 
 }  // namespace

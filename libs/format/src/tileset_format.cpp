@@ -312,6 +312,20 @@ Status checkDisjoint(const TilesetHeader& h, const std::vector<NodeRecord>& node
 
 }  // namespace
 
+TextureSource textureSourceOf(const std::vector<NodeRecord>& nodes, uint32_t node) {
+  TextureSource s;
+  uint32_t at = node;
+  while (at != kNoNode && nodes[at].inheritsTexture()) {
+    at = nodes[at].parent;
+    ++s.depth;
+  }
+  if (at == kNoNode || !nodes[at].hasTexture()) return {};
+  s.owner = at;
+  s.column = nodes[node].x - (nodes[at].x << s.depth);
+  s.row = nodes[node].y - (nodes[at].y << s.depth);
+  return s;
+}
+
 Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& nodes,
                      const std::string& subject) {
   auto bad = [&](size_t i, const std::string& what) {
@@ -350,8 +364,12 @@ Status validateNodes(const TilesetHeader& h, const std::vector<NodeRecord>& node
     if (n.blobBytes == 0 || n.blobOffset < kHeaderBytes || n.blobOffset > h.fileBytes ||
         n.blobBytes > h.fileBytes - n.blobOffset)
       return bad(i, "points outside the file");
-    if ((n.flags & ~kNodeHasTexture) != 0) return bad(i, "has unknown flags");
-    if (n.hasTexture() != h.textured()) return bad(i, "disagrees with the header about textures");
+    const uint8_t known = h.version >= 5 ? kNodeHasTexture | kNodeInheritsTexture : kNodeHasTexture;
+    if ((n.flags & ~known) != 0) return bad(i, "has unknown flags");
+    if (n.hasTexture() && n.inheritsTexture()) return bad(i, "both has a texture and inherits one");
+    if ((n.hasTexture() || n.inheritsTexture()) != h.textured())
+      return bad(i, "disagrees with the header about textures");
+    if (n.inheritsTexture() && n.level == 0) return bad(i, "inherits a texture but has no parent");
     const uint64_t blobEnd = n.blobOffset + n.blobBytes;  // <= fileBytes: checked above
     if (n.hasTexture() ? n.textureBytes == 0 || n.textureBytes > h.fileBytes - blobEnd
                        : n.textureBytes != 0)

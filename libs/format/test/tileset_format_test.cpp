@@ -76,10 +76,10 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
             "a.tlod: not a terralod tileset (wrong magic bytes)");
   auto future = bytes;
-  future[8] = 5;
+  future[8] = 6;
   EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
-            "b.tlod: tileset format version 5 is not supported (this terralod reads versions 1 "
-            "to 4)");
+            "b.tlod: tileset format version 6 is not supported (this terralod reads versions 1 "
+            "to 5)");
   auto flipped = bytes;
   flipped[100] ^= 1;
   EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,
@@ -252,6 +252,85 @@ TEST(NodeTable, ChunksMustNotOverlapEachOtherOrTheTables) {
   metadata.nodes[0].blobOffset = metadata.header.metadataOffset;
   metadata.nodes[0].blobBytes = 5;
   EXPECT_EQ(metadata.check(), "t.tlod: corrupt node table: node 0 overlaps the metadata");
+}
+
+// Version 5: a textured root and its four children, which draw its texture (kNodeInheritsTexture).
+struct SharedTexture {
+  TilesetHeader header;
+  std::vector<NodeRecord> nodes;
+  SharedTexture() {
+    TilesetHeader& h = header;
+    h.version = 5;
+    h.flags = kTilesetTextured;
+    h.levelCount = 2;
+    h.leafCells = 16;
+    h.rootCells = 32;
+    h.rootsX = h.rootsY = 1;
+    h.sourceColumns = h.sourceRows = 33;
+    h.levelError[0] = 2;
+    h.levelError[1] = 1;
+    h.nodeCount = 5;
+    h.nodeTableOffset = 1032;
+    h.nodeTableBytes = 5 * kNodeRecordBytes;
+    h.metadataOffset = 1352;
+    h.metadataBytes = 10;
+    h.fileBytes = 1362;
+    nodes.resize(5);
+    nodes[0].flags = kNodeHasTexture;
+    nodes[0].blobOffset = kHeaderBytes;
+    nodes[0].blobBytes = 100;
+    nodes[0].textureBytes = 20;
+    nodes[0].childMask = 15;
+    nodes[0].firstChild = 1;
+    for (uint32_t q = 0; q < 4; ++q) {
+      NodeRecord& c = nodes[1 + q];
+      c.level = 1;
+      c.x = q & 1;
+      c.y = q >> 1;
+      c.parent = 0;
+      c.flags = kNodeInheritsTexture;
+      c.blobOffset = 632 + 100 * q;
+      c.blobBytes = 100;
+    }
+  }
+  std::string check() const {
+    const Status s = validateNodes(header, nodes, "t.tlod");
+    return s ? "ok" : s.error().message;
+  }
+};
+
+TEST(NodeTable, ChunksMayDrawTheirParentsTextureFromVersionFive) {
+  const SharedTexture shared;
+  EXPECT_EQ(shared.check(), "ok");
+  const TextureSource source = textureSourceOf(shared.nodes, 4);
+  EXPECT_EQ(source.owner, 0u);
+  EXPECT_EQ(source.depth, 1u);
+  EXPECT_EQ(source.column, 1u);
+  EXPECT_EQ(source.row, 1u);
+  EXPECT_EQ(textureSourceOf(shared.nodes, 0).owner, 0u);
+  EXPECT_EQ(textureSourceOf(shared.nodes, 0).depth, 0u);
+  SharedTexture v4;
+  v4.header.version = 4;
+  EXPECT_EQ(v4.check(), "t.tlod: corrupt node table: node 1 has unknown flags");
+  SharedTexture both;
+  both.nodes[2].flags |= kNodeHasTexture;
+  EXPECT_EQ(both.check(), "t.tlod: corrupt node table: node 2 both has a texture and inherits one");
+  SharedTexture neither;
+  neither.nodes[3].flags = 0;
+  EXPECT_EQ(neither.check(),
+            "t.tlod: corrupt node table: node 3 disagrees with the header about textures");
+  SharedTexture untextured;
+  untextured.header.flags = 0;
+  untextured.nodes[0].flags = 0;
+  untextured.nodes[0].textureBytes = 0;
+  EXPECT_EQ(untextured.check(),
+            "t.tlod: corrupt node table: node 1 disagrees with the header about textures");
+  EXPECT_EQ(textureSourceOf(untextured.nodes, 0).owner, kNoNode);
+  SharedTexture root;
+  root.nodes[0].flags = kNodeInheritsTexture;
+  root.nodes[0].textureBytes = 0;
+  EXPECT_EQ(root.check(),
+            "t.tlod: corrupt node table: node 0 inherits a texture but has no parent");
 }
 
 // Regression: offsets near 2^64 wrapped around in `offset + length > fileBytes` and passed.

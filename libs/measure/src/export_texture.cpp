@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "terralod/format/chunk_position.h"
-#include "terralod/format/texture_decode.h"
+#include "terralod/format/node_colour.h"
 
 // Debian's libstb ships the stb implementations compiled (libstb.so), so no
 // STB_*_IMPLEMENTATION here.
@@ -27,12 +27,11 @@ Result<std::vector<uint32_t>> levelColorSizes(const TilesetReader& tileset) {
   for (uint32_t i = 0; i < tileset.nodes().size(); ++i) {
     const uint32_t level = tileset.nodes()[i].level;
     if (sizes[level]) continue;
-    auto chunk = tileset.readChunkData(i);
-    if (!chunk) return chunk.error();
-    const TextureLayer* color =
-        chunk->texture ? chunk->texture->find(TextureLayerKind::kColor) : nullptr;
-    if (!color) return makeError(tileset.name(), "chunk " + std::to_string(i) + " has no colour");
-    sizes[level] = color->size;
+    auto colour = readNodeColour(tileset, i);
+    if (!colour) return colour.error();
+    if (colour->rgb.empty())
+      return makeError(tileset.name(), "chunk " + std::to_string(i) + " has no colour");
+    sizes[level] = colour->size;
   }
   return sizes;
 }
@@ -97,17 +96,12 @@ Result<ExportTexture> assembleTexture(const TilesetReader& tileset, uint32_t lon
   for (uint32_t i = 0; i < tileset.nodes().size(); ++i) {
     const NodeRecord& node = tileset.nodes()[i];
     if (node.level != out.level) continue;
-    auto chunk = tileset.readChunkData(i);
-    if (!chunk) return chunk.error();
-    const std::string subject = tileset.name() + " chunk " + std::to_string(i);
-    const TextureLayer* color =
-        chunk->texture ? chunk->texture->find(TextureLayerKind::kColor) : nullptr;
-    if (!color) return makeError(subject, "has no colour texture");
-    if (color->encoding != TextureEncoding::kBc1)
-      return makeError(subject, "colour texture is not BC1");
-    const uint32_t size = color->size;
-    const std::vector<uint8_t> tile = decodeBc1Rgb(color->mips[0], size);
-    if (tile.empty()) return makeError(subject, "colour texture cannot be decoded");
+    auto colour = readNodeColour(tileset, i);
+    if (!colour) return colour.error();
+    if (colour->rgb.empty())
+      return makeError(tileset.name() + " chunk " + std::to_string(i), "has no colour texture");
+    const uint32_t size = colour->size;
+    const std::vector<uint8_t>& tile = colour->rgb;
     const auto origin = chunkCellOrigin(h, node);
     const double x0 = double(origin[0]), y0 = double(origin[1]);
     const double texelsPerCell = double(size - 1) / side;

@@ -13,12 +13,13 @@ void addTexelDensity(const View& view, const ChunkTree& tree, const GpuChunkStor
   const auto spacing = tree.spacing();
   const double cellMetres = std::max(spacing[0], spacing[1]);
   for (const SelectedChunk& s : chunks) {
-    const GpuChunk* chunk = store.find(s.node);
-    if (!chunk || !chunk->textured) continue;
+    // (A chunk that inherits its texture draws its part of an ancestor's, 2^depth a side.)
+    const DrawnTexture drawn = drawnTexture(tree, store, s.node);
+    if (!drawn.chunk) continue;
     const ChunkNode& n = tree.node(s.node);
     const double distance = distanceToBox(view.camera.eye, n.box);
-    const double side = tree.chunkCells(n.level) * cellMetres;
-    for (const TextureSlot* slot : {&chunk->color, &chunk->normal}) {
+    const double side = tree.chunkCells(int(drawn.level)) * cellMetres;
+    for (const TextureSlot* slot : {&drawn.chunk->color, &drawn.chunk->normal}) {
       const double texel = side / double(slot->size - 1);
       const double pixels = distance > 0 ? texel * view.pixelsPerRadian / distance
                                          : std::numeric_limits<double>::infinity();

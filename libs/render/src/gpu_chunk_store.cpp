@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <unordered_map>
 
 namespace terralod {
@@ -199,6 +200,27 @@ void GpuChunkStore::release(uint32_t node) {
 const GpuChunk* GpuChunkStore::find(uint32_t node) const {
   auto it = mChunks.find(node);
   return it == mChunks.end() ? nullptr : &it->second;
+}
+
+DrawnTexture drawnTexture(const ChunkTree& tree, const GpuChunkStore& store, uint32_t node) {
+  const GpuChunk* chunk = store.find(node);
+  if (!chunk) return {};
+  const ChunkNode& n = tree.node(node);
+  if (chunk->textured) return {chunk, n.level, 0, 0, 0};
+  uint32_t depth = 0;
+  for (uint32_t a = n.parent; a != kNoNode; a = tree.node(a).parent) {
+    ++depth;
+    const GpuChunk* c = store.find(a);
+    if (!c) return {};
+    if (!c->textured) continue;
+    const ChunkNode& o = tree.node(a);
+    const double side = double(tree.chunkCells(n.level));
+    const auto& spacing = tree.spacing();
+    return {c, o.level, depth,
+            uint32_t(std::lround((n.box.min[0] - o.box.min[0]) / (side * spacing[0]))),
+            uint32_t(std::lround((n.box.min[1] - o.box.min[1]) / (side * spacing[1])))};
+  }
+  return {};
 }
 
 }  // namespace terralod

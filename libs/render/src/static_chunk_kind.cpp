@@ -62,7 +62,8 @@ Result<LoadedChunk> StaticChunkKind::decode(const ChunkBlob& blob) const {
   auto data =
       decodeStaticChunk(blob.bytes, blob.tilesetName + " chunk " + std::to_string(blob.node));
   if (!data) return data.error();
-  if (mTextures == ChunkTextures::kRequired &&
+  // A chunk that inherits its texture draws its ancestor's (TerrainPass): it has none.
+  if (mTextures == ChunkTextures::kRequired && !blob.record.inheritsTexture() &&
       (!data->texture || !data->texture->find(TextureLayerKind::kColor) ||
        !data->texture->find(TextureLayerKind::kNormal)))
     return makeError(blob.tilesetName,

@@ -88,19 +88,21 @@ DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
     ++stats.chunks;
     const ChunkNode& n = tree.node(s.node);
     const uint32_t cells = uint32_t(tree.chunkCells(n.level));
-    const bool textured = chunk->textured && frame.style.textures;
+    const DrawnTexture owner = drawnTexture(tree, store, s.node);
+    const bool textured = owner.chunk && frame.style.textures;
+    const GpuChunk& tex = textured ? *owner.chunk : *chunk;
     const uint64_t group =
-        textured ? (uint64_t(chunk->color.array) << 32) | chunk->normal.array : ~uint64_t{0};
+        textured ? (uint64_t(tex.color.array) << 32) | tex.normal.array : ~uint64_t{0};
     const uint32_t piecewise =
-        textured && n.level < mPiecewise.size() ? mPiecewise[size_t(n.level)] : 0u;
+        textured && owner.level < mPiecewise.size() ? mPiecewise[owner.level] : 0u;
     for (const GpuChunkPart& p : chunk->parts) {
       const uint32_t count = frame.style.skirts ? p.indexCount : p.surfaceIndexCount;
       if (count == 0) continue;
       PendingDraw d;
       d.group = group;
       d.piecewise = piecewise;
-      d.colorSize = chunk->color.size;
-      d.normalSize = chunk->normal.size;
+      d.colorSize = tex.color.size;
+      d.normalSize = tex.normal.size;
       d.draw = {float(n.box.min[0] - eye.x),
                 float(n.box.min[1] - eye.y),
                 float(chunk->zBase - eye.z),
@@ -110,13 +112,13 @@ DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
                 float(chunk->zStep),
                 float(n.level),
                 std::bit_cast<float>(p.surfaceIndexCount / 3),
-                std::bit_cast<float>(chunk->color.layer),
-                std::bit_cast<float>(chunk->normal.layer),
+                std::bit_cast<float>(tex.color.layer),
+                std::bit_cast<float>(tex.normal.layer),
                 std::bit_cast<float>(cells),
                 std::bit_cast<float>(p.firstSkirtVertex),
                 std::bit_cast<float>(skirtSlant(p, *chunk, spacing)),
-                0.0f,
-                0.0f};
+                std::bit_cast<float>(owner.depth | owner.level << 8),
+                std::bit_cast<float>(owner.column | owner.row << 16)};
       // DrawElementsIndirectCommand: count, instanceCount, firstIndex, baseVertex, baseInstance.
       d.command = {count, 1u, p.firstIndex, p.baseVertex, 0u};
       mPending.push_back(d);

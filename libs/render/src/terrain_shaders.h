@@ -54,7 +54,9 @@ struct Draw {
   vec4 scale;   // spacing x, spacing y, zStep, level
   uvec4 counts; // x: surface triangles (skirt triangles follow them), y: colour layer,
                 // z: normal layer, w: chunk side in cells
-  uvec4 skirt;  // x: first skirt-bottom vertex of the part, y: outward slant (float bits)
+  uvec4 skirt;  // x: first skirt-bottom vertex of the part, y: outward slant (float bits),
+                // z: depth below the texture's owner | owner's level << 8, w: column | row << 16
+                // of the chunk's square in the owner's (a chunk that inherits its texture)
 };
 layout(std430, binding = 0) readonly buffer Draws { Draw draws[]; };
 uniform mat4 uViewProjection;  // eye at the origin
@@ -63,7 +65,9 @@ uniform int uDrawBase;  // this call's first entry in draws[]
 out vec3 vRelative;
 out float vHeight;
 out vec2 vChunkUv;  // 0..1 across the chunk's square
+out vec2 vTextureUv;  // 0..1 across its texture owner's square
 flat out float vLevel;
+flat out float vTextureLevel;  // the owner's level
 flat out float vMorph;
 flat out uint vSurfaceTriangles;
 flat out uvec2 vLayers;
@@ -82,7 +86,10 @@ void main() {
   vRelative = p;
   vHeight = p.z + uEyeHeight;
   vChunkUv = vec2(aGrid.xy) / float(d.counts.w);
+  vec2 square = vec2(float(d.skirt.w & 0xFFFFu), float(d.skirt.w >> 16));
+  vTextureUv = (square + vChunkUv) / float(1u << (d.skirt.z & 0xFFu));
   vLevel = d.scale.w;
+  vTextureLevel = float(d.skirt.z >> 8);
   vMorph = d.origin.w;
   vSurfaceTriangles = d.counts.x;
   vLayers = d.counts.yz;
@@ -99,7 +106,9 @@ inline constexpr const char* kTerrainFragment = R"(
 in vec3 vRelative;
 in float vHeight;
 in vec2 vChunkUv;
+in vec2 vTextureUv;
 flat in float vLevel;
+flat in float vTextureLevel;
 flat in float vMorph;
 flat in uint vSurfaceTriangles;
 flat in uvec2 vLayers;
@@ -148,7 +157,7 @@ vec4 sampleTile(sampler2DArray tile, vec2 f, float size, float layer, int kind) 
   // A constant of the program variant (the renderer groups draws by it): a software
   // rasteriser would run both sides of a branch on a uniform for every pixel.
   if ((kPiecewise & (1 << kind)) == 0) return texture(tile, vec3(uv, layer));
-  int level = int(vLevel + 0.5);
+  int level = int(vTextureLevel + 0.5);
   uint base = uint((level * 2 + kind) * 16);
   int levels = textureQueryLevels(tile);
   float lod = clamp(textureQueryLod(tile, uv).y, 0.0, float(levels - 1));
@@ -167,8 +176,8 @@ void main() {
   vec3 n;
   vec3 base;
   if (uTextured == 1) {
-    base = sampleTile(uColor, vChunkUv, uTileSizes.x, float(vLayers.x), 0).rgb;  // sRGB: linear
-    vec2 xy = sampleTile(uNormal, vChunkUv, uTileSizes.y, float(vLayers.y), 1).rg * 2.0 - 1.0;
+    base = sampleTile(uColor, vTextureUv, uTileSizes.x, float(vLayers.x), 0).rgb;  // sRGB: linear
+    vec2 xy = sampleTile(uNormal, vTextureUv, uTileSizes.y, float(vLayers.y), 1).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
   } else {
     n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));

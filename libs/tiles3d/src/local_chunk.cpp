@@ -8,31 +8,27 @@
 
 #include "terralod/core/srgb.h"
 #include "terralod/format/chunk_position.h"
-#include "terralod/format/texture_decode.h"
+#include "terralod/format/node_colour.h"
 #include "terralod/format/vipm_chunk_codec.h"
 
 namespace terralod::tiles3d {
 namespace {
 
-// The chunk's colour tile as JPEG (rows as stored: the southern first, which glTF's v = 0
-// addresses), or empty when it has none.
-Result<std::vector<uint8_t>> colourJpeg(const ChunkData& chunk, const std::string& subject,
-                                        uint32_t& size) {
-  const TextureLayer* color =
-      chunk.texture ? chunk.texture->find(TextureLayerKind::kColor) : nullptr;
-  if (!color) return std::vector<uint8_t>{};
-  if (color->encoding != TextureEncoding::kBc1)
-    return makeError(subject, "colour texture is not BC1");
-  size = color->size;
-  const std::vector<uint8_t> rgb = decodeBc1Rgb(color->mips[0], size);
-  if (rgb.empty()) return makeError(subject, "colour texture cannot be decoded");
+// The colour a chunk draws (its own tile, or its square of an ancestor's) as JPEG (rows as
+// stored: the southern first, which glTF's v = 0 addresses), or empty when it has none.
+Result<std::vector<uint8_t>> colourJpeg(const TilesetReader& tileset, uint32_t node,
+                                        const std::string& subject, uint32_t& size) {
+  auto colour = readNodeColour(tileset, node);
+  if (!colour) return colour.error();
+  if (colour->rgb.empty()) return std::vector<uint8_t>{};
+  size = colour->size;
   std::vector<uint8_t> jpeg;
   const auto sink = [](void* context, void* data, int n) {
     auto* out = static_cast<std::vector<uint8_t>*>(context);
     const auto* p = static_cast<const uint8_t*>(data);
     out->insert(out->end(), p, p + n);
   };
-  if (!stbi_write_jpg_to_func(sink, &jpeg, int(size), int(size), 3, rgb.data(), 90))
+  if (!stbi_write_jpg_to_func(sink, &jpeg, int(size), int(size), 3, colour->rgb.data(), 90))
     return makeError(subject, "colour texture cannot be encoded as JPEG");
   return jpeg;
 }
@@ -57,7 +53,7 @@ Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, uint32_t node)
   }
   // Texture coordinates: the tile's texels are edge-aligned over the chunk's square.
   uint32_t size = 0;
-  auto jpeg = colourJpeg(*chunk, subject, size);
+  auto jpeg = colourJpeg(tileset, node, subject, size);
   if (!jpeg) return jpeg.error();
   if (!jpeg->empty()) {
     out.image = std::move(jpeg).value();

@@ -217,8 +217,10 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     const NodeRecord& n = nodes[i];
     auto g = tileset.readChunkData(i);  // geometry and, when textured, the texture
     if (!g) return g.error();
-    if (h.textured() && (!g->texture || !g->texture->find(TextureLayerKind::kColor) ||
-                         !g->texture->find(TextureLayerKind::kNormal)))
+    // (A chunk that inherits its texture draws its ancestor's: it has none of its own.)
+    if (h.textured() && !n.inheritsTexture() &&
+        (!g->texture || !g->texture->find(TextureLayerKind::kColor) ||
+         !g->texture->find(TextureLayerKind::kNormal)))
       return makeError(tileset.name(),
                        "chunk " + std::to_string(i) + " lacks its colour or normal texture");
     const auto [x0, y0] = chunkCellOrigin(h, n);

@@ -15,6 +15,12 @@
 
 namespace terralod {
 
+/// Whether chunks store texels their parent's texture already holds (TextureLevel::inherited).
+enum class TextureSharing {
+  kInherit,     ///< the default: such chunks draw their parent's texture (format version 5)
+  kEveryChunk,  ///< --texture-per-chunk: every chunk stores its own (what sharing saves)
+};
+
 /// Whether the raster is read whole into memory or streamed in windows.
 enum class Streaming {
   kAuto,    ///< stream plain rasters over 16 M samples or over the memory budget, load the rest
@@ -69,6 +75,7 @@ struct BuildOptions {
   bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
   std::string textureImage;  ///< draped image; empty: the generated colour
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
+  TextureSharing textureSharing = TextureSharing::kInherit;
   TilesetKind kind = TilesetKind::kStatic;
   // VIPM only (kind kVipm):
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM

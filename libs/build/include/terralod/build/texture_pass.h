@@ -82,7 +82,8 @@ class TexturePass {
   /// (float levels and encoded blocks its parent does not take side by side; their sizes stay),
   /// for tiles that wait for a sibling or are handed on.
   void keepWhatTheParentReads(uint32_t node, ChunkTiles& tiles) const;
-  /// The stored texture blob of a node's tiles.
+  /// The stored texture blob of a node's tiles; empty for a node of an inherited level (it
+  /// draws its parent's texture).
   std::vector<uint8_t> encode(uint32_t node, const ChunkTiles& tiles) const;
 
  private:

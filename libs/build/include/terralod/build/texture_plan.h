@@ -20,6 +20,12 @@ inline constexpr double kDefaultTextureTau = 2.0;
 struct TextureLevel {
   uint32_t colorSize = 0, normalSize = 0;   ///< texels per side (2^k + 1)
   uint8_t colorFlags = 0, normalFlags = 0;  ///< kTextureSourceLimited when capped
+  /// The level's chunks store no texture and draw their parent's (kNodeInheritsTexture): the
+  /// parent level's tiles hold their children's texels unresampled (2 c - 1 texels a side for
+  /// children of c, in every layer), so the parent's texture over a child's square is exactly
+  /// the child's, stored once instead of twice. Typical where the source's own resolution caps
+  /// two or more levels.
+  bool inherited = false;
 };
 
 /// One entry per level, root first. `colorRefine` = colour texels per DEM cell (image drapes

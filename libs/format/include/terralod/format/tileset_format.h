@@ -21,11 +21,13 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 4;  ///< the newest version this code reads
-/// What static tilesets are written as, textured or not: version 3 with chunk payloads of
-/// version 2 (skirts derived by the reader). VIPM tilesets are still written as version 2 (raw
+inline constexpr uint32_t kTilesetVersion = 5;  ///< the newest version this code reads
+/// What static tilesets without textures are written as: version 3 with chunk payloads of
+/// version 2 (skirts derived by the reader). Textured static tilesets are written as version 5
+/// (version 4 whose chunks may draw an ancestor's texture); VIPM tilesets as version 2 (raw
 /// texture blobs); version 1 is no longer written.
 inline constexpr uint32_t kTilesetVersionStatic = 4;
+inline constexpr uint32_t kTilesetVersionStaticTextured = 5;
 inline constexpr uint32_t kTilesetVersionVipm = 2;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;
@@ -50,6 +52,11 @@ inline constexpr uint32_t kVipmRootCells = 128;
 inline constexpr uint32_t kTilesetTextured = 1u;  ///< every node has a texture blob
 /// NodeRecord::flags (version 2).
 inline constexpr uint8_t kNodeHasTexture = 1u;
+/// NodeRecord::flags (version 5, textured): the chunk has no texture blob of its own and draws
+/// its parent's texture over its quarter of the parent's square (recursively: the texture of
+/// the nearest ancestor that has one). The builder sets it where the parent's tiles hold the
+/// children's texels unresampled, so the chunk shows exactly the texels it would have stored.
+inline constexpr uint8_t kNodeInheritsTexture = 2u;
 
 struct TilesetHeader {
   uint32_t version = kTilesetVersionStatic;
@@ -102,7 +109,21 @@ struct NodeRecord {
   uint32_t textureBytes = 0;  ///< version 2: texture blob length, at blobOffset + blobBytes
 
   bool hasTexture() const { return (flags & kNodeHasTexture) != 0; }
+  bool inheritsTexture() const { return (flags & kNodeInheritsTexture) != 0; }
 };
+
+/// Where a node's texture comes from: `owner`'s texture blob, over the square of side
+/// 1 / 2^depth at (column, row) of that square's cells (south-west first, as chunk x and y).
+/// owner == node, depth 0 for a node with its own texture.
+struct TextureSource {
+  uint32_t owner = kNoNode;
+  uint32_t depth = 0;
+  uint32_t column = 0, row = 0;
+};
+
+/// The texture a node draws: its own, or its nearest ancestor's that has one
+/// (kNodeInheritsTexture). owner is kNoNode for a tileset without textures.
+TextureSource textureSourceOf(const std::vector<NodeRecord>& nodes, uint32_t node);
 
 /// CRC-32 (zlib polynomial) of a byte range.
 uint32_t crc32Of(std::span<const uint8_t> bytes);

@@ -15,6 +15,7 @@
 #include "terralod/render/gl_worker.h"
 #include "terralod/render/range_allocator.h"
 #include "terralod/render/texture_arrays.h"
+#include "terralod/runtime/chunk_tree.h"
 
 namespace terralod {
 
@@ -94,5 +95,17 @@ class GpuChunkStore {
   std::unordered_map<uint32_t, GpuChunk> mChunks;
   uint64_t mResidentBytes = 0;
 };
+
+/// The texture a chunk draws: its own, or for one that inherits its texture
+/// (kNodeInheritsTexture) its nearest textured ancestor's over the chunk's square, the
+/// (column, row) of 2^depth a side from the owner's south-west corner. The resident set is
+/// closed under parents, so a resident chunk's owner is resident. chunk null: none
+/// (untextured, or the chunk is not resident).
+struct DrawnTexture {
+  const GpuChunk* chunk = nullptr;
+  uint32_t level = 0;  ///< the owner's level: whose mip placements apply
+  uint32_t depth = 0, column = 0, row = 0;
+};
+DrawnTexture drawnTexture(const ChunkTree& tree, const GpuChunkStore& store, uint32_t node);
 
 }  // namespace terralod
