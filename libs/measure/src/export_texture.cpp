@@ -91,12 +91,13 @@ Result<ExportTexture> assembleTexture(const TilesetReader& tileset, uint32_t lon
 
   uint64_t chunks = 0;
   for (const NodeRecord& n : tileset.nodes()) chunks += n.level == out.level;
+  NodeColours colours(tileset);
   progress.begin("reading texture", chunks);
   const double side = h.chunkCells(int32_t(out.level));
   for (uint32_t i = 0; i < tileset.nodes().size(); ++i) {
     const NodeRecord& node = tileset.nodes()[i];
     if (node.level != out.level) continue;
-    auto colour = readNodeColour(tileset, i);
+    auto colour = colours.read(i);
     if (!colour) return colour.error();
     if (colour->rgb.empty())
       return makeError(tileset.name() + " chunk " + std::to_string(i), "has no colour texture");

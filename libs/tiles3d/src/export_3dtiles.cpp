@@ -58,14 +58,14 @@ struct RootFrame {
 
 // Chunk `node` as a glTF in the root frame: its local mesh (local_chunk.h), normals from its
 // surface through the chunk's local frame, positions through PROJ.
-Result<ChunkGlb> chunkContent(const TilesetReader& tileset, uint32_t node,
+Result<ChunkGlb> chunkContent(const TilesetReader& tileset, NodeColours& colours, uint32_t node,
                               const EarthPlacement& placement, const RootFrame& root,
                               MaterialLight light) {
   const TilesetHeader& h = tileset.header();
   const NodeRecord& record = tileset.nodes()[node];
   const std::string subject = tileset.name() + " chunk " + std::to_string(node);
   auto chunk = record.meshKind == MeshKind::kVipm ? vipmLocalChunk(tileset, node)
-                                                  : staticLocalChunk(tileset, node);
+                                                  : staticLocalChunk(tileset, colours, node);
   if (!chunk) return chunk.error();
   if (chunk->indices.empty()) return makeError(subject, "has no triangles");
   ChunkMesh mesh;
@@ -221,9 +221,10 @@ Result<ExportSummary> export3dTiles(const TilesetReader& tileset, const std::str
   std::vector<ExportTile> tiles(nodes.size());
   std::vector<TileKey> keys(nodes.size());
   progress.begin("3D Tiles", nodes.size());
+  NodeColours colours(tileset);
   for (uint32_t i = 0; i < nodes.size(); ++i) {
     const NodeRecord& record = nodes[i];
-    auto glb = chunkContent(tileset, i, placement, rootFrame, light);
+    auto glb = chunkContent(tileset, colours, i, placement, rootFrame, light);
     if (!glb) return glb.error();
     // Files at the tile's implicit coordinates (the same as the chunk's without levels above
     // the roots).

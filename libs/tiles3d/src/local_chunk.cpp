@@ -16,9 +16,9 @@ namespace {
 
 // The colour a chunk draws (its own tile, or its square of an ancestor's) as JPEG (rows as
 // stored: the southern first, which glTF's v = 0 addresses), or empty when it has none.
-Result<std::vector<uint8_t>> colourJpeg(const TilesetReader& tileset, uint32_t node,
+Result<std::vector<uint8_t>> colourJpeg(NodeColours& colours, uint32_t node,
                                         const std::string& subject, uint32_t& size) {
-  auto colour = readNodeColour(tileset, node);
+  auto colour = colours.read(node);
   if (!colour) return colour.error();
   if (colour->rgb.empty()) return std::vector<uint8_t>{};
   size = colour->size;
@@ -35,7 +35,8 @@ Result<std::vector<uint8_t>> colourJpeg(const TilesetReader& tileset, uint32_t n
 
 }  // namespace
 
-Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, uint32_t node) {
+Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, NodeColours& colours,
+                                    uint32_t node) {
   const TilesetHeader& h = tileset.header();
   const NodeRecord& record = tileset.nodes()[node];
   const std::string subject = tileset.name() + " chunk " + std::to_string(node);
@@ -53,7 +54,7 @@ Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, uint32_t node)
   }
   // Texture coordinates: the tile's texels are edge-aligned over the chunk's square.
   uint32_t size = 0;
-  auto jpeg = colourJpeg(tileset, node, subject, size);
+  auto jpeg = colourJpeg(colours, node, subject, size);
   if (!jpeg) return jpeg.error();
   if (!jpeg->empty()) {
     out.image = std::move(jpeg).value();

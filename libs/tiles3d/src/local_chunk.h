@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "terralod/core/result.h"
+#include "terralod/format/node_colour.h"
 #include "terralod/format/tileset_reader.h"
 
 namespace terralod::tiles3d {
@@ -27,7 +28,9 @@ struct LocalChunk {
   std::vector<std::array<uint8_t, 3>> colors;   ///< linear RGB per position; empty: none
 };
 
-Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, uint32_t node);
+/// `colours`: the tileset's (a chunk may draw its part of an ancestor's texture).
+Result<LocalChunk> staticLocalChunk(const TilesetReader& tileset, NodeColours& colours,
+                                    uint32_t node);
 Result<LocalChunk> vipmLocalChunk(const TilesetReader& tileset, uint32_t node);
 
 /// Flanges (skirts) under every edge that only one triangle of `chunk.surface` uses, `depth`
