@@ -129,8 +129,8 @@ TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
 }
 
 // The files the coarse job and assemble read a piece at a time (a job's textures, a block's
-// chunks) are checked against their CRC only at their end, after what they held has been
-// written on: a byte changed in the middle must still give one line and no output.
+// chunks, frontier tiles) are checked against their CRC only at their end, after what they held has
+// been written on: a byte changed in the middle must still give one line and no output.
 TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
   const std::string work = file("streamed");
   const std::string out = file("streamed.tlod");
@@ -157,6 +157,12 @@ TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
     ASSERT_EQ(r.errLines().size(), 1u) << r.err;
     EXPECT_TRUE(has(r.err, victim + ": damaged")) << r.err;
   };
+  // A job's frontier tiles, read a tile at a time as well.
+  const std::string tiles = work + "/pass2/job-1.tiles";
+  const std::string tilesBefore = damage(tiles);
+  expectOneDamagedLine(stage("coarse"), tiles);
+  EXPECT_FALSE(fs::exists(work + "/coarse.chunks")) << "no coarse.chunks from damaged tiles";
+  std::ofstream(tiles, std::ios::binary | std::ios::trunc) << tilesBefore;
   const std::string textures = work + "/pass2/job-1.textures";
   const std::string original = damage(textures);
   expectOneDamagedLine(stage("coarse"), textures);

@@ -301,26 +301,11 @@ void packTile(Packer& p, const TexelTile& t) {
   p.put(t.channels);
   p.putArray(t.values);
 }
-TexelTile unpackTile(Unpacker& u) {
-  TexelTile t;
-  t.size = u.get<uint32_t>();
-  t.channels = u.get<uint32_t>();
-  t.values = u.getArray<float>();
-  return t;
-}
 void packLayer(Packer& p, const LayerLevels& l) {
   p.put(uint64_t(l.levels.size()));
   for (const TexelTile& t : l.levels) packTile(p, t);
   p.put(uint64_t(l.blocks.size()));
   for (const auto& b : l.blocks) p.putBytes(b);
-}
-LayerLevels unpackLayer(Unpacker& u) {
-  LayerLevels l;
-  const uint64_t levels = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < levels; ++i) l.levels.push_back(unpackTile(u));
-  const uint64_t blocks = u.get<uint64_t>();
-  for (uint64_t i = 0; u.ok() && i < blocks; ++i) l.blocks.push_back(u.getBytes());
-  return l;
 }
 
 // A built chunk's node, record (with the statistics its stage filled in) and mesh blob; its
@@ -416,24 +401,48 @@ std::vector<uint8_t> packFrontier(const std::vector<std::pair<uint32_t, ChunkTil
   return std::move(p.bytes());
 }
 
-// Reads a job's frontier back; `expected` lists its nodes.
+// What packLayer wrote, read a piece at a time; false past the file's end.
+bool readLayer(StageFileReader& r, LayerLevels& l) {
+  const auto levels = r.get<uint64_t>();
+  for (uint64_t i = 0; levels && i < *levels; ++i) {
+    const auto size = r.get<uint32_t>(), channels = r.get<uint32_t>();
+    auto values = r.getArray<float>();
+    if (!size || !channels || !values) return false;
+    l.levels.push_back({});
+    l.levels.back().size = *size;
+    l.levels.back().channels = *channels;
+    l.levels.back().values = std::move(*values);
+  }
+  const auto blocks = levels ? r.get<uint64_t>() : std::nullopt;
+  for (uint64_t i = 0; blocks && i < *blocks; ++i) {
+    const auto b = r.getView();
+    if (!b) return false;
+    l.blocks.emplace_back(b->begin(), b->end());
+  }
+  return blocks.has_value();
+}
+
+// Reads a job's frontier back a tile at a time (not the whole file beside its copy: the
+// coarse job's peak); `expected` lists its nodes.
 Result<std::vector<std::pair<uint32_t, ChunkTiles>>> readFrontier(
     const std::string& path, const std::vector<uint32_t>& expected) {
-  auto bytes = readStageFile(path, StageFile::kJobTiles);
-  if (!bytes) return bytes.error();
-  Unpacker u(bytes->bytes());
+  auto reader = StageFileReader::open(path, StageFile::kJobTiles);
+  if (!reader) return reader.error();
+  StageFileReader& r = *reader;
+  const auto damaged = [&] { return makeError(path, "damaged (records do not add up)"); };
   std::vector<std::pair<uint32_t, ChunkTiles>> out;
-  const uint64_t count = u.get<uint64_t>();
-  if (count != expected.size()) return makeError(path, "was written for another block layout");
-  for (uint64_t i = 0; u.ok() && i < count; ++i) {
-    const uint32_t node = u.get<uint32_t>();
-    if (node != expected[i]) return makeError(path, "was written for another block layout");
+  const auto count = r.get<uint64_t>();
+  if (!count) return damaged();
+  if (*count != expected.size()) return makeError(path, "was written for another block layout");
+  for (uint64_t i = 0; i < *count; ++i) {
+    const auto node = r.get<uint32_t>();
+    if (!node) return damaged();
+    if (*node != expected[i]) return makeError(path, "was written for another block layout");
     ChunkTiles tiles;
-    tiles.color = unpackLayer(u);
-    tiles.normal = unpackLayer(u);
-    out.emplace_back(node, std::move(tiles));
+    if (!readLayer(r, tiles.color) || !readLayer(r, tiles.normal)) return damaged();
+    out.emplace_back(*node, std::move(tiles));
   }
-  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  if (Status s = r.finish(); !s) return s.error();
   return out;
 }
 

@@ -130,14 +130,19 @@ Result<StageFileReader> StageFileReader::open(const std::string& path, StageFile
 std::optional<std::span<const uint8_t>> StageFileReader::read(size_t n) {
   if (n > mLeft) return std::nullopt;
   if (mBuffer.size() < n) mBuffer.resize(n);
-  if (!mIn->read(reinterpret_cast<char*>(mBuffer.data()), std::streamsize(n))) {
+  if (!readInto(mBuffer.data(), n)) return std::nullopt;
+  return std::span<const uint8_t>(mBuffer.data(), n);
+}
+
+bool StageFileReader::readInto(void* to, size_t n) {
+  if (n > mLeft) return false;
+  if (!mIn->read(static_cast<char*>(to), std::streamsize(n))) {
     mLeft = 0;
-    return std::nullopt;
+    return false;
   }
   mLeft -= n;
-  const std::span<const uint8_t> bytes(mBuffer.data(), n);
-  mCrc = crc32Continue(mCrc, bytes);
-  return bytes;
+  mCrc = crc32Continue(mCrc, {static_cast<const uint8_t*>(to), n});
+  return true;
 }
 
 Status StageFileReader::finish() {

@@ -200,6 +200,24 @@ class StageFileReader {
     if (!n) return std::nullopt;
     return read(size_t(*n));
   }
+  /// An array (u64 count, then the values), as Unpacker::getArray reads it, read straight
+  /// into its vector; nullopt past the payload's end.
+  template <typename T>
+  std::optional<std::vector<T>> getArray() {
+    auto n = get<uint64_t>();
+    if (!n || *n > mLeft / sizeof(T)) return std::nullopt;
+    std::vector<T> out(static_cast<size_t>(*n));
+    if constexpr (std::endian::native == std::endian::little) {
+      if (!readInto(out.data(), out.size() * sizeof(T))) return std::nullopt;
+    } else {
+      for (T& v : out) {
+        auto x = get<T>();
+        if (!x) return std::nullopt;
+        v = *x;
+      }
+    }
+    return out;
+  }
   /// Whether the payload was read to its end, and its checksum matches.
   Status finish();
   const std::string& path() const { return mPath; }
@@ -208,6 +226,7 @@ class StageFileReader {
   StageFileReader(std::string path, std::unique_ptr<std::ifstream> in, uint64_t bytes, uint32_t crc)
       : mPath(std::move(path)), mIn(std::move(in)), mLeft(bytes), mExpectedCrc(crc) {}
   std::optional<std::span<const uint8_t>> read(size_t n);
+  bool readInto(void* to, size_t n);
 
   std::string mPath;
   std::unique_ptr<std::ifstream> mIn;
