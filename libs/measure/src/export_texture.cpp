@@ -27,11 +27,11 @@ Result<std::vector<uint32_t>> levelColorSizes(const TilesetReader& tileset) {
   for (uint32_t i = 0; i < tileset.nodes().size(); ++i) {
     const uint32_t level = tileset.nodes()[i].level;
     if (sizes[level]) continue;
-    auto colour = readNodeColour(tileset, i);
-    if (!colour) return colour.error();
-    if (colour->rgb.empty())
+    auto size = nodeColourSize(tileset, i);
+    if (!size) return size.error();
+    if (*size == 0)
       return makeError(tileset.name(), "chunk " + std::to_string(i) + " has no colour");
-    sizes[level] = colour->size;
+    sizes[level] = *size;
   }
   return sizes;
 }

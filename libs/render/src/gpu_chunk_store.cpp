@@ -207,6 +207,7 @@ DrawnTexture drawnTexture(const ChunkTree& tree, const GpuChunkStore& store, uin
   if (!chunk) return {};
   const ChunkNode& n = tree.node(node);
   if (chunk->textured) return {chunk, n.level, 0, 0, 0};
+  if (!n.inheritsTexture) return {};
   uint32_t depth = 0;
   for (uint32_t a = n.parent; a != kNoNode; a = tree.node(a).parent) {
     ++depth;

@@ -31,6 +31,7 @@ ChunkTree::ChunkTree(const TilesetHeader& header, std::span<const NodeRecord> no
     n.childCount = uint8_t(std::popcount(unsigned(r.childMask)));
     n.level = r.level;
     n.meshKind = r.meshKind;
+    n.inheritsTexture = r.inheritsTexture();
     n.triangleCount = r.triangleCount;
     n.skirtTriangleCount = r.skirtTriangleCount;
     if (r.level == 0) ++mRootCount;

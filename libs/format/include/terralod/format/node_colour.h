@@ -42,4 +42,8 @@ class NodeColours {
 /// NodeColours(tileset).read(node), for one chunk.
 Result<NodeColour> readNodeColour(const TilesetReader& tileset, uint32_t node);
 
+/// The texels a side of the colour `node` draws (NodeColour::size) without decoding it; 0 when
+/// it has none.
+Result<uint32_t> nodeColourSize(const TilesetReader& tileset, uint32_t node);
+
 }  // namespace terralod

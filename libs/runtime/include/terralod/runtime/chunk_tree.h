@@ -27,7 +27,8 @@ struct ChunkNode {
   uint8_t childCount = 0;  ///< children are firstChild .. firstChild + childCount - 1
   uint8_t level = 0;
   MeshKind meshKind = MeshKind::kStaticRtin;
-  uint32_t triangleCount = 0;  ///< surface triangles
+  bool inheritsTexture = false;  ///< draws an ancestor's texture (kNodeInheritsTexture)
+  uint32_t triangleCount = 0;    ///< surface triangles
   uint32_t skirtTriangleCount = 0;
 };
 
