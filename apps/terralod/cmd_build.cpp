@@ -73,6 +73,14 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                 "Store every chunk's own texture, also where its parent's already holds the same "
                 "texels (by default such chunks draw their parent's: levels capped at the "
                 "source's resolution store their texels once; this shows what that saves)");
+  auto mesher = std::make_shared<std::string>("rtin");
+  cmd->add_option("--mesher", *mesher,
+                  "Static chunks below the blocks: rtin (right-triangle bintree meshes, each "
+                  "level refining its parent) or greedy (Delaunay meshes by greedy insertion "
+                  "over every sample: fewer triangles for the same bound; a chunk's fully "
+                  "morphed surface stays within 1/8 of its parent level's error of the parent's)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"rtin", "greedy"}));
   auto kind = std::make_shared<std::string>("static");
   cmd->add_option("--kind", *kind,
                   "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
@@ -146,9 +154,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules,
-                 minTau, blotError, upperLevels, staged] {
+                 minTau, blotError, upperLevels, staged, mesher] {
     run = [options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules, minTau,
-           blotError, upperLevels, staged] {
+           blotError, upperLevels, staged, mesher] {
       keepFreedMemoryForReuse();
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
@@ -156,7 +164,10 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       if (*perChunk && *noTexture)
         return fail("--texture-per-chunk and --no-texture contradict each other");
       options->textureSharing = *perChunk ? TextureSharing::kEveryChunk : TextureSharing::kInherit;
+      options->mesher = *mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
       if (*kind == "vipm") {
+        if (options->mesher != MeshMethod::kRtin)
+          return fail("--mesher applies to --kind static only");
         if (!options->textureImage.empty())
           return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
         if (minTau->count() > 0)

@@ -85,6 +85,12 @@ void addVerifyCommand(CLI::App& root, Runner& run) {
           "morphed chunk shows its parent's exact surface rounded to its own step, the parent "
           "draws its vertices rounded to its step, and both are linear over the chunk's "
           "triangles (which refine the parent's)\n");
+      if (r.morphGap > 0)
+        std::printf(
+            "  ...plus %g x the parent level's bound: built with --mesher greedy, whose chunks "
+            "may flip their parent's edges where their fully morphed surface stays that close "
+            "to the parent's\n",
+            r.morphGap);
       if (r.vipm) printVipmChecks(*r.vipm);
       std::printf("  %s: %llu chunk pairs, %llu border samples, smallest margin %.4f m\n",
                   r.vipm ? "flanges" : "skirts", (unsigned long long)r.skirtPairs,

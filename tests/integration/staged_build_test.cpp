@@ -38,9 +38,11 @@ TempDir* StagedBuild::sDir = nullptr;
 TEST_F(StagedBuild, LocalStagesMatchTheLocalBuild) {
   // 64 blocks of 128 cells in 5 jobs, with textures (the range read whole, as the local build
   // does for a raster this small) and without (streamed: the range estimated, as the local
-  // build's --memory-mb makes it stream).
+  // build's --memory-mb makes it stream), with RTIN and greedy meshes.
+  // Greedy meshes too, streamed: each chunk's mesh depends on its parent's, kept per block.
   for (const std::vector<std::string>& options :
-       {std::vector<std::string>{}, std::vector<std::string>{"--no-texture", "--memory-mb", "2"}}) {
+       {std::vector<std::string>{}, std::vector<std::string>{"--no-texture", "--memory-mb", "2"},
+        std::vector<std::string>{"--no-texture", "--memory-mb", "2", "--mesher", "greedy"}}) {
     std::vector<std::string> local = {"build", dem(), "--block-cells",
                                       "128",   "-o",  file("local.tlod")};
     local.insert(local.end(), options.begin(), options.end());

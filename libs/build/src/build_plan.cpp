@@ -55,6 +55,7 @@ std::string buildPlanJson(const BuildPlan& plan) {
       {"texture_image", o.textureImage},
       {"min_tau", o.textureTau},
       {"texture_sharing", o.textureSharing == TextureSharing::kInherit ? "inherit" : "every-chunk"},
+      {"mesher", o.mesher == MeshMethod::kGreedy ? "greedy" : "rtin"},
       {"block_cells", plan.blockCells},
       {"height_range", {plan.heightLo, plan.heightHi}},
       {"exact_range", plan.exactRange},
@@ -102,6 +103,10 @@ Result<BuildPlan> parseBuildPlan(const std::string& text, const std::string& sub
       return makeError(subject, "unknown texture sharing \"" + sharing + "\"");
     o.textureSharing =
         sharing == "inherit" ? TextureSharing::kInherit : TextureSharing::kEveryChunk;
+    const std::string mesher = j.at("mesher").get<std::string>();
+    if (mesher != "rtin" && mesher != "greedy")
+      return makeError(subject, "unknown mesher \"" + mesher + "\"");
+    o.mesher = mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
     plan.blockCells = j.at("block_cells").get<int32_t>();
     const auto range = j.at("height_range").get<std::array<double, 2>>();
     plan.heightLo = range[0];

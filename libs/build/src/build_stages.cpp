@@ -723,8 +723,8 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
     if (Status st = texturePass->open(); !st) return st;
   }
-  ChunkPassContext context{s.layout, s.budget,           nodes,
-                           s.block,  o.compressionLevel, texturePass.get()};
+  ChunkPassContext context{s.layout,           s.budget,          nodes,   s.block,
+                           o.compressionLevel, texturePass.get(), o.mesher};
   const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
   DemWindows windows(*s.reader, threads, nullptr);
   std::vector<std::vector<float>> heights(threads);

@@ -112,6 +112,10 @@ std::string tilesetMetadataJson(const DemInfo& info, const BuildOptions& options
         {"skirt_triangles", s.skirtTriangles},
         {"filled_voids", s.filledVoids}}},
   };
+  if (options.mesher == MeshMethod::kGreedy) {
+    j["build"]["mesher"] = "greedy";
+    j["build"]["morph_gap"] = kGreedyMorphGap;
+  }
   if (textures) {
     nlohmann::json levels = nlohmann::json::array();
     for (const TextureLevel& t : textures->plan)

@@ -225,6 +225,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   chunkOptions.blockCells = b.block;
   chunkOptions.threads = b.threads;
   chunkOptions.compressionLevel = options.compressionLevel;
+  chunkOptions.mesher = options.mesher;
   TextureBuild textures;
   if (options.textures) {
     textures = textureBuildFor(options, b.layout, pass->budget, *b.reader, b.image.get());

@@ -209,6 +209,86 @@ void ChunkMesher::addSkirts(ChunkMesh& mesh) {
   }
 }
 
+void ChunkMesher::finishSurface(ChunkMesh& mesh) {
+  mesh.surfaceVertexCount = static_cast<uint32_t>(mesh.vertices.size());
+  mesh.minZ = std::numeric_limits<double>::infinity();
+  mesh.maxZ = -std::numeric_limits<double>::infinity();
+  for (const MeshVertex& v : mesh.vertices) {
+    mesh.minZ = std::min({mesh.minZ, v.z, v.morphTarget});
+    mesh.maxZ = std::max({mesh.maxZ, v.z, v.morphTarget});
+  }
+  addSkirts(mesh);
+}
+
+const ChunkMesher::Surface& ChunkMesher::surfaceOf(int32_t level, int32_t ix, int32_t iy) {
+  for (const Surface& s : mSurfaces)
+    if (s.level == level && s.ix == ix && s.iy == iy) return s;
+  const ChunkMesh mesh = build(level, ix, iy);  // greedy levels keep their own surface
+  if (!greedyAt(level)) keepSurface(mesh);
+  return mSurfaces.back();
+}
+
+void ChunkMesher::keepSurface(const ChunkMesh& mesh) {
+  std::erase_if(mSurfaces, [&](const Surface& s) { return s.level < mesh.level - 1; });
+  Surface surface{mesh.level, mesh.ix, mesh.iy, {}};
+  surface.corners.reserve(mesh.surfaceIndices.size());
+  for (const uint32_t i : mesh.surfaceIndices) {
+    const MeshVertex& v = mesh.vertices[i];
+    surface.corners.push_back({v.x, v.y, v.z});
+  }
+  mSurfaces.push_back(std::move(surface));
+}
+
+ChunkMesh ChunkMesher::buildGreedy(ChunkMesh mesh) {
+  const int32_t level = mesh.level;
+  const int32_t w = std::min(mesh.side, mLayout.cellsX - mesh.x0),
+                h = std::min(mesh.side, mLayout.cellsY - mesh.y0);
+  const size_t stride = size_t(w) + 1, samples = stride * size_t(h + 1);
+  mGreedyHeights.resize(samples);
+  for (int32_t y = 0; y <= h; ++y)
+    for (int32_t x = 0; x <= w; ++x)
+      mGreedyHeights[size_t(y) * stride + x] = mHeights->at(mesh.x0 + x, mesh.y0 + y);
+  // The parent's surface at every sample (a sample on a parent edge gets the edge's own
+  // interpolation, so chunks on either side of a parent border see the same values).
+  mGreedyParent.assign(samples, std::nan(""));
+  const Surface& parent = surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);
+  for (size_t k = 0; k + 2 < parent.corners.size(); k += 3) {
+    const SurfaceCorner tri[3] = {parent.corners[k], parent.corners[k + 1], parent.corners[k + 2]};
+    rasterizeTriangle(tri, mesh.x0, mesh.y0, mesh.x0 + w, mesh.y0 + h,
+                      [&](int32_t x, int32_t y, double z) {
+                        mGreedyParent[size_t(y - mesh.y0) * stride + (x - mesh.x0)] = z;
+                      });
+  }
+  std::vector<SurfaceCorner>& local = mGreedyParentTriangles;
+  local.assign(parent.corners.begin(), parent.corners.end());
+  for (SurfaceCorner& c : local) {
+    c.x -= mesh.x0;
+    c.y -= mesh.y0;
+  }
+  const GreedyMesh m =
+      greedyMesh({w, h, mGreedyHeights, local, level < mLayout.depth ? mLayout.leafCells : 0,
+                  mBudget.buildThreshold[level], mGreedyParent,
+                  kGreedyMorphGap * mBudget.levelError[level - 1],
+                  // morph targets are stored on this level's step
+                  mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level]});
+  if (m.triangles.empty()) {
+    // The parent's triangles crossed a line off the grid (not a bintree or greedy mesh): a
+    // bug. A vertex without a height makes buildChunk report it.
+    mesh.vertices.push_back({mesh.x0, mesh.y0, std::nan(""), std::nan("")});
+    return mesh;
+  }
+  mesh.vertices.reserve(m.x.size());
+  for (size_t i = 0; i < m.x.size(); ++i) {
+    const size_t s = size_t(m.y[i]) * stride + size_t(m.x[i]);
+    mesh.vertices.push_back(
+        {mesh.x0 + m.x[i], mesh.y0 + m.y[i], mGreedyHeights[s], mGreedyParent[s]});
+  }
+  mesh.surfaceIndices = m.triangles;
+  finishSurface(mesh);
+  if (level < mLayout.depth) keepSurface(mesh);
+  return mesh;
+}
+
 ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   ChunkMesh mesh;
   mesh.level = level;
@@ -217,6 +297,7 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.side = mLayout.chunkCells(level);
   mesh.x0 = ix * mesh.side;
   mesh.y0 = iy * mesh.side;
+  if (greedyAt(level)) return buildGreedy(std::move(mesh));
   mOriginX = mesh.x0;
   mOriginY = mesh.y0;
   mSide = mesh.side;
@@ -284,15 +365,7 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
     assert(level == 0 || item.parentKnown);
     emitTriangle(mesh, item.t, level > 0 ? item.parent : planeOf(item.t));
   }
-  mesh.surfaceVertexCount = static_cast<uint32_t>(mesh.vertices.size());
-
-  mesh.minZ = std::numeric_limits<double>::infinity();
-  mesh.maxZ = -std::numeric_limits<double>::infinity();
-  for (const MeshVertex& v : mesh.vertices) {
-    mesh.minZ = std::min({mesh.minZ, v.z, v.morphTarget});
-    mesh.maxZ = std::max({mesh.maxZ, v.z, v.morphTarget});
-  }
-  addSkirts(mesh);
+  finishSurface(mesh);
 
   for (size_t key : mTouched) mDenseIndex[key] = -1;
   mTouched.clear();

@@ -138,6 +138,7 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
     sampler.set(window, x0, y0, block);
     mesher.setHeights(sampler);
   }
+  mesher.setMethod(context.mesher, blockLevelOf(layout, block) + 1);
   BlockChunks out;
   std::deque<uint32_t> queue;
   auto pushChildren = [&](uint32_t i) {
@@ -247,8 +248,8 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     texturePass = std::make_unique<TexturePass>(layout, *options.textures, nodes, threads);
     if (Status s = texturePass->open(); !s) return s;
   }
-  ChunkPassContext context{layout,           budget, nodes, block, options.compressionLevel,
-                           texturePass.get()};
+  ChunkPassContext context{
+      layout, budget, nodes, block, options.compressionLevel, texturePass.get(), options.mesher};
   // The textures above the blocks are built as the blocks come in.
   std::optional<TilePyramid> pyramid;
   if (texturePass)

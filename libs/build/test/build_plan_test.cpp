@@ -1,5 +1,5 @@
 // The staged build's plan.json is read by every job, possibly of another terralod build on
-// another node: its fields are frozen (tests/data/golden/build_plan/v2.json).
+// another node: its fields are frozen (tests/data/golden/build_plan/v3.json).
 
 #include "terralod/build/build_plan.h"
 
@@ -12,7 +12,7 @@ namespace terralod {
 namespace {
 
 std::string golden() {
-  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v2.json");
+  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v3.json");
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -30,6 +30,7 @@ BuildPlan example() {
   plan.options.dem.verticalScale = 2.0;
   plan.options.textureImage = "/data/ortho.tif";
   plan.options.textureTau = 1.5;
+  plan.options.mesher = MeshMethod::kGreedy;
   plan.blockCells = 256;
   plan.heightLo = -10.5;
   plan.heightHi = 2500.25;
@@ -47,7 +48,7 @@ TEST(BuildPlan, WritesTheFrozenFields) {
 }
 
 TEST(BuildPlan, ReadsTheFrozenFields) {
-  auto plan = parseBuildPlan(golden(), "v2.json");
+  auto plan = parseBuildPlan(golden(), "v3.json");
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(buildPlanJson(*plan), golden());
   EXPECT_EQ(plan->options.input, "/data/dem.tif");
@@ -61,9 +62,9 @@ TEST(BuildPlan, ReadsTheFrozenFields) {
 TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   EXPECT_EQ(parseBuildPlan("{", "p.json").error().message, "p.json: not a terralod build plan");
   std::string newer = golden();
-  newer.replace(newer.find("\"version\": 2"), 12, "\"version\": 9");
+  newer.replace(newer.find("\"version\": 3"), 12, "\"version\": 9");
   EXPECT_EQ(parseBuildPlan(newer, "p.json").error().message,
-            "p.json: build plan version 9 (this terralod reads version 2)");
+            "p.json: build plan version 9 (this terralod reads version 3)");
   std::string broken = golden();
   broken.replace(broken.find("\"jobs\""), 6, "\"jabs\"");
   EXPECT_NE(parseBuildPlan(broken, "p.json").error().message.find("p.json: build plan field"),
@@ -72,6 +73,9 @@ TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   sharing.replace(sharing.find("\"inherit\""), 9, "\"maybe\"");
   EXPECT_EQ(parseBuildPlan(sharing, "p.json").error().message,
             "p.json: unknown texture sharing \"maybe\"");
+  std::string mesher = golden();
+  mesher.replace(mesher.find("\"greedy\""), 8, "\"fancy\"");
+  EXPECT_EQ(parseBuildPlan(mesher, "p.json").error().message, "p.json: unknown mesher \"fancy\"");
 }
 
 }  // namespace

@@ -112,6 +112,11 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
       if (!v->is_string()) return bad("\"build\".\"materials\" is not a string");
       m.materialsSource = v->get<std::string>();
     }
+    if (const auto v = build->find("morph_gap"); v != build->end()) {
+      if (!v->is_number() || !(v->get<double>() >= 0.0 && v->get<double>() <= 1.0))
+        return bad("\"build\".\"morph_gap\" is not a number from 0 to 1");
+      m.morphGap = v->get<double>();
+    }
     if (const auto v = build->find("material_rules"); v != build->end()) {
       if (!v->is_boolean()) return bad("\"build\".\"material_rules\" is not true or false");
       m.materialRules = v->get<bool>();

@@ -199,6 +199,7 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   VerifyReport report;
   report.levels.resize(h.levelCount);
   for (uint32_t l = 0; l < h.levelCount; ++l) report.levels[l].bound = h.levelError[l];
+  report.morphGap = tileset.metadata().morphGap;
   report.chunks = nodes.size();
   if (h.meshKind == MeshKind::kVipm) {
     if (Status s = verifyVipmTileset(tileset, heights, sourcePath, options, progress, report); !s)
@@ -280,8 +281,20 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
       for (size_t k = 0; k < morphed.values.size(); ++k)
         if (!std::isnan(morphed.values[k]) && !std::isnan(target.values[k]))
           mismatch = std::max(mismatch, std::fabs(morphed.values[k] - target.values[k]));
+      // While it geomorphs the chunk stands in for its parent: the parent level's bound holds.
+      double morphedError = 0;
+      for (int64_t y = morphed.y0; y < morphed.y0 + morphed.h; ++y)
+        for (int64_t x = morphed.x0; x < morphed.x0 + morphed.w; ++x)
+          if (const double z = morphed.at(x, y); !std::isnan(z))
+            morphedError =
+                std::max(morphedError, std::fabs(z - double(heights(int32_t(x), int32_t(y)))));
+      if (morphedError > h.levelError[n.level - 1] + kTolerance)
+        addFailure(name(i) + ": fully morphed, error " + std::to_string(morphedError) +
+                   " m exceeds its parent level's bound " +
+                   std::to_string(h.levelError[n.level - 1]) + " m");
       // Both surfaces are rounded to their own height steps; see LevelCheck::morphTolerance.
-      tolerance = 0.5 * (self->geometry.zStep + parent->geometry.zStep) + kTolerance;
+      tolerance = 0.5 * (self->geometry.zStep + parent->geometry.zStep) + kTolerance +
+                  tileset.metadata().morphGap * h.levelError[n.level - 1];
       if (mismatch > tolerance)
         addFailure(name(i) + ": fully morphed surface is " + std::to_string(mismatch) +
                    " m off its parent's (allowed " + std::to_string(tolerance) + " m)");

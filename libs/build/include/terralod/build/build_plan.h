@@ -14,7 +14,7 @@
 
 namespace terralod {
 
-inline constexpr int kBuildPlanVersion = 2;
+inline constexpr int kBuildPlanVersion = 3;
 
 struct BuildPlan {
   BuildOptions options;  ///< input, output and texture paths absolute

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "terralod/build/greedy_mesher.h"
 #include "terralod/core/progress.h"
 #include "terralod/core/result.h"
 #include "terralod/core/terrain_edit.h"
@@ -72,6 +73,8 @@ struct BuildOptions {
   int compressionLevel = kDefaultChunkCompressionLevel;  ///< zstd level for chunk blobs
   Streaming streaming = Streaming::kAuto;
   int32_t blockCells = 512;  ///< side of the blocks both passes work in
+  /// Chunk meshes below the blocks: RTIN or greedy insertion (`--mesher`).
+  MeshMethod mesher = MeshMethod::kRtin;
   bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
   std::string textureImage;  ///< draped image; empty: the generated colour
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for

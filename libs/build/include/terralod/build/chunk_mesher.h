@@ -3,6 +3,11 @@
 // threshold (corners always kept), clipped to the data rectangle, with per-vertex morph
 // targets (the parent level's surface at the vertex) and skirts along every side that can meet
 // another chunk. Exact grid arithmetic; heights in metres.
+//
+// With MeshMethod::kGreedy, levels from a given one down are instead meshed by greedy
+// insertion (greedy_mesher.h) over every sample of the chunk, within the level's bound and,
+// while geomorphing, its parent's (the parent's surface is rebuilt or kept from the chunk
+// built before). The RTIN levels above give the first greedy level its parent surface.
 
 #include <array>
 #include <cstdint>
@@ -11,7 +16,9 @@
 
 #include "terralod/build/activation_grid.h"
 #include "terralod/build/error_budget.h"
+#include "terralod/build/greedy_mesher.h"
 #include "terralod/build/height_source.h"
+#include "terralod/build/surface_interpolation.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/bintree.h"
 
@@ -44,8 +51,18 @@ class ChunkMesher {
 
   ChunkMesh build(int32_t level, int32_t ix, int32_t iy);
 
-  /// Switches the height source (e.g. to the window of the next block).
-  void setHeights(const HeightSampler& heights) { mHeights = &heights; }
+  /// Switches the height source (e.g. to the window of the next block). Forgets the parent
+  /// surfaces kept for greedy chunks.
+  void setHeights(const HeightSampler& heights) {
+    mHeights = &heights;
+    mSurfaces.clear();
+  }
+  /// Greedy insertion for the levels from `firstLevel` down (kRtin: none).
+  void setMethod(MeshMethod method, int32_t firstLevel) {
+    mMethod = method;
+    mFirstGreedyLevel = firstLevel;
+    mSurfaces.clear();
+  }
 
   /// The surface of `level` at grid point p (p inside the data), by descending the bintree of
   /// the chunk that contains it. Exposed for tests.
@@ -54,6 +71,18 @@ class ChunkMesher {
   double surfaceHeightIn(int32_t level, int32_t ix, int32_t iy, GridPoint p);
 
  private:
+  /// A built chunk's surface triangles (grid points and heights), for its children's morphs.
+  struct Surface {
+    int32_t level = -1, ix = 0, iy = 0;
+    std::vector<SurfaceCorner> corners;  ///< three per triangle
+  };
+  bool greedyAt(int32_t level) const {
+    return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel && level > 0;
+  }
+  ChunkMesh buildGreedy(ChunkMesh mesh);
+  const Surface& surfaceOf(int32_t level, int32_t ix, int32_t iy);
+  void keepSurface(const ChunkMesh& mesh);
+
   struct ClipVertex {
     GridPoint p;
     double z;
@@ -68,6 +97,8 @@ class ChunkMesher {
   uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const Plane& parent);
   void emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plane& parent);
   void addSkirts(ChunkMesh& mesh);
+  /// Counts the surface's vertices, takes its height range and adds the skirts.
+  void finishSurface(ChunkMesh& mesh);
   double planeHeight(const BinTriangle& t, GridPoint p) const;
 
   const TreeLayout& mLayout;
@@ -87,6 +118,11 @@ class ChunkMesher {
   std::vector<Pending> mStack;
   BinTriangle mCachedParentTriangle{};
   int32_t mCachedParentLevel = -1;
+  MeshMethod mMethod = MeshMethod::kRtin;
+  int32_t mFirstGreedyLevel = 0;
+  std::vector<Surface> mSurfaces;  ///< the last two levels' built chunks
+  std::vector<double> mGreedyHeights, mGreedyParent;
+  std::vector<SurfaceCorner> mGreedyParentTriangles;
 };
 
 }  // namespace terralod

@@ -32,6 +32,7 @@ struct ChunkPassOptions {
   unsigned threads = 1;
   int compressionLevel = kDefaultChunkCompressionLevel;
   const TextureBuild* textures = nullptr;  ///< null: geometry only
+  MeshMethod mesher = MeshMethod::kRtin;
 };
 
 /// Breadth-first node list of the tree (roots row-major, children SW, SE, NW, NE).
@@ -67,7 +68,8 @@ struct ChunkPassContext {
   std::vector<NodeRecord>& nodes;  ///< statistics of built nodes are filled in
   int32_t blockCells = 512;
   int compressionLevel = kDefaultChunkCompressionLevel;
-  TexturePass* textures = nullptr;  ///< null: geometry only
+  TexturePass* textures = nullptr;        ///< null: geometry only
+  MeshMethod mesher = MeshMethod::kRtin;  ///< below the block level (the levels above: RTIN)
 };
 
 /// Builds the chunks below block node `blockNode` from its (blockCells+1)² `window` of

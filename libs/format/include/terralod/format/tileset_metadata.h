@@ -61,6 +61,10 @@ struct TilesetMetadata {
   std::vector<TilesetMaterial> materials;
   /// VIPM: "build": "materials": "classification" or the categorical raster's file name.
   std::string materialsSource;
+  /// "build": "morph_gap": how far a chunk's fully morphed surface may lie from its parent's,
+  /// as a fraction of the parent level's error (absent: 0, the chunks refine their parents;
+  /// `build --mesher greedy` lets parent edges flip within this gap).
+  double morphGap = 0.0;
   /// VIPM: "build": "material_rules" (absent: true).
   bool materialRules = true;
   /// VIPM: "edits", the brush strokes applied to the source before it was built (docs/format.md

@@ -63,7 +63,9 @@ struct LevelCheck {
   /// plus half its parent level's, plus kVerifySlack. A chunk's morph targets are its parent's
   /// exact surface at its vertices, rounded to the chunk's step (off by <= step/2); the parent
   /// draws its own vertices rounded to its step (off by <= parent step/2); the chunk refines
-  /// its parent, so between vertices both are linear over the same triangles.
+  /// its parent, so between vertices both are linear over the same triangles. Where the
+  /// metadata has a "morph_gap" (`build --mesher greedy`), plus that times the parent level's
+  /// error.
   double morphTolerance = 0;
 };
 
@@ -72,6 +74,7 @@ inline constexpr double kVerifySlack = 1e-6;
 
 struct VerifyReport {
   std::vector<LevelCheck> levels;
+  double morphGap = 0;  ///< the metadata's "morph_gap" (0: chunks refine their parents)
   uint64_t chunks = 0;
   uint64_t skirtPairs = 0;              ///< chunk pairs checked across borders
   uint64_t skirtSamples = 0;            ///< border samples checked

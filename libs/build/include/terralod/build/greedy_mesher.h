@@ -1,0 +1,63 @@
+#pragma once
+// An irregular chunk mesh by greedy insertion (Garland and Heckbert's "fast polygonal
+// approximation of terrains"): repeatedly insert the sample the current triangulation
+// approximates worst, flipping edges towards a Delaunay triangulation, until every sample of
+// the rectangle is within the error.
+//
+// It starts from the parent chunk's triangles and never flips their edges: every triangle
+// lies inside one of the parent's, so the chunk's vertices moved onto the parent's surface
+// (its morph targets) draw exactly the parent's surface, as the RTIN levels do. It also keeps
+// edges along the lines x, y = k * lineSpacing, the borders of its own children, which in turn
+// start from its triangles. Each side of the rectangle is refined first, alone and from the
+// heights along it only, so two chunks sharing a side and the parent's vertices on it choose the
+// same vertices there: no T-junctions between chunks of a level.
+//
+// Pure function: exact integer geometry, ties broken by scan order.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "terralod/build/surface_interpolation.h"
+
+namespace terralod {
+
+/// How chunk meshes are made: right-triangulated irregular networks from the activation grid,
+/// or greedy insertion below the blocks (fewer triangles; `terralod build --mesher`).
+enum class MeshMethod : uint8_t { kRtin, kGreedy };
+
+/// The gap greedy chunks may keep from their parent's surface when fully morphed, as a
+/// fraction of the parent level's error: the largest pop where a chunk splits (at τ pixels of
+/// the parent's error on screen, at most this times τ).
+inline constexpr double kGreedyMorphGap = 0.125;
+
+struct GreedyMeshInput {
+  int32_t width = 0, height = 0;  ///< cells; samples are (width+1) x (height+1), row-major
+  std::span<const double> heights;
+  /// The parent's triangles, three corners each, in sample coordinates: they cover the
+  /// rectangle (they may reach beyond it), and cross its sides and the lines below only at grid
+  /// points (true of bintree triangles and of greedy meshes made with those lines).
+  std::span<const SurfaceCorner> parent;
+  int32_t lineSpacing = 0;  ///< > 0: edges kept along x, y = k * lineSpacing inside
+  double error = 0.0;
+  /// The parent's surface at every sample (its triangles interpolated), and how far the mesh
+  /// with its vertices on that surface may be from it: a parent edge may flip, and every
+  /// triangle must keep to this gap and, so drawn, within parentError of the heights. Empty
+  /// or 0: the parent's edges never flip (and the parent's own bound holds).
+  std::span<const double> parentHeights;
+  double gap = 0.0;
+  double parentError = 0.0;
+};
+
+struct GreedyMesh {
+  std::vector<int32_t> x, y;        ///< vertices, in sample coordinates
+  std::vector<uint32_t> triangles;  ///< counter-clockwise (x east, y north)
+};
+
+GreedyMesh greedyMesh(const GreedyMeshInput& input);
+
+/// The largest |surface - height| over every sample minus the error (<= 0: the mesh holds
+/// its bound; infinite where a sample is not covered). For tests; rasterises every triangle.
+double greedyMeshViolation(const GreedyMeshInput& input, const GreedyMesh& mesh);
+
+}  // namespace terralod

@@ -1,0 +1,535 @@
+#include "terralod/build/greedy_mesher.h"
+
+#include <meshoptimizer.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <queue>
+#include <unordered_map>
+
+namespace terralod {
+namespace {
+
+struct Point {
+  int32_t x = 0, y = 0;
+  bool operator==(const Point&) const = default;
+};
+
+int64_t orient(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t cx, int64_t cy) {
+  return (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+}
+int64_t orient(Point a, Point b, Point c) {
+  return orient(a.x, a.y, b.x, b.y, c.x, c.y);
+}
+
+// > 0 when d lies inside the circle through the counter-clockwise triangle a, b, c.
+bool inCircle(Point a, Point b, Point c, Point d) {
+  const __int128 adx = a.x - d.x, ady = a.y - d.y, bdx = b.x - d.x, bdy = b.y - d.y,
+                 cdx = c.x - d.x, cdy = c.y - d.y;
+  const __int128 ad = adx * adx + ady * ady, bd = bdx * bdx + bdy * bdy, cd = cdx * cdx + cdy * cdy;
+  const __int128 det =
+      adx * (bdy * cd - bd * cdy) - ady * (bdx * cd - bd * cdx) + ad * (bdx * cdy - bdy * cdx);
+  return det > 0;
+}
+
+constexpr int32_t next(int32_t e) {
+  return e % 3 == 2 ? e - 2 : e + 1;
+}
+constexpr int32_t prev(int32_t e) {
+  return e % 3 == 0 ? e + 2 : e - 1;
+}
+
+// Clips a convex polygon to one side of an axis-aligned line; false when a crossing is not a
+// grid point.
+bool clip(std::vector<Point>& poly, bool alongX, int32_t limit, bool keepBelow) {
+  std::vector<Point> out;
+  const size_t n = poly.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Point p = poly[i], q = poly[(i + 1) % n];
+    const int64_t pc = alongX ? p.x : p.y, qc = alongX ? q.x : q.y;
+    const bool pIn = keepBelow ? pc <= limit : pc >= limit;
+    const bool qIn = keepBelow ? qc <= limit : qc >= limit;
+    if (pIn) out.push_back(p);
+    if (pIn != qIn && pc != limit && qc != limit) {
+      const int64_t po = alongX ? p.y : p.x, qo = alongX ? q.y : q.x;
+      const int64_t num = (limit - pc) * (qo - po), den = qc - pc;
+      if (num % den != 0) return false;
+      const auto other = int32_t(po + num / den);
+      out.push_back(alongX ? Point{limit, other} : Point{other, limit});
+    }
+  }
+  poly.clear();
+  for (const Point& p : out)
+    if (poly.empty() || !(poly.back() == p)) poly.push_back(p);
+  while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+  return true;
+}
+
+class Mesher {
+ public:
+  explicit Mesher(const GreedyMeshInput& in) : mIn(in), mStride(size_t(in.width) + 1) {}
+
+  bool run(GreedyMesh& out) {
+    if (!seed() || mDegenerate) return false;
+    for (int side = 0; side < 4; ++side) refineSide(side);
+    mRefining = -1;
+    for (int32_t t = 0; t < triangleCount(); ++t) evaluate(t);
+    while (!mQueue.empty()) {
+      const Entry top = mQueue.top();
+      mQueue.pop();
+      if (top.serial != mSerial[size_t(top.triangle)]) continue;  // stale
+      insertCandidate(top.triangle);
+    }
+    out = ordered();
+    return true;
+  }
+
+ private:
+  struct Entry {
+    double violation;
+    int32_t triangle;
+    uint32_t serial;
+    bool operator<(const Entry& o) const {
+      return violation != o.violation ? violation < o.violation : triangle > o.triangle;
+    }
+  };
+
+  size_t sample(int32_t x, int32_t y) const { return size_t(y) * mStride + size_t(x); }
+  double height(int32_t p) const { return mIn.heights[sample(mP[size_t(p)].x, mP[size_t(p)].y)]; }
+  int32_t triangleCount() const { return int32_t(mV.size() / 3); }
+  Point at(int32_t e) const { return mP[size_t(mV[size_t(e)])]; }
+
+  int32_t pointIndex(Point p) {
+    const auto [it, added] =
+        mPointIndex.try_emplace((int64_t(p.y) << 32) | uint32_t(p.x), int32_t(mP.size()));
+    if (added) mP.push_back(p);
+    return it->second;
+  }
+  int32_t addTriangle(int32_t a, int32_t b, int32_t c) {
+    mV.insert(mV.end(), {a, b, c});
+    mOpp.insert(mOpp.end(), {-1, -1, -1});
+    mFixed.insert(mFixed.end(),
+                  {kindOf(mP[size_t(a)], mP[size_t(b)]), kindOf(mP[size_t(b)], mP[size_t(c)]),
+                   kindOf(mP[size_t(c)], mP[size_t(a)])});
+    mSerial.push_back(0);
+    mCandidate.push_back(-1);
+    mTouched.push_back(triangleCount() - 1);
+    return triangleCount() - 1;
+  }
+  void setTriangle(int32_t t, int32_t a, int32_t b, int32_t c) {
+    mV[3 * size_t(t)] = a;
+    mV[3 * size_t(t) + 1] = b;
+    mV[3 * size_t(t) + 2] = c;
+    ++mSerial[size_t(t)];
+    mTouched.push_back(t);
+  }
+  // Makes e the twin of f (f < 0: a boundary), with the edge's fixedness.
+  void link(int32_t e, int32_t f, uint8_t fixed) {
+    mOpp[size_t(e)] = f;
+    mFixed[size_t(e)] = fixed;
+    if (f >= 0) {
+      mOpp[size_t(f)] = e;
+      mFixed[size_t(f)] = fixed;
+    }
+  }
+  // Edge kinds: free (flips towards Delaunay), a parent's edge (flips only within the gap),
+  // a line's or a side's (never flips).
+  static constexpr uint8_t kFree = 0, kParentEdge = 1, kLine = 2;
+  uint8_t kindOf(Point a, Point b) const {
+    const int32_t s = mIn.lineSpacing > 0 ? mIn.lineSpacing : std::max(mIn.width, mIn.height);
+    const bool onLine = (a.x == b.x && (a.x % s == 0 || a.x == mIn.width)) ||
+                        (a.y == b.y && (a.y % s == 0 || a.y == mIn.height));
+    return onLine ? kLine : kParentEdge;
+  }
+  bool morphs() const { return !mIn.parentHeights.empty(); }
+
+  // The parent's triangles cut along the rectangle and the lines, each piece fanned; edges
+  // inside a piece may flip, the pieces' own may not.
+  bool seed() {
+    const int32_t w = mIn.width, h = mIn.height;
+    const int32_t s = mIn.lineSpacing > 0 ? mIn.lineSpacing : std::max(w, h);
+    std::vector<Point> poly;
+    for (size_t k = 0; k + 2 < mIn.parent.size(); k += 3) {
+      Point c[3];
+      for (int i = 0; i < 3; ++i) c[i] = {mIn.parent[k + size_t(i)].x, mIn.parent[k + size_t(i)].y};
+      const int64_t area = orient(c[0], c[1], c[2]);
+      if (area == 0) continue;
+      if (area < 0) std::swap(c[1], c[2]);
+      const int32_t x0 = std::max(0, std::min({c[0].x, c[1].x, c[2].x}));
+      const int32_t x1 = std::min(w, std::max({c[0].x, c[1].x, c[2].x}));
+      const int32_t y0 = std::max(0, std::min({c[0].y, c[1].y, c[2].y}));
+      const int32_t y1 = std::min(h, std::max({c[0].y, c[1].y, c[2].y}));
+      if (x0 >= x1 || y0 >= y1) continue;
+      for (int32_t cy = y0 / s * s; cy < y1; cy += s)
+        for (int32_t cx = x0 / s * s; cx < x1; cx += s) {
+          poly.assign(c, c + 3);
+          if (!clip(poly, true, cx, false) || !clip(poly, true, std::min(cx + s, w), true) ||
+              !clip(poly, false, cy, false) || !clip(poly, false, std::min(cy + s, h), true))
+            return false;
+          if (poly.size() >= 3) fan(poly);
+        }
+    }
+    // Twins by their end points.
+    std::unordered_map<uint64_t, int32_t> halfEdges;
+    auto key = [](int32_t a, int32_t b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
+    for (int32_t e = 0; e < int32_t(mV.size()); ++e)
+      halfEdges.emplace(key(mV[size_t(e)], mV[size_t(next(e))]), e);
+    for (int32_t e = 0; e < int32_t(mV.size()); ++e) {
+      const auto it = halfEdges.find(key(mV[size_t(next(e))], mV[size_t(e)]));
+      if (it != halfEdges.end())
+        link(e, it->second, std::max(mFixed[size_t(e)], mFixed[size_t(it->second)]));
+    }
+    mTouched.clear();
+    return triangleCount() > 0;
+  }
+
+  // Triangulates a convex piece as a fan from the first corner that gives no flat triangle.
+  void fan(const std::vector<Point>& poly) {
+    const size_t n = poly.size();
+    for (size_t start = 0; start < n; ++start) {
+      bool ok = true;
+      for (size_t i = 1; ok && i + 1 < n; ++i)
+        ok = orient(poly[start], poly[(start + i) % n], poly[(start + i + 1) % n]) > 0;
+      if (!ok) continue;
+      std::vector<int32_t> ids(n);
+      for (size_t i = 0; i < n; ++i) ids[i] = pointIndex(poly[(start + i) % n]);
+      for (size_t i = 1; i + 1 < n; ++i) {
+        const int32_t t = addTriangle(ids[0], ids[i], ids[i + 1]);
+        if (i > 1) mFixed[3 * size_t(t)] = 0;          // diagonal back to the start
+        if (i + 2 < n) mFixed[3 * size_t(t) + 2] = 0;  // diagonal to the next triangle
+      }
+      return;
+    }
+    mDegenerate = true;  // not convex: leaves a hole the checks will see
+  }
+
+  // Boundary half-edges on the rectangle's sides, by side and lower end along it.
+  int sideOf(Point a, Point b) const {
+    if (a.y == 0 && b.y == 0) return 0;
+    if (a.x == mIn.width && b.x == mIn.width) return 1;
+    if (a.y == mIn.height && b.y == mIn.height) return 2;
+    if (a.x == 0 && b.x == 0) return 3;
+    return -1;
+  }
+  void addSideEdge(int32_t e) {
+    const Point a = at(e), b = at(next(e));
+    const int side = sideOf(a, b);
+    if (side < 0 || side != mRefining) return;
+    const bool alongX = side == 0 || side == 2;
+    mSides[side][std::min(alongX ? a.x : a.y, alongX ? b.x : b.y)] = e;
+  }
+
+  double violation(size_t s, double z) const { return std::fabs(z - mIn.heights[s]) - mIn.error; }
+  double gapViolation(size_t s, double zp) const {
+    return std::max(std::fabs(zp - mIn.parentHeights[s]) - mIn.gap,
+                    std::fabs(zp - mIn.heights[s]) - mIn.parentError);
+  }
+  double parentAt(int32_t p) const {
+    return mIn.parentHeights[sample(mP[size_t(p)].x, mP[size_t(p)].y)];
+  }
+
+  // One side alone: its vertices so far (the parent's and the pieces' corners), refined by
+  // greedy insertion along the line, then split into the triangulation.
+  void refineSide(int side) {
+    const int32_t w = mIn.width, h = mIn.height;
+    const bool alongX = side == 0 || side == 2;
+    mRefining = side;
+    mSides[side].clear();
+    for (int32_t e = 0; e < int32_t(mV.size()); ++e)
+      if (mOpp[size_t(e)] < 0) addSideEdge(e);
+    auto sampleAt = [&](int32_t q) {
+      switch (side) {
+        case 0:
+          return sample(q, 0);
+        case 1:
+          return sample(w, q);
+        case 2:
+          return sample(q, h);
+        default:
+          return sample(0, q);
+      }
+    };
+    std::vector<int32_t> ends;
+    for (const auto& [lo, e] : mSides[side]) {
+      const Point a = at(e), b = at(next(e));
+      ends.push_back(lo);
+      ends.push_back(std::max(alongX ? a.x : a.y, alongX ? b.x : b.y));
+    }
+    std::sort(ends.begin(), ends.end());
+    ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    std::vector<int32_t> added;
+    std::vector<std::pair<int32_t, int32_t>> work;
+    for (size_t i = 0; i + 1 < ends.size(); ++i) work.emplace_back(ends[i], ends[i + 1]);
+    while (!work.empty()) {
+      const auto [a, b] = work.back();
+      work.pop_back();
+      double worst = 0.0;
+      int32_t where = -1;
+      const size_t sa = sampleAt(a), sb = sampleAt(b);
+      for (int32_t q = a + 1; q < b; ++q) {
+        const double z =
+            lerpOnSegment(mIn.heights[sa], mIn.heights[sb], double(q - a) / double(b - a));
+        double v = violation(sampleAt(q), z);
+        if (morphs() && mIn.gap > 0.0)
+          v = std::max(v, gapViolation(sampleAt(q),
+                                       lerpOnSegment(mIn.parentHeights[sa], mIn.parentHeights[sb],
+                                                     double(q - a) / double(b - a))));
+        if (v > worst) {
+          worst = v;
+          where = q;
+        }
+      }
+      if (where < 0) continue;
+      added.push_back(where);
+      work.emplace_back(a, where);
+      work.emplace_back(where, b);
+    }
+    std::sort(added.begin(), added.end());
+    for (const int32_t q : added) {
+      const Point p = side == 0   ? Point{q, 0}
+                      : side == 1 ? Point{w, q}
+                      : side == 2 ? Point{q, h}
+                                  : Point{0, q};
+      auto it = mSides[side].upper_bound(q);
+      assert(it != mSides[side].begin());
+      --it;
+      splitEdge(it->second, pointIndex(p));
+      mTouched.clear();
+    }
+  }
+
+  // Scans triangle t for its worst sample off the rectangle's sides (refineSide settled those).
+  void evaluate(int32_t t) {
+    const int32_t a = mV[3 * size_t(t)], b = mV[3 * size_t(t) + 1], c = mV[3 * size_t(t) + 2];
+    const int64_t ax = mP[size_t(a)].x, ay = mP[size_t(a)].y, bx = mP[size_t(b)].x,
+                  by = mP[size_t(b)].y, cx = mP[size_t(c)].x, cy = mP[size_t(c)].y;
+    const int64_t area = orient(ax, ay, bx, by, cx, cy);
+    assert(area > 0);
+    const double za = height(a), zb = height(b), zc = height(c);
+    const bool gap = morphs() && mIn.gap > 0.0;
+    const double pa = gap ? parentAt(a) : 0.0, pb = gap ? parentAt(b) : 0.0,
+                 pc = gap ? parentAt(c) : 0.0;
+    const auto x0 = int32_t(std::max<int64_t>(std::min({ax, bx, cx}), 1));
+    const auto x1 = int32_t(std::min<int64_t>(std::max({ax, bx, cx}), mIn.width - 1));
+    const auto y0 = int32_t(std::max<int64_t>(std::min({ay, by, cy}), 1));
+    const auto y1 = int32_t(std::min<int64_t>(std::max({ay, by, cy}), mIn.height - 1));
+    const double inv = 1.0 / double(area);
+    const int64_t d0 = -(cy - by), d1 = -(ay - cy), d2 = -(by - ay);
+    double worst = 0.0;
+    int32_t where = -1;
+    for (int32_t y = y0; y <= y1; ++y) {
+      int64_t w0 = orient(bx, by, cx, cy, x0, y), w1 = orient(cx, cy, ax, ay, x0, y),
+              w2 = orient(ax, ay, bx, by, x0, y);
+      for (int32_t x = x0; x <= x1; ++x, w0 += d0, w1 += d1, w2 += d2) {
+        if ((w0 | w1 | w2) < 0) continue;
+        const size_t s = sample(x, y);
+        double v = violation(s, (double(w0) * za + double(w1) * zb + double(w2) * zc) * inv);
+        if (gap)
+          v = std::max(
+              v, gapViolation(s, (double(w0) * pa + double(w1) * pb + double(w2) * pc) * inv));
+        if (v > worst) {
+          worst = v;
+          where = int32_t(s);
+        }
+      }
+    }
+    mCandidate[size_t(t)] = where;
+    if (where >= 0) mQueue.push({worst, t, mSerial[size_t(t)]});
+  }
+
+  void insertCandidate(int32_t t) {
+    const int32_t s = mCandidate[size_t(t)];
+    const Point p{int32_t(size_t(s) % mStride), int32_t(size_t(s) / mStride)};
+    const int32_t ip = pointIndex(p);
+    if (orient(at(3 * t), at(3 * t + 1), p) == 0)
+      splitEdge(3 * t, ip);
+    else if (orient(at(3 * t + 1), at(3 * t + 2), p) == 0)
+      splitEdge(3 * t + 1, ip);
+    else if (orient(at(3 * t + 2), at(3 * t), p) == 0)
+      splitEdge(3 * t + 2, ip);
+    else
+      splitTriangle(t, ip);
+    std::sort(mTouched.begin(), mTouched.end());
+    mTouched.erase(std::unique(mTouched.begin(), mTouched.end()), mTouched.end());
+    const std::vector<int32_t> touched = std::move(mTouched);
+    mTouched.clear();
+    for (const int32_t u : touched) evaluate(u);
+  }
+
+  // p strictly inside t = (a, b, c): three triangles around p.
+  void splitTriangle(int32_t t, int32_t p) {
+    const size_t e = 3 * size_t(t);
+    const int32_t a = mV[e], b = mV[e + 1], c = mV[e + 2];
+    const int32_t oab = mOpp[e], obc = mOpp[e + 1], oca = mOpp[e + 2];
+    const uint8_t fab = mFixed[e], fbc = mFixed[e + 1], fca = mFixed[e + 2];
+    setTriangle(t, a, b, p);
+    const int32_t t1 = addTriangle(b, c, p), t2 = addTriangle(c, a, p);
+    link(3 * t, oab, fab);
+    link(3 * t + 1, 3 * t1 + 2, 0);
+    link(3 * t + 2, 3 * t2 + 1, 0);
+    link(3 * t1, obc, fbc);
+    link(3 * t1 + 1, 3 * t2 + 2, 0);
+    link(3 * t2, oca, fca);
+    legalize(3 * t);
+    legalize(3 * t1);
+    legalize(3 * t2);
+  }
+
+  // p on the edge e = (a -> b) of T = (a, b, c), strictly between a and b: two triangles, or
+  // four with the triangle across. The halves keep the edge's fixedness.
+  void splitEdge(int32_t e, int32_t p) {
+    const int32_t T = e / 3;
+    const int32_t a = mV[size_t(e)], b = mV[size_t(next(e))], c = mV[size_t(prev(e))];
+    const int32_t xbc = mOpp[size_t(next(e))], xca = mOpp[size_t(prev(e))];
+    const uint8_t fbc = mFixed[size_t(next(e))], fca = mFixed[size_t(prev(e))];
+    const uint8_t fixed = mFixed[size_t(e)];
+    const int32_t f = mOpp[size_t(e)];
+    if (f < 0) {
+      setTriangle(T, c, a, p);
+      const int32_t T1 = addTriangle(c, p, b);
+      link(3 * T, xca, fca);
+      link(3 * T + 1, -1, 1);
+      link(3 * T + 2, 3 * T1, 0);
+      link(3 * T1 + 1, -1, 1);
+      link(3 * T1 + 2, xbc, fbc);
+      addSideEdge(3 * T + 1);
+      addSideEdge(3 * T1 + 1);
+      legalize(3 * T);
+      legalize(3 * T1 + 2);
+      return;
+    }
+    const int32_t U = f / 3;
+    const int32_t d = mV[size_t(prev(f))];
+    const int32_t ydb = mOpp[size_t(prev(f))], yad = mOpp[size_t(next(f))];
+    const uint8_t fdb = mFixed[size_t(prev(f))], fad = mFixed[size_t(next(f))];
+    setTriangle(T, c, a, p);
+    setTriangle(U, d, b, p);
+    const int32_t T1 = addTriangle(c, p, b), U1 = addTriangle(d, p, a);
+    link(3 * T, xca, fca);
+    link(3 * T + 1, 3 * U1 + 1, fixed);
+    link(3 * T + 2, 3 * T1, 0);
+    link(3 * T1 + 1, 3 * U + 1, fixed);
+    link(3 * T1 + 2, xbc, fbc);
+    link(3 * U, ydb, fdb);
+    link(3 * U + 2, 3 * U1, 0);
+    link(3 * U1 + 2, yad, fad);
+    legalize(3 * T);
+    legalize(3 * T1 + 2);
+    legalize(3 * U);
+    legalize(3 * U1 + 2);
+  }
+
+  // e = (a -> b) in T = (a, b, p) with p the point just inserted: flips e, unless it is fixed,
+  // while the vertex across it lies inside T's circumcircle.
+  void legalize(int32_t e) {
+    const int32_t f = mOpp[size_t(e)];
+    if (f < 0 || mFixed[size_t(e)] == kLine) return;
+    const int32_t T = e / 3, U = f / 3;
+    const int32_t a = mV[size_t(e)], b = mV[size_t(next(e))], p = mV[size_t(prev(e))];
+    const int32_t q = mV[size_t(prev(f))];
+    if (!inCircle(mP[size_t(a)], mP[size_t(b)], mP[size_t(p)], mP[size_t(q)])) return;
+    if (mFixed[size_t(e)] == kParentEdge && !(morphs() && withinGap(p, a, q) && withinGap(q, b, p)))
+      return;
+    const int32_t x1 = mOpp[size_t(next(e))], x2 = mOpp[size_t(prev(e))];
+    const int32_t y1 = mOpp[size_t(next(f))], y2 = mOpp[size_t(prev(f))];
+    const uint8_t f1 = mFixed[size_t(next(e))], f2 = mFixed[size_t(prev(e))];
+    const uint8_t g1 = mFixed[size_t(next(f))], g2 = mFixed[size_t(prev(f))];
+    setTriangle(T, p, a, q);
+    setTriangle(U, q, b, p);
+    link(3 * T, x2, f2);
+    link(3 * T + 1, y1, g1);
+    link(3 * T + 2, 3 * U + 2, 0);
+    link(3 * U, y2, g2);
+    link(3 * U + 1, x1, f1);
+    if (y1 < 0) addSideEdge(3 * T + 1);
+    if (y2 < 0) addSideEdge(3 * U);
+    if (x1 < 0) addSideEdge(3 * U + 1);
+    if (x2 < 0) addSideEdge(3 * T);
+    legalize(3 * T + 1);
+    legalize(3 * U);
+  }
+
+  // Whether the triangle (a, b, c) with its corners on the parent's surface stays within the
+  // gap of it at every sample (counter-clockwise; flat: no).
+  bool withinGap(int32_t a, int32_t b, int32_t c) const {
+    const SurfaceCorner corners[3] = {{mP[size_t(a)].x, mP[size_t(a)].y, parentAt(a)},
+                                      {mP[size_t(b)].x, mP[size_t(b)].y, parentAt(b)},
+                                      {mP[size_t(c)].x, mP[size_t(c)].y, parentAt(c)}};
+    if (orient(mP[size_t(a)], mP[size_t(b)], mP[size_t(c)]) <= 0) return false;
+    bool ok = true;
+    rasterizeTriangle(corners, 0, 0, mIn.width, mIn.height, [&](int32_t x, int32_t y, double z) {
+      ok = ok && gapViolation(sample(x, y), z) <= kGapSlack;
+    });
+    return ok;
+  }
+  static constexpr double kGapSlack = 1e-9;  ///< rounding, where the gap is 0 (coplanar)
+
+  // The triangles in vertex-cache order and the vertices in the order they are first used:
+  // what the index and vertex codecs compress best (insertion order compresses ~5x worse).
+  GreedyMesh ordered() const {
+    const std::vector<uint32_t> inserted(mV.begin(), mV.end());
+    GreedyMesh out;
+    out.triangles.resize(inserted.size());
+    meshopt_optimizeVertexCache(out.triangles.data(), inserted.data(), inserted.size(), mP.size());
+    std::vector<uint32_t> remap(mP.size());
+    const size_t used = meshopt_optimizeVertexFetchRemap(remap.data(), out.triangles.data(),
+                                                         out.triangles.size(), mP.size());
+    out.x.resize(used);
+    out.y.resize(used);
+    for (size_t i = 0; i < mP.size(); ++i) {
+      if (remap[i] == ~0u) continue;
+      out.x[remap[i]] = mP[i].x;
+      out.y[remap[i]] = mP[i].y;
+    }
+    for (uint32_t& v : out.triangles) v = remap[v];
+    return out;
+  }
+
+  const GreedyMeshInput& mIn;
+  const size_t mStride;
+  std::vector<Point> mP;
+  std::unordered_map<int64_t, int32_t> mPointIndex;
+  std::vector<int32_t> mV, mOpp, mCandidate;
+  std::vector<uint8_t> mFixed;
+  std::vector<uint32_t> mSerial;
+  std::vector<int32_t> mTouched;
+  std::map<int32_t, int32_t> mSides[4];
+  std::priority_queue<Entry> mQueue;
+  int mRefining = -1;  ///< the side refineSide works on (mSides[side] kept up to date)
+  bool mDegenerate = false;
+};
+
+}  // namespace
+
+GreedyMesh greedyMesh(const GreedyMeshInput& input) {
+  assert(input.width > 0 && input.height > 0);
+  assert(input.heights.size() == size_t(input.width + 1) * (input.height + 1));
+  GreedyMesh out;
+  if (!Mesher(input).run(out)) return {};
+  return out;
+}
+
+double greedyMeshViolation(const GreedyMeshInput& input, const GreedyMesh& mesh) {
+  const size_t stride = size_t(input.width) + 1;
+  std::vector<double> own(input.heights.size(), std::nan(""));
+  for (size_t k = 0; k + 2 < mesh.triangles.size(); k += 3) {
+    SurfaceCorner corners[3];
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t v = mesh.triangles[k + size_t(i)];
+      corners[i] = {mesh.x[v], mesh.y[v], input.heights[size_t(mesh.y[v]) * stride + mesh.x[v]]};
+    }
+    rasterizeTriangle(corners, 0, 0, input.width, input.height,
+                      [&](int32_t x, int32_t y, double z) { own[size_t(y) * stride + x] = z; });
+  }
+  double worst = -std::numeric_limits<double>::infinity();
+  for (size_t s = 0; s < own.size(); ++s) {
+    if (std::isnan(own[s])) return std::numeric_limits<double>::infinity();  // a hole
+    worst = std::max(worst, std::fabs(own[s] - input.heights[s]) - input.error);
+  }
+  return worst;
+}
+
+}  // namespace terralod

@@ -1,0 +1,158 @@
+// The greedy-insertion chunk mesher: every sample within its bound, no holes, counter-clockwise
+// triangles, far fewer than the samples on smooth ground; it refines its parent (exactly, or
+// within the gap it is given), keeps its children's borders, and shared sides match.
+
+#include "terralod/build/greedy_mesher.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace terralod {
+namespace {
+
+// Rolling hills with a ridge and a little roughness (deterministic).
+double terrain(int32_t x, int32_t y) {
+  const double fx = x * 0.07, fy = y * 0.05;
+  return 40.0 * std::sin(fx) * std::cos(fy) + 25.0 * std::exp(-0.002 * (x - y) * (x - y)) +
+         0.2 * std::sin(x * 1.9 + y * 3.1);
+}
+
+std::vector<double> grid(int32_t x0, int32_t y0, int32_t w, int32_t h) {
+  std::vector<double> out;
+  for (int32_t y = 0; y <= h; ++y)
+    for (int32_t x = 0; x <= w; ++x) out.push_back(terrain(x0 + x, y0 + y));
+  return out;
+}
+
+// The rectangle as two triangles (a parent with nothing inside).
+std::vector<SurfaceCorner> square(int32_t x0, int32_t y0, int32_t side) {
+  return {{x0, y0, 0}, {x0 + side, y0, 0},        {x0 + side, y0 + side, 0},
+          {x0, y0, 0}, {x0 + side, y0 + side, 0}, {x0, y0 + side, 0}};
+}
+
+double area2(const GreedyMesh& m, size_t k) {
+  const uint32_t a = m.triangles[k], b = m.triangles[k + 1], c = m.triangles[k + 2];
+  return double(m.x[b] - m.x[a]) * (m.y[c] - m.y[a]) - double(m.y[b] - m.y[a]) * (m.x[c] - m.x[a]);
+}
+
+// A mesh's triangles with the given heights at their corners (sample coordinates).
+std::vector<SurfaceCorner> cornersOf(const GreedyMesh& m, const std::vector<double>& heights,
+                                     int32_t stride, int32_t dx = 0, int32_t dy = 0) {
+  std::vector<SurfaceCorner> out;
+  for (const uint32_t v : m.triangles)
+    out.push_back({m.x[v] + dx, m.y[v] + dy, heights[size_t(m.y[v]) * stride + m.x[v]]});
+  return out;
+}
+
+// A surface's heights at every sample of [0, w] x [0, h] (corners in the same coordinates).
+std::vector<double> rasterize(const std::vector<SurfaceCorner>& corners, int32_t w, int32_t h) {
+  std::vector<double> out(size_t(w + 1) * (h + 1), std::nan(""));
+  for (size_t k = 0; k + 2 < corners.size(); k += 3) {
+    const SurfaceCorner tri[3] = {corners[k], corners[k + 1], corners[k + 2]};
+    rasterizeTriangle(tri, 0, 0, w, h,
+                      [&](int32_t x, int32_t y, double z) { out[size_t(y) * (w + 1) + x] = z; });
+  }
+  return out;
+}
+
+TEST(GreedyMesher, HoldsItsBoundWithFewTrianglesAndCoversTheRectangle) {
+  const std::vector<double> h = grid(0, 0, 64, 48);
+  const std::vector<SurfaceCorner> parent = {{0, 0, 0}, {64, 0, 0},  {64, 48, 0},
+                                             {0, 0, 0}, {64, 48, 0}, {0, 48, 0}};
+  GreedyMeshInput in{64, 48, h, parent, 0, 0.5};
+  const GreedyMesh m = greedyMesh(in);
+  EXPECT_LE(greedyMeshViolation(in, m), 1e-9);
+  double area = 0;
+  for (size_t k = 0; k < m.triangles.size(); k += 3) {
+    ASSERT_GT(area2(m, k), 0.0) << "triangle " << k / 3;
+    area += area2(m, k);
+  }
+  EXPECT_DOUBLE_EQ(area, 2.0 * 64 * 48);  // covered (no holes above), so no overlaps
+  const size_t triangles = m.triangles.size() / 3;
+  EXPECT_GT(triangles, 20u);
+  EXPECT_LT(triangles, 64u * 48u / 2u);
+  // A looser bound needs fewer triangles; a bound of zero needs every sample.
+  in.error = 2.0;
+  EXPECT_LT(greedyMesh(in).triangles.size() / 3, triangles);
+  in.error = 0.0;
+  const GreedyMesh exact = greedyMesh(in);
+  EXPECT_EQ(exact.x.size(), 65u * 49u);
+  EXPECT_LE(greedyMeshViolation(in, exact), 0.0);
+}
+
+TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
+  // A 64-cell parent meshed at 2 m with lines every 32 cells; its south-west child (32 cells)
+  // at 1 m from the parent's triangles in that quarter.
+  const std::vector<double> h = grid(0, 0, 64, 64);
+  const std::vector<SurfaceCorner> rect = square(0, 0, 64);
+  const GreedyMesh parent = greedyMesh({64, 64, h, rect, 32, 2.0});
+  ASSERT_FALSE(parent.triangles.empty());
+  for (size_t k = 0; k < parent.triangles.size(); k += 3) {
+    // No triangle crosses x = 32 or y = 32.
+    int32_t lo[2] = {64, 64}, hi[2] = {0, 0};
+    for (int i = 0; i < 3; ++i) {
+      const uint32_t v = parent.triangles[k + size_t(i)];
+      lo[0] = std::min(lo[0], parent.x[v]), hi[0] = std::max(hi[0], parent.x[v]);
+      lo[1] = std::min(lo[1], parent.y[v]), hi[1] = std::max(hi[1], parent.y[v]);
+    }
+    EXPECT_FALSE(lo[0] < 32 && hi[0] > 32) << "triangle " << k / 3 << " crosses x = 32";
+    EXPECT_FALSE(lo[1] < 32 && hi[1] > 32) << "triangle " << k / 3 << " crosses y = 32";
+  }
+  const std::vector<SurfaceCorner> parentCorners = cornersOf(parent, h, 65);
+  const std::vector<double> parentSurface = rasterize(parentCorners, 64, 64);
+  // The child's own heights and the parent's surface over its quarter.
+  const std::vector<double> childHeights = grid(0, 0, 32, 32);
+  std::vector<double> childParent;
+  for (int32_t y = 0; y <= 32; ++y)
+    for (int32_t x = 0; x <= 32; ++x) childParent.push_back(parentSurface[size_t(y) * 65 + x]);
+  const GreedyMesh exact = greedyMesh({32, 32, childHeights, parentCorners, 0, 1.0});
+  ASSERT_FALSE(exact.triangles.empty());
+  EXPECT_LE(greedyMeshViolation({32, 32, childHeights, parentCorners, 0, 1.0}, exact), 1e-9);
+  // Its vertices on the parent's surface draw the parent's surface exactly.
+  const std::vector<double> morphed = rasterize(cornersOf(exact, childParent, 33), 32, 32);
+  double gap = 0;
+  for (size_t s = 0; s < morphed.size(); ++s)
+    gap = std::max(gap, std::fabs(morphed[s] - childParent[s]));
+  EXPECT_LT(gap, 1e-9);
+  // With a gap allowed, it keeps to it and needs fewer triangles.
+  const GreedyMesh loose =
+      greedyMesh({32, 32, childHeights, parentCorners, 0, 1.0, childParent, 0.25, 2.0});
+  EXPECT_LE(greedyMeshViolation({32, 32, childHeights, parentCorners, 0, 1.0}, loose), 1e-9);
+  const std::vector<double> looseMorphed = rasterize(cornersOf(loose, childParent, 33), 32, 32);
+  double looseGap = 0;
+  for (size_t s = 0; s < looseMorphed.size(); ++s)
+    looseGap = std::max(looseGap, std::fabs(looseMorphed[s] - childParent[s]));
+  EXPECT_LE(looseGap, 0.25 + 1e-9);
+  EXPECT_GT(looseGap, 1e-6);  // it used the gap
+  EXPECT_LT(loose.triangles.size(), exact.triangles.size());
+}
+
+TEST(GreedyMesher, NeighboursShareTheirCommonSidesVertices) {
+  // Two 40 x 40 rectangles side by side, sharing the line x = 40.
+  const std::vector<double> left = grid(0, 0, 40, 40), right = grid(40, 0, 40, 40);
+  const std::vector<SurfaceCorner> rect = square(0, 0, 40);
+  const GreedyMesh l = greedyMesh({40, 40, left, rect, 0, 0.3});
+  const GreedyMesh r = greedyMesh({40, 40, right, rect, 0, 0.3});
+  std::set<int32_t> onLeft, onRight;
+  for (size_t i = 0; i < l.x.size(); ++i)
+    if (l.x[i] == 40) onLeft.insert(l.y[i]);
+  for (size_t i = 0; i < r.x.size(); ++i)
+    if (r.x[i] == 0) onRight.insert(r.y[i]);
+  EXPECT_GT(onLeft.size(), 2u);
+  EXPECT_EQ(onLeft, onRight);
+}
+
+TEST(GreedyMesher, RefusesAParentThatCrossesALineOffTheGrid) {
+  const std::vector<double> h = grid(0, 0, 8, 8);
+  // An edge from (0, 0) to (8, 3) crosses x = 4 at y = 1.5.
+  const std::vector<SurfaceCorner> parent = {{0, 0, 0}, {8, 3, 0}, {0, 8, 0}, {0, 0, 0}, {8, 0, 0},
+                                             {8, 3, 0}, {0, 8, 0}, {8, 3, 0}, {8, 8, 0}};
+  EXPECT_TRUE(greedyMesh({8, 8, h, parent, 4, 0.1}).triangles.empty());
+  EXPECT_FALSE(greedyMesh({8, 8, h, parent, 0, 0.1}).triangles.empty());
+}
+
+}  // namespace
+}  // namespace terralod

@@ -1,0 +1,85 @@
+// `terralod build --mesher greedy`: fewer triangles than the RTIN levels below the blocks, a
+// tileset `verify` passes (the parent's bound while geomorphing, the fully morphed surface
+// within the recorded gap of the parent's), and a flight that draws it within τ, without holes,
+// popping by at most the gap (a fraction of τ) where RTIN chunks pop by nothing.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "cli_runner.h"
+
+namespace terralod::test {
+namespace {
+
+class GreedyMesherCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    sDir = new TempDir;
+    for (const char* mesher : {"rtin", "greedy"}) {
+      const RunResult r = runTerralod({"build", testData("crater_lake_0513.bt"), "--no-texture",
+                                       "--mesher", mesher, "-o", tileset(mesher)});
+      ASSERT_EQ(r.exitCode, 0) << r.err;
+    }
+    // Down towards the south-west rim: every level splits on the way.
+    std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
+      "frames": 48, "keyframes": [
+        {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
+        {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
+        {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
+  }
+  static void TearDownTestSuite() {
+    delete sDir;
+    sDir = nullptr;
+  }
+  static std::string tileset(const std::string& mesher) { return sDir->file(mesher + ".tlod"); }
+  static nlohmann::json perLevel(const std::string& mesher) {
+    const RunResult r = runTerralod({"info", tileset(mesher), "--json"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(r.out)["per_level"];
+  }
+  static nlohmann::json bench(const std::string& mesher) {
+    const RunResult r = runTerralod(
+        {"bench", tileset(mesher), "--flight", sDir->file("descend.json"), "--tau", "1", "--source",
+         testData("crater_lake_0513.bt"), "--json", sDir->file(mesher + ".json")});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(readWholeFile(sDir->file(mesher + ".json")));
+  }
+  static inline TempDir* sDir = nullptr;
+};
+
+TEST_F(GreedyMesherCli, FewerTrianglesBelowTheBlocksAndVerified) {
+  const nlohmann::json rtin = perLevel("rtin"), greedy = perLevel("greedy");
+  ASSERT_EQ(rtin.size(), 4u);
+  ASSERT_EQ(greedy.size(), 4u);
+  // The 512-cell root is the block level (RTIN in both); the three levels below are greedy.
+  EXPECT_EQ(greedy[0]["triangles"], rtin[0]["triangles"]);
+  for (size_t l = 1; l < 4; ++l)
+    EXPECT_LT(greedy[l]["triangles"].get<double>(), 0.8 * rtin[l]["triangles"].get<double>())
+        << "level " << l;
+  const RunResult v =
+      runTerralod({"verify", tileset("greedy"), "--source", testData("crater_lake_0513.bt")});
+  EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
+  EXPECT_TRUE(has(v.out, "plus 0.125 x the parent level's bound")) << v.out;
+  const RunResult info = runTerralod({"info", tileset("greedy"), "--json"});
+  EXPECT_TRUE(has(info.out, "\"mesher\": \"greedy\"")) << info.out;
+}
+
+TEST_F(GreedyMesherCli, FlightsStayWithinTauAndPopByAtMostTheGap) {
+  const nlohmann::json rtin = bench("rtin"), greedy = bench("greedy");
+  for (const nlohmann::json* b : {&rtin, &greedy}) {
+    EXPECT_LE((*b)["max_error_px"].get<double>(), 1.0);  // τ
+    EXPECT_EQ((*b)["holes_total"], 0);
+    EXPECT_LT((*b)["image_pop_mean"].get<double>(), 0.5);  // of 255
+  }
+  EXPECT_LT(greedy["triangles_p50"].get<double>(), 0.85 * rtin["triangles_p50"].get<double>());
+  // RTIN children start as their parent exactly; greedy ones within 1/8 of its error, which
+  // the split makes τ pixels: a pop of at most τ/8 (plus rounding), and some.
+  EXPECT_LT(rtin["max_pop_px"].get<double>(), 0.02);
+  EXPECT_GT(greedy["max_pop_px"].get<double>(), rtin["max_pop_px"].get<double>());
+  EXPECT_LE(greedy["max_pop_px"].get<double>(), 0.125 * 1.0 + 0.02);
+}
+
+}  // namespace
+}  // namespace terralod::test
