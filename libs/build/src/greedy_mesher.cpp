@@ -8,7 +8,6 @@
 #include <limits>
 #include <map>
 #include <queue>
-#include <unordered_map>
 
 namespace terralod {
 namespace {
@@ -42,35 +41,43 @@ constexpr int32_t prev(int32_t e) {
   return e % 3 == 0 ? e + 2 : e - 1;
 }
 
+// A convex polygon: a triangle cut by up to four lines has at most seven corners.
+struct Polygon {
+  Point p[8];
+  size_t size = 0;
+  void push(Point q) { p[size++] = q; }
+};
+
 // Clips a convex polygon to one side of an axis-aligned line; false when a crossing is not a
 // grid point.
-bool clip(std::vector<Point>& poly, bool alongX, int32_t limit, bool keepBelow) {
-  std::vector<Point> out;
-  const size_t n = poly.size();
+bool clip(Polygon& poly, bool alongX, int32_t limit, bool keepBelow) {
+  Polygon out;
+  const size_t n = poly.size;
   for (size_t i = 0; i < n; ++i) {
-    const Point p = poly[i], q = poly[(i + 1) % n];
+    const Point p = poly.p[i], q = poly.p[(i + 1) % n];
     const int64_t pc = alongX ? p.x : p.y, qc = alongX ? q.x : q.y;
     const bool pIn = keepBelow ? pc <= limit : pc >= limit;
     const bool qIn = keepBelow ? qc <= limit : qc >= limit;
-    if (pIn) out.push_back(p);
+    if (pIn) out.push(p);
     if (pIn != qIn && pc != limit && qc != limit) {
       const int64_t po = alongX ? p.y : p.x, qo = alongX ? q.y : q.x;
       const int64_t num = (limit - pc) * (qo - po), den = qc - pc;
       if (num % den != 0) return false;
       const auto other = int32_t(po + num / den);
-      out.push_back(alongX ? Point{limit, other} : Point{other, limit});
+      out.push(alongX ? Point{limit, other} : Point{other, limit});
     }
   }
-  poly.clear();
-  for (const Point& p : out)
-    if (poly.empty() || !(poly.back() == p)) poly.push_back(p);
-  while (poly.size() > 1 && poly.front() == poly.back()) poly.pop_back();
+  poly.size = 0;
+  for (size_t i = 0; i < out.size; ++i)
+    if (poly.size == 0 || !(poly.p[poly.size - 1] == out.p[i])) poly.push(out.p[i]);
+  while (poly.size > 1 && poly.p[0] == poly.p[poly.size - 1]) --poly.size;
   return true;
 }
 
 class Mesher {
  public:
-  explicit Mesher(const GreedyMeshInput& in) : mIn(in), mStride(size_t(in.width) + 1) {}
+  explicit Mesher(const GreedyMeshInput& in)
+      : mIn(in), mStride(size_t(in.width) + 1), mPointIndex(in.heights.size(), -1) {}
 
   bool run(GreedyMesh& out) {
     if (!seed() || mDegenerate) return false;
@@ -103,10 +110,12 @@ class Mesher {
   Point at(int32_t e) const { return mP[size_t(mV[size_t(e)])]; }
 
   int32_t pointIndex(Point p) {
-    const auto [it, added] =
-        mPointIndex.try_emplace((int64_t(p.y) << 32) | uint32_t(p.x), int32_t(mP.size()));
-    if (added) mP.push_back(p);
-    return it->second;
+    int32_t& slot = mPointIndex[sample(p.x, p.y)];
+    if (slot < 0) {
+      slot = int32_t(mP.size());
+      mP.push_back(p);
+    }
+    return slot;
   }
   int32_t addTriangle(int32_t a, int32_t b, int32_t c) {
     mV.insert(mV.end(), {a, b, c});
@@ -151,7 +160,7 @@ class Mesher {
   bool seed() {
     const int32_t w = mIn.width, h = mIn.height;
     const int32_t s = mIn.lineSpacing > 0 ? mIn.lineSpacing : std::max(w, h);
-    std::vector<Point> poly;
+    Polygon poly;
     for (size_t k = 0; k + 2 < mIn.parent.size(); k += 3) {
       Point c[3];
       for (int i = 0; i < 3; ++i) c[i] = {mIn.parent[k + size_t(i)].x, mIn.parent[k + size_t(i)].y};
@@ -163,39 +172,56 @@ class Mesher {
       const int32_t y0 = std::max(0, std::min({c[0].y, c[1].y, c[2].y}));
       const int32_t y1 = std::min(h, std::max({c[0].y, c[1].y, c[2].y}));
       if (x0 >= x1 || y0 >= y1) continue;
+      const int32_t minX = std::min({c[0].x, c[1].x, c[2].x}),
+                    maxX = std::max({c[0].x, c[1].x, c[2].x}),
+                    minY = std::min({c[0].y, c[1].y, c[2].y}),
+                    maxY = std::max({c[0].y, c[1].y, c[2].y});
+      if (minX >= 0 && minY >= 0 && maxX <= w && maxY <= h && minX / s == (maxX - 1) / s &&
+          minY / s == (maxY - 1) / s) {  // inside one cell: nothing to cut
+        poly.size = 0;
+        for (const Point& q : c) poly.push(q);
+        fan(poly);
+        continue;
+      }
       for (int32_t cy = y0 / s * s; cy < y1; cy += s)
         for (int32_t cx = x0 / s * s; cx < x1; cx += s) {
-          poly.assign(c, c + 3);
+          poly.size = 0;
+          for (const Point& q : c) poly.push(q);
           if (!clip(poly, true, cx, false) || !clip(poly, true, std::min(cx + s, w), true) ||
               !clip(poly, false, cy, false) || !clip(poly, false, std::min(cy + s, h), true))
             return false;
-          if (poly.size() >= 3) fan(poly);
+          if (poly.size >= 3) fan(poly);
         }
     }
-    // Twins by their end points.
-    std::unordered_map<uint64_t, int32_t> halfEdges;
-    auto key = [](int32_t a, int32_t b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); };
-    for (int32_t e = 0; e < int32_t(mV.size()); ++e)
-      halfEdges.emplace(key(mV[size_t(e)], mV[size_t(next(e))]), e);
+    // Twins by their end points: half-edges sorted by (lower end, upper end), a pair of
+    // twins side by side.
+    std::vector<std::pair<uint64_t, int32_t>> halfEdges;
+    halfEdges.reserve(mV.size());
     for (int32_t e = 0; e < int32_t(mV.size()); ++e) {
-      const auto it = halfEdges.find(key(mV[size_t(next(e))], mV[size_t(e)]));
-      if (it != halfEdges.end())
-        link(e, it->second, std::max(mFixed[size_t(e)], mFixed[size_t(it->second)]));
+      const auto a = uint32_t(mV[size_t(e)]), b = uint32_t(mV[size_t(next(e))]);
+      halfEdges.emplace_back((uint64_t(std::min(a, b)) << 32) | std::max(a, b), e);
     }
+    std::sort(halfEdges.begin(), halfEdges.end());
+    for (size_t i = 0; i + 1 < halfEdges.size(); ++i)
+      if (halfEdges[i].first == halfEdges[i + 1].first) {
+        const int32_t e = halfEdges[i].second, f = halfEdges[i + 1].second;
+        link(e, f, std::max(mFixed[size_t(e)], mFixed[size_t(f)]));
+        ++i;
+      }
     mTouched.clear();
     return triangleCount() > 0;
   }
 
   // Triangulates a convex piece as a fan from the first corner that gives no flat triangle.
-  void fan(const std::vector<Point>& poly) {
-    const size_t n = poly.size();
+  void fan(const Polygon& poly) {
+    const size_t n = poly.size;
     for (size_t start = 0; start < n; ++start) {
       bool ok = true;
       for (size_t i = 1; ok && i + 1 < n; ++i)
-        ok = orient(poly[start], poly[(start + i) % n], poly[(start + i + 1) % n]) > 0;
+        ok = orient(poly.p[start], poly.p[(start + i) % n], poly.p[(start + i + 1) % n]) > 0;
       if (!ok) continue;
-      std::vector<int32_t> ids(n);
-      for (size_t i = 0; i < n; ++i) ids[i] = pointIndex(poly[(start + i) % n]);
+      int32_t ids[8];
+      for (size_t i = 0; i < n; ++i) ids[i] = pointIndex(poly.p[(start + i) % n]);
       for (size_t i = 1; i + 1 < n; ++i) {
         const int32_t t = addTriangle(ids[0], ids[i], ids[i + 1]);
         if (i > 1) mFixed[3 * size_t(t)] = 0;          // diagonal back to the start
@@ -323,8 +349,22 @@ class Mesher {
     for (int32_t y = y0; y <= y1; ++y) {
       int64_t w0 = orient(bx, by, cx, cy, x0, y), w1 = orient(cx, cy, ax, ay, x0, y),
               w2 = orient(ax, ay, bx, by, x0, y);
-      for (int32_t x = x0; x <= x1; ++x, w0 += d0, w1 += d1, w2 += d2) {
-        if ((w0 | w1 | w2) < 0) continue;
+      // The row's span inside the triangle: w + d * k >= 0 for each edge function.
+      int64_t from = 0, to = x1 - x0;
+      for (const auto [w, d] : {std::pair{w0, d0}, std::pair{w1, d1}, std::pair{w2, d2}}) {
+        if (d > 0)
+          from = std::max(from, w >= 0 ? 0 : (-w + d - 1) / d);
+        else if (d < 0)
+          to = std::min(to, w < 0 ? -1 : w / -d);
+        else if (w < 0)
+          to = -1;
+      }
+      if (from > to) continue;
+      w0 += d0 * from;
+      w1 += d1 * from;
+      w2 += d2 * from;
+      for (auto x = int32_t(x0 + from); x <= x0 + to; ++x, w0 += d0, w1 += d1, w2 += d2) {
+        assert((w0 | w1 | w2) >= 0);
         const size_t s = sample(x, y);
         double v = violation(s, (double(w0) * za + double(w1) * zb + double(w2) * zc) * inv);
         if (gap)
@@ -491,7 +531,7 @@ class Mesher {
   const GreedyMeshInput& mIn;
   const size_t mStride;
   std::vector<Point> mP;
-  std::unordered_map<int64_t, int32_t> mPointIndex;
+  std::vector<int32_t> mPointIndex;  ///< per sample: its vertex, or -1
   std::vector<int32_t> mV, mOpp, mCandidate;
   std::vector<uint8_t> mFixed;
   std::vector<uint32_t> mSerial;
