@@ -259,16 +259,17 @@ ChunkMesh ChunkMesher::buildGreedy(ChunkMesh mesh) {
                         mGreedyParent[size_t(y - mesh.y0) * stride + (x - mesh.x0)] = z;
                       });
   }
-  std::vector<SurfaceCorner>& local = mGreedyParentTriangles;
-  local.assign(parent.corners.begin(), parent.corners.end());
-  for (SurfaceCorner& c : local) {
+  // The same triangles in the chunk's own sample coordinates (`parent` is not used after
+  // this: keepSurface below may move it).
+  mGreedyParentTriangles.assign(parent.corners.begin(), parent.corners.end());
+  for (SurfaceCorner& c : mGreedyParentTriangles) {
     c.x -= mesh.x0;
     c.y -= mesh.y0;
   }
   const GreedyMesh m =
-      greedyMesh({w, h, mGreedyHeights, local, level < mLayout.depth ? mLayout.leafCells : 0,
-                  mBudget.buildThreshold[level], mGreedyParent,
-                  kGreedyMorphGap * mBudget.levelError[level - 1],
+      greedyMesh({w, h, mGreedyHeights, mGreedyParentTriangles,
+                  level < mLayout.depth ? mLayout.leafCells : 0, mBudget.buildThreshold[level],
+                  mGreedyParent, kGreedyMorphGap * mBudget.levelError[level - 1],
                   // morph targets are stored on this level's step
                   mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level]});
   if (m.triangles.empty()) {
