@@ -143,6 +143,9 @@ TEST_F(VipmBuildCli, RefusesBadMaterialsAndOptionsThatDoNotApply) {
        {"build", kDem, "--kind", "vipm", "--no-texture", "-o", out},
        "--no-texture does not apply to --kind vipm (its chunks are lit by their stored normal "
        "maps)"},
+      {"greedy meshes with vipm",
+       {"build", kDem, "--kind", "vipm", "--mesher", "greedy", "-o", out},
+       "--mesher applies to --kind static only"},
       {"chunk cells with vipm",
        {"build", kDem, "--kind", "vipm", "--chunk-cells", "32", "-o", out},
        "--chunk-cells: VIPM chunks are always 64 cells"},
