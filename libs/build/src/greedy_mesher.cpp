@@ -229,7 +229,7 @@ class Mesher {
       }
       return;
     }
-    mDegenerate = true;  // not convex: leaves a hole the checks will see
+    mDegenerate = true;  // not convex: run() refuses the parent (an internal error upstream)
   }
 
   // Boundary half-edges on the rectangle's sides, by side and lower end along it.
@@ -351,7 +351,7 @@ class Mesher {
               w2 = orient(ax, ay, bx, by, x0, y);
       // The row's span inside the triangle: w + d * k >= 0 for each edge function.
       int64_t from = 0, to = x1 - x0;
-      for (const auto [w, d] : {std::pair{w0, d0}, std::pair{w1, d1}, std::pair{w2, d2}}) {
+      for (const auto& [w, d] : {std::pair{w0, d0}, std::pair{w1, d1}, std::pair{w2, d2}}) {
         if (d > 0)
           from = std::max(from, w >= 0 ? 0 : (-w + d - 1) / d);
         else if (d < 0)

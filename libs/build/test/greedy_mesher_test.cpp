@@ -33,6 +33,19 @@ std::vector<SurfaceCorner> square(int32_t x0, int32_t y0, int32_t side) {
           {x0, y0, 0}, {x0 + side, y0 + side, 0}, {x0, y0 + side, 0}};
 }
 
+// A chunk without a morph gap: its parent's edges stay.
+GreedyMeshInput nested(int32_t w, int32_t h, const std::vector<double>& heights,
+                       const std::vector<SurfaceCorner>& parent, int32_t lines, double error) {
+  GreedyMeshInput in;
+  in.width = w;
+  in.height = h;
+  in.heights = heights;
+  in.parent = parent;
+  in.lineSpacing = lines;
+  in.error = error;
+  return in;
+}
+
 double area2(const GreedyMesh& m, size_t k) {
   const uint32_t a = m.triangles[k], b = m.triangles[k + 1], c = m.triangles[k + 2];
   return double(m.x[b] - m.x[a]) * (m.y[c] - m.y[a]) - double(m.y[b] - m.y[a]) * (m.x[c] - m.x[a]);
@@ -62,7 +75,7 @@ TEST(GreedyMesher, HoldsItsBoundWithFewTrianglesAndCoversTheRectangle) {
   const std::vector<double> h = grid(0, 0, 64, 48);
   const std::vector<SurfaceCorner> parent = {{0, 0, 0}, {64, 0, 0},  {64, 48, 0},
                                              {0, 0, 0}, {64, 48, 0}, {0, 48, 0}};
-  GreedyMeshInput in{64, 48, h, parent, 0, 0.5};
+  GreedyMeshInput in = nested(64, 48, h, parent, 0, 0.5);
   const GreedyMesh m = greedyMesh(in);
   EXPECT_LE(greedyMeshViolation(in, m), 1e-9);
   double area = 0;
@@ -88,7 +101,7 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
   // at 1 m from the parent's triangles in that quarter.
   const std::vector<double> h = grid(0, 0, 64, 64);
   const std::vector<SurfaceCorner> rect = square(0, 0, 64);
-  const GreedyMesh parent = greedyMesh({64, 64, h, rect, 32, 2.0});
+  const GreedyMesh parent = greedyMesh(nested(64, 64, h, rect, 32, 2.0));
   ASSERT_FALSE(parent.triangles.empty());
   for (size_t k = 0; k < parent.triangles.size(); k += 3) {
     // No triangle crosses x = 32 or y = 32.
@@ -108,9 +121,9 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
   std::vector<double> childParent;
   for (int32_t y = 0; y <= 32; ++y)
     for (int32_t x = 0; x <= 32; ++x) childParent.push_back(parentSurface[size_t(y) * 65 + x]);
-  const GreedyMesh exact = greedyMesh({32, 32, childHeights, parentCorners, 0, 1.0});
+  const GreedyMesh exact = greedyMesh(nested(32, 32, childHeights, parentCorners, 0, 1.0));
   ASSERT_FALSE(exact.triangles.empty());
-  EXPECT_LE(greedyMeshViolation({32, 32, childHeights, parentCorners, 0, 1.0}, exact), 1e-9);
+  EXPECT_LE(greedyMeshViolation(nested(32, 32, childHeights, parentCorners, 0, 1.0), exact), 1e-9);
   // Its vertices on the parent's surface draw the parent's surface exactly.
   const std::vector<double> morphed = rasterize(cornersOf(exact, childParent, 33), 32, 32);
   double gap = 0;
@@ -120,7 +133,7 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
   // With a gap allowed, it keeps to it and needs fewer triangles.
   const GreedyMesh loose =
       greedyMesh({32, 32, childHeights, parentCorners, 0, 1.0, childParent, 0.25, 2.0});
-  EXPECT_LE(greedyMeshViolation({32, 32, childHeights, parentCorners, 0, 1.0}, loose), 1e-9);
+  EXPECT_LE(greedyMeshViolation(nested(32, 32, childHeights, parentCorners, 0, 1.0), loose), 1e-9);
   const std::vector<double> looseMorphed = rasterize(cornersOf(loose, childParent, 33), 32, 32);
   double looseGap = 0;
   for (size_t s = 0; s < looseMorphed.size(); ++s)
@@ -134,8 +147,8 @@ TEST(GreedyMesher, NeighboursShareTheirCommonSidesVertices) {
   // Two 40 x 40 rectangles side by side, sharing the line x = 40.
   const std::vector<double> left = grid(0, 0, 40, 40), right = grid(40, 0, 40, 40);
   const std::vector<SurfaceCorner> rect = square(0, 0, 40);
-  const GreedyMesh l = greedyMesh({40, 40, left, rect, 0, 0.3});
-  const GreedyMesh r = greedyMesh({40, 40, right, rect, 0, 0.3});
+  const GreedyMesh l = greedyMesh(nested(40, 40, left, rect, 0, 0.3));
+  const GreedyMesh r = greedyMesh(nested(40, 40, right, rect, 0, 0.3));
   std::set<int32_t> onLeft, onRight;
   for (size_t i = 0; i < l.x.size(); ++i)
     if (l.x[i] == 40) onLeft.insert(l.y[i]);
@@ -150,8 +163,8 @@ TEST(GreedyMesher, RefusesAParentThatCrossesALineOffTheGrid) {
   // An edge from (0, 0) to (8, 3) crosses x = 4 at y = 1.5.
   const std::vector<SurfaceCorner> parent = {{0, 0, 0}, {8, 3, 0}, {0, 8, 0}, {0, 0, 0}, {8, 0, 0},
                                              {8, 3, 0}, {0, 8, 0}, {8, 3, 0}, {8, 8, 0}};
-  EXPECT_TRUE(greedyMesh({8, 8, h, parent, 4, 0.1}).triangles.empty());
-  EXPECT_FALSE(greedyMesh({8, 8, h, parent, 0, 0.1}).triangles.empty());
+  EXPECT_TRUE(greedyMesh(nested(8, 8, h, parent, 4, 0.1)).triangles.empty());
+  EXPECT_FALSE(greedyMesh(nested(8, 8, h, parent, 0, 0.1)).triangles.empty());
 }
 
 }  // namespace
