@@ -1,5 +1,7 @@
 #include "terralod/build/greedy_mesher.h"
 
+#include "terralod/core/sample_raster.h"
+
 #include <meshoptimizer.h>
 
 #include <algorithm>
@@ -338,44 +340,27 @@ class Mesher {
     const bool gap = morphs() && mIn.gap > 0.0;
     const double pa = gap ? parentAt(a) : 0.0, pb = gap ? parentAt(b) : 0.0,
                  pc = gap ? parentAt(c) : 0.0;
-    const auto x0 = int32_t(std::max<int64_t>(std::min({ax, bx, cx}), 1));
-    const auto x1 = int32_t(std::min<int64_t>(std::max({ax, bx, cx}), mIn.width - 1));
-    const auto y0 = int32_t(std::max<int64_t>(std::min({ay, by, cy}), 1));
-    const auto y1 = int32_t(std::min<int64_t>(std::max({ay, by, cy}), mIn.height - 1));
     const double inv = 1.0 / double(area);
     const int64_t d0 = -(cy - by), d1 = -(ay - cy), d2 = -(by - ay);
     double worst = 0.0;
     int32_t where = -1;
-    for (int32_t y = y0; y <= y1; ++y) {
-      int64_t w0 = orient(bx, by, cx, cy, x0, y), w1 = orient(cx, cy, ax, ay, x0, y),
-              w2 = orient(ax, ay, bx, by, x0, y);
-      // The row's span inside the triangle: w + d * k >= 0 for each edge function.
-      int64_t from = 0, to = x1 - x0;
-      for (const auto& [w, d] : {std::pair{w0, d0}, std::pair{w1, d1}, std::pair{w2, d2}}) {
-        if (d > 0)
-          from = std::max(from, w >= 0 ? 0 : (-w + d - 1) / d);
-        else if (d < 0)
-          to = std::min(to, w < 0 ? -1 : w / -d);
-        else if (w < 0)
-          to = -1;
-      }
-      if (from > to) continue;
-      w0 += d0 * from;
-      w1 += d1 * from;
-      w2 += d2 * from;
-      for (auto x = int32_t(x0 + from); x <= x0 + to; ++x, w0 += d0, w1 += d1, w2 += d2) {
-        assert((w0 | w1 | w2) >= 0);
-        const size_t s = sample(x, y);
-        double v = violation(s, (double(w0) * za + double(w1) * zb + double(w2) * zc) * inv);
-        if (gap)
-          v = std::max(
-              v, gapViolation(s, (double(w0) * pa + double(w1) * pb + double(w2) * pc) * inv));
-        if (v > worst) {
-          worst = v;
-          where = int32_t(s);
-        }
-      }
-    }
+    forEachTriangleRow(
+        mP[size_t(a)], mP[size_t(b)], mP[size_t(c)], 1, mIn.width - 1, 1, mIn.height - 1,
+        [&](int64_t y, int64_t lo, int64_t hi) {
+          int64_t w0 = orient(bx, by, cx, cy, lo, y), w1 = orient(cx, cy, ax, ay, lo, y),
+                  w2 = orient(ax, ay, bx, by, lo, y);
+          for (int64_t x = lo; x <= hi; ++x, w0 += d0, w1 += d1, w2 += d2) {
+            const size_t s = sample(int32_t(x), int32_t(y));
+            double v = violation(s, (double(w0) * za + double(w1) * zb + double(w2) * zc) * inv);
+            if (gap)
+              v = std::max(
+                  v, gapViolation(s, (double(w0) * pa + double(w1) * pb + double(w2) * pc) * inv));
+            if (v > worst) {
+              worst = v;
+              where = int32_t(s);
+            }
+          }
+        });
     mCandidate[size_t(t)] = where;
     if (where >= 0) mQueue.push({worst, t, mSerial[size_t(t)]});
   }
@@ -431,9 +416,9 @@ class Mesher {
       setTriangle(T, c, a, p);
       const int32_t T1 = addTriangle(c, p, b);
       link(3 * T, xca, fca);
-      link(3 * T + 1, -1, 1);
+      link(3 * T + 1, -1, kLine);
       link(3 * T + 2, 3 * T1, 0);
-      link(3 * T1 + 1, -1, 1);
+      link(3 * T1 + 1, -1, kLine);
       link(3 * T1 + 2, xbc, fbc);
       addSideEdge(3 * T + 1);
       addSideEdge(3 * T1 + 1);

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cstdint>
 
+#include "terralod/core/sample_raster.h"
+
 namespace terralod {
 
 struct SurfaceCorner {
@@ -41,27 +43,24 @@ void rasterizeTriangle(const SurfaceCorner (&c)[3], int32_t x0, int32_t y0, int3
   if (area == 0) return;
   const int s = area > 0 ? 1 : -1;
   area *= s;
-  const int32_t bx0 = std::max({x0, std::min({c[0].x, c[1].x, c[2].x})});
-  const int32_t bx1 = std::min({x1, std::max({c[0].x, c[1].x, c[2].x})});
-  const int32_t by0 = std::max({y0, std::min({c[0].y, c[1].y, c[2].y})});
-  const int32_t by1 = std::min({y1, std::max({c[0].y, c[1].y, c[2].y})});
   const double inv = 1.0 / double(area);
-  for (int32_t y = by0; y <= by1; ++y)
-    for (int32_t x = bx0; x <= bx1; ++x) {
+  forEachTriangleRow(c[0], c[1], c[2], x0, x1, y0, y1, [&](int64_t y, int64_t lo, int64_t hi) {
+    for (int64_t x = lo; x <= hi; ++x) {
       const int64_t w0 = s * orient(c[1], c[2], x, y), w1 = s * orient(c[2], c[0], x, y),
                     w2 = s * orient(c[0], c[1], x, y);
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      const auto gx = int32_t(x), gy = int32_t(y);
       double z;
       if (w0 == 0)
-        z = heightOnEdge(c[1], c[2], x, y);
+        z = heightOnEdge(c[1], c[2], gx, gy);
       else if (w1 == 0)
-        z = heightOnEdge(c[2], c[0], x, y);
+        z = heightOnEdge(c[2], c[0], gx, gy);
       else if (w2 == 0)
-        z = heightOnEdge(c[0], c[1], x, y);
+        z = heightOnEdge(c[0], c[1], gx, gy);
       else
         z = (double(w0) * c[0].z + double(w1) * c[1].z + double(w2) * c[2].z) * inv;
-      emit(x, y, z);
+      emit(gx, gy, z);
     }
+  });
 }
 
 }  // namespace terralod
