@@ -209,6 +209,30 @@ TEST(Verify, CatchesAMorphTargetOffItsParent) {
   })) << ::testing::PrintToString(bad->failures);
 }
 
+TEST(Verify, CatchesAFullyMorphedChunkOffItsParentLevelsBound) {
+  // While a chunk geomorphs it stands in for its parent: fully morphed, it must hold the
+  // parent level's bound. One vertex of a level-1 chunk sent 2.5 x that bound below its target.
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(129, 129, 10), dir.file("in.tif"));
+  build(dir.file("in.tif"), dir.file("good.tlod"), 1.0);
+  auto reader = TilesetReader::openFile(dir.file("good.tlod")).value();
+  uint32_t victim = 0;
+  while (reader->nodes()[victim].level != 1) ++victim;
+  const double parentBound = reader->header().levelError[0];
+  tamperChunk(dir.file("good.tlod"), dir.file("bad.tlod"), victim, [&](ChunkGeometry& g) {
+    ChunkVertex& v = g.parts[0].vertices[g.parts[0].indices[0]];
+    v.morphDelta = int16_t(v.morphDelta - int(std::ceil(2.5 * parentBound / g.zStep)));
+  });
+  NullProgress progress;
+  auto bad = verifyTileset(dir.file("bad.tlod"), dir.file("in.tif"), {}, progress);
+  ASSERT_TRUE(bad.ok());
+  EXPECT_FALSE(bad->ok());
+  EXPECT_TRUE(std::any_of(bad->failures.begin(), bad->failures.end(), [](const std::string& f) {
+    return f.find("fully morphed, error") != std::string::npos &&
+           f.find("exceeds its parent level's bound") != std::string::npos;
+  })) << ::testing::PrintToString(bad->failures);
+}
+
 TEST(Verify, CatchesMissingSkirts) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(129, 129, 9), dir.file("in.tif"));
