@@ -73,6 +73,12 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                 "Store every chunk's own texture, also where its parent's already holds the same "
                 "texels (by default such chunks draw their parent's: levels capped at the "
                 "source's resolution store their texels once; this shows what that saves)");
+  auto bakeColour = std::make_shared<bool>(false);
+  cmd->add_flag("--bake-colour", *bakeColour,
+                "Store the generated colour as a colour texture (format version 5) instead of "
+                "the shade layer the shader makes it from (version 6: water and occlusion, a "
+                "quarter of the texels' information; the colour itself comes from the drawn "
+                "height, the normal map and the latitude's snow line)");
   auto mesher = std::make_shared<std::string>("rtin");
   cmd->add_option("--mesher", *mesher,
                   "Static chunks below the blocks: rtin (right-triangle bintree meshes, each "
@@ -154,9 +160,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules,
-                 minTau, blotError, upperLevels, staged, mesher] {
+                 minTau, blotError, upperLevels, staged, mesher, bakeColour] {
     run = [options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules, minTau,
-           blotError, upperLevels, staged, mesher] {
+           blotError, upperLevels, staged, mesher, bakeColour] {
       keepFreedMemoryForReuse();
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
@@ -165,6 +171,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return fail("--texture-per-chunk and --no-texture contradict each other");
       options->textureSharing = *perChunk ? TextureSharing::kEveryChunk : TextureSharing::kInherit;
       options->mesher = *mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
+      if (*bakeColour && (*noTexture || !options->textureImage.empty() || *kind == "vipm"))
+        return fail("--bake-colour applies to the generated colour of --kind static only");
+      options->generatedColour = *bakeColour ? GeneratedColour::kBaked : GeneratedColour::kShader;
       if (*kind == "vipm") {
         if (options->mesher != MeshMethod::kRtin)
           return fail("--mesher applies to --kind static only");

@@ -125,8 +125,10 @@ int printInfo(const std::string& path, bool json) {
         vipmNormalMapCells(h.rootCells) + 1);
   } else if (h.textured() && !metadata.is_discarded() && metadata.contains("texture")) {
     const auto& texture = metadata["texture"];
-    std::printf("  textures        colour %s, normals from the DEM, sized for tau <= %.2f px\n",
-                texture.value("color", "?").c_str(), h.textureMinTau);
+    const bool shade = texture.value("color_layer", "color") == "shade";
+    std::printf("  textures        colour %s%s, normals from the DEM, sized for tau <= %.2f px\n",
+                texture.value("color", "?").c_str(),
+                shade ? " by the shader (stored: water and occlusion, BC4)" : "", h.textureMinTau);
   }
   std::printf("  level  error(m)    chunks    vertices   triangles       bytes  bytes/vertex%s\n",
               h.textured() ? "  texture bytes  texels/side" : "");
@@ -162,7 +164,7 @@ int printInfo(const std::string& path, bool json) {
   std::printf("\n");
   if (h.textured())
     std::printf(
-        "  (texels/side: colour/normal; * = source-limited: the source's own resolution;\n"
+        "  (texels/side: colour or shade/normal; * = source-limited: the source's resolution;\n"
         "   the parent's: the level draws its parents' textures, which hold its texels)\n");
   std::printf("  file            %llu bytes, %.3f bytes per source sample\n",
               (unsigned long long)h.fileBytes, double(h.fileBytes) / double(samples));

@@ -1,6 +1,8 @@
 // The generated colour on a real coast: Burrard Inlet, Indian Arm and Boundary Bay (SRTM 3",
 // sea stored as 0 m) come out as water in the leaf textures, rough land never does; and the
-// same sea stored as nodata (filled by the void filler) is water too.
+// same sea stored as nodata (filled by the void filler) is water too. Water is found per
+// sample, so those builds bake the colour (--bake-colour: a texel on every sample); the
+// default's shade layer (half the resolution) gives the same colours where its texels lie.
 
 #include <gdal_priv.h>
 #include <gtest/gtest.h>
@@ -117,8 +119,8 @@ Counts count(const Dem& original, const std::vector<int>& water) {
 
 TEST(GeneratedColours, SeaOfACoastalDemIsWater) {
   TempDir dir;
-  const RunResult r =
-      runTerralod({"build", kCoast, "-o", dir.file("coast.tlod"), "--threads", "2"});
+  const RunResult r = runTerralod(
+      {"build", kCoast, "-o", dir.file("coast.tlod"), "--threads", "2", "--bake-colour"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Dem dem = readDem(kCoast);
   const Counts c = count(dem, waterTexels(dir.file("coast.tlod"), dem));
@@ -153,8 +155,8 @@ TEST(GeneratedColours, SeaStoredAsNodataIsWater) {
       if (s <= 0) s = -32767;
     ASSERT_EQ(band->RasterIO(GF_Write, 0, 0, w, h, v.data(), w, h, GDT_Int16, 0, 0), CE_None);
   }
-  const RunResult r =
-      runTerralod({"build", nodataSea, "-o", dir.file("coast.tlod"), "--threads", "2"});
+  const RunResult r = runTerralod(
+      {"build", nodataSea, "-o", dir.file("coast.tlod"), "--threads", "2", "--bake-colour"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Dem dem = readDem(kCoast);
   const Counts c = count(dem, waterTexels(dir.file("coast.tlod"), dem));
@@ -163,6 +165,61 @@ TEST(GeneratedColours, SeaStoredAsNodataIsWater) {
   auto tileset = TilesetReader::openFile(dir.file("coast.tlod"));
   ASSERT_TRUE(tileset.ok());
   EXPECT_NE((*tileset)->metadataJson().find("\"sea_voids\""), std::string::npos);
+}
+
+// The default build stores a shade layer and the colour is made from it (the shader, and
+// readNodeColour for tools): at every shade texel of every leaf, the colour is the baked
+// build's at the same place, water where it is water.
+TEST(GeneratedColours, ShadeLayerGivesTheBakedColour) {
+  TempDir dir;
+  for (const char* name : {"shade.tlod", "baked.tlod"}) {
+    std::vector<std::string> args{"build", kCoast, "-o", dir.file(name), "--threads", "2"};
+    if (std::string(name) == "baked.tlod") args.push_back("--bake-colour");
+    const RunResult r = runTerralod(args);
+    ASSERT_EQ(r.exitCode, 0) << r.err;
+  }
+  auto shade = TilesetReader::openFile(dir.file("shade.tlod"));
+  auto baked = TilesetReader::openFile(dir.file("baked.tlod"));
+  ASSERT_TRUE(shade.ok() && baked.ok());
+  EXPECT_EQ((*shade)->header().version, 6u);
+  EXPECT_EQ((*baked)->header().version, 5u);
+  ASSERT_EQ((*shade)->nodes().size(), (*baked)->nodes().size());
+  const uint32_t leaf = (*shade)->header().levelCount - 1;
+  double sum = 0;
+  size_t texels = 0, water = 0, waterAgrees = 0, land = 0;
+  auto isWater = [](const uint8_t* p) {
+    bool w = true;
+    for (int c = 0; c < 3; ++c) w = w && std::abs(p[c] - kWater[size_t(c)]) <= 12;
+    return w;
+  };
+  for (uint32_t i = 0; i < (*shade)->nodes().size(); ++i) {
+    if ((*shade)->nodes()[i].level != leaf) continue;
+    auto a = readNodeColour(**shade, i);
+    auto b = readNodeColour(**baked, i);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(2 * a->size - 1, b->size) << "the shade layer has half the texel intervals";
+    for (uint32_t y = 0; y < a->size; ++y)
+      for (uint32_t x = 0; x < a->size; ++x) {
+        const uint8_t* p = &a->rgb[(size_t(y) * a->size + x) * 3];
+        const uint8_t* q = &b->rgb[(size_t(2 * y) * b->size + 2 * x) * 3];
+        for (int c = 0; c < 3; ++c) sum += std::abs(int(p[c]) - int(q[c]));
+        ++texels;
+        if (isWater(q)) {
+          ++water;
+          waterAgrees += isWater(p);
+        } else {
+          ++land;
+        }
+      }
+  }
+  ASSERT_GT(water, 1000u);
+  ASSERT_GT(land, 1000u);
+  const double mean = sum / double(3 * texels);
+  std::printf("shade against baked: %.2f/255 mean over %zu texels; water %zu, agreeing %zu\n", mean,
+              texels, water, waterAgrees);
+  EXPECT_LT(mean, 3.0);
+  // (Shade texels by the shore mix water and land: 2.17/255 mean and 93 % when written.)
+  EXPECT_GT(double(waterAgrees) / double(water), 0.9);
 }
 
 }  // namespace

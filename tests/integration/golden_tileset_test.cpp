@@ -1,4 +1,4 @@
-// The format is frozen: tilesets written by format versions 1 to 5 (static RTIN chunks,
+// The format is frozen: tilesets written by format versions 1 to 6 (static RTIN chunks,
 // and VIPM chunks in version 2) must always read, and
 // building their source again must give the same bytes (or scripts/update-golden-tileset.sh
 // was run on purpose and the change reviewed).
@@ -16,9 +16,11 @@
 namespace terralod::test {
 namespace {
 
-// What the builder writes today: version 4 without textures, version 5 with.
+// What the builder writes today: version 4 without textures, version 6 with (the shade layer),
+// version 5 with the generated colour baked.
 const std::string kGolden = testData("golden/v4/gully-untextured.tlod");
-const std::string kGoldenTextured = testData("golden/v5/gully.tlod");
+const std::string kGoldenTextured = testData("golden/v6/gully.tlod");
+const std::string kGoldenBaked = testData("golden/v5/gully.tlod");
 const std::string kGoldenVipm = testData("golden/vipm/gully.tlod");
 
 // golden/VERSION/NAME.tlod against its NAME.json.
@@ -51,7 +53,7 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
     }
     nodeSkirtTriangles += t.nodes()[i].skirtTriangleCount;
     vertices += t.nodes()[i].vertexCount;
-    if (chunk->texture && chunk->texture->find(TextureLayerKind::kColor) &&
+    if (chunk->texture && chunk->texture->colourSource() &&
         chunk->texture->find(TextureLayerKind::kNormal))
       ++withTexture;
     // Version 5: a chunk may draw its parent's texture instead (its square of it).
@@ -67,7 +69,14 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
   EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
   EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
   EXPECT_EQ(withTexture + inherited, textured ? t.nodes().size() : 0u);
-  EXPECT_EQ(inherited > 0, version == "v5") << "only version 5 shares textures (and gully's do)";
+  EXPECT_EQ(inherited > 0, version >= "v5") << "versions 5 and 6 share textures (gully's do)";
+  // Version 6 stores a shade layer where version 5 stores the colour.
+  auto root = t.readChunkData(0);
+  ASSERT_TRUE(root.ok()) << root.error().message;
+  if (textured) {
+    EXPECT_EQ(root->texture->colourSource()->kind,
+              version == "v6" ? TextureLayerKind::kShade : TextureLayerKind::kColor);
+  }
 }
 
 TEST(GoldenTileset, VersionOneStillReads) {
@@ -85,6 +94,9 @@ TEST(GoldenTileset, VersionFourStillReads) {
 }
 TEST(GoldenTileset, VersionFiveReads) {
   expectGoldenReads("v5");
+}
+TEST(GoldenTileset, VersionSixReads) {
+  expectGoldenReads("v6");
 }
 
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
@@ -104,6 +116,16 @@ TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
                    dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2"});
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenTextured))
+      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+}
+
+TEST(GoldenTileset, BuildingTheBakedColourAgainGivesTheSameBytes) {
+  TempDir dir;
+  const RunResult r = runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
+                                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2",
+                                   "--bake-colour"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenBaked))
       << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
 }
 

@@ -56,6 +56,7 @@ std::string buildPlanJson(const BuildPlan& plan) {
       {"min_tau", o.textureTau},
       {"texture_sharing", o.textureSharing == TextureSharing::kInherit ? "inherit" : "every-chunk"},
       {"mesher", o.mesher == MeshMethod::kGreedy ? "greedy" : "rtin"},
+      {"generated_colour", o.generatedColour == GeneratedColour::kBaked ? "baked" : "shader"},
       {"block_cells", plan.blockCells},
       {"height_range", {plan.heightLo, plan.heightHi}},
       {"exact_range", plan.exactRange},
@@ -107,6 +108,10 @@ Result<BuildPlan> parseBuildPlan(const std::string& text, const std::string& sub
     if (mesher != "rtin" && mesher != "greedy")
       return makeError(subject, "unknown mesher \"" + mesher + "\"");
     o.mesher = mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
+    const std::string colour = j.at("generated_colour").get<std::string>();
+    if (colour != "shader" && colour != "baked")
+      return makeError(subject, "unknown generated colour \"" + colour + "\"");
+    o.generatedColour = colour == "baked" ? GeneratedColour::kBaked : GeneratedColour::kShader;
     plan.blockCells = j.at("block_cells").get<int32_t>();
     const auto range = j.at("height_range").get<std::array<double, 2>>();
     plan.heightLo = range[0];

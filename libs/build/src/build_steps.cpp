@@ -30,6 +30,11 @@ std::array<double, 2> guessHeightRange(const DemReader& reader) {
   return {(*estimate)[0] - 0.25 * span - 50.0, (*estimate)[1] + 0.25 * span + 50.0};
 }
 
+bool storesShade(const BuildOptions& options) {
+  return options.textures && options.textureImage.empty() &&
+         options.generatedColour == GeneratedColour::kShader;
+}
+
 TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layout,
                              const ErrorBudget& budget, const DemReader& reader,
                              const ImageDrape* image) {
@@ -46,7 +51,10 @@ TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layo
   textures.surface.rowLatitudes =
       std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
   textures.image = image;
+  textures.colourKind =
+      storesShade(options) && !image ? TextureLayerKind::kShade : TextureLayerKind::kColor;
   textures.zstdLevel = options.compressionLevel;
+  if (textures.colourKind == TextureLayerKind::kShade) halveColourTiles(textures.plan);
   return textures;
 }
 
@@ -87,7 +95,8 @@ TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
   header.verticalScale = options.dem.verticalScale;
   header.version = kTilesetVersionStatic;
   if (options.textures) {
-    header.version = kTilesetVersionStaticTextured;
+    header.version =
+        storesShade(options) ? kTilesetVersionStaticShaded : kTilesetVersionStaticTextured;
     header.flags |= kTilesetTextured;
     header.textureMinTau = options.textureTau;
   }
@@ -139,6 +148,15 @@ std::string tilesetMetadataJson(const DemInfo& info, const BuildOptions& options
       j["texture"]["latitude"] = {*lo, *hi};
     } else {
       j["texture"]["latitude_assumed"] = kUnknownLatitude;
+    }
+    if (textures->colourKind == TextureLayerKind::kShade) {
+      j["texture"]["color_layer"] = "shade";
+      const uint32_t rows = uint32_t(std::max(1, textures->surface.rows));
+      j["texture"]["snow_line"] = {
+          {"last_row", rows - 1},
+          {"metres",
+           snowLineSamples(
+               latitudes ? std::span<const double>(*latitudes) : std::span<const double>(), rows)}};
     }
     if (textures->surface.seaVoids) j["texture"]["sea_voids"] = textures->surface.seaVoids->count();
   }

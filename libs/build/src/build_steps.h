@@ -26,6 +26,10 @@ bool streamsInput(const BuildOptions& options, const DemInfo& info);
 /// sample has been seen; a second attempt uses the true range.
 std::array<double, 2> guessHeightRange(const DemReader& reader);
 
+/// Whether a build stores the shade layer (the generated colour made in the shader, version 6)
+/// rather than a colour layer.
+bool storesShade(const BuildOptions& options);
+
 /// The texture pyramid's plan and the generated colour's inputs (without sea voids, which only
 /// an in-memory build with voids knows).
 TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layout,

@@ -14,56 +14,8 @@ namespace terralod {
 namespace {
 
 constexpr int32_t kReliefRadius = BlockTexels::kMargin - 1;
-constexpr double kRadians = 3.14159265358979323846 / 180.0;
 static_assert(2 * kWaterRadius <= BlockTexels::kMargin,
               "water windows around the margin's inner samples must lie in the window");
-
-using Rgb = GroundColor;
-Rgb mix(Rgb a, Rgb b, float t) {
-  return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t};
-}
-float smoothstep(float e0, float e1, float x) {
-  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
-  return t * t * (3 - 2 * t);
-}
-
-// The palette by height in metres (display values), linear between stops; below the first
-// and above the last, the end colours.
-struct Stop {
-  float height;
-  Rgb color;
-};
-constexpr Stop kPalette[] = {
-    {0, {0.553f, 0.682f, 0.451f}},     // coastal lowland, green
-    {300, {0.600f, 0.710f, 0.482f}},   // lowland
-    {800, {0.698f, 0.737f, 0.541f}},   // hills, olive
-    {1500, {0.769f, 0.741f, 0.580f}},  // uplands, tan
-    {2300, {0.722f, 0.655f, 0.553f}},  // mountains, brown
-    {3200, {0.690f, 0.659f, 0.631f}},  // high rock, grey
-    {5000, {0.761f, 0.741f, 0.722f}},  // the highest rock, lighter
-};
-
-Rgb paletteColor(float height) {
-  if (height <= kPalette[0].height) return kPalette[0].color;
-  for (size_t i = 1; i < std::size(kPalette); ++i)
-    if (height < kPalette[i].height)
-      return mix(kPalette[i - 1].color, kPalette[i].color,
-                 (height - kPalette[i - 1].height) / (kPalette[i].height - kPalette[i - 1].height));
-  return kPalette[std::size(kPalette) - 1].color;
-}
-
-constexpr float kSnowBand = 400.0f;  // metres from the snow line to full cover
-
-float snowCoverBelow(float height, float snowLine) {
-  return smoothstep(snowLine, snowLine + kSnowBand, height);
-}
-
-// groundColor for a snow line already worked out (a cosine per texel would cost).
-Rgb groundColorBelow(float height, float slope, float snowLine) {
-  Rgb c = mix(paletteColor(height), kSnowColor, snowCoverBelow(height, snowLine));
-  // Steep ground is bare rock at any height; snow does not hold on it.
-  return mix(c, kBareRockColor, smoothstep(0.45f, 0.75f, slope));
-}
 
 // Linear light to display values (gamma 2.2), by table: pow() per texel is a build hot spot.
 float toDisplay(float linear) {
@@ -78,20 +30,6 @@ float toDisplay(float linear) {
 }
 
 }  // namespace
-
-double snowLine(double latitudeDeg) {
-  if (std::isnan(latitudeDeg)) latitudeDeg = kUnknownLatitude;
-  const double c = std::max(0.0, std::cos(std::clamp(latitudeDeg, -90.0, 90.0) * kRadians));
-  return 5200.0 * c * std::sqrt(c);
-}
-
-float snowCover(double height, double latitudeDeg) {
-  return snowCoverBelow(float(height), float(snowLine(latitudeDeg)));
-}
-
-GroundColor groundColor(double height, float slope, double latitudeDeg) {
-  return groundColorBelow(float(height), slope, float(snowLine(latitudeDeg)));
-}
 
 Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDrape* image,
                          int32_t x0, int32_t y0, int32_t cells) {
@@ -216,20 +154,8 @@ TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
                                   [this](int32_t gx, int32_t gy) { return height(gx, gy); });
 }
 
-void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
-  const int32_t ly = gy - mY0;
-  if (mWater[size_t(ly) * mSide + size_t(gx - mX0)]) {
-    rgb[0] = kWaterColor.r;
-    rgb[1] = kWaterColor.g;
-    rgb[2] = kWaterColor.b;
-    return;
-  }
-  const float h = height(gx, gy);
-  const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * float(0.5 / mOptions.spacingX);
-  const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * float(0.5 / mOptions.spacingY);
-  const float nz = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-  const Rgb c = groundColorBelow(h, 1.0f - nz, mRowSnowLine[size_t(ly)]);
-  // Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.
+// Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.
+float BlockTexels::occlusion(int32_t gx, int32_t gy) const {
   const int32_t r = kReliefRadius;
   const int32_t lx0 = gx - mX0 - r, ly0 = gy - mY0 - r, lx1 = gx - mX0 + r + 1,
                 ly1 = gy - mY0 + r + 1;
@@ -238,13 +164,39 @@ void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
                      mSums[size_t(ly1) * w + lx0] + mSums[size_t(ly0) * w + lx0];
   const double mean = sum / double((2 * r + 1) * (2 * r + 1));
   const double scale = r * std::max(mOptions.spacingX, mOptions.spacingY);
-  const float occlusion = float(std::clamp(1.0 + 0.8 * (h - mean) / scale, 0.6, 1.0));
-  // Stored as display values: darkening linear light by `occlusion` scales display values by
-  // occlusion^(1/2.2).
-  const float shade = toDisplay(occlusion);
+  return float(std::clamp(1.0 + 0.8 * (height(gx, gy) - mean) / scale, double(kMinOcclusion), 1.0));
+}
+
+void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
+  if (water(gx, gy)) {
+    rgb[0] = kWaterColor.r;
+    rgb[1] = kWaterColor.g;
+    rgb[2] = kWaterColor.b;
+    return;
+  }
+  const int32_t ly = gy - mY0;
+  const float h = height(gx, gy);
+  const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * float(0.5 / mOptions.spacingX);
+  const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * float(0.5 / mOptions.spacingY);
+  const float nz = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
+  const GroundColor c = groundColorBelow(h, 1.0f - nz, mRowSnowLine[size_t(ly)]);
+  // Stored as display values: darkening linear light by the occlusion scales display values
+  // by occlusion^(1/2.2).
+  const float shade = toDisplay(occlusion(gx, gy));
   rgb[0] = c.r * shade;
   rgb[1] = c.g * shade;
   rgb[2] = c.b * shade;
+}
+
+TexelTile BlockTexels::shades(int32_t x0, int32_t y0, int32_t cells) const {
+  TexelTile tile(uint32_t(cells + 1), 1);
+  for (int32_t j = 0; j <= cells; ++j)
+    for (int32_t i = 0; i <= cells; ++i) {
+      const int32_t gx = x0 + i, gy = y0 + j;
+      const bool w = water(gx, gy);
+      *tile.at(uint32_t(i), uint32_t(j)) = shadeValue(w, w ? 1.0f : occlusion(gx, gy));
+    }
+  return tile;
 }
 
 TexelTile BlockTexels::colors(int32_t x0, int32_t y0, int32_t cells) const {

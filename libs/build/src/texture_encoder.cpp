@@ -77,6 +77,12 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
       stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
     });
   }
+  if (encoding == TextureEncoding::kBc4) {
+    std::vector<uint8_t> r(n);
+    for (size_t i = 0; i < n; ++i) r[i] = toByte(level.values[i]);
+    return encodeBlocks<1>(r, level.size, 8,
+                           [](uint8_t* out, uint8_t* t) { stb_compress_bc4_block(out, t); });
+  }
   std::vector<uint8_t> rg(n * 2);
   for (size_t i = 0; i < n; ++i) {
     const float* v = level.values.data() + i * 3;
@@ -104,7 +110,7 @@ std::vector<uint8_t> concatBlocks(const std::array<const std::vector<uint8_t>*, 
   if (childSize % 4 != 0) return {};
   for (const auto* c : children)
     if (!c) return {};
-  const size_t blockBytes = encoding == TextureEncoding::kBc1 ? 8 : 16;
+  const size_t blockBytes = mipBytes(encoding, 4, 0);
   const uint32_t childBlocks = childSize / 4, parentBlocks = 2 * childBlocks;
   std::vector<uint8_t> out(size_t(parentBlocks) * parentBlocks * blockBytes);
   for (uint32_t q = 0; q < 4; ++q) {
@@ -122,7 +128,7 @@ std::vector<uint8_t> mosaicBlocks(const std::array<const std::vector<uint8_t>*, 
   if ((childSize - 1) % 4 != 0) return {};
   for (const auto* c : children)
     if (!c) return {};
-  const size_t blockBytes = encoding == TextureEncoding::kBc1 ? 8 : 16;
+  const size_t blockBytes = mipBytes(encoding, 4, 0);
   const uint32_t childBlocks = (childSize + 3) / 4, step = (childSize - 1) / 4;
   const uint32_t parentBlocks = (2 * childSize - 1 + 3) / 4;
   std::vector<uint8_t> out(size_t(parentBlocks) * parentBlocks * blockBytes);

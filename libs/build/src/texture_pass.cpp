@@ -171,7 +171,7 @@ ChunkTiles TexturePass::finishParent(uint32_t node, PartialTiles& partial,
   // One layer at a time, each child's layer released once used: the peak holds the children's
   // normals and the parent's colour, not both layers of all five.
   ChunkTiles out;
-  out.color = layerOf(&ChunkTiles::color, *partial.color, plan.colorSize, TextureEncoding::kBc1);
+  out.color = layerOf(&ChunkTiles::color, *partial.color, plan.colorSize, mBuild.colourEncoding());
   out.normal =
       layerOf(&ChunkTiles::normal, *partial.normal, plan.normalSize, TextureEncoding::kBc5);
   return out;
@@ -201,7 +201,7 @@ std::vector<uint8_t> TexturePass::encode(uint32_t node, const ChunkTiles& tiles)
   };
   ChunkTexture texture;
   texture.layers.push_back(
-      layer(tiles.color, TextureLayerKind::kColor, TextureEncoding::kBc1, plan.colorFlags));
+      layer(tiles.color, mBuild.colourKind, mBuild.colourEncoding(), plan.colorFlags));
   texture.layers.push_back(
       layer(tiles.normal, TextureLayerKind::kNormal, TextureEncoding::kBc5, plan.normalFlags));
   return encodeTexture(texture, mBuild.zstdLevel);
@@ -233,8 +233,11 @@ Result<ChunkTiles> TexturePass::buildBlock(
       const int32_t c = mLayout.chunkCells(n.level);
       const int32_t x0 = int32_t(n.x) * c, y0 = int32_t(n.y) * c;
       const TextureLevel& plan = mBuild.plan[n.level];
-      t.color =
-          levelsOf(resampleTile(texels.colors(x0, y0, c), plan.colorSize), TextureEncoding::kBc1);
+      t.color = levelsOf(
+          resampleTile(mBuild.colourKind == TextureLayerKind::kShade ? texels.shades(x0, y0, c)
+                                                                     : texels.colors(x0, y0, c),
+                       plan.colorSize),
+          mBuild.colourEncoding());
       t.normal =
           levelsOf(resampleTile(texels.normals(x0, y0, c), plan.normalSize), TextureEncoding::kBc5);
     } else {

@@ -47,4 +47,14 @@ std::vector<TextureLevel> planTextures(const TreeLayout& layout,
   return plan;
 }
 
+void halveColourTiles(std::vector<TextureLevel>& plan) {
+  for (TextureLevel& t : plan) {
+    t.colorSize = std::max(2u, (t.normalSize - 1) / 2 + 1);
+    t.colorFlags = t.normalFlags;
+  }
+  for (size_t level = 1; level < plan.size(); ++level)
+    plan[level].inherited =
+        plan[level].inherited && plan[level - 1].colorSize == 2 * plan[level].colorSize - 1;
+}
+
 }  // namespace terralod

@@ -1,5 +1,5 @@
 // The staged build's plan.json is read by every job, possibly of another terralod build on
-// another node: its fields are frozen (tests/data/golden/build_plan/v3.json).
+// another node: its fields are frozen (tests/data/golden/build_plan/v4.json).
 
 #include "terralod/build/build_plan.h"
 
@@ -12,7 +12,7 @@ namespace terralod {
 namespace {
 
 std::string golden() {
-  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v3.json");
+  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v4.json");
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -31,6 +31,7 @@ BuildPlan example() {
   plan.options.textureImage = "/data/ortho.tif";
   plan.options.textureTau = 1.5;
   plan.options.mesher = MeshMethod::kGreedy;
+  plan.options.generatedColour = GeneratedColour::kBaked;
   plan.blockCells = 256;
   plan.heightLo = -10.5;
   plan.heightHi = 2500.25;
@@ -48,7 +49,7 @@ TEST(BuildPlan, WritesTheFrozenFields) {
 }
 
 TEST(BuildPlan, ReadsTheFrozenFields) {
-  auto plan = parseBuildPlan(golden(), "v3.json");
+  auto plan = parseBuildPlan(golden(), "v4.json");
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(buildPlanJson(*plan), golden());
   EXPECT_EQ(plan->options.input, "/data/dem.tif");
@@ -62,9 +63,9 @@ TEST(BuildPlan, ReadsTheFrozenFields) {
 TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   EXPECT_EQ(parseBuildPlan("{", "p.json").error().message, "p.json: not a terralod build plan");
   std::string newer = golden();
-  newer.replace(newer.find("\"version\": 3"), 12, "\"version\": 9");
+  newer.replace(newer.find("\"version\": 4"), 12, "\"version\": 9");
   EXPECT_EQ(parseBuildPlan(newer, "p.json").error().message,
-            "p.json: build plan version 9 (this terralod reads version 3)");
+            "p.json: build plan version 9 (this terralod reads version 4)");
   std::string broken = golden();
   broken.replace(broken.find("\"jobs\""), 6, "\"jabs\"");
   EXPECT_NE(parseBuildPlan(broken, "p.json").error().message.find("p.json: build plan field"),
@@ -76,6 +77,10 @@ TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   std::string mesher = golden();
   mesher.replace(mesher.find("\"greedy\""), 8, "\"fancy\"");
   EXPECT_EQ(parseBuildPlan(mesher, "p.json").error().message, "p.json: unknown mesher \"fancy\"");
+  std::string colour = golden();
+  colour.replace(colour.find("\"baked\""), 7, "\"paint\"");
+  EXPECT_EQ(parseBuildPlan(colour, "p.json").error().message,
+            "p.json: unknown generated colour \"paint\"");
 }
 
 }  // namespace

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <string>
 
+#include "terralod/core/sample_raster.h"
+#include "terralod/format/chunk_position.h"
+#include "terralod/format/generated_colour.h"
 #include "terralod/format/texture_decode.h"
 
 namespace terralod {
@@ -21,6 +24,71 @@ Error undividable(const TilesetReader& tileset, uint32_t owner, uint32_t size) {
       "colour texture of " + std::to_string(size) + " texels cannot be shared by its descendants");
 }
 
+// The chunk's own surface (no morph) at every grid point of its square, (cells + 1)² row-major.
+std::vector<float> surfaceHeights(const ChunkGeometry& geometry, int64_t cells) {
+  const size_t side = size_t(cells + 1);
+  std::vector<float> heights(side * side, float(geometry.zBase));
+  for (const ChunkPart& part : geometry.parts)
+    for (uint32_t t = 0; t + 2 < part.surfaceIndexCount; t += 3) {
+      SampleVertex v[3];
+      for (int k = 0; k < 3; ++k) {
+        const ChunkVertex& c = part.vertices[part.indices[t + uint32_t(k)]];
+        v[k] = {c.x, c.y, chunkVertexHeight(geometry, c)};
+      }
+      rasterizeTriangle(v[0], v[1], v[2], 0, cells, 0, cells, [&](int64_t x, int64_t y, double z) {
+        heights[size_t(y) * side + size_t(x)] = float(z);
+      });
+    }
+  return heights;
+}
+
+// The generated colour of a shade layer (format version 6) as the shader makes it
+// (generated_colour.h): height from the chunk's surface, slope from its normal layer.
+Result<std::vector<uint8_t>> shadedRgb(const TilesetReader& tileset, uint32_t owner,
+                                       const ChunkData& chunk, const TextureLayer& shade,
+                                       const std::string& subject) {
+  const TextureLayer* normal = chunk.texture->find(TextureLayerKind::kNormal);
+  if (!normal) return makeError(subject, "shade texture without a normal texture");
+  const std::vector<uint8_t> v = decodeBc4R(shade.mips[0], shade.size);
+  const std::vector<uint8_t> n = decodeBc5Rg(normal->mips[0], normal->size);
+  if (v.empty() || n.empty()) return makeError(subject, "shade texture cannot be decoded");
+  const TilesetHeader& header = tileset.header();
+  const NodeRecord& node = tileset.nodes()[owner];
+  const int64_t cells = header.chunkCells(node.level);
+  const auto origin = chunkCellOrigin(header, node);
+  const std::vector<float> heights = surfaceHeights(chunk.geometry, cells);
+  const TilesetMetadata& m = tileset.metadata();
+  const double lastRow = std::max(1.0, double(m.snowLineLastRow));
+  const uint32_t size = shade.size;
+  auto byte = [](float c) { return uint8_t(std::clamp(c * 255.0f + 0.5f, 0.0f, 255.0f)); };
+  std::vector<uint8_t> rgb(size_t(size) * size * 3);
+  for (uint32_t j = 0; j < size; ++j)
+    for (uint32_t i = 0; i < size; ++i) {
+      // Texel (i, j) lies at (i, j) / (size - 1) of the square: its height bilinearly.
+      const double fx = double(i) * double(cells) / double(size - 1);
+      const double fy = double(j) * double(cells) / double(size - 1);
+      const int64_t x0 = std::min<int64_t>(int64_t(fx), cells - 1);
+      const int64_t y0 = std::min<int64_t>(int64_t(fy), cells - 1);
+      const double tx = fx - double(x0), ty = fy - double(y0);
+      auto h = [&](int64_t x, int64_t y) { return double(heights[size_t(y * (cells + 1) + x)]); };
+      const double height = (h(x0, y0) * (1 - tx) + h(x0 + 1, y0) * tx) * (1 - ty) +
+                            (h(x0, y0 + 1) * (1 - tx) + h(x0 + 1, y0 + 1) * tx) * ty;
+      const uint32_t ni = uint32_t(std::lround(double(i) * (normal->size - 1) / (size - 1)));
+      const uint32_t nj = uint32_t(std::lround(double(j) * (normal->size - 1) / (size - 1)));
+      const float nx = n[(size_t(nj) * normal->size + ni) * 2] / 255.0f * 2 - 1;
+      const float ny = n[(size_t(nj) * normal->size + ni) * 2 + 1] / 255.0f * 2 - 1;
+      const float nz = std::sqrt(std::max(0.0f, 1.0f - nx * nx - ny * ny));
+      const float snow = snowLineAt(m.snowLine, (double(origin[1]) + fy) / lastRow);
+      const GroundColor c =
+          shadedColour(float(height), 1.0f - nz, snow, v[size_t(j) * size + i] / 255.0f);
+      uint8_t* out = &rgb[(size_t(j) * size + i) * 3];
+      out[0] = byte(c.r);
+      out[1] = byte(c.g);
+      out[2] = byte(c.b);
+    }
+  return rgb;
+}
+
 }  // namespace
 
 Result<std::shared_ptr<const NodeColour>> NodeColours::owned(uint32_t owner) {
@@ -32,10 +100,14 @@ Result<std::shared_ptr<const NodeColour>> NodeColours::owned(uint32_t owner) {
   const std::string subject = mTileset.name() + " chunk " + std::to_string(owner);
   auto chunk = mTileset.readChunkData(owner);
   if (!chunk) return chunk.error();
-  const TextureLayer* color =
-      chunk->texture ? chunk->texture->find(TextureLayerKind::kColor) : nullptr;
+  const TextureLayer* color = chunk->texture ? chunk->texture->colourSource() : nullptr;
   auto decoded = std::make_shared<NodeColour>();
-  if (color) {
+  if (color && color->kind == TextureLayerKind::kShade) {
+    auto rgb = shadedRgb(mTileset, owner, *chunk, *color, subject);
+    if (!rgb) return rgb.error();
+    decoded->rgb = std::move(rgb).value();
+    decoded->size = color->size;
+  } else if (color) {
     if (color->encoding != TextureEncoding::kBc1)
       return makeError(subject, "colour texture is not BC1");
     decoded->rgb = decodeBc1Rgb(color->mips[0], color->size);
@@ -77,8 +149,7 @@ Result<uint32_t> nodeColourSize(const TilesetReader& tileset, uint32_t node) {
   if (source.owner == kNoNode) return 0u;
   auto chunk = tileset.readChunkData(source.owner);
   if (!chunk) return chunk.error();
-  const TextureLayer* color =
-      chunk->texture ? chunk->texture->find(TextureLayerKind::kColor) : nullptr;
+  const TextureLayer* color = chunk->texture ? chunk->texture->colourSource() : nullptr;
   if (!color) return 0u;
   if (source.depth == 0) return color->size;
   const uint32_t intervals = sharedIntervals(color->size, source.depth);

@@ -20,14 +20,19 @@ constexpr size_t kLayerHeaderBytes = 16;
 constexpr uint32_t kMaxLayers = 4;
 
 uint32_t blockBytes(TextureEncoding e) {
-  return e == TextureEncoding::kBc1 ? 8 : 16;
+  return e == TextureEncoding::kBc5 ? 16 : 8;
 }
 
+static_assert(uint8_t(TextureLayerKind::kColor) == uint8_t(TextureEncoding::kBc1) &&
+              uint8_t(TextureLayerKind::kNormal) == uint8_t(TextureEncoding::kBc5) &&
+              uint8_t(TextureLayerKind::kShade) == uint8_t(TextureEncoding::kBc4));
+
 bool knownKind(uint8_t k) {
-  return k == 1 || k == 2;
+  return k >= 1 && k <= 3;
 }
+// Each kind has one encoding: colour BC1, normals BC5, shade BC4 (the enums' values match).
 bool knownEncoding(uint8_t e) {
-  return e == 1 || e == 2;
+  return e >= 1 && e <= 3;
 }
 
 }  // namespace
@@ -45,6 +50,11 @@ const TextureLayer* ChunkTexture::find(TextureLayerKind kind) const {
   for (const TextureLayer& l : layers)
     if (l.kind == kind) return &l;
   return nullptr;
+}
+
+const TextureLayer* ChunkTexture::colourSource() const {
+  const TextureLayer* colour = find(TextureLayerKind::kColor);
+  return colour ? colour : find(TextureLayerKind::kShade);
 }
 
 uint64_t ChunkTexture::bytes() const {
@@ -134,9 +144,7 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
     const uint32_t size = r.get<uint32_t>(), bytes = r.get<uint32_t>();
     const uint32_t reserved = r.get<uint32_t>();
     if (!knownKind(kind) || !knownEncoding(encoding)) return bad("unknown layer kind or encoding");
-    // Each kind has one encoding: colour BC1, normals BC5.
-    if ((kind == uint8_t(TextureLayerKind::kColor)) != (encoding == uint8_t(TextureEncoding::kBc1)))
-      return bad("layer kind and encoding do not match");
+    if (kind != encoding) return bad("layer kind and encoding do not match");
     if (reserved != 0) return bad("reserved bytes are not zero");
     if ((flags & ~kTextureSourceLimited) != 0) return bad("unknown layer flags");
     if (size < 2 || size > kMaxTextureSize) return bad("layer size");
@@ -185,6 +193,8 @@ Result<ChunkTexture> decodeTexture(std::span<const uint8_t> blob, const std::str
   for (size_t i = 0; i < texture.layers.size(); ++i)
     for (size_t j = 0; j < i; ++j)
       if (texture.layers[i].kind == texture.layers[j].kind) return bad("duplicate layer");
+  if (texture.find(TextureLayerKind::kColor) && texture.find(TextureLayerKind::kShade))
+    return bad("both a colour and a shade layer");
   return texture;
 }
 

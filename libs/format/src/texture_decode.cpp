@@ -41,14 +41,17 @@ std::vector<uint8_t> decodeBc1Rgb(std::span<const uint8_t> blocks, uint32_t size
   return out;
 }
 
-std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size) {
-  if (size == 0 || blocks.size() != mipBytes(TextureEncoding::kBc5, size, 0)) return {};
+namespace {
+
+// The RGTC channels of blocks of `blockBytes` bytes (BC4: 8, one channel; BC5: 16, red's 8
+// bytes then green's), each decoded as RGTC defines it.
+std::vector<uint8_t> decodeRgtc(std::span<const uint8_t> blocks, uint32_t size, uint32_t channels) {
   const uint32_t across = (size + 3) / 4;
-  std::vector<uint8_t> out(size_t(size) * size * 2);
+  std::vector<uint8_t> out(size_t(size) * size * channels);
   for (uint32_t by = 0; by < across; ++by)
     for (uint32_t bx = 0; bx < across; ++bx)
-      for (uint32_t ch = 0; ch < 2; ++ch) {  // red's 8 bytes, then green's
-        const uint8_t* b = blocks.data() + (size_t(by) * across + bx) * 16 + ch * 8;
+      for (uint32_t ch = 0; ch < channels; ++ch) {
+        const uint8_t* b = blocks.data() + ((size_t(by) * across + bx) * channels + ch) * 8;
         const int r0 = b[0], r1 = b[1];
         std::array<int, 8> palette{r0, r1};
         for (int k = 1; k < 7; ++k)  // rounded to the nearest, as GPUs return 8-bit values
@@ -62,11 +65,23 @@ std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size)
           for (uint32_t c = 0; c < 4; ++c) {
             const uint32_t x = bx * 4 + c, y = by * 4 + r;
             if (x >= size || y >= size) continue;
-            out[(size_t(y) * size + x) * 2 + ch] =
+            out[(size_t(y) * size + x) * channels + ch] =
                 uint8_t(palette[(bits >> (3 * (r * 4 + c))) & 7]);
           }
       }
   return out;
+}
+
+}  // namespace
+
+std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size) {
+  if (size == 0 || blocks.size() != mipBytes(TextureEncoding::kBc5, size, 0)) return {};
+  return decodeRgtc(blocks, size, 2);
+}
+
+std::vector<uint8_t> decodeBc4R(std::span<const uint8_t> blocks, uint32_t size) {
+  if (size == 0 || blocks.size() != mipBytes(TextureEncoding::kBc4, size, 0)) return {};
+  return decodeRgtc(blocks, size, 1);
 }
 
 }  // namespace terralod

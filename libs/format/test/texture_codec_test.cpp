@@ -167,14 +167,14 @@ TEST(TextureCodec, RejectsTruncatedBlob) {
 
 TEST(TextureCodec, RejectsUnknownEncoding) {
   std::vector<uint8_t> blob = encodeRawTexture(makeTexture());
-  blob[kHeader + kLayerHeader + 1] = 3;  // second layer's encoding
+  blob[kHeader + kLayerHeader + 1] = 4;  // second layer's encoding
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
   blob[kHeader + kLayerHeader + 1] = 0;
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
   blob = encodeRawTexture(makeTexture());
-  blob[kHeader] = 3;  // first layer's kind
+  blob[kHeader] = 4;  // first layer's kind
   fixCrc(blob);
   EXPECT_EQ(decodeError(blob), "chunk 3/1/2: invalid texture: unknown layer kind or encoding");
 }
@@ -348,6 +348,29 @@ TEST(VipmNormalMapLayer, OneBc5NormalLayerOfTheChunksGridPointsIsAccepted) {
   damaged[100] ^= 1;
   EXPECT_EQ(decodeVipmNormalMap(damaged, 128, "v.tlod chunk 5").error().message,
             "v.tlod chunk 5: invalid texture: checksum mismatch");
+}
+
+// Version 6: a shade layer (BC4) in place of the colour; never both, never in another encoding.
+TEST(TextureCodec, ShadeLayerRoundTripsAndStandsAlone) {
+  ChunkTexture t;
+  t.layers.push_back(makeLayer(TextureLayerKind::kShade, TextureEncoding::kBc4, 33, 0, 8));
+  t.layers.push_back(makeLayer(TextureLayerKind::kNormal, TextureEncoding::kBc5, 65, 0, 9));
+  EXPECT_EQ(mipBytes(TextureEncoding::kBc4, 33, 0), 9u * 9u * 8u);
+  auto r = decodeTexture(encodeTexture(t, 3), "chunk 3/1/2");
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  ASSERT_NE(r->colourSource(), nullptr);
+  EXPECT_EQ(r->colourSource()->kind, TextureLayerKind::kShade);
+  EXPECT_EQ(r->colourSource()->mips, t.layers[0].mips);
+  ChunkTexture both = t;
+  both.layers.push_back(makeLayer(TextureLayerKind::kColor, TextureEncoding::kBc1, 33, 0, 10));
+  EXPECT_EQ(decodeError(encodeTexture(both, 3)),
+            "chunk 3/1/2: invalid texture: both a colour and a shade layer");
+  ChunkTexture wrong;
+  wrong.layers.push_back(makeLayer(TextureLayerKind::kShade, TextureEncoding::kBc1, 33, 0, 11));
+  EXPECT_EQ(decodeError(encodeTexture(wrong, 3)),
+            "chunk 3/1/2: invalid texture: layer kind and encoding do not match");
+  // A colour layer is the colour source where there is one.
+  EXPECT_EQ(makeTexture().colourSource()->kind, TextureLayerKind::kColor);
 }
 
 }  // namespace

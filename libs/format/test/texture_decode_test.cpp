@@ -83,5 +83,25 @@ TEST(DecodeBc5Rg, AgreesWithTheTestsReferenceDecoderWithinRounding) {
   EXPECT_TRUE(decodeBc5Rg(std::vector<uint8_t>(16), 5).empty());
 }
 
+TEST(DecodeBc4R, IsBc5sRedChannel) {
+  std::mt19937 rng(12);
+  for (uint32_t size : {1u, 4u, 33u}) {
+    SCOPED_TRACE(size);
+    std::vector<uint8_t> bc4(mipBytes(TextureEncoding::kBc4, size, 0));
+    for (uint8_t& b : bc4) b = uint8_t(rng());
+    // The same blocks as BC5's red halves (green all zero).
+    std::vector<uint8_t> bc5;
+    for (size_t b = 0; b < bc4.size(); b += 8) {
+      bc5.insert(bc5.end(), bc4.begin() + ptrdiff_t(b), bc4.begin() + ptrdiff_t(b + 8));
+      bc5.insert(bc5.end(), 8, 0);
+    }
+    const std::vector<uint8_t> r = decodeBc4R(bc4, size);
+    const std::vector<uint8_t> rg = decodeBc5Rg(bc5, size);
+    ASSERT_EQ(r.size(), size_t(size) * size);
+    for (size_t i = 0; i < r.size(); ++i) EXPECT_EQ(r[i], rg[i * 2]) << i;
+  }
+  EXPECT_TRUE(decodeBc4R(std::vector<uint8_t>(16), 5).empty());
+}
+
 }  // namespace
 }  // namespace terralod

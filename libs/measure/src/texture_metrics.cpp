@@ -19,7 +19,10 @@ void addTexelDensity(const View& view, const ChunkTree& tree, const GpuChunkStor
     const ChunkNode& n = tree.node(s.node);
     const double distance = distanceToBox(view.camera.eye, n.box);
     const double side = tree.chunkCells(int(drawn.level)) * cellMetres;
+    // A shade layer is not what the colour's detail comes from (the normal map and the drawn
+    // height are): it is half the normal map's resolution by design (halveColourTiles).
     for (const TextureSlot* slot : {&drawn.chunk->color, &drawn.chunk->normal}) {
+      if (slot == &drawn.chunk->color && drawn.chunk->shaded) continue;
       const double texel = side / double(slot->size - 1);
       const double pixels = distance > 0 ? texel * view.pixelsPerRadian / distance
                                          : std::numeric_limits<double>::infinity();

@@ -138,9 +138,9 @@ bool GpuChunkStore::reserve(const ChunkGeometry& geometry, const ChunkTexture* t
       }
   }
   if (texture)
-    for (TextureLayerKind kind : {TextureLayerKind::kColor, TextureLayerKind::kNormal})
-      if (const TextureLayer* layer = texture->find(kind))
-        ok = mTextures.reserve(layer->encoding, layer->size) && ok;  // ask for every missing page
+    for (const TextureLayer* layer :
+         {texture->colourSource(), texture->find(TextureLayerKind::kNormal)})
+      if (layer) ok = mTextures.reserve(layer->encoding, layer->size) && ok;  // every missing page
   return ok;
 }
 
@@ -169,10 +169,11 @@ void GpuChunkStore::upload(uint32_t node, const ChunkGeometry& geometry,
     chunk.parts.push_back(p);
   }
   if (texture) {
-    const TextureLayer* color = texture->find(TextureLayerKind::kColor);
+    const TextureLayer* color = texture->colourSource();
     const TextureLayer* normal = texture->find(TextureLayerKind::kNormal);
     assert(color && normal);
     chunk.textured = true;
+    chunk.shaded = color->kind == TextureLayerKind::kShade;
     chunk.color = mTextures.upload(*color);
     chunk.normal = mTextures.upload(*normal);
     chunk.bytes +=

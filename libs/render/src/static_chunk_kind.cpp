@@ -64,7 +64,7 @@ Result<LoadedChunk> StaticChunkKind::decode(const ChunkBlob& blob) const {
   if (!data) return data.error();
   // A chunk that inherits its texture draws its ancestor's (TerrainPass): it has none.
   if (mTextures == ChunkTextures::kRequired && !blob.record.inheritsTexture() &&
-      (!data->texture || !data->texture->find(TextureLayerKind::kColor) ||
+      (!data->texture || !data->texture->colourSource() ||
        !data->texture->find(TextureLayerKind::kNormal)))
     return makeError(blob.tilesetName,
                      "chunk " + std::to_string(blob.node) + " lacks its colour or normal texture");

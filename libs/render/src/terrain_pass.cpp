@@ -30,9 +30,9 @@ float skirtSlant(const GpuChunkPart& p, const GpuChunk& chunk,
 
 Result<TerrainPass> TerrainPass::create() {
   std::vector<ShaderProgram> programs;
-  for (int piecewise = 0; piecewise < 4; ++piecewise) {
+  for (int variant = 0; variant < 8; ++variant) {
     auto program = ShaderProgram::create(
-        "terrain", {shaders::kTerrainVertex, shaders::terrainFragment(piecewise), {}});
+        "terrain", {shaders::kTerrainVertex, shaders::terrainFragment(variant), {}});
     if (!program) return program.error();
     programs.push_back(std::move(program).value());
   }
@@ -42,7 +42,8 @@ Result<TerrainPass> TerrainPass::create() {
 TerrainPass::TerrainPass(std::vector<ShaderProgram> programs)
     : mPrograms(std::move(programs)),
       mVertexArray(GlVertexArray::make()),
-      mPlacementBuffer(GlBuffer::make()) {
+      mPlacementBuffer(GlBuffer::make()),
+      mSnowLine(kSnowLineSamples, float(snowLine(kUnknownLatitude))) {
   // 8-byte vertices: three 16-bit unsigned (x, y, z) and a signed 16-bit morph delta.
   const GLuint vao = mVertexArray.id();
   glVertexArrayAttribIFormat(vao, 0, 3, GL_UNSIGNED_SHORT, 0);
@@ -71,6 +72,12 @@ void TerrainPass::setTextureSizes(std::span<const uint32_t> colorSizes,
         mPiecewise[level] |= uint8_t(1u << kind);
 }
 
+void TerrainPass::setSnowLine(std::span<const float> samples, uint32_t lastRow, double spacingY) {
+  for (size_t k = 0; k < mSnowLine.size(); ++k)
+    mSnowLine[k] = snowLineAt(samples, double(k) / double(mSnowLine.size() - 1));
+  mSnowFraction = float(1.0 / (std::max(1.0, double(lastRow)) * spacingY));
+}
+
 DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
                                std::span<const SelectedChunk> selection,
                                const GpuChunkStore& store) {
@@ -93,14 +100,16 @@ DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
     const GpuChunk& tex = textured ? *owner.chunk : *chunk;
     const uint64_t group =
         textured ? (uint64_t(tex.color.array) << 32) | tex.normal.array : ~uint64_t{0};
-    const uint32_t piecewise =
-        textured && owner.level < mPiecewise.size() ? mPiecewise[owner.level] : 0u;
+    const uint32_t variant =
+        textured ? (owner.level < mPiecewise.size() ? mPiecewise[owner.level] : 0u) |
+                       (tex.shaded ? 4u : 0u)
+                 : 0u;
     for (const GpuChunkPart& p : chunk->parts) {
       const uint32_t count = frame.style.skirts ? p.indexCount : p.surfaceIndexCount;
       if (count == 0) continue;
       PendingDraw d;
       d.group = group;
-      d.piecewise = piecewise;
+      d.variant = variant;
       d.colorSize = tex.color.size;
       d.normalSize = tex.normal.size;
       d.draw = {float(n.box.min[0] - eye.x),
@@ -128,7 +137,7 @@ DrawStats TerrainPass::prepare(const FrameContext& frame, const ChunkTree& tree,
   }
   std::stable_sort(mPending.begin(), mPending.end(),
                    [](const PendingDraw& a, const PendingDraw& b) {
-                     return std::tie(a.group, a.piecewise) < std::tie(b.group, b.piecewise);
+                     return std::tie(a.group, a.variant) < std::tie(b.group, b.variant);
                    });
   mDraws.clear();
   mCommands.clear();
@@ -154,7 +163,7 @@ void TerrainPass::setFrameUniforms(const FrameContext& frame, const ChunkTree& t
   const glm::vec3 hazeLinear = glm::pow(hazeColor(style), glm::vec3(2.2f));
   // The frame's uniforms, in each program variant this frame uses.
   uint32_t variantsUsed = 0;
-  for (const PendingDraw& d : mPending) variantsUsed |= 1u << d.piecewise;
+  for (const PendingDraw& d : mPending) variantsUsed |= 1u << d.variant;
   for (uint32_t v = 0; v < mPrograms.size(); ++v) {
     if (!(variantsUsed & (1u << v))) continue;
     const ShaderProgram& terrain = mPrograms[v];
@@ -162,6 +171,12 @@ void TerrainPass::setFrameUniforms(const FrameContext& frame, const ChunkTree& t
     glProgramUniformMatrix4fv(program, terrain.uniformLocation("uViewProjection"), 1, GL_FALSE,
                               glm::value_ptr(frame.viewProjection));
     glProgramUniform1f(program, terrain.uniformLocation("uEyeHeight"), float(frame.eye.z));
+    if (v & 4u) {
+      glProgramUniform1f(program, terrain.uniformLocation("uEyeNorth"), float(frame.eye.y));
+      glProgramUniform1fv(program, terrain.uniformLocation("uSnowLine[0]"),
+                          GLsizei(mSnowLine.size()), mSnowLine.data());
+      glProgramUniform1f(program, terrain.uniformLocation("uSnowFraction"), mSnowFraction);
+    }
     glProgramUniform1i(program, terrain.uniformLocation("uColorBy"), int(style.colorBy));
     glProgramUniform1i(program, terrain.uniformLocation("uUnlit"),
                        style.shading == Shading::kUnlit ? 1 : 0);
@@ -215,10 +230,10 @@ uint32_t TerrainPass::drawGroups(const GpuChunkStore& store, TerrainDrawMode mod
   for (size_t first = 0; first < mPending.size();) {
     size_t last = first;
     while (last < mPending.size() && mPending[last].group == mPending[first].group &&
-           mPending[last].piecewise == mPending[first].piecewise)
+           mPending[last].variant == mPending[first].variant)
       ++last;
     const PendingDraw& d = mPending[first];
-    const ShaderProgram& terrain = mPrograms[d.piecewise];
+    const ShaderProgram& terrain = mPrograms[d.variant];
     const GLuint program = terrain.id();
     terrain.use();
     glProgramUniform1i(program, terrain.uniformLocation("uWire"),

@@ -28,6 +28,9 @@ class TerrainPass {
 
   /// texture_placement.h: where each level's mips keep their texels.
   void setTextureSizes(std::span<const uint32_t> colorSizes, std::span<const uint32_t> normalSizes);
+  /// Shade layers: the tileset's snow line samples (TilesetMetadata::snowLine) from row 0 to
+  /// `lastRow`, rows `spacingY` metres apart.
+  void setSnowLine(std::span<const float> samples, uint32_t lastRow, double spacingY);
 
   /// Gathers the frame's draws (the selected chunks `store` holds) and uploads them; counts
   /// chunks, missing chunks, commands and triangles (no draw calls yet).
@@ -45,7 +48,7 @@ class TerrainPass {
   void setFrameUniforms(const FrameContext& frame, const ChunkTree& tree);
   uint32_t drawGroups(const GpuChunkStore& store, TerrainDrawMode mode);
 
-  // The program for each piecewise mask (mPiecewise's bits).
+  // The program for each variant: the piecewise mask (mPiecewise's bits), 4 with a shade layer.
   std::vector<ShaderProgram> mPrograms;
   GlVertexArray mVertexArray;
   GlBuffer mPlacementBuffer;
@@ -53,10 +56,12 @@ class TerrainPass {
   // Per level (root first): bit 0 when its colour mips need piecewise sampling, bit 1 its
   // normal mips. Draws are grouped by it and drawn with the program variant for it.
   std::vector<uint8_t> mPiecewise;
+  std::vector<float> mSnowLine;  // kSnowLineSamples values
+  float mSnowFraction = 0;
   // Per-frame staging, kept to avoid allocating once they are big enough.
   struct PendingDraw {
-    uint64_t group = 0;      // colour array << 32 | normal array; all ones: untextured
-    uint32_t piecewise = 0;  // mPiecewise of the chunk's level when textured
+    uint64_t group = 0;    // colour array << 32 | normal array; all ones: untextured
+    uint32_t variant = 0;  // mPiecewise of the owner's level, | 4 for a shade layer
     uint32_t colorSize = 0, normalSize = 0;
     std::array<float, 16> draw{};
     std::array<uint32_t, 5> command{};

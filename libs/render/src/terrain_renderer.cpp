@@ -68,6 +68,11 @@ TerrainRenderer::TerrainRenderer(std::unique_ptr<Passes> passes) : mPasses(std::
 TerrainRenderer::TerrainRenderer(TerrainRenderer&& other) noexcept = default;
 TerrainRenderer::~TerrainRenderer() = default;
 
+void TerrainRenderer::setSnowLine(std::span<const float> samples, uint32_t lastRow,
+                                  double spacingY) {
+  mPasses->terrain.setSnowLine(samples, lastRow, spacingY);
+}
+
 void TerrainRenderer::setTextureSizes(std::span<const uint32_t> colorSizes,
                                       std::span<const uint32_t> normalSizes) {
   mPasses->terrain.setTextureSizes(colorSizes, normalSizes);

@@ -20,6 +20,8 @@ Result<std::unique_ptr<TerrainScene>> TerrainScene::create(std::unique_ptr<Tiles
     }
     renderer->setTextureSizes(colorSizes, normalSizes);
   }
+  const TilesetMetadata& metadata = tileset->metadata();
+  renderer->setSnowLine(metadata.snowLine, metadata.snowLineLastRow, tileset->header().spacingY);
   ChunkTree tree(tileset->header(), tileset->nodes());
   std::unique_ptr<TerrainScene> scene(new TerrainScene(
       std::move(tileset), std::move(tree), std::move(renderer).value(), std::move(options)));

@@ -1,7 +1,10 @@
 #pragma once
 // GLSL of the terrain and sky passes (one place, so the renderer reads as C++).
 
+#include <iterator>
 #include <string>
+
+#include "terralod/format/generated_colour.h"
 
 namespace terralod::shaders {
 
@@ -127,7 +130,24 @@ uniform vec3 uSun;         // unit vector towards the sun
 uniform vec2 uHeightRange; // data min, max z
 uniform vec3 uHaze;         // the air's colour, linear
 uniform float uEyeHeight;
+uniform float uEyeNorth;    // the eye's y (metres north of the tileset's first row)
+// Shade layers: the snow line at kSnowLineSamples evenly spaced rows, first to last, and
+// 1 / (spacing y * last row) to take a y to its fraction of them.
+uniform float uSnowLine[kSnowLineSamples];
+uniform float uSnowFraction;
 out vec4 fragColor;
+
+float snowLineHere() {
+  float u = clamp((vRelative.y + uEyeNorth) * uSnowFraction, 0.0, 1.0) *
+            float(kSnowLineSamples - 1);
+  int i = min(int(u), kSnowLineSamples - 1);
+  int j = min(i + 1, kSnowLineSamples - 1);
+  return mix(uSnowLine[i], uSnowLine[j], u - float(i));
+}
+
+vec3 srgbToLinear(vec3 c) {
+  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
+}
 
 vec3 hypsometric(float h) {
   const vec3 lowland = vec3(0.30, 0.45, 0.22), hills = vec3(0.55, 0.55, 0.33);
@@ -179,6 +199,9 @@ void main() {
     base = sampleTile(uColor, vTextureUv, uTileSizes.x, float(vLayers.x), 0).rgb;  // sRGB: linear
     vec2 xy = sampleTile(uNormal, vTextureUv, uTileSizes.y, float(vLayers.y), 1).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
+    // A shade layer (a constant of the variant): the colour made here from it.
+    if (kShaded == 1)
+      base = srgbToLinear(shadedColour(vHeight, 1.0 - n.z, snowLineHere(), base.r));
   } else {
     n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));
     if (n.z < 0.0) n = -n;
@@ -202,11 +225,43 @@ void main() {
 }
 )";
 
-// The terrain fragment shader's variant for a piecewise mask: bit 0, colour mips sampled piece
-// by piece; bit 1, normal mips (kTerrainFragment's sampleTile).
-inline std::string terrainFragment(int piecewise) {
-  return std::string(kLevelPalette) + kAtmosphere +
-         "const int kPiecewise = " + std::to_string(piecewise) + ";\n" + kTerrainFragment;
+// The generated colour of a shade layer (format/generated_colour.h's shadedColour, whose
+// constants it is written from): display values.
+inline std::string generatedColourGlsl() {
+  auto f = [](float v) { return std::to_string(v); };
+  auto rgb = [&](GroundColor c) { return "vec3(" + f(c.r) + ", " + f(c.g) + ", " + f(c.b) + ")"; };
+  const auto& p = kGroundPalette;
+  const size_t last = std::size(p) - 1;
+  std::string s = "const int kSnowLineSamples = " + std::to_string(kSnowLineSamples) + ";\n";
+  s += "vec3 paletteColor(float h) {\n  if (h <= " + f(p[0].height) + ") return " +
+       rgb(p[0].color) + ";\n";
+  for (size_t i = 1; i <= last; ++i)
+    s += "  if (h < " + f(p[i].height) + ") return mix(" + rgb(p[i - 1].color) + ", " +
+         rgb(p[i].color) + ", (h - " + f(p[i - 1].height) + ") / " +
+         f(p[i].height - p[i - 1].height) + ");\n";
+  s += "  return " + rgb(p[last].color) + ";\n}\n";
+  s += "vec3 shadedColour(float h, float slope, float snowLine, float shade) {\n";
+  s += "  vec3 c = mix(paletteColor(h), " + rgb(kSnowColor) + ", smoothstep(snowLine, snowLine + " +
+       f(kSnowBand) + ", h));\n";
+  s += "  c = mix(c, " + rgb(kBareRockColor) + ", smoothstep(" + f(kRockSlopeStart) + ", " +
+       f(kRockSlopeEnd) + ", slope));\n";
+  s += "  float v = clamp(shade, 0.0, 1.0), landShade = " + f(kLandShade) +
+       ", minOcclusion = " + f(kMinOcclusion) + ";\n";
+  s += "  float water = clamp(1.0 - v / landShade, 0.0, 1.0);\n";
+  s += "  float land = v >= landShade ? v : 1.0 + (landShade - 1.0) * (v / landShade);\n";
+  s += "  float occlusion = minOcclusion + (1.0 - minOcclusion) * (land - landShade) / "
+       "(1.0 - landShade);\n";
+  s += "  return mix(c * pow(occlusion, 1.0 / 2.2), " + rgb(kWaterColor) + ", water);\n}\n";
+  return s;
+}
+
+// The terrain fragment shader's variant: bits 0 and 1 the piecewise mask (bit 0, colour mips
+// sampled piece by piece; bit 1, normal mips: kTerrainFragment's sampleTile), bit 2 a shade
+// layer in place of the colour.
+inline std::string terrainFragment(int variant) {
+  return std::string(kLevelPalette) + kAtmosphere + generatedColourGlsl() +
+         "const int kPiecewise = " + std::to_string(variant & 3) + ";\n" +
+         "const int kShaded = " + std::to_string((variant >> 2) & 1) + ";\n" + kTerrainFragment;
 }
 
 // Chunk bounding boxes: lines between eye-relative corners, coloured by the chunk's level like

@@ -23,7 +23,15 @@ uint32_t makeArray(TextureEncoding encoding, uint32_t size, uint32_t levels, uin
 }  // namespace
 
 uint32_t chunkTextureFormat(TextureEncoding e) {
-  return e == TextureEncoding::kBc1 ? GL_COMPRESSED_SRGB_S3TC_DXT1_EXT : GL_COMPRESSED_RG_RGTC2;
+  switch (e) {
+    case TextureEncoding::kBc1:
+      return GL_COMPRESSED_SRGB_S3TC_DXT1_EXT;
+    case TextureEncoding::kBc4:
+      return GL_COMPRESSED_RED_RGTC1;
+    case TextureEncoding::kBc5:
+      break;
+  }
+  return GL_COMPRESSED_RG_RGTC2;
 }
 
 void setChunkTextureSampling(uint32_t t) {

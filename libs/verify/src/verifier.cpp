@@ -220,7 +220,7 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     if (!g) return g.error();
     // (A chunk that inherits its texture draws its ancestor's: it has none of its own.)
     if (h.textured() && !n.inheritsTexture() &&
-        (!g->texture || !g->texture->find(TextureLayerKind::kColor) ||
+        (!g->texture || !g->texture->colourSource() ||
          !g->texture->find(TextureLayerKind::kNormal)))
       return makeError(tileset.name(),
                        "chunk " + std::to_string(i) + " lacks its colour or normal texture");

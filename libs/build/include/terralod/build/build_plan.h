@@ -14,7 +14,7 @@
 
 namespace terralod {
 
-inline constexpr int kBuildPlanVersion = 3;
+inline constexpr int kBuildPlanVersion = 4;
 
 struct BuildPlan {
   BuildOptions options;  ///< input, output and texture paths absolute

@@ -22,6 +22,12 @@ enum class TextureSharing {
   kEveryChunk,  ///< --texture-per-chunk: every chunk stores its own (what sharing saves)
 };
 
+/// Where the generated colour (no draped image) is made (format/generated_colour.h).
+enum class GeneratedColour {
+  kShader,  ///< the default: chunks store a shade layer, the shader makes the colour (version 6)
+  kBaked,   ///< --bake-colour: chunks store the colour itself (version 5)
+};
+
 /// Whether the raster is read whole into memory or streamed in windows.
 enum class Streaming {
   kAuto,    ///< stream plain rasters over 16 M samples or over the memory budget, load the rest
@@ -79,6 +85,7 @@ struct BuildOptions {
   std::string textureImage;  ///< draped image; empty: the generated colour
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
   TextureSharing textureSharing = TextureSharing::kInherit;
+  GeneratedColour generatedColour = GeneratedColour::kShader;
   TilesetKind kind = TilesetKind::kStatic;
   // VIPM only (kind kVipm):
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM

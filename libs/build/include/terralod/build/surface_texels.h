@@ -1,12 +1,12 @@
 #pragma once
 // The full-resolution texels of the leaf chunks of one block: normals from the heightfield by
-// central differences, the generated colour, and, with an image drape, the image's colour (the
-// generated colour where the image has no data).
+// central differences, the shade the shader's generated colour needs (format/generated_colour.h),
+// or the colour itself: the generated colour baked, or with an image drape, the image's colour
+// (the generated colour where the image has no data).
 //
-// The generated colour is a fixed palette in metres (groundColor: green lowland, tan hills,
-// brown and grey rock), bare rock on steep slopes, snow above the latitude's snow line
-// (snowLine) on ground flat enough to hold it, darkened hollows as a baked ambient occlusion,
-// and water (kWaterColor) where the ground is water: samples covered by a 7 x 7 window of
+// The generated colour (format/generated_colour.h) darkens hollows (below the mean of the
+// 17 x 17 samples around them) as a baked ambient occlusion, and is water (kWaterColor) where
+// the ground is water: samples covered by a 7 x 7 window of
 // samples that is flat at sea level (every height within ±kSeaLevelBand of 0 m) or exactly
 // flat at any height (a lake, as SRTM and most DEMs flatten them: max - min <= kLakeFlatness),
 // the window lying inside the data; and filled voids that were sea (seaVoids).
@@ -20,6 +20,7 @@
 
 #include "terralod/build/texel_tile.h"
 #include "terralod/core/result.h"
+#include "terralod/format/generated_colour.h"
 
 namespace terralod {
 
@@ -27,41 +28,12 @@ class ImageDrape;
 class HeightWindows;
 class SampleMask;
 
-/// A display-value (gamma 2.2) colour, each channel 0..1.
-struct GroundColor {
-  float r, g, b;
-};
-
-/// Water (sea and lakes, whatever their depth).
-constexpr GroundColor kWaterColor{0.302f, 0.471f, 0.620f};
-/// Snow, and bare rock (steep ground at any height).
-constexpr GroundColor kSnowColor{0.968f, 0.972f, 0.982f};
-constexpr GroundColor kBareRockColor{0.695f, 0.667f, 0.644f};
-
-/// Latitude assumed where the raster's place on Earth is unknown (degrees).
-constexpr double kUnknownLatitude = 45.0;
 /// Heights within this of 0 m are at sea level (metres).
 constexpr double kSeaLevelBand = 0.5;
 /// A window whose heights span no more than this is flat water at any height (metres).
 constexpr double kLakeFlatness = 0.01;
 /// Half the side of the flat windows that make water (7 x 7 samples).
 constexpr int32_t kWaterRadius = 3;
-
-/// The climatic snow line in metres at a latitude in degrees (NaN: kUnknownLatitude):
-/// 5200 m · cos(latitude)^1.5, a simple fit to the observed line — about 5–5.5 km in the
-/// tropics (higher in the dry subtropical Andes, which this ignores), 2.8–3 km in the Alps at
-/// 46°, 1–1.5 km in Norway and Alaska at 60–65°, a few hundred metres on Svalbard at 78° —
-/// falling to 0 m at the poles, where glaciers reach the sea. Latitude is clamped to ±90°.
-double snowLine(double latitudeDeg);
-
-/// Snow cover 0..1 of flat ground at `height` metres: none up to the snow line, whole 400 m
-/// above it (smoothstep).
-float snowCover(double height, double latitudeDeg);
-
-/// The generated colour of dry ground (not water) at `height` metres, `slope` = 1 - n_z
-/// (0 flat, 1 vertical), at `latitudeDeg`, before the occlusion term: the palette by height,
-/// snow by snowCover, then bare rock on slopes steeper than about 45°.
-GroundColor groundColor(double height, float slope, double latitudeDeg);
 
 struct SurfaceTexelOptions {
   double spacingX = 1, spacingY = 1;
@@ -88,12 +60,18 @@ class BlockTexels {
   /// cells + 1 texels per side for normals, cells * refine + 1 for colour.
   TexelTile normals(int32_t x0, int32_t y0, int32_t cells) const;
   TexelTile colors(int32_t x0, int32_t y0, int32_t cells) const;
+  /// The shade layer's texels (one channel, shadeValue) of the square, cells + 1 a side.
+  TexelTile shades(int32_t x0, int32_t y0, int32_t cells) const;
 
  private:
   float height(int32_t gx, int32_t gy) const {
     return mHeights[size_t(gy - mY0) * mSide + size_t(gx - mX0)];
   }
   void generatedColor(int32_t gx, int32_t gy, float* rgb) const;
+  float occlusion(int32_t gx, int32_t gy) const;
+  bool water(int32_t gx, int32_t gy) const {
+    return mWater[size_t(gy - mY0) * mSide + size_t(gx - mX0)] != 0;
+  }
   void findWater();
 
   SurfaceTexelOptions mOptions;

@@ -16,6 +16,7 @@
 #include "terralod/build/texture_plan.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/result.h"
+#include "terralod/format/texture_codec.h"
 #include "terralod/format/tileset_format.h"
 
 namespace terralod {
@@ -26,7 +27,13 @@ struct TextureBuild {
   std::vector<TextureLevel> plan;  ///< per level, root first
   SurfaceTexelOptions surface;
   const ImageDrape* image = nullptr;  ///< null: the generated colour
-  int zstdLevel = 3;                  ///< for the texture blobs (`--zstd-level`)
+  /// What the colour tiles hold: the colour (BC1: a draped image or the generated colour
+  /// baked) or the shade the shader makes the generated colour from (BC4).
+  TextureLayerKind colourKind = TextureLayerKind::kShade;
+  TextureEncoding colourEncoding() const {
+    return colourKind == TextureLayerKind::kShade ? TextureEncoding::kBc4 : TextureEncoding::kBc1;
+  }
+  int zstdLevel = 3;  ///< for the texture blobs (`--zstd-level`)
 };
 
 /// One layer of a chunk while the pyramid is built: every mip level, as floats (for the parent
@@ -37,7 +44,7 @@ struct LayerLevels {
 };
 
 struct ChunkTiles {
-  LayerLevels color, normal;
+  LayerLevels color, normal;  ///< color: the colour or shade tiles (TextureBuild::colourKind)
 };
 
 class MosaicBuilder;

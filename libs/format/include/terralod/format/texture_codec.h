@@ -20,11 +20,16 @@ namespace terralod {
 enum class TextureLayerKind : uint8_t {
   kColor = 1,   ///< RGB, display (sRGB-encoded) values
   kNormal = 2,  ///< unit surface normal's x and y (east, north); z = sqrt(1 - x² - y²) >= 0
+  /// Version 6: what the generated colour cannot get from the heights and normals a renderer
+  /// already has: 0 water, else land at 0.5 + 0.5 (occlusion - 0.6) / 0.4 (generated_colour.h).
+  /// A chunk has a colour layer or a shade layer, never both.
+  kShade = 3,
 };
 
 enum class TextureEncoding : uint8_t {
   kBc1 = 1,  ///< BC1 / DXT1 RGB, 8 bytes per 4x4 block
   kBc5 = 2,  ///< BC5 / RGTC2 two channels, unsigned, 16 bytes per block; v = (c + 1) / 2
+  kBc4 = 3,  ///< BC4 / RGTC1 one channel, unsigned, 8 bytes per block (version 6)
 };
 
 /// Layer flag: the tile's texels are the source's own resolution, coarser than the
@@ -45,6 +50,8 @@ struct TextureLayer {
 struct ChunkTexture {
   std::vector<TextureLayer> layers;
   const TextureLayer* find(TextureLayerKind kind) const;
+  /// The layer the chunk's colour comes from: its colour layer, else its shade layer.
+  const TextureLayer* colourSource() const;
   uint64_t bytes() const;  ///< texel data over all layers and mips
 };
 

@@ -23,4 +23,8 @@ std::vector<uint8_t> decodeBc1Rgb(std::span<const uint8_t> blocks, uint32_t size
 /// level's bytes.
 std::vector<uint8_t> decodeBc5Rg(std::span<const uint8_t> blocks, uint32_t size);
 
+/// One mip level of a BC4 layer decoded to R8 as RGTC1 (unsigned) defines it (decodeBc5Rg's
+/// channel); texel (x, y) at [y * size + x].
+std::vector<uint8_t> decodeBc4R(std::span<const uint8_t> blocks, uint32_t size);
+
 }  // namespace terralod

@@ -1,9 +1,10 @@
 #pragma once
-// The terralod tileset file, versions 1 to 4. docs/format.md is the normative description;
+// The terralod tileset file, versions 1 to 6. docs/format.md is the normative description;
 // this header mirrors it. Little-endian throughout. Version 2 adds per-chunk textures (a
 // texture blob right after each chunk's geometry blob); version 3 is version 2 with the
 // texture blobs' blocks zstd-compressed; version 4 is version 3 whose chunk blobs may leave
-// the skirts to the reader (chunk payload version 2), textured or not.
+// the skirts to the reader (chunk payload version 2), textured or not; version 5 lets chunks
+// draw an ancestor's texture, and version 6 stores a shade layer in place of the generated colour.
 //
 //   [0, 512)            header (fixed size, CRC-protected)
 //   [512, ...)          chunk blobs, each readable with one read at a known offset
@@ -21,13 +22,17 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 5;  ///< the newest version this code reads
+inline constexpr uint32_t kTilesetVersion = 6;  ///< the newest version this code reads
 /// What static tilesets without textures are written as: version 3 with chunk payloads of
 /// version 2 (skirts derived by the reader). Textured static tilesets are written as version 5
 /// (version 4 whose chunks may draw an ancestor's texture); VIPM tilesets as version 2 (raw
 /// texture blobs); version 1 is no longer written.
 inline constexpr uint32_t kTilesetVersionStatic = 4;
 inline constexpr uint32_t kTilesetVersionStaticTextured = 5;
+/// Textured static tilesets whose generated colour is made by the shader (version 6: version 5
+/// whose texture blobs hold a shade layer, BC4, instead of colour; metadata "texture":
+/// "color_layer": "shade" and "snow_line").
+inline constexpr uint32_t kTilesetVersionStaticShaded = 6;
 inline constexpr uint32_t kTilesetVersionVipm = 2;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;

@@ -57,6 +57,11 @@ struct TilesetMetadata {
   /// "texture": "color": "generated" (colour made from the heights), or the file name of the
   /// image draped over the terrain; empty when untextured or not recorded.
   std::string textureColor;
+  /// "texture": "snow_line" (version 6, the shade layer's generated colour): the snow line in
+  /// metres at evenly spaced grid rows from row 0 to row snowLineLastRow (generated_colour.h);
+  /// empty when not recorded.
+  std::vector<float> snowLine;
+  uint32_t snowLineLastRow = 0;
   /// "materials": required, 1..8 of them, in VIPM tilesets (header meshKind 2); empty otherwise.
   std::vector<TilesetMaterial> materials;
   /// VIPM: "build": "materials": "classification" or the categorical raster's file name.

@@ -38,6 +38,7 @@ struct GpuChunk {
   std::vector<GpuChunkPart> parts;
   bool textured = false;
   TextureSlot color, normal;  ///< when textured
+  bool shaded = false;        ///< color holds a shade layer: the shader makes the colour
   uint64_t bytes = 0;         ///< GPU memory it takes (geometry and textures)
 };
 

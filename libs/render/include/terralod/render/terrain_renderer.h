@@ -48,6 +48,8 @@ class TerrainRenderer {
   /// The tileset's texture sizes per level (root first), for sampling mips where the builder
   /// put their texels (texture_placement.h). Without them GL's own sampling is used.
   void setTextureSizes(std::span<const uint32_t> colorSizes, std::span<const uint32_t> normalSizes);
+  /// The snow line the shader's generated colour uses (TilesetMetadata::snowLine, version 6).
+  void setSnowLine(std::span<const float> samples, uint32_t lastRow, double spacingY);
 
   /// Adds a layer drawn after the opaque terrain of every frame, after the layers added
   /// before it; returns it.
