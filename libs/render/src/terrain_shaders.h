@@ -65,7 +65,13 @@ layout(std430, binding = 0) readonly buffer Draws { Draw draws[]; };
 uniform mat4 uViewProjection;  // eye at the origin
 uniform float uEyeHeight;
 uniform int uDrawBase;  // this call's first entry in draws[]
+uniform float uEyeNorth;    // the eye's y (metres north of the tileset's first row)
+// Shade layers: the snow line at 33 (kSnowLineSamples) evenly spaced rows, first to last, and
+// 1 / (spacing y * last row) to take a y to its fraction of them.
+uniform float uSnowLine[33];
+uniform float uSnowFraction;
 out vec3 vRelative;
+out float vSnowLine;
 out float vHeight;
 out vec2 vChunkUv;  // 0..1 across the chunk's square
 out vec2 vTextureUv;  // 0..1 across its texture owner's square
@@ -88,6 +94,9 @@ void main() {
   }
   vRelative = p;
   vHeight = p.z + uEyeHeight;
+  float u = clamp((p.y + uEyeNorth) * uSnowFraction, 0.0, 1.0) * 32.0;
+  int i = min(int(u), 32);
+  vSnowLine = mix(uSnowLine[i], uSnowLine[min(i + 1, 32)], u - float(i));
   vChunkUv = vec2(aGrid.xy) / float(d.counts.w);
   vec2 square = vec2(float(d.skirt.w & 0xFFFFu), float(d.skirt.w >> 16));
   vTextureUv = (square + vChunkUv) / float(1u << (d.skirt.z & 0xFFu));
@@ -130,24 +139,8 @@ uniform vec3 uSun;         // unit vector towards the sun
 uniform vec2 uHeightRange; // data min, max z
 uniform vec3 uHaze;         // the air's colour, linear
 uniform float uEyeHeight;
-uniform float uEyeNorth;    // the eye's y (metres north of the tileset's first row)
-// Shade layers: the snow line at kSnowLineSamples evenly spaced rows, first to last, and
-// 1 / (spacing y * last row) to take a y to its fraction of them.
-uniform float uSnowLine[kSnowLineSamples];
-uniform float uSnowFraction;
+in float vSnowLine;         // shade layers: the snow line here (metres)
 out vec4 fragColor;
-
-float snowLineHere() {
-  float u = clamp((vRelative.y + uEyeNorth) * uSnowFraction, 0.0, 1.0) *
-            float(kSnowLineSamples - 1);
-  int i = min(int(u), kSnowLineSamples - 1);
-  int j = min(i + 1, kSnowLineSamples - 1);
-  return mix(uSnowLine[i], uSnowLine[j], u - float(i));
-}
-
-vec3 srgbToLinear(vec3 c) {
-  return mix(c / 12.92, pow((c + 0.055) / 1.055, vec3(2.4)), step(vec3(0.04045), c));
-}
 
 vec3 hypsometric(float h) {
   const vec3 lowland = vec3(0.30, 0.45, 0.22), hills = vec3(0.55, 0.55, 0.33);
@@ -200,8 +193,7 @@ void main() {
     vec2 xy = sampleTile(uNormal, vTextureUv, uTileSizes.y, float(vLayers.y), 1).rg * 2.0 - 1.0;
     n = vec3(xy, sqrt(max(0.0, 1.0 - dot(xy, xy))));
     // A shade layer (a constant of the variant): the colour made here from it.
-    if (kShaded == 1)
-      base = srgbToLinear(shadedColour(vHeight, 1.0 - n.z, snowLineHere(), base.r));
+    if (kShaded == 1) base = shadedColourLinear(vHeight, 1.0 - n.z, vSnowLine, base.r);
   } else {
     n = normalize(cross(dFdx(vRelative), dFdy(vRelative)));
     if (n.z < 0.0) n = -n;
@@ -226,21 +218,25 @@ void main() {
 )";
 
 // The generated colour of a shade layer (format/generated_colour.h's shadedColour, whose
-// constants it is written from): display values.
+// constants it is written from), in linear light.
+static_assert(kSnowLineSamples == 33, "kTerrainVertex's uSnowLine[33]");
 inline std::string generatedColourGlsl() {
   auto f = [](float v) { return std::to_string(v); };
   auto rgb = [&](GroundColor c) { return "vec3(" + f(c.r) + ", " + f(c.g) + ", " + f(c.b) + ")"; };
   const auto& p = kGroundPalette;
-  const size_t last = std::size(p) - 1;
-  std::string s = "const int kSnowLineSamples = " + std::to_string(kSnowLineSamples) + ";\n";
-  s += "vec3 paletteColor(float h) {\n  if (h <= " + f(p[0].height) + ") return " +
-       rgb(p[0].color) + ";\n";
-  for (size_t i = 1; i <= last; ++i)
-    s += "  if (h < " + f(p[i].height) + ") return mix(" + rgb(p[i - 1].color) + ", " +
-         rgb(p[i].color) + ", (h - " + f(p[i - 1].height) + ") / " +
-         f(p[i].height - p[i - 1].height) + ");\n";
-  s += "  return " + rgb(p[last].color) + ";\n}\n";
-  s += "vec3 shadedColour(float h, float slope, float snowLine, float shade) {\n";
+  // The palette without branches (a software rasteriser runs every side of one for every
+  // pixel): mixing towards each stop in turn by how far past the previous one h is gives the
+  // piecewise-linear palette exactly.
+  std::string s = "vec3 paletteColor(float h) {\n  vec3 c = " + rgb(p[0].color) + ";\n";
+  for (size_t i = 1; i < std::size(p); ++i)
+    s += "  c = mix(c, " + rgb(p[i].color) + ", clamp((h - " + f(p[i - 1].height) + ") / " +
+         f(p[i].height - p[i - 1].height) + ", 0.0, 1.0));\n";
+  s += "  return c;\n}\n";
+  // Display values to linear light: sRGB's curve by a cubic (within 0.1 % of it over 0..1).
+  s += "vec3 displayToLinear(vec3 c) {\n"
+       "  return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);\n}\n";
+  // shadedColour in linear light: the occlusion darkens linear light, water mixes in.
+  s += "vec3 shadedColourLinear(float h, float slope, float snowLine, float shade) {\n";
   s += "  vec3 c = mix(paletteColor(h), " + rgb(kSnowColor) + ", smoothstep(snowLine, snowLine + " +
        f(kSnowBand) + ", h));\n";
   s += "  c = mix(c, " + rgb(kBareRockColor) + ", smoothstep(" + f(kRockSlopeStart) + ", " +
@@ -248,10 +244,11 @@ inline std::string generatedColourGlsl() {
   s += "  float v = clamp(shade, 0.0, 1.0), landShade = " + f(kLandShade) +
        ", minOcclusion = " + f(kMinOcclusion) + ";\n";
   s += "  float water = clamp(1.0 - v / landShade, 0.0, 1.0);\n";
-  s += "  float land = v >= landShade ? v : 1.0 + (landShade - 1.0) * (v / landShade);\n";
+  s += "  float land = mix(1.0 + (landShade - 1.0) * (v / landShade), v, step(landShade, v));\n";
   s += "  float occlusion = minOcclusion + (1.0 - minOcclusion) * (land - landShade) / "
        "(1.0 - landShade);\n";
-  s += "  return mix(c * pow(occlusion, 1.0 / 2.2), " + rgb(kWaterColor) + ", water);\n}\n";
+  s += "  return mix(displayToLinear(c) * occlusion, displayToLinear(" + rgb(kWaterColor) +
+       "), water);\n}\n";
   return s;
 }
 
