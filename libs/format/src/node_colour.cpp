@@ -24,22 +24,48 @@ Error undividable(const TilesetReader& tileset, uint32_t owner, uint32_t size) {
       "colour texture of " + std::to_string(size) + " texels cannot be shared by its descendants");
 }
 
-// The chunk's own surface (no morph) at every grid point of its square, (cells + 1)² row-major.
-std::vector<float> surfaceHeights(const ChunkGeometry& geometry, int64_t cells) {
-  const size_t side = size_t(cells + 1);
-  std::vector<float> heights(side * side, float(geometry.zBase));
+// The chunk's own surface (no morph) under every texel of a `size`-texel tile over its
+// `cells`-cell square, row-major. Texel (i, j) lies at (i, j)·cells/(size − 1) cells: in
+// coordinates scaled by size − 1 the vertices and the texels are both on integer points, and
+// the shared rasteriser gives each texel row's span (never a grid of the whole square, which
+// a 32768-cell root would make 4 GB).
+std::vector<float> surfaceAtTexels(const ChunkGeometry& geometry, int64_t cells, uint32_t size) {
+  const int64_t s = int64_t(size) - 1;
+  std::vector<float> out(size_t(size) * size, float(geometry.zBase));
+  struct P {
+    int64_t x, y;
+    double z;
+  };
+  auto ceilDiv = [](int64_t a, int64_t b) { return a >= 0 ? (a + b - 1) / b : -((-a) / b); };
+  auto floorDiv = [](int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); };
   for (const ChunkPart& part : geometry.parts)
     for (uint32_t t = 0; t + 2 < part.surfaceIndexCount; t += 3) {
-      SampleVertex v[3];
+      P v[3];
       for (int k = 0; k < 3; ++k) {
         const ChunkVertex& c = part.vertices[part.indices[t + uint32_t(k)]];
-        v[k] = {c.x, c.y, chunkVertexHeight(geometry, c)};
+        v[k] = {int64_t(c.x) * s, int64_t(c.y) * s, chunkVertexHeight(geometry, c)};
       }
-      rasterizeTriangle(v[0], v[1], v[2], 0, cells, 0, cells, [&](int64_t x, int64_t y, double z) {
-        heights[size_t(y) * side + size_t(x)] = float(z);
-      });
+      const double area =
+          double((v[1].x - v[0].x) * (v[2].y - v[0].y) - (v[1].y - v[0].y) * (v[2].x - v[0].x));
+      if (area == 0) continue;
+      const int64_t j0 = std::max<int64_t>(0, ceilDiv(std::min({v[0].y, v[1].y, v[2].y}), cells));
+      const int64_t j1 = std::min<int64_t>(s, floorDiv(std::max({v[0].y, v[1].y, v[2].y}), cells));
+      for (int64_t j = j0; j <= j1; ++j)
+        forEachTriangleRow(
+            v[0], v[1], v[2], 0, s * cells, j * cells, j * cells,
+            [&](int64_t y, int64_t lo, int64_t hi) {
+              for (int64_t i = ceilDiv(lo, cells); i <= floorDiv(hi, cells); ++i) {
+                const int64_t x = i * cells;
+                const double wa =
+                    double((v[1].x - x) * (v[2].y - y) - (v[1].y - y) * (v[2].x - x)) / area;
+                const double wb =
+                    double((v[2].x - x) * (v[0].y - y) - (v[2].y - y) * (v[0].x - x)) / area;
+                out[size_t(j) * size + size_t(i)] =
+                    float(wa * v[0].z + wb * v[1].z + (1.0 - wa - wb) * v[2].z);
+              }
+            });
     }
-  return heights;
+  return out;
 }
 
 // The generated colour of a shade layer (format version 6) as the shader makes it
@@ -56,31 +82,23 @@ Result<std::vector<uint8_t>> shadedRgb(const TilesetReader& tileset, uint32_t ow
   const NodeRecord& node = tileset.nodes()[owner];
   const int64_t cells = header.chunkCells(node.level);
   const auto origin = chunkCellOrigin(header, node);
-  const std::vector<float> heights = surfaceHeights(chunk.geometry, cells);
   const TilesetMetadata& m = tileset.metadata();
   const double lastRow = std::max(1.0, double(m.snowLineLastRow));
   const uint32_t size = shade.size;
+  const std::vector<float> heights = surfaceAtTexels(chunk.geometry, cells, size);
   auto byte = [](float c) { return uint8_t(std::clamp(c * 255.0f + 0.5f, 0.0f, 255.0f)); };
   std::vector<uint8_t> rgb(size_t(size) * size * 3);
   for (uint32_t j = 0; j < size; ++j)
     for (uint32_t i = 0; i < size; ++i) {
-      // Texel (i, j) lies at (i, j) / (size - 1) of the square: its height bilinearly.
-      const double fx = double(i) * double(cells) / double(size - 1);
       const double fy = double(j) * double(cells) / double(size - 1);
-      const int64_t x0 = std::min<int64_t>(int64_t(fx), cells - 1);
-      const int64_t y0 = std::min<int64_t>(int64_t(fy), cells - 1);
-      const double tx = fx - double(x0), ty = fy - double(y0);
-      auto h = [&](int64_t x, int64_t y) { return double(heights[size_t(y * (cells + 1) + x)]); };
-      const double height = (h(x0, y0) * (1 - tx) + h(x0 + 1, y0) * tx) * (1 - ty) +
-                            (h(x0, y0 + 1) * (1 - tx) + h(x0 + 1, y0 + 1) * tx) * ty;
+      const float height = heights[size_t(j) * size + i];
       const uint32_t ni = uint32_t(std::lround(double(i) * (normal->size - 1) / (size - 1)));
       const uint32_t nj = uint32_t(std::lround(double(j) * (normal->size - 1) / (size - 1)));
       const float nx = n[(size_t(nj) * normal->size + ni) * 2] / 255.0f * 2 - 1;
       const float ny = n[(size_t(nj) * normal->size + ni) * 2 + 1] / 255.0f * 2 - 1;
       const float nz = std::sqrt(std::max(0.0f, 1.0f - nx * nx - ny * ny));
       const float snow = snowLineAt(m.snowLine, (double(origin[1]) + fy) / lastRow);
-      const GroundColor c =
-          shadedColour(float(height), 1.0f - nz, snow, v[size_t(j) * size + i] / 255.0f);
+      const GroundColor c = shadedColour(height, 1.0f - nz, snow, v[size_t(j) * size + i] / 255.0f);
       uint8_t* out = &rgb[(size_t(j) * size + i) * 3];
       out[0] = byte(c.r);
       out[1] = byte(c.g);

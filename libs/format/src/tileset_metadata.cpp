@@ -131,13 +131,14 @@ Result<TilesetMetadata> parseTilesetMetadata(std::string_view text, const Tilese
     if (const auto snow = texture->find("snow_line"); snow != texture->end()) {
       const auto last = snow->is_object() ? snow->find("last_row") : snow->end();
       const auto metres = snow->is_object() ? snow->find("metres") : snow->end();
-      if (last == snow->end() || !last->is_number_unsigned() || metres == snow->end() ||
-          !metres->is_array() || metres->size() < 2 || metres->size() > 1024)
+      if (last == snow->end() || !last->is_number_unsigned() ||
+          last->get<uint64_t>() > 0xFFFFFFFFu || metres == snow->end() || !metres->is_array() ||
+          metres->size() < 2 || metres->size() > 1024)
         return bad("\"texture\".\"snow_line\" is not a last row and 2 to 1024 heights");
       m.snowLineLastRow = last->get<uint32_t>();
       for (const json& v : *metres) {
-        if (!v.is_number() || !std::isfinite(v.get<double>()))
-          return bad("\"texture\".\"snow_line\" has a height that is not a number");
+        if (!v.is_number() || !(std::fabs(v.get<double>()) <= 1e5))
+          return bad("\"texture\".\"snow_line\" has a height that is not a number of metres");
         m.snowLine.push_back(v.get<float>());
       }
     }

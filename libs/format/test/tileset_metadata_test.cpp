@@ -90,6 +90,28 @@ TEST(TilesetMetadata, RefusesWhatIsNotWhatTheWriterWrites) {
             bad + "normal_size\" (2^k + 1 texels, at most 4097)");
 }
 
+// Version 6's shade layer: the snow line the shader interpolates over the rows.
+TEST(TilesetMetadata, ReadsTheSnowLine) {
+  auto m = parseTilesetMetadata(
+      R"({"texture": {"color_layer": "shade", "snow_line": {"last_row": 1200,
+          "metres": [2900.5, 2850, 2800]}}})",
+      threeLevels(), "m.tlod");
+  ASSERT_TRUE(m.ok()) << m.error().message;
+  EXPECT_EQ(m->snowLineLastRow, 1200u);
+  EXPECT_EQ(m->snowLine, (std::vector<float>{2900.5f, 2850, 2800}));
+  const std::string prefix = "m.tlod: invalid tileset metadata: \"texture\".\"snow_line\" ";
+  const std::string shape = prefix + "is not a last row and 2 to 1024 heights";
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": [1, 2]}})"), shape);
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": {"last_row": -1, "metres": [1, 2]}}})"), shape);
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": {"last_row": 4294967296, "metres": [1, 2]}}})"),
+            shape);
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": {"last_row": 5, "metres": [1]}}})"), shape);
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": {"last_row": 5, "metres": [1, "x"]}}})"),
+            prefix + "has a height that is not a number of metres");
+  EXPECT_EQ(parseError(R"({"texture": {"snow_line": {"last_row": 5, "metres": [1, 1e300]}}})"),
+            prefix + "has a height that is not a number of metres");
+}
+
 TEST(TilesetMetadata, ReadsAVipmTilesetsMaterials) {
   TilesetHeader vipm;
   vipm.levelCount = 2;
