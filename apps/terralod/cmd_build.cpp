@@ -171,8 +171,15 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return fail("--texture-per-chunk and --no-texture contradict each other");
       options->textureSharing = *perChunk ? TextureSharing::kEveryChunk : TextureSharing::kInherit;
       options->mesher = *mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
-      if (*bakeColour && (*noTexture || !options->textureImage.empty() || *kind == "vipm"))
-        return fail("--bake-colour applies to the generated colour of --kind static only");
+      if (*bakeColour && *noTexture)
+        return fail("--bake-colour and --no-texture contradict each other");
+      if (*bakeColour && !options->textureImage.empty())
+        return fail(
+            "--bake-colour applies to the generated colour (a draped image is stored as "
+            "it is)");
+      if (*bakeColour && *kind == "vipm")
+        return fail(
+            "--bake-colour does not apply to --kind vipm (colour comes from the materials)");
       options->generatedColour = *bakeColour ? GeneratedColour::kBaked : GeneratedColour::kShader;
       if (*kind == "vipm") {
         if (options->mesher != MeshMethod::kRtin)

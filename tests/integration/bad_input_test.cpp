@@ -178,6 +178,16 @@ TEST_F(BadInputs, BuildRefusesBadTextureImagesCleanly) {
        {"build", dem, "--texture", d + "/local.tif", "--no-texture", "-o", out},
        "--texture and --no-texture contradict each other"},
       {"min tau", {"build", dem, "--min-tau", "0", "-o", out}, "--min-tau"},
+      {"bake without texture",
+       {"build", dem, "--bake-colour", "--no-texture", "-o", out},
+       "--bake-colour and --no-texture contradict each other"},
+      {"bake an image",
+       {"build", dem, "--bake-colour", "--texture", testData("zion_landsat8_rgb_utm12_30m.tif"),
+        "-o", out},
+       "--bake-colour applies to the generated colour (a draped image is stored as it is)"},
+      {"bake materials",
+       {"build", dem, "--bake-colour", "--kind", "vipm", "-o", out},
+       "--bake-colour does not apply to --kind vipm (colour comes from the materials)"},
   };
   const std::vector<std::string> before = filesIn(mDir.path());
   for (const BadCase& c : cases) {
