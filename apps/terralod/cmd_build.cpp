@@ -76,8 +76,8 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto bakeColour = std::make_shared<bool>(false);
   cmd->add_flag("--bake-colour", *bakeColour,
                 "Store the generated colour as a colour texture (format version 5) instead of "
-                "the shade layer the shader makes it from (version 6: water and occlusion, a "
-                "quarter of the texels' information; the colour itself comes from the drawn "
+                "the shade layer the shader makes it from (version 6: water and occlusion only, "
+                "at half the normal map's resolution; the colour itself comes from the drawn "
                 "height, the normal map and the latitude's snow line)");
   auto mesher = std::make_shared<std::string>("rtin");
   cmd->add_option("--mesher", *mesher,
