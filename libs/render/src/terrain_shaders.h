@@ -232,7 +232,7 @@ inline std::string generatedColourGlsl() {
     s += "  c = mix(c, " + rgb(p[i].color) + ", clamp((h - " + f(p[i - 1].height) + ") / " +
          f(p[i].height - p[i - 1].height) + ", 0.0, 1.0));\n";
   s += "  return c;\n}\n";
-  // Display values to linear light: sRGB's curve by a cubic (within 0.1 % of it over 0..1).
+  // Display values to linear light: sRGB's curve by a cubic (within 0.0017 of it, linear).
   s += "vec3 displayToLinear(vec3 c) {\n"
        "  return c * (c * (c * 0.305306011 + 0.682171111) + 0.012522878);\n}\n";
   // shadedColour in linear light: the occlusion darkens linear light, water mixes in.
