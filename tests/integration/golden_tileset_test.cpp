@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "cli_runner.h"
 #include "terralod/format/tileset_reader.h"
@@ -79,6 +81,21 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
   }
 }
 
+// Builds gully again with `options` (after the golden's --max-error 0.25) and expects the
+// bytes of `golden`.
+void expectRebuildGives(const std::vector<std::string>& options, const std::string& golden) {
+  TempDir dir;
+  std::vector<std::string> args{"build",       testData("landlab_west_bijou_gully_3m.asc"),
+                                "-o",          dir.file("again.tlod"),
+                                "--max-error", "0.25",
+                                "--threads",   "2"};
+  args.insert(args.end(), options.begin(), options.end());
+  const RunResult r = runTerralod(args);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(golden))
+      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+}
+
 TEST(GoldenTileset, VersionOneStillReads) {
   expectGoldenReads("v1");
 }
@@ -100,33 +117,15 @@ TEST(GoldenTileset, VersionSixReads) {
 }
 
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
-  TempDir dir;
-  const RunResult r = runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
-                                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2",
-                                   "--no-texture"});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGolden))
-      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+  expectRebuildGives({"--no-texture"}, kGolden);
 }
 
 TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
-  TempDir dir;
-  const RunResult r =
-      runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
-                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2"});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenTextured))
-      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+  expectRebuildGives({}, kGoldenTextured);
 }
 
 TEST(GoldenTileset, BuildingTheBakedColourAgainGivesTheSameBytes) {
-  TempDir dir;
-  const RunResult r = runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
-                                   dir.file("again.tlod"), "--max-error", "0.25", "--threads", "2",
-                                   "--bake-colour"});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenBaked))
-      << "the builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+  expectRebuildGives({"--bake-colour"}, kGoldenBaked);
 }
 
 TEST(GoldenTileset, TheVipmTilesetStillReads) {
@@ -169,13 +168,7 @@ TEST(GoldenTileset, TheVipmTilesetStillReads) {
 }
 
 TEST(GoldenTileset, BuildingTheVipmSourceAgainGivesTheSameBytes) {
-  TempDir dir;
-  const RunResult r = runTerralod({"build", testData("landlab_west_bijou_gully_3m.asc"), "-o",
-                                   dir.file("again.tlod"), "--kind", "vipm", "--max-error", "0.25",
-                                   "--threads", "2"});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(readWholeFile(dir.file("again.tlod")), readWholeFile(kGoldenVipm))
-      << "the VIPM builder's output changed; if intended, run scripts/update-golden-tileset.sh";
+  expectRebuildGives({"--kind", "vipm"}, kGoldenVipm);
 }
 
 }  // namespace

@@ -51,8 +51,7 @@ TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layo
   textures.surface.rowLatitudes =
       std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
   textures.image = image;
-  textures.colourKind =
-      storesShade(options) && !image ? TextureLayerKind::kShade : TextureLayerKind::kColor;
+  textures.colourKind = storesShade(options) ? TextureLayerKind::kShade : TextureLayerKind::kColor;
   textures.zstdLevel = options.compressionLevel;
   if (textures.colourKind == TextureLayerKind::kShade) halveColourTiles(textures.plan);
   return textures;
