@@ -30,6 +30,7 @@ withMode 0 "$golden/v2/gully.tlod" "$out/tileset_reader_fuzzer/v2_gully"
 withMode 0 "$golden/v3/gully.tlod" "$out/tileset_reader_fuzzer/v3_gully"
 withMode 0 "$golden/v4/gully.tlod" "$out/tileset_reader_fuzzer/v4_gully"
 withMode 0 "$golden/v4/gully-untextured.tlod" "$out/tileset_reader_fuzzer/v4_gully_untextured"
+withMode 0 "$golden/v7/gully.tlod" "$out/tileset_reader_fuzzer/v7_gully"
 withMode 1 "$golden/v1/gully.tlod" "$out/tileset_reader_fuzzer/v1_gully_checksums_kept"
 withMode 0 "$golden/vipm/gully.tlod" "$out/tileset_reader_fuzzer/vipm_gully"
 # meshKind is a u32 (header offset 24): 0x101 must be refused, not narrowed to kind 1.
@@ -60,10 +61,13 @@ for version in v1 v2 v3 vipm; do
   done
 done
 
-# Version 4 chunk blobs (payload version 2, skirts derived): the node table is a zstd frame of
-# shuffled records (docs/format.md "Version 4"), read here with python3.
-tlod=$golden/v4/gully-untextured.tlod
-python3 - "$tlod" <<'PY' | while read -r i offset bytes; do
+# Version 4 chunk blobs (payload version 2, skirts derived) and version 7's (payload version 3,
+# RTIN chunks as their bintree): the node table is a zstd frame of shuffled records
+# (docs/format.md "Version 4"), read here with python3.
+for version in v4 v7; do
+  tlod=$golden/$version/gully.tlod
+  [ "$version" = v4 ] && tlod=$golden/v4/gully-untextured.tlod
+  python3 - "$tlod" <<'PY' | while read -r i offset bytes; do
 import struct, subprocess, sys
 data = open(sys.argv[1], "rb").read()
 count, table, length = struct.unpack_from("<QQQ", data, 0xF8)
@@ -74,10 +78,11 @@ for i in range(count):
     offset, size = struct.unpack_from("<QI", record(i), 40)
     print(i, offset, size)
 PY
-  cut "$tlod" "$offset" "$bytes" "$work/blob"
-  withMode 0 "$work/blob" "$out/chunk_codec_fuzzer/v4_node${i}_stored"
-  zstd -q -d -c "$work/blob" >"$work/payload"
-  withMode 1 "$work/payload" "$out/chunk_codec_fuzzer/v4_node${i}_payload"
+    cut "$tlod" "$offset" "$bytes" "$work/blob"
+    withMode 0 "$work/blob" "$out/chunk_codec_fuzzer/${version}_node${i}_stored"
+    zstd -q -d -c "$work/blob" >"$work/payload"
+    withMode 1 "$work/payload" "$out/chunk_codec_fuzzer/${version}_node${i}_payload"
+  done
 done
 
 # Flights: the README's example, a recorded one, the least a flight needs, and near misses.

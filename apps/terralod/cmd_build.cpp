@@ -87,6 +87,14 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "morphed surface stays within 1/8 of its parent level's error of the parent's)")
       ->capture_default_str()
       ->check(CLI::IsMember({"rtin", "greedy"}));
+  auto chunkCodec = std::make_shared<std::string>("bintree");
+  cmd->add_option("--chunk-codec", *chunkCodec,
+                  "How static chunks store their geometry: bintree (an RTIN chunk as its "
+                  "bintree's split bits and one height residual per vertex, format version 7) "
+                  "or meshopt (meshoptimizer's vertex and index streams, versions 4 to 6: for "
+                  "readers of those versions). Greedy chunks are always meshopt")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"bintree", "meshopt"}));
   auto kind = std::make_shared<std::string>("static");
   cmd->add_option("--kind", *kind,
                   "Chunk kind: static (chunked LOD, RTIN meshes) or vipm (a progressive mesh per "
@@ -160,9 +168,9 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       "Errors: one line \"terralod: error: <file>: <problem>\", exit status 1, no output left "
       "behind.\n");
   cmd->callback([&run, options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules,
-                 minTau, blotError, upperLevels, staged, mesher, bakeColour] {
+                 minTau, blotError, upperLevels, staged, mesher, bakeColour, chunkCodec] {
     run = [options, encoding, spacing, verbose, noTexture, perChunk, kind, noRules, minTau,
-           blotError, upperLevels, staged, mesher, bakeColour] {
+           blotError, upperLevels, staged, mesher, bakeColour, chunkCodec] {
       keepFreedMemoryForReuse();
       if (*noTexture && !options->textureImage.empty())
         return fail("--texture and --no-texture contradict each other");
@@ -171,6 +179,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return fail("--texture-per-chunk and --no-texture contradict each other");
       options->textureSharing = *perChunk ? TextureSharing::kEveryChunk : TextureSharing::kInherit;
       options->mesher = *mesher == "greedy" ? MeshMethod::kGreedy : MeshMethod::kRtin;
+      options->chunkCodec = *chunkCodec == "meshopt" ? ChunkCodec::kMeshopt : ChunkCodec::kBintree;
       if (*bakeColour && *noTexture)
         return fail("--bake-colour and --no-texture contradict each other");
       if (*bakeColour && !options->textureImage.empty())
@@ -184,6 +193,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       if (*kind == "vipm") {
         if (options->mesher != MeshMethod::kRtin)
           return fail("--mesher applies to --kind static only");
+        if (*chunkCodec != "bintree") return fail("--chunk-codec applies to --kind static only");
         if (!options->textureImage.empty())
           return fail("--texture does not apply to --kind vipm (colour comes from the materials)");
         if (minTau->count() > 0)

@@ -68,7 +68,7 @@ TEST_F(BadInputMatrix, Tilesets) {
   auto edit = [&](const std::string& name, const std::function<void(TilesetHeader&, Nodes&)>& f) {
     writeEditedTileset(good, at(name), f);
   };
-  edit("future.tlod", [](TilesetHeader& h, Nodes&) { h.version = 7; });
+  edit("future.tlod", [](TilesetHeader& h, Nodes&) { h.version = 8; });
   edit("huge_roots.tlod", [](TilesetHeader& h, Nodes&) { h.rootsX = 100000; });
   edit("huge_levels.tlod", [](TilesetHeader& h, Nodes&) { h.levelCount = 99; });
   edit("huge_source.tlod", [](TilesetHeader& h, Nodes&) { h.sourceColumns = 0xFFFFFFFF; });
@@ -100,7 +100,7 @@ TEST_F(BadInputMatrix, Tilesets) {
                              " bytes, file has " + std::to_string(size - 1000)},
       {"magic.tlod", "not a terralod tileset (wrong magic bytes)"},
       {"future.tlod",
-       "tileset format version 7 is not supported (this terralod reads versions 1 to 6)"},
+       "tileset format version 8 is not supported (this terralod reads versions 1 to 7)"},
       {"header_crc.tlod", "tileset header is corrupt (checksum mismatch)"},
       {"table_crc.tlod", "node table is corrupt (checksum mismatch)"},
       {"huge_roots.tlod", "invalid tileset header: root grid"},

@@ -1,4 +1,4 @@
-// The format is frozen: tilesets written by format versions 1 to 6 (static RTIN chunks,
+// The format is frozen: tilesets written by format versions 1 to 7 (static RTIN chunks,
 // and VIPM chunks in version 2) must always read, and
 // building their source again must give the same bytes (or scripts/update-golden-tileset.sh
 // was run on purpose and the change reviewed).
@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "chunk_triangles.h"
 #include "cli_runner.h"
 #include "terralod/format/tileset_reader.h"
 #include "terralod/format/vipm_chunk_codec.h"
@@ -18,8 +19,10 @@
 namespace terralod::test {
 namespace {
 
-// What the builder writes today: version 4 without textures, version 6 with (the shade layer),
-// version 5 with the generated colour baked.
+// What the builder writes today: version 7 by default (RTIN chunks as their bintree, the shade
+// layer); with --chunk-codec meshopt, version 4 without textures, version 6 with, version 5 with
+// the generated colour baked.
+const std::string kGoldenDefault = testData("golden/v7/gully.tlod");
 const std::string kGolden = testData("golden/v4/gully-untextured.tlod");
 const std::string kGoldenTextured = testData("golden/v6/gully.tlod");
 const std::string kGoldenBaked = testData("golden/v5/gully.tlod");
@@ -71,13 +74,13 @@ void expectGoldenReads(const std::string& version, const std::string& name = "gu
   EXPECT_EQ(triangles, expected["triangles"].get<uint64_t>());
   EXPECT_EQ(vertices, expected["vertices"].get<uint64_t>());
   EXPECT_EQ(withTexture + inherited, textured ? t.nodes().size() : 0u);
-  EXPECT_EQ(inherited > 0, version >= "v5") << "versions 5 and 6 share textures (gully's do)";
-  // Version 6 stores a shade layer where version 5 stores the colour.
+  EXPECT_EQ(inherited > 0, version >= "v5") << "versions 5 to 7 share textures (gully's do)";
+  // Versions 6 and 7 store a shade layer where version 5 stores the colour.
   auto root = t.readChunkData(0);
   ASSERT_TRUE(root.ok()) << root.error().message;
   if (textured) {
     EXPECT_EQ(root->texture->colourSource()->kind,
-              version == "v6" ? TextureLayerKind::kShade : TextureLayerKind::kColor);
+              version >= "v6" ? TextureLayerKind::kShade : TextureLayerKind::kColor);
   }
 }
 
@@ -116,16 +119,51 @@ TEST(GoldenTileset, VersionSixReads) {
   expectGoldenReads("v6");
 }
 
+TEST(GoldenTileset, VersionSevenReads) {
+  expectGoldenReads("v7");
+}
+
+// Version 7 stores the same chunks as version 6, in fewer bytes: every chunk decodes to the
+// same parts, vertices and triangles (the meshopt index codec may rotate a triangle).
+TEST(GoldenTileset, VersionSevenHoldsVersionSixsChunks) {
+  auto seven = TilesetReader::openFile(kGoldenDefault);
+  auto six = TilesetReader::openFile(kGoldenTextured);
+  ASSERT_TRUE(seven.ok()) << seven.error().message;
+  ASSERT_TRUE(six.ok()) << six.error().message;
+  ASSERT_EQ((*seven)->nodes().size(), (*six)->nodes().size());
+  uint64_t bytes7 = 0, bytes6 = 0;
+  for (uint32_t i = 0; i < (*six)->nodes().size(); ++i) {
+    auto a = (*seven)->readChunkData(i);
+    auto b = (*six)->readChunkData(i);
+    ASSERT_TRUE(a.ok()) << a.error().message;
+    ASSERT_TRUE(b.ok()) << b.error().message;
+    ASSERT_EQ(a->geometry.zBase, b->geometry.zBase) << i;
+    ASSERT_EQ(a->geometry.parts.size(), b->geometry.parts.size()) << i;
+    for (size_t p = 0; p < a->geometry.parts.size(); ++p) {
+      ASSERT_EQ(a->geometry.parts[p].vertices, b->geometry.parts[p].vertices) << i;
+      ASSERT_EQ(rotatedTriangles(a->geometry.parts[p]), rotatedTriangles(b->geometry.parts[p]))
+          << i;
+    }
+    bytes7 += (*seven)->nodes()[i].blobBytes;
+    bytes6 += (*six)->nodes()[i].blobBytes;
+  }
+  EXPECT_LT(bytes7, bytes6 * 3 / 4);
+}
+
+TEST(GoldenTileset, BuildingTheDefaultSourceAgainGivesTheSameBytes) {
+  expectRebuildGives({}, kGoldenDefault);
+}
+
 TEST(GoldenTileset, BuildingTheSourceAgainGivesTheSameBytes) {
-  expectRebuildGives({"--no-texture"}, kGolden);
+  expectRebuildGives({"--chunk-codec", "meshopt", "--no-texture"}, kGolden);
 }
 
 TEST(GoldenTileset, BuildingTheTexturedSourceAgainGivesTheSameBytes) {
-  expectRebuildGives({}, kGoldenTextured);
+  expectRebuildGives({"--chunk-codec", "meshopt"}, kGoldenTextured);
 }
 
 TEST(GoldenTileset, BuildingTheBakedColourAgainGivesTheSameBytes) {
-  expectRebuildGives({"--bake-colour"}, kGoldenBaked);
+  expectRebuildGives({"--chunk-codec", "meshopt", "--bake-colour"}, kGoldenBaked);
 }
 
 TEST(GoldenTileset, TheVipmTilesetStillReads) {

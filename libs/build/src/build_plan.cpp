@@ -57,6 +57,7 @@ std::string buildPlanJson(const BuildPlan& plan) {
       {"texture_sharing", o.textureSharing == TextureSharing::kInherit ? "inherit" : "every-chunk"},
       {"mesher", o.mesher == MeshMethod::kGreedy ? "greedy" : "rtin"},
       {"generated_colour", o.generatedColour == GeneratedColour::kBaked ? "baked" : "shader"},
+      {"chunk_codec", o.chunkCodec == ChunkCodec::kMeshopt ? "meshopt" : "bintree"},
       {"block_cells", plan.blockCells},
       {"height_range", {plan.heightLo, plan.heightHi}},
       {"exact_range", plan.exactRange},
@@ -112,6 +113,10 @@ Result<BuildPlan> parseBuildPlan(const std::string& text, const std::string& sub
     if (colour != "shader" && colour != "baked")
       return makeError(subject, "unknown generated colour \"" + colour + "\"");
     o.generatedColour = colour == "baked" ? GeneratedColour::kBaked : GeneratedColour::kShader;
+    const std::string codec = j.at("chunk_codec").get<std::string>();
+    if (codec != "bintree" && codec != "meshopt")
+      return makeError(subject, "unknown chunk codec \"" + codec + "\"");
+    o.chunkCodec = codec == "meshopt" ? ChunkCodec::kMeshopt : ChunkCodec::kBintree;
     plan.blockCells = j.at("block_cells").get<int32_t>();
     const auto range = j.at("height_range").get<std::array<double, 2>>();
     plan.heightLo = range[0];

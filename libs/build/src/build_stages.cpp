@@ -723,8 +723,8 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
     if (Status st = texturePass->open(); !st) return st;
   }
-  ChunkPassContext context{s.layout,           s.budget,          nodes,   s.block,
-                           o.compressionLevel, texturePass.get(), o.mesher};
+  ChunkPassContext context{s.layout,           s.budget,          nodes,    s.block,
+                           o.compressionLevel, texturePass.get(), o.mesher, chunkPayloadOf(o)};
   const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
   DemWindows windows(*s.reader, threads, nullptr);
   std::vector<std::vector<float>> heights(threads);
@@ -913,7 +913,9 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
     if (!made) return made.error();
     top = std::move(made).value();
   }
-  ChunkPassContext context{s.layout, s.budget, nodes, s.block, o.compressionLevel, nullptr};
+  ChunkPassContext context{s.layout,          s.budget,           nodes,
+                           s.block,           o.compressionLevel, nullptr,
+                           MeshMethod::kRtin, chunkPayloadOf(o)};
   std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
   for (auto& m : meshers) m = std::make_unique<ChunkMesher>(s.layout, s.budget, grid, heights);
   auto built = buildCoarseChunks(context, coarseNodes, meshers, progress);

@@ -30,6 +30,11 @@ std::array<double, 2> guessHeightRange(const DemReader& reader) {
   return {(*estimate)[0] - 0.25 * span - 50.0, (*estimate)[1] + 0.25 * span + 50.0};
 }
 
+ChunkPayloadVersion chunkPayloadOf(const BuildOptions& options) {
+  return options.chunkCodec == ChunkCodec::kBintree ? ChunkPayloadVersion::kRtinCoded
+                                                    : ChunkPayloadVersion::kDerivedSkirts;
+}
+
 bool storesShade(const BuildOptions& options) {
   return options.textures && options.textureImage.empty() &&
          options.generatedColour == GeneratedColour::kShader;
@@ -99,6 +104,8 @@ TilesetHeader staticHeader(const DemInfo& info, const BuildOptions& options,
     header.flags |= kTilesetTextured;
     header.textureMinTau = options.textureTau;
   }
+  // Version 7 holds any of 4 to 6 with RTIN-coded chunks.
+  if (options.chunkCodec == ChunkCodec::kBintree) header.version = kTilesetVersionBintreeChunks;
   return header;
 }
 

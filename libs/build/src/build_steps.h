@@ -29,6 +29,8 @@ std::array<double, 2> guessHeightRange(const DemReader& reader);
 /// Whether a build stores the shade layer (the generated colour made in the shader, version 6)
 /// rather than a colour layer.
 bool storesShade(const BuildOptions& options);
+/// How the build's static chunks are stored (BuildOptions::chunkCodec).
+ChunkPayloadVersion chunkPayloadOf(const BuildOptions& options);
 
 /// The texture pyramid's plan and the generated colour's inputs (without sea voids, which only
 /// an in-memory build with voids knows).

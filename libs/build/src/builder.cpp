@@ -226,6 +226,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   chunkOptions.threads = b.threads;
   chunkOptions.compressionLevel = options.compressionLevel;
   chunkOptions.mesher = options.mesher;
+  chunkOptions.payload = chunkPayloadOf(options);
   TextureBuild textures;
   if (options.textures) {
     textures = textureBuildFor(options, b.layout, pass->budget, *b.reader, b.image.get());

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "terralod/format/rtin_chunk_codec.h"
+
 namespace terralod {
 namespace {
 
@@ -298,6 +300,8 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.side = mLayout.chunkCells(level);
   mesh.x0 = ix * mesh.side;
   mesh.y0 = iy * mesh.side;
+  mesh.dataX = std::min(mesh.side, mLayout.cellsX - mesh.x0);
+  mesh.dataY = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   if (greedyAt(level)) return buildGreedy(std::move(mesh));
   mOriginX = mesh.x0;
   mOriginY = mesh.y0;
@@ -348,11 +352,17 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   while (!mStack.empty()) {
     Pending item = mStack.back();
     mStack.pop_back();
+    const bool inParent = level > 0 && !item.parentKnown;
     if (level > 0 && !item.parentKnown && !splitAt(item.t, parentNeeds)) {
       item.parentKnown = true;
       item.parent = planeOf(item.t);
     }
-    if (splitAt(item.t, needed)) {
+    const bool split = splitAt(item.t, needed);
+    if (item.t.splittable())
+      mesh.rtinDecisions.push_back(
+          uint8_t((split ? kRtinSplit : 0) | (inParent ? kRtinInParent : 0) |
+                  (inParent && !item.parentKnown ? kRtinParentSplits : 0)));
+    if (split) {
       const auto kids = item.t.children();
       // Alternating the child order by depth walks the leaves along a Sierpinski curve:
       // consecutive triangles touch, which the index codec rewards.

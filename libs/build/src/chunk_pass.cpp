@@ -51,16 +51,18 @@ class WindowSampler final : public HeightSampler {
 }  // namespace
 
 Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
-                                        NodeRecord& node, int compressionLevel) {
+                                        NodeRecord& node, int compressionLevel,
+                                        ChunkPayloadVersion payload) {
   const ChunkMesh mesh = mesher.build(node.level, int32_t(node.x), int32_t(node.y));
   for (const MeshVertex& v : mesh.vertices)
     if (!std::isfinite(v.z) || !std::isfinite(v.morphTarget))
       return Error{"internal error: chunk " + std::to_string(node.level) + "/" +
                    std::to_string(node.x) + "/" + std::to_string(node.y) +
                    " has a vertex without a height"};
-  auto geometry = quantizeChunk(mesh, budget, kStaticChunkPayload);
-  if (!geometry) return geometry.error();
-  std::vector<uint8_t> blob = encodeChunk(*geometry, compressionLevel, kStaticChunkPayload);
+  auto encoded = encodeChunkMesh(mesh, budget, payload, compressionLevel);
+  if (!encoded) return encoded.error();
+  const ChunkGeometry* geometry = &encoded->geometry;
+  std::vector<uint8_t> blob = std::move(encoded->blob);
   // Quantisation moves a drawn height (own or morphed) by up to half a step either way.
   const double halfStep = 0.5 * geometry->zStep;
   node.minZ = floatBelow(mesh.minZ - halfStep);
@@ -150,7 +152,8 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
   while (!queue.empty()) {
     const uint32_t i = queue.front();
     queue.pop_front();
-    auto blob = buildChunk(mesher, context.budget, nodes[i], context.compressionLevel);
+    auto blob =
+        buildChunk(mesher, context.budget, nodes[i], context.compressionLevel, context.payload);
     if (!blob) return blob.error();
     out.chunks.push_back({i, std::move(blob).value(), {}});
     pushChildren(i);
@@ -196,8 +199,8 @@ Result<std::vector<BuiltChunk>> buildCoarseChunks(
       std::lock_guard lock(failMutex);
       if (failure) return;
     }
-    auto blob =
-        buildChunk(*meshers[w], context.budget, nodes[coarseNodes[k]], context.compressionLevel);
+    auto blob = buildChunk(*meshers[w], context.budget, nodes[coarseNodes[k]],
+                           context.compressionLevel, context.payload);
     if (!blob) {
       std::lock_guard lock(failMutex);
       if (!failure) failure = blob.error();
@@ -249,7 +252,8 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     if (Status s = texturePass->open(); !s) return s;
   }
   ChunkPassContext context{
-      layout, budget, nodes, block, options.compressionLevel, texturePass.get(), options.mesher};
+      layout,         budget,         nodes, block, options.compressionLevel, texturePass.get(),
+      options.mesher, options.payload};
   // The textures above the blocks are built as the blocks come in.
   std::optional<TilePyramid> pyramid;
   if (texturePass)

@@ -1,5 +1,5 @@
 // The staged build's plan.json is read by every job, possibly of another terralod build on
-// another node: its fields are frozen (tests/data/golden/build_plan/v4.json).
+// another node: its fields are frozen (tests/data/golden/build_plan/v5.json).
 
 #include "terralod/build/build_plan.h"
 
@@ -12,7 +12,7 @@ namespace terralod {
 namespace {
 
 std::string golden() {
-  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v4.json");
+  std::ifstream in(std::string(TERRALOD_SOURCE_DIR) + "/tests/data/golden/build_plan/v5.json");
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
@@ -32,6 +32,7 @@ BuildPlan example() {
   plan.options.textureTau = 1.5;
   plan.options.mesher = MeshMethod::kGreedy;
   plan.options.generatedColour = GeneratedColour::kBaked;
+  plan.options.chunkCodec = ChunkCodec::kMeshopt;
   plan.blockCells = 256;
   plan.heightLo = -10.5;
   plan.heightHi = 2500.25;
@@ -49,7 +50,7 @@ TEST(BuildPlan, WritesTheFrozenFields) {
 }
 
 TEST(BuildPlan, ReadsTheFrozenFields) {
-  auto plan = parseBuildPlan(golden(), "v4.json");
+  auto plan = parseBuildPlan(golden(), "v5.json");
   ASSERT_TRUE(plan.ok()) << plan.error().message;
   EXPECT_EQ(buildPlanJson(*plan), golden());
   EXPECT_EQ(plan->options.input, "/data/dem.tif");
@@ -63,9 +64,9 @@ TEST(BuildPlan, ReadsTheFrozenFields) {
 TEST(BuildPlan, RefusesWhatIsNotAPlan) {
   EXPECT_EQ(parseBuildPlan("{", "p.json").error().message, "p.json: not a terralod build plan");
   std::string newer = golden();
-  newer.replace(newer.find("\"version\": 4"), 12, "\"version\": 9");
+  newer.replace(newer.find("\"version\": 5"), 12, "\"version\": 9");
   EXPECT_EQ(parseBuildPlan(newer, "p.json").error().message,
-            "p.json: build plan version 9 (this terralod reads version 4)");
+            "p.json: build plan version 9 (this terralod reads version 5)");
   std::string broken = golden();
   broken.replace(broken.find("\"jobs\""), 6, "\"jabs\"");
   EXPECT_NE(parseBuildPlan(broken, "p.json").error().message.find("p.json: build plan field"),

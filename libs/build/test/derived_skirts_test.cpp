@@ -10,6 +10,7 @@
 #include <map>
 #include <random>
 
+#include "chunk_triangles.h"
 #include "terralod/build/activation_pass.h"
 #include "terralod/build/chunk_encoder.h"
 #include "terralod/build/chunk_mesher.h"
@@ -24,18 +25,6 @@ ChunkGeometry roundTrip(const ChunkMesh& mesh, const ErrorBudget& budget,
   auto decoded = decodeChunk(encodeChunk(quantized, 3, payload), "chunk");
   EXPECT_TRUE(decoded.ok()) << decoded.error().message;
   return decoded.ok() ? *decoded : ChunkGeometry{};
-}
-
-// A part's triangles from index `from` on, each rotated to start at its lowest index (the
-// index codec may rotate the triangles it stores; derived ones are never stored).
-std::vector<std::array<uint32_t, 3>> rotated(const ChunkPart& part, size_t from) {
-  std::vector<std::array<uint32_t, 3>> out;
-  for (size_t k = from; k < part.indices.size(); k += 3) {
-    std::array<uint32_t, 3> t = {part.indices[k], part.indices[k + 1], part.indices[k + 2]};
-    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
-    out.push_back(t);
-  }
-  return out;
 }
 
 double worldZ(const ChunkGeometry& g, const ChunkVertex& v) {
@@ -69,7 +58,7 @@ TEST_P(DerivedSkirts, AreTheStoredSkirtsNeverShallowerAndAtMostAStepDeeper) {
         const ChunkPart &s = stored.parts[0], &d = derived.parts[0];
         // The same triangles in the same order, over the same vertices.
         ASSERT_EQ(d.surfaceIndexCount, s.surfaceIndexCount);
-        ASSERT_EQ(rotated(d, 0), rotated(s, 0));
+        ASSERT_EQ(test::rotatedTriangles(d), test::rotatedTriangles(s));
         ASSERT_EQ(d.vertices.size(), s.vertices.size());
         EXPECT_EQ(d.indices.size() - d.surfaceIndexCount, mesh.skirtIndices.size());
         skirted += d.indices.size() > d.surfaceIndexCount;

@@ -11,8 +11,11 @@
 #include <memory>
 #include <mutex>
 #include <span>
+#include <unordered_map>
 
 #include "terralod/format/byte_io.h"
+#include "terralod/format/rtin_chunk_codec.h"
+#include "zstd_frame.h"
 
 namespace terralod {
 namespace {
@@ -131,6 +134,104 @@ Status appendDerivedSkirts(ChunkGeometry& g) {
   return {};
 }
 
+namespace {
+
+constexpr size_t kPartVertexLimit = 65535;
+
+// Skirt bottoms a reader derives for these surface triangles (payload version 2 and 3): one
+// per vertex and skirted side, over the edges along that side.
+size_t derivedBottoms(const std::vector<ChunkVertex>& vertices,
+                      const std::vector<uint32_t>& surface,
+                      const std::array<uint16_t, 4>& skirtSteps, uint16_t side) {
+  if (skirtSteps == std::array<uint16_t, 4>{}) return 0;
+  ChunkPart part;
+  std::unordered_map<uint32_t, uint32_t> local;
+  for (uint32_t i : surface) {
+    auto [it, fresh] = local.try_emplace(i, uint32_t(part.vertices.size()));
+    if (fresh) part.vertices.push_back(vertices[i]);
+    part.indices.push_back(it->second);
+  }
+  part.surfaceIndexCount = uint32_t(part.indices.size());
+  // The extents a reader finds: the chunk's side wherever a side has a skirt (its footprint is
+  // clipped only along the data's boundary, which has none).
+  std::vector<uint64_t> keys;
+  for (const SkirtEdge& e : skirtEdges(part, skirtSteps, side, side))
+    keys.insert(keys.end(), {uint64_t(e.p) * 4 + e.side, uint64_t(e.q) * 4 + e.side});
+  std::sort(keys.begin(), keys.end());
+  return size_t(std::unique(keys.begin(), keys.end()) - keys.begin());
+}
+
+void splitParts(const std::vector<ChunkVertex>& vertices, const std::array<uint16_t, 4>& steps,
+                uint16_t chunkSide, std::vector<uint32_t> surface, std::vector<uint32_t> skirt,
+                double x0, double y0, double side, std::vector<ChunkPart>& parts) {
+  std::unordered_map<uint32_t, uint32_t> remap;
+  for (uint32_t i : surface) remap.try_emplace(i, 0);
+  for (uint32_t i : skirt) remap.try_emplace(i, 0);
+  const size_t size = remap.size() + derivedBottoms(vertices, surface, steps, chunkSide);
+  if (size <= kPartVertexLimit || side <= 1) {
+    ChunkPart part;
+    std::vector<uint32_t> order;
+    order.reserve(remap.size());
+    for (auto& [from, to] : remap) order.push_back(from);
+    std::sort(order.begin(), order.end());
+    for (uint32_t from : order) {
+      remap[from] = static_cast<uint32_t>(part.vertices.size());
+      part.vertices.push_back(vertices[from]);
+    }
+    for (uint32_t i : surface) part.indices.push_back(remap[i]);
+    part.surfaceIndexCount = static_cast<uint32_t>(part.indices.size());
+    for (uint32_t i : skirt) part.indices.push_back(remap[i]);
+    if (!part.indices.empty()) parts.push_back(std::move(part));
+    return;
+  }
+  const double half = side / 2;
+  std::vector<uint32_t> qs[4], qk[4];
+  auto quadrant = [&](const uint32_t* tri) {
+    double cx = 0, cy = 0;
+    for (int k = 0; k < 3; ++k) cx += vertices[tri[k]].x, cy += vertices[tri[k]].y;
+    return (cx / 3 >= x0 + half ? 1 : 0) + (cy / 3 >= y0 + half ? 2 : 0);
+  };
+  for (size_t t = 0; t < surface.size(); t += 3) {
+    auto& q = qs[quadrant(&surface[t])];
+    q.insert(q.end(), surface.begin() + t, surface.begin() + t + 3);
+  }
+  for (size_t t = 0; t < skirt.size(); t += 3) {
+    auto& q = qk[quadrant(&skirt[t])];
+    q.insert(q.end(), skirt.begin() + t, skirt.begin() + t + 3);
+  }
+  for (int q = 0; q < 4; ++q)
+    splitParts(vertices, steps, chunkSide, std::move(qs[q]), std::move(qk[q]), x0 + (q & 1) * half,
+               y0 + (q >> 1) * half, half, parts);
+}
+
+}  // namespace
+
+std::vector<ChunkPart> splitChunkParts(const std::vector<ChunkVertex>& vertices,
+                                       std::vector<uint32_t> surface, std::vector<uint32_t> skirt,
+                                       const std::array<uint16_t, 4>& derivedSkirtSteps,
+                                       uint16_t side) {
+  std::vector<ChunkPart> parts;
+  // Every vertex used and room for any skirts (at most side + 1 bottoms a side): one part,
+  // as the recursion would make it, without counting.
+  if (vertices.size() + 4 * (size_t(side) + 1) <= kPartVertexLimit) {
+    std::vector<uint8_t> used(vertices.size(), 0);
+    for (uint32_t i : surface) used[i] = 1;
+    for (uint32_t i : skirt) used[i] = 1;
+    if (std::find(used.begin(), used.end(), 0) == used.end()) {
+      ChunkPart& part = parts.emplace_back();
+      part.vertices = vertices;
+      part.surfaceIndexCount = uint32_t(surface.size());
+      part.indices = std::move(surface);
+      part.indices.insert(part.indices.end(), skirt.begin(), skirt.end());
+      if (part.indices.empty()) parts.clear();
+      return parts;
+    }
+  }
+  splitParts(vertices, derivedSkirtSteps, side, std::move(surface), std::move(skirt), 0, 0, side,
+             parts);
+  return parts;
+}
+
 void optimizeChunkPart(ChunkPart& part) {
   const size_t vertexCount = part.vertices.size();
   std::vector<uint32_t> ordered(part.indices.size());
@@ -150,6 +251,7 @@ void optimizeChunkPart(ChunkPart& part) {
 std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionLevel,
                                  ChunkPayloadVersion payload) {
   pinCodecVersions();
+  assert(payload != ChunkPayloadVersion::kRtinCoded);  // encodeRtinChunk writes those
   const bool derived = payload == ChunkPayloadVersion::kDerivedSkirts;
   struct Encoded {
     std::vector<uint8_t> vertices, indices;
@@ -200,12 +302,7 @@ std::vector<uint8_t> encodeChunk(const ChunkGeometry& geometry, int compressionL
     w.putBytes(e.vertices.data(), e.vertices.size());
     w.putBytes(e.indices.data(), e.indices.size());
   }
-  std::vector<uint8_t> blob(ZSTD_compressBound(raw.size()));
-  const size_t n =
-      ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), compressionLevel);
-  assert(!ZSTD_isError(n));
-  blob.resize(n);
-  return blob;
+  return zstdFrame(raw, compressionLevel);
 }
 
 Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::string& subject) {
@@ -224,6 +321,7 @@ Result<ChunkGeometry> decodeChunk(std::span<const uint8_t> blob, const std::stri
   ByteReader r(raw.data());
   if (r.get<uint32_t>() != kChunkMagic) return bad("wrong magic");
   const uint16_t version = r.get<uint16_t>();
+  if (version == uint16_t(ChunkPayloadVersion::kRtinCoded)) return decodeRtinPayload(raw, subject);
   if (version != uint16_t(ChunkPayloadVersion::kStoredSkirts) &&
       version != uint16_t(ChunkPayloadVersion::kDerivedSkirts))
     return bad("unknown chunk version");

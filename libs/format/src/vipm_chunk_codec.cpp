@@ -11,6 +11,7 @@
 #include <mutex>
 
 #include "terralod/format/byte_io.h"
+#include "zstd_frame.h"
 
 namespace terralod {
 namespace {
@@ -86,12 +87,7 @@ std::vector<uint8_t> encodeVipmChunk(const VipmChunkData& c, int compressionLeve
   putArray(w, c.errors);
   w.putBytes(stream.data(), stream.size());
   assert(w.position() == raw.size());
-  std::vector<uint8_t> blob(ZSTD_compressBound(raw.size()));
-  const size_t size =
-      ZSTD_compress(blob.data(), blob.size(), raw.data(), raw.size(), compressionLevel);
-  assert(!ZSTD_isError(size));
-  blob.resize(size);
-  return blob;
+  return zstdFrame(raw, compressionLevel);
 }
 
 Result<VipmChunkData> decodeVipmChunk(std::span<const uint8_t> blob, const std::string& subject) {

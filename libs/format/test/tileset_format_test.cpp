@@ -76,10 +76,10 @@ TEST(TilesetHeader, RejectsWrongMagicFutureVersionAndCorruption) {
   EXPECT_EQ(parseHeader(wrongMagic, "a.tlod").error().message,
             "a.tlod: not a terralod tileset (wrong magic bytes)");
   auto future = bytes;
-  future[8] = 7;
+  future[8] = 8;
   EXPECT_EQ(parseHeader(future, "b.tlod").error().message,
-            "b.tlod: tileset format version 7 is not supported (this terralod reads versions 1 "
-            "to 6)");
+            "b.tlod: tileset format version 8 is not supported (this terralod reads versions 1 "
+            "to 7)");
   auto flipped = bytes;
   flipped[100] ^= 1;
   EXPECT_EQ(parseHeader(flipped, "c.tlod").error().message,

@@ -14,7 +14,7 @@
 
 namespace terralod {
 
-inline constexpr int kBuildPlanVersion = 4;
+inline constexpr int kBuildPlanVersion = 5;
 
 struct BuildPlan {
   BuildOptions options;  ///< input, output and texture paths absolute

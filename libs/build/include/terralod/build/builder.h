@@ -28,6 +28,12 @@ enum class GeneratedColour {
   kBaked,   ///< --bake-colour: chunks store the colour itself (version 5)
 };
 
+/// How static chunks store their geometry (`--chunk-codec`, docs/format.md "Version 7").
+enum class ChunkCodec {
+  kBintree,  ///< the default: RTIN chunks as their bintree's splits and height residuals (7)
+  kMeshopt,  ///< every chunk as meshoptimizer vertex and index streams (versions 4 to 6)
+};
+
 /// Whether the raster is read whole into memory or streamed in windows.
 enum class Streaming {
   kAuto,    ///< stream plain rasters over 16 M samples or over the memory budget, load the rest
@@ -86,6 +92,7 @@ struct BuildOptions {
   double textureTau = 2.0;   ///< --min-tau: the τ the texture resolution is sized for
   TextureSharing textureSharing = TextureSharing::kInherit;
   GeneratedColour generatedColour = GeneratedColour::kShader;
+  ChunkCodec chunkCodec = ChunkCodec::kBintree;
   TilesetKind kind = TilesetKind::kStatic;
   // VIPM only (kind kVipm):
   std::string materialsPath;  ///< categorical raster; empty: classify the DEM

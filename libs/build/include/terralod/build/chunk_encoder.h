@@ -1,7 +1,8 @@
 #pragma once
 // From a chunk mesh in metres to its stored geometry: heights quantised on the level's step,
 // morph targets as deltas, split into 16-bit parts if needed; the skirts stored (payload
-// version 1) or left for the reader to derive from each side's depth (version 2).
+// version 1) or left for the reader to derive from each side's depth (version 2); RTIN chunks
+// stored as their bintree's decisions and height residuals (version 3).
 
 #include "terralod/build/chunk_mesher.h"
 #include "terralod/build/error_budget.h"
@@ -12,5 +13,17 @@ namespace terralod {
 
 Result<ChunkGeometry> quantizeChunk(const ChunkMesh& mesh, const ErrorBudget& budget,
                                     ChunkPayloadVersion payload);
+
+/// A chunk's stored geometry (what a reader decodes) and its blob.
+struct EncodedChunk {
+  ChunkGeometry geometry;
+  std::vector<uint8_t> blob;
+  ChunkPayloadVersion payload = ChunkPayloadVersion::kDerivedSkirts;  ///< what `blob` holds
+};
+
+/// Quantises and encodes. With kRtinCoded an RTIN chunk is stored as its bintree (payload
+/// version 3), a greedy one (no walk decisions) as payload version 2.
+Result<EncodedChunk> encodeChunkMesh(const ChunkMesh& mesh, const ErrorBudget& budget,
+                                     ChunkPayloadVersion payload, int compressionLevel);
 
 }  // namespace terralod

@@ -35,12 +35,16 @@ enum ChunkSide { kSouth = 0, kEast = 1, kNorth = 2, kWest = 3 };
 struct ChunkMesh {
   int32_t level = 0, ix = 0, iy = 0;
   int32_t x0 = 0, y0 = 0, side = 0;  ///< the chunk's square in grid cells
+  int32_t dataX = 0, dataY = 0;      ///< cells of the square inside the data (at most side)
   std::vector<MeshVertex> vertices;  ///< surface vertices first, then skirt bottoms
   uint32_t surfaceVertexCount = 0;
   std::vector<uint32_t> surfaceIndices;  ///< triangles, counter-clockwise seen from above
   std::vector<uint32_t> skirtIndices;    ///< triangles hanging from the sides
   std::array<double, 4> skirtDepth{};    ///< per ChunkSide; 0 where there is no skirt
   double minZ = 0.0, maxZ = 0.0;         ///< surface over the whole morph range
+  /// RTIN chunks: the walk's decision at each splittable triangle (RtinDecision bits), what
+  /// payload version 3 stores; empty for greedy chunks.
+  std::vector<uint8_t> rtinDecisions;
 };
 
 /// Builds chunk meshes. Keeps scratch buffers between calls: use one per thread.

@@ -27,12 +27,17 @@
 
 namespace terralod {
 
+/// How static builds store chunks unless asked otherwise: RTIN chunks as their bintree
+/// (payload version 3, file version 7), greedy ones with skirts derived by the reader (2).
+inline constexpr ChunkPayloadVersion kStaticChunkPayload = ChunkPayloadVersion::kRtinCoded;
+
 struct ChunkPassOptions {
   int32_t blockCells = 512;
   unsigned threads = 1;
   int compressionLevel = kDefaultChunkCompressionLevel;
   const TextureBuild* textures = nullptr;  ///< null: geometry only
   MeshMethod mesher = MeshMethod::kRtin;
+  ChunkPayloadVersion payload = kStaticChunkPayload;
 };
 
 /// Breadth-first node list of the tree (roots row-major, children SW, SE, NW, NE).
@@ -70,6 +75,7 @@ struct ChunkPassContext {
   int compressionLevel = kDefaultChunkCompressionLevel;
   TexturePass* textures = nullptr;        ///< null: geometry only
   MeshMethod mesher = MeshMethod::kRtin;  ///< below the block level (the levels above: RTIN)
+  ChunkPayloadVersion payload = kStaticChunkPayload;
 };
 
 /// Builds the chunks below block node `blockNode` from its (blockCells+1)² `window` of
@@ -97,12 +103,10 @@ Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
 Status appendChunk(TilesetWriter& writer, NodeRecord& node, std::span<const uint8_t> blob,
                    std::span<const uint8_t> texture);
 
-/// How static builds store chunks: skirts derived by the reader (file version 4).
-inline constexpr ChunkPayloadVersion kStaticChunkPayload = ChunkPayloadVersion::kDerivedSkirts;
-
 /// Meshes, quantises and encodes one chunk; fills in its node's statistics.
 Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
-                                        NodeRecord& node, int compressionLevel);
+                                        NodeRecord& node, int compressionLevel,
+                                        ChunkPayloadVersion payload);
 
 /// Builds every node's chunk and appends its blob to `writer` (with its texture blob right
 /// after it when `options.textures` is set), filling in the node records.

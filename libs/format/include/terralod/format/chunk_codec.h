@@ -49,6 +49,7 @@ struct ChunkGeometry {
 enum class ChunkPayloadVersion : uint16_t {
   kStoredSkirts = 1,   ///< skirt vertices and triangles stored like the surface's
   kDerivedSkirts = 2,  ///< each side's depth stored; a reader derives the skirts
+  kRtinCoded = 3,      ///< as 2, an RTIN chunk stored as its bintree (rtin_chunk_codec.h)
 };
 
 /// A surface edge along a skirted side, p -> q as its triangle winds (counter-clockwise seen
@@ -73,6 +74,16 @@ std::vector<SkirtEdge> skirtEdges(const ChunkPart& part, const std::array<uint16
 /// what is wrong) when a bottom would fall below height 0, or a part would pass 65536 vertices
 /// or 2^24 indices.
 Status appendDerivedSkirts(ChunkGeometry& geometry);
+
+/// Groups a chunk's triangles into parts of at most 65535 vertices, counting the skirt bottoms
+/// a reader derives (`derivedSkirtSteps`; all 0 for stored skirts): one part when they fit,
+/// else by the quadrant of the chunk's square (of `side` cells) each triangle's centroid lies
+/// in, recursively. A part keeps its vertices in their order in `vertices` and its triangles
+/// in theirs. Writers and the reader of payload version 3 both call it.
+std::vector<ChunkPart> splitChunkParts(const std::vector<ChunkVertex>& vertices,
+                                       std::vector<uint32_t> surface, std::vector<uint32_t> skirt,
+                                       const std::array<uint16_t, 4>& derivedSkirtSteps,
+                                       uint16_t side);
 
 /// zstd level of chunk blobs unless a build asks for another (level 3 is within a few percent
 /// of level 19 on chunk data, and an order of magnitude faster).

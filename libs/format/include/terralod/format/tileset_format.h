@@ -22,7 +22,7 @@
 namespace terralod {
 
 inline constexpr char kTilesetMagic[8] = {'T', 'E', 'R', 'R', 'A', 'L', 'O', 'D'};
-inline constexpr uint32_t kTilesetVersion = 6;  ///< the newest version this code reads
+inline constexpr uint32_t kTilesetVersion = 7;  ///< the newest version this code reads
 /// What static tilesets without textures are written as: version 3 with chunk payloads of
 /// version 2 (skirts derived by the reader). Textured static tilesets are written as version 5
 /// (version 4 whose chunks may draw an ancestor's texture); VIPM tilesets as version 2 (raw
@@ -33,6 +33,9 @@ inline constexpr uint32_t kTilesetVersionStaticTextured = 5;
 /// whose texture blobs hold a shade layer, BC4, instead of colour; metadata "texture":
 /// "color_layer": "shade" and "snow_line").
 inline constexpr uint32_t kTilesetVersionStaticShaded = 6;
+/// Static tilesets whose RTIN chunks are stored as their bintree (version 7: any of versions 4
+/// to 6 whose chunk blobs may be payload version 3, rtin_chunk_codec.h); the default.
+inline constexpr uint32_t kTilesetVersionBintreeChunks = 7;
 inline constexpr uint32_t kTilesetVersionVipm = 2;
 inline constexpr uint32_t kHeaderBytes = 512;
 inline constexpr uint32_t kNodeRecordBytes = 64;
