@@ -19,8 +19,9 @@ constexpr uint16_t kRtinPayloadVersion = 3;
 // magic, version, sideLog2, flags, zStep, zBaseSteps, skirtSteps[4], clipX, clipY,
 // vertexCount, triangleCount, bitBytes, zBytes, deltaBytes
 constexpr size_t kRtinHeaderBytes = 4 + 2 + 1 + 1 + 8 + 4 + 8 + 4 + 5 * 4;
-constexpr uint8_t kRtinFlagRising = 1, kRtinFlagHasParent = 2;
+constexpr uint8_t kRtinFlagRising = 1, kRtinFlagHasParent = 2, kRtinFlagFramedStreams = 4;
 constexpr int kRtinMaxSideLog2 = 15;  // local coordinates are 16-bit
+constexpr uint64_t kRtinMaxStreamBytes = uint64_t{1} << 28;
 
 class BitWriter {
  public:
@@ -336,29 +337,41 @@ std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk,
     previous = {v.z, target};
   }
 
-  const std::vector<uint8_t>& bitBytes = bits.bytes();
-  std::vector<uint8_t> raw(kRtinHeaderBytes + bitBytes.size() + zStream.size() +
-                           deltaStream.size());
-  ByteWriter w(raw.data());
-  w.put<uint32_t>(kRtinChunkMagic);
-  w.put<uint16_t>(kRtinPayloadVersion);
-  w.put<uint8_t>(uint8_t(chunk.sideLog2));
-  w.put<uint8_t>(
-      uint8_t((chunk.rising ? kRtinFlagRising : 0) | (chunk.hasParent ? kRtinFlagHasParent : 0)));
-  w.put<double>(chunk.zStep);
-  w.put<int32_t>(chunk.zBaseSteps);
-  for (uint16_t steps : chunk.skirtSteps) w.put<uint16_t>(steps);
-  w.put<uint16_t>(chunk.clipX);
-  w.put<uint16_t>(chunk.clipY);
-  w.put<uint32_t>(uint32_t(vertices.size()));
-  w.put<uint32_t>(uint32_t(walk.indices.size() / 3));
-  w.put<uint32_t>(uint32_t(bitBytes.size()));
-  w.put<uint32_t>(uint32_t(zStream.size()));
-  w.put<uint32_t>(uint32_t(deltaStream.size()));
-  w.putBytes(bitBytes.data(), bitBytes.size());
-  w.putBytes(zStream.data(), zStream.size());
-  w.putBytes(deltaStream.data(), deltaStream.size());
-  return zstdFrame(raw, compressionLevel);
+  // The streams as they are in the blob's one frame, or each in its own zstd frame inside it:
+  // one Huffman table over the three costs large chunks about 5 %, three tables cost small
+  // chunks more than that. Whichever is smaller.
+  const std::vector<uint8_t>* plain[3] = {&bits.bytes(), &zStream, &deltaStream};
+  auto blobOf = [&](bool separate) {
+    std::vector<uint8_t> framed[3];
+    const std::vector<uint8_t>* streams[3] = {plain[0], plain[1], plain[2]};
+    if (separate)
+      for (int k = 0; k < 3; ++k) {
+        framed[k] = zstdFrame(*plain[k], compressionLevel);
+        streams[k] = &framed[k];
+      }
+    std::vector<uint8_t> raw(kRtinHeaderBytes + streams[0]->size() + streams[1]->size() +
+                             streams[2]->size());
+    ByteWriter w(raw.data());
+    w.put<uint32_t>(kRtinChunkMagic);
+    w.put<uint16_t>(kRtinPayloadVersion);
+    w.put<uint8_t>(uint8_t(chunk.sideLog2));
+    w.put<uint8_t>(uint8_t((chunk.rising ? kRtinFlagRising : 0) |
+                           (chunk.hasParent ? kRtinFlagHasParent : 0) |
+                           (separate ? kRtinFlagFramedStreams : 0)));
+    w.put<double>(chunk.zStep);
+    w.put<int32_t>(chunk.zBaseSteps);
+    for (uint16_t steps : chunk.skirtSteps) w.put<uint16_t>(steps);
+    w.put<uint16_t>(chunk.clipX);
+    w.put<uint16_t>(chunk.clipY);
+    w.put<uint32_t>(uint32_t(vertices.size()));
+    w.put<uint32_t>(uint32_t(walk.indices.size() / 3));
+    for (const auto* stream : streams) w.put<uint32_t>(uint32_t(stream->size()));
+    for (const auto* stream : streams) w.putBytes(stream->data(), stream->size());
+    // Framed streams leave the blob's frame nothing to compress: level 1.
+    return zstdFrame(raw, separate ? 1 : compressionLevel);
+  };
+  std::vector<uint8_t> one = blobOf(false), framed = blobOf(true);
+  return framed.size() < one.size() ? framed : one;
 }
 
 Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std::string& subject) {
@@ -379,7 +392,7 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
   const uint32_t bitBytes = r.get<uint32_t>(), zBytes = r.get<uint32_t>(),
                  deltaBytes = r.get<uint32_t>();
   if (sideLog2 < 1 || sideLog2 > kRtinMaxSideLog2 ||
-      (flags & ~(kRtinFlagRising | kRtinFlagHasParent)))
+      (flags & ~(kRtinFlagRising | kRtinFlagHasParent | kRtinFlagFramedStreams)))
     return bad("bad square");
   const int32_t side = int32_t{1} << sideLog2;
   if (!std::isfinite(g.zBase) || !(g.zStep > 0) || !std::isfinite(g.zStep))
@@ -391,11 +404,32 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
     return bad("bad vertex or triangle count");
   if (uint64_t(kRtinHeaderBytes) + bitBytes + zBytes + deltaBytes != raw.size())
     return bad("stream sizes do not match the data");
-  // Every vertex has a height and a delta of at least a byte each.
-  if (zBytes < vertexCount || deltaBytes < vertexCount) return bad("streams too short");
+  // With kRtinFlagFramedStreams each stream is one zstd frame. A varint takes 1 to 5 bytes,
+  // and every vertex has one of each.
+  std::vector<uint8_t> streams[3];
+  const uint32_t streamBytes[3] = {bitBytes, zBytes, deltaBytes};
+  const uint64_t most[3] = {kRtinMaxStreamBytes, 5 * uint64_t(vertexCount),
+                            5 * uint64_t(vertexCount)};
+  size_t at = kRtinHeaderBytes;
+  for (int k = 0; k < 3; ++k) {
+    const std::span<const uint8_t> stored = raw.subspan(at, streamBytes[k]);
+    at += streamBytes[k];
+    if (!(flags & kRtinFlagFramedStreams)) {
+      streams[k].assign(stored.begin(), stored.end());
+    } else {
+      const unsigned long long size = ZSTD_getFrameContentSize(stored.data(), stored.size());
+      if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN || size > most[k])
+        return bad("implausible stream");
+      streams[k].resize(size);
+      const size_t got = ZSTD_decompress(streams[k].data(), size, stored.data(), stored.size());
+      if (ZSTD_isError(got) || got != size) return bad("stream does not decompress");
+    }
+    if (k > 0 && (streams[k].size() < vertexCount || streams[k].size() > most[k]))
+      return bad("height streams do not fit the vertices");
+  }
 
   const bool hasParent = flags & kRtinFlagHasParent;
-  BitReader bits(raw.subspan(kRtinHeaderBytes, bitBytes));
+  BitReader bits(streams[0]);
   auto decide = [&](const BinTriangle&, int depth, bool walkInParent) -> Decision {
     const bool inParent = depth == 0 ? hasParent && bits.get() : walkInParent;
     const bool split = bits.get();
@@ -412,8 +446,8 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
   std::vector<ChunkVertex> vertices(vertexCount);
   for (size_t i = 0; i < vertexCount; ++i)
     vertices[i] = {uint16_t(walk.positions[i].x), uint16_t(walk.positions[i].y), 0, 0};
-  VarintReader zs(raw.subspan(kRtinHeaderBytes + bitBytes, zBytes));
-  VarintReader ds(raw.subspan(kRtinHeaderBytes + bitBytes + zBytes, deltaBytes));
+  VarintReader zs(streams[1]);
+  VarintReader ds(streams[2]);
   Prediction previous{0, 0};
   for (const Coded& c : codingOrder(walk, side)) {
     const Prediction p = predict(c, vertices, previous);
