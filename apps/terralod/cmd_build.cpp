@@ -52,7 +52,10 @@ void addBuildCommand(CLI::App& root, Runner& run) {
                   "Memory budget for the input; larger rasters are read in windows")
       ->capture_default_str()
       ->check(wholeNumber<uint64_t>(1));
-  cmd->add_option("--zstd-level", options->compressionLevel, "zstd level for chunk data (1-22)")
+  cmd->add_option(
+         "--zstd-level", options->compressionLevel,
+         "zstd level for chunk data stored as meshoptimizer streams (1-22; bintree chunks are "
+         "range-coded)")
       ->capture_default_str()
       ->check(wholeNumber(1, 22));
   cmd->add_option("--texture", options->textureImage,
@@ -90,7 +93,8 @@ void addBuildCommand(CLI::App& root, Runner& run) {
   auto chunkCodec = std::make_shared<std::string>("bintree");
   cmd->add_option("--chunk-codec", *chunkCodec,
                   "How static chunks store their geometry: bintree (an RTIN chunk as its "
-                  "bintree's split bits and one height residual per vertex, format version 7) "
+                  "bintree's split decisions and a height and delta residual per vertex, "
+                  "range-coded: format version 7) "
                   "or meshopt (meshoptimizer's vertex and index streams, versions 4 to 6: for "
                   "readers of those versions). Greedy chunks are always meshopt")
       ->capture_default_str()

@@ -114,12 +114,11 @@ Result<EncodedChunk> encodeChunkMesh(const ChunkMesh& mesh, const ErrorBudget& b
   if (!vertices) return vertices.error();
   if (payload == ChunkPayloadVersion::kRtinCoded && !mesh.rtinDecisions.empty()) {
     const ChunkGeometry& g = out.geometry;
-    auto blob = encodeRtinChunk(
-        {std::countr_zero(uint32_t(mesh.side)),
-         squareHasRisingDiagonal(mesh.x0, mesh.y0, mesh.side), uint16_t(mesh.dataX),
-         uint16_t(mesh.dataY), mesh.level > 0, g.zStep, int32_t(std::lround(g.zBase / g.zStep)),
-         g.skirtSteps, mesh.rtinDecisions, *vertices, mesh.surfaceIndices},
-        compressionLevel);
+    auto blob = encodeRtinChunk({std::countr_zero(uint32_t(mesh.side)),
+                                 squareHasRisingDiagonal(mesh.x0, mesh.y0, mesh.side),
+                                 uint16_t(mesh.dataX), uint16_t(mesh.dataY), mesh.level > 0,
+                                 g.zStep, int32_t(std::lround(g.zBase / g.zStep)), g.skirtSteps,
+                                 mesh.rtinDecisions, *vertices, mesh.surfaceIndices});
     if (blob) {
       out.blob = std::move(*blob);
       out.payload = ChunkPayloadVersion::kRtinCoded;

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <memory>
 #include <unordered_map>
 
+#include "range_coder.h"
 #include "terralod/core/bintree.h"
 #include "terralod/format/byte_io.h"
 #include "zstd_frame.h"
@@ -17,83 +19,26 @@ namespace {
 constexpr uint32_t kRtinChunkMagic = 0x42434C54;  // "TLCB"
 constexpr uint16_t kRtinPayloadVersion = 3;
 // magic, version, sideLog2, flags, zStep, zBaseSteps, skirtSteps[4], clipX, clipY,
-// vertexCount, triangleCount, bitBytes, zBytes, deltaBytes
-constexpr size_t kRtinHeaderBytes = 4 + 2 + 1 + 1 + 8 + 4 + 8 + 4 + 5 * 4;
-constexpr uint8_t kRtinFlagRising = 1, kRtinFlagHasParent = 2, kRtinFlagFramedStreams = 4;
+// vertexCount, triangleCount, decisionCount, codedBytes
+constexpr size_t kRtinHeaderBytes = 4 + 2 + 1 + 1 + 8 + 4 + 8 + 4 + 4 * 4;
+// A chunk's most vertices and triangles (a 4096-cell square at full resolution has 2^25
+// triangles); more is refused before anything is allocated for it.
+constexpr uint32_t kRtinMaxCount = uint32_t{1} << 26;
+constexpr uint8_t kRtinFlagRising = 1, kRtinFlagHasParent = 2;
 constexpr int kRtinMaxSideLog2 = 15;  // local coordinates are 16-bit
-constexpr uint64_t kRtinMaxStreamBytes = uint64_t{1} << 28;
+// Depths of the bintree below the chunk's square (at most 2 · 15), and one more context for
+// the vertices coded without a split (the square's corners, those the clip makes).
+constexpr int kRtinDepths = 32;
 
-class BitWriter {
- public:
-  void put(bool bit) {
-    if (mCount % 8 == 0) mBytes.push_back(0);
-    if (bit) mBytes.back() |= uint8_t(1u << (mCount % 8));
-    ++mCount;
-  }
-  const std::vector<uint8_t>& bytes() const { return mBytes; }
-
- private:
-  std::vector<uint8_t> mBytes;
-  size_t mCount = 0;
-};
-
-class BitReader {
- public:
-  explicit BitReader(std::span<const uint8_t> bytes) : mBytes(bytes) {}
-  /// The next bit; past the end, false and failed() from then on.
-  bool get() {
-    if (mCount >= mBytes.size() * 8) {
-      mFailed = true;
-      return false;
-    }
-    const bool bit = (mBytes[mCount / 8] >> (mCount % 8)) & 1u;
-    ++mCount;
-    return bit;
-  }
-  bool failed() const { return mFailed; }
-  /// Every bit used (the rest of the last byte zero).
-  bool exhausted() const {
-    if (mCount + 8 <= mBytes.size() * 8) return false;
-    return mCount % 8 == 0 || (mBytes.back() >> (mCount % 8)) == 0;
-  }
-
- private:
-  std::span<const uint8_t> mBytes;
-  size_t mCount = 0;
-  bool mFailed = false;
-};
-
-void putVarint(std::vector<uint8_t>& out, int32_t value) {
-  uint32_t v = (uint32_t(value) << 1) ^ uint32_t(value >> 31);  // zigzag
-  while (v >= 0x80) {
-    out.push_back(uint8_t(v | 0x80));
-    v >>= 7;
-  }
-  out.push_back(uint8_t(v));
-}
-
-class VarintReader {
- public:
-  explicit VarintReader(std::span<const uint8_t> bytes) : mBytes(bytes) {}
-  /// The next value; on a truncated or overlong value, 0 and failed() from then on.
-  int32_t get() {
-    uint32_t v = 0;
-    for (int shift = 0; shift < 35; shift += 7) {
-      if (mPos >= mBytes.size()) break;
-      const uint8_t b = mBytes[mPos++];
-      v |= uint32_t(b & 0x7F) << shift;
-      if (!(b & 0x80)) return int32_t(v >> 1) ^ -int32_t(v & 1);
-    }
-    mFailed = true;
-    return 0;
-  }
-  bool failed() const { return mFailed; }
-  bool exhausted() const { return mPos == mBytes.size(); }
-
- private:
-  std::span<const uint8_t> mBytes;
-  size_t mPos = 0;
-  bool mFailed = false;
+// The odds the decisions and residuals are coded with, each in its context: split decisions
+// by depth and whether the triangle is the parent level's, heights by their split's depth,
+// morph deltas by depth and whether the vertex is the parent's own.
+struct Models {
+  std::array<rc::Probability, 2 * kRtinDepths> split;
+  rc::Probability rootInParent;
+  std::array<rc::Probability, kRtinDepths> parentSplits;
+  std::array<rc::IntegerModel, kRtinDepths + 1> z;
+  std::array<rc::IntegerModel, 2 * (kRtinDepths + 1)> delta;
 };
 
 // Grid point to vertex number over the chunk's square: dense for small squares.
@@ -127,6 +72,7 @@ class PointIndex {
 
 struct Split {
   GridPoint a, b, m;
+  int depth = 0;
   bool parentSplits = false;
 };
 
@@ -222,7 +168,8 @@ bool walkChunk(int sideLog2, bool rising, uint16_t clipX, uint16_t clipY, size_t
       const Decision d = decide(item.t, item.depth, item.inParent);
       if (!d.ok) return false;
       if (d.split) {
-        walk.splits.push_back({item.t.a, item.t.b, item.t.hypotenuseMidpoint(), d.parentSplits});
+        walk.splits.push_back(
+            {item.t.a, item.t.b, item.t.hypotenuseMidpoint(), item.depth, d.parentSplits});
         const auto kids = item.t.children();
         const int first = (item.depth & 1) ? 1 : 0;
         stack.push_back({kids[1 - first], item.depth + 1, d.parentSplits});
@@ -243,6 +190,7 @@ struct Coded {
   uint32_t vertex;
   int32_t a = -1, b = -1;     ///< predictor vertices (-1: none)
   bool parentVertex = false;  ///< the parent splits here: the vertex is the parent's own
+  int context = kRtinDepths;  ///< its split's depth; kRtinDepths without a split
 };
 
 std::vector<Coded> codingOrder(const Walk& walk, int32_t side) {
@@ -264,7 +212,8 @@ std::vector<Coded> codingOrder(const Walk& walk, int32_t side) {
     done[size_t(i)] = 1;
     const int32_t a = walk.index.find(s.a), b = walk.index.find(s.b);
     order.push_back({uint32_t(i), a >= 0 && done[size_t(a)] ? a : -1,
-                     b >= 0 && done[size_t(b)] ? b : -1, s.parentSplits});
+                     b >= 0 && done[size_t(b)] ? b : -1, s.parentSplits,
+                     std::min(s.depth, kRtinDepths - 1)});
   }
   for (uint32_t i = 0; i < n; ++i)
     if (!done[i]) order.push_back({i});
@@ -288,33 +237,32 @@ Prediction predict(const Coded& c, const std::vector<ChunkVertex>& v, Prediction
 
 }  // namespace
 
-std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk,
-                                                    int compressionLevel) {
+std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk) {
   if (chunk.sideLog2 < 1 || chunk.sideLog2 > kRtinMaxSideLog2) return std::nullopt;
   const int32_t side = int32_t{1} << chunk.sideLog2;
-  BitWriter bits;
+  auto models = std::make_unique<Models>();
+  rc::Encoder coder;
   size_t next = 0;
-  bool consistent = true;
   auto decide = [&](const BinTriangle&, int depth, bool walkInParent) -> Decision {
     if (next >= chunk.decisions.size()) return {false};
     const uint8_t d = chunk.decisions[next++];
     const bool inParent = chunk.hasParent && (d & kRtinInParent);
     if (depth == 0) {
-      if (chunk.hasParent) bits.put(inParent);
+      if (chunk.hasParent) coder.bit(models->rootInParent, inParent);
     } else if (inParent != walkInParent) {
-      consistent = false;
       return {false};
     }
     const bool split = d & kRtinSplit;
     const bool parentSplits = split && inParent && (d & kRtinParentSplits);
-    bits.put(split);
-    if (split && inParent) bits.put(parentSplits);
+    const int context = std::min(depth, kRtinDepths - 1);
+    coder.bit(models->split[size_t(context * 2 + (inParent ? 1 : 0))], split);
+    if (split && inParent) coder.bit(models->parentSplits[size_t(context)], parentSplits);
     return {true, split, parentSplits};
   };
   Walk walk(side);
   if (!walkChunk(chunk.sideLog2, chunk.rising, chunk.clipX, chunk.clipY, chunk.vertices.size(),
                  decide, walk) ||
-      !consistent || next != chunk.decisions.size())
+      next != chunk.decisions.size())
     return std::nullopt;
   // The walk must give the mesher's surface exactly.
   if (walk.positions.size() != chunk.vertices.size() ||
@@ -326,52 +274,37 @@ std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk,
       return std::nullopt;
 
   const std::vector<ChunkVertex> vertices(chunk.vertices.begin(), chunk.vertices.end());
-  std::vector<uint8_t> zStream, deltaStream;
   Prediction previous{0, 0};
   for (const Coded& c : codingOrder(walk, side)) {
     const Prediction p = predict(c, vertices, previous);
     const ChunkVertex& v = vertices[c.vertex];
     const int32_t target = int32_t(v.z) + v.morphDelta;
-    putVarint(zStream, int32_t(v.z) - p.z);
-    putVarint(deltaStream, (target - p.target) - (int32_t(v.z) - p.z));
+    rc::encodeInteger(coder, models->z[size_t(c.context)], int32_t(v.z) - p.z);
+    rc::encodeInteger(coder, models->delta[size_t(c.context * 2 + (c.parentVertex ? 1 : 0))],
+                      (target - p.target) - (int32_t(v.z) - p.z));
     previous = {v.z, target};
   }
+  const std::vector<uint8_t> coded = coder.finish();
 
-  // The streams as they are in the blob's one frame, or each in its own zstd frame inside it:
-  // one Huffman table over the three costs large chunks about 5 %, three tables cost small
-  // chunks more than that. Whichever is smaller.
-  const std::vector<uint8_t>* plain[3] = {&bits.bytes(), &zStream, &deltaStream};
-  auto blobOf = [&](bool separate) {
-    std::vector<uint8_t> framed[3];
-    const std::vector<uint8_t>* streams[3] = {plain[0], plain[1], plain[2]};
-    if (separate)
-      for (int k = 0; k < 3; ++k) {
-        framed[k] = zstdFrame(*plain[k], compressionLevel);
-        streams[k] = &framed[k];
-      }
-    std::vector<uint8_t> raw(kRtinHeaderBytes + streams[0]->size() + streams[1]->size() +
-                             streams[2]->size());
-    ByteWriter w(raw.data());
-    w.put<uint32_t>(kRtinChunkMagic);
-    w.put<uint16_t>(kRtinPayloadVersion);
-    w.put<uint8_t>(uint8_t(chunk.sideLog2));
-    w.put<uint8_t>(uint8_t((chunk.rising ? kRtinFlagRising : 0) |
-                           (chunk.hasParent ? kRtinFlagHasParent : 0) |
-                           (separate ? kRtinFlagFramedStreams : 0)));
-    w.put<double>(chunk.zStep);
-    w.put<int32_t>(chunk.zBaseSteps);
-    for (uint16_t steps : chunk.skirtSteps) w.put<uint16_t>(steps);
-    w.put<uint16_t>(chunk.clipX);
-    w.put<uint16_t>(chunk.clipY);
-    w.put<uint32_t>(uint32_t(vertices.size()));
-    w.put<uint32_t>(uint32_t(walk.indices.size() / 3));
-    for (const auto* stream : streams) w.put<uint32_t>(uint32_t(stream->size()));
-    for (const auto* stream : streams) w.putBytes(stream->data(), stream->size());
-    // Framed streams leave the blob's frame nothing to compress: level 1.
-    return zstdFrame(raw, separate ? 1 : compressionLevel);
-  };
-  std::vector<uint8_t> one = blobOf(false), framed = blobOf(true);
-  return framed.size() < one.size() ? framed : one;
+  std::vector<uint8_t> raw(kRtinHeaderBytes + coded.size());
+  ByteWriter w(raw.data());
+  w.put<uint32_t>(kRtinChunkMagic);
+  w.put<uint16_t>(kRtinPayloadVersion);
+  w.put<uint8_t>(uint8_t(chunk.sideLog2));
+  w.put<uint8_t>(
+      uint8_t((chunk.rising ? kRtinFlagRising : 0) | (chunk.hasParent ? kRtinFlagHasParent : 0)));
+  w.put<double>(chunk.zStep);
+  w.put<int32_t>(chunk.zBaseSteps);
+  for (uint16_t steps : chunk.skirtSteps) w.put<uint16_t>(steps);
+  w.put<uint16_t>(chunk.clipX);
+  w.put<uint16_t>(chunk.clipY);
+  w.put<uint32_t>(uint32_t(vertices.size()));
+  w.put<uint32_t>(uint32_t(walk.indices.size() / 3));
+  w.put<uint32_t>(uint32_t(chunk.decisions.size()));
+  w.put<uint32_t>(uint32_t(coded.size()));
+  w.putBytes(coded.data(), coded.size());
+  // Range-coded bytes leave zstd (the container every chunk blob is) nothing to find.
+  return zstdFrame(raw, 1);
 }
 
 Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std::string& subject) {
@@ -389,80 +322,62 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
   for (uint16_t& steps : g.skirtSteps) steps = r.get<uint16_t>();
   const uint16_t clipX = r.get<uint16_t>(), clipY = r.get<uint16_t>();
   const uint32_t vertexCount = r.get<uint32_t>(), triangleCount = r.get<uint32_t>();
-  const uint32_t bitBytes = r.get<uint32_t>(), zBytes = r.get<uint32_t>(),
-                 deltaBytes = r.get<uint32_t>();
+  const uint32_t decisionCount = r.get<uint32_t>(), codedBytes = r.get<uint32_t>();
   if (sideLog2 < 1 || sideLog2 > kRtinMaxSideLog2 ||
-      (flags & ~(kRtinFlagRising | kRtinFlagHasParent | kRtinFlagFramedStreams)))
+      (flags & ~(kRtinFlagRising | kRtinFlagHasParent)))
     return bad("bad square");
   const int32_t side = int32_t{1} << sideLog2;
   if (!std::isfinite(g.zBase) || !(g.zStep > 0) || !std::isfinite(g.zStep))
     return bad("bad height scale");
   if (clipX == 0 || clipY == 0 || clipX > side || clipY > side) return bad("bad data extent");
   const uint64_t gridPoints = uint64_t(side + 1) * uint64_t(side + 1);
-  if (vertexCount < 3 || vertexCount > gridPoints || triangleCount == 0 ||
-      triangleCount > 2 * uint64_t(side) * side)
-    return bad("bad vertex or triangle count");
-  if (uint64_t(kRtinHeaderBytes) + bitBytes + zBytes + deltaBytes != raw.size())
-    return bad("stream sizes do not match the data");
-  // With kRtinFlagFramedStreams each stream is one zstd frame. A varint takes 1 to 5 bytes,
-  // and every vertex has one of each.
-  std::vector<uint8_t> streams[3];
-  const uint32_t streamBytes[3] = {bitBytes, zBytes, deltaBytes};
-  const uint64_t most[3] = {kRtinMaxStreamBytes, 5 * uint64_t(vertexCount),
-                            5 * uint64_t(vertexCount)};
-  size_t at = kRtinHeaderBytes;
-  for (int k = 0; k < 3; ++k) {
-    const std::span<const uint8_t> stored = raw.subspan(at, streamBytes[k]);
-    at += streamBytes[k];
-    if (!(flags & kRtinFlagFramedStreams)) {
-      streams[k].assign(stored.begin(), stored.end());
-    } else {
-      const unsigned long long size = ZSTD_getFrameContentSize(stored.data(), stored.size());
-      if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN || size > most[k])
-        return bad("implausible stream");
-      streams[k].resize(size);
-      const size_t got = ZSTD_decompress(streams[k].data(), size, stored.data(), stored.size());
-      if (ZSTD_isError(got) || got != size) return bad("stream does not decompress");
-    }
-    if (k > 0 && (streams[k].size() < vertexCount || streams[k].size() > most[k]))
-      return bad("height streams do not fit the vertices");
-  }
+  if (vertexCount < 3 || vertexCount > std::min<uint64_t>(gridPoints, kRtinMaxCount) ||
+      triangleCount == 0 ||
+      triangleCount > std::min<uint64_t>(2 * uint64_t(side) * side, kRtinMaxCount) ||
+      decisionCount == 0 || decisionCount > 2 * uint64_t(kRtinMaxCount))
+    return bad("bad vertex, triangle or decision count");
+  if (uint64_t(kRtinHeaderBytes) + codedBytes != raw.size())
+    return bad("coded size does not match the data");
 
   const bool hasParent = flags & kRtinFlagHasParent;
-  BitReader bits(streams[0]);
+  auto models = std::make_unique<Models>();
+  rc::Decoder coder(raw.subspan(kRtinHeaderBytes));
+  uint32_t decided = 0;
   auto decide = [&](const BinTriangle&, int depth, bool walkInParent) -> Decision {
-    const bool inParent = depth == 0 ? hasParent && bits.get() : walkInParent;
-    const bool split = bits.get();
-    const bool parentSplits = split && inParent && bits.get();
-    return {!bits.failed(), split, parentSplits};
+    if (decided++ == decisionCount) return {false};
+    const bool inParent = depth == 0 ? hasParent && coder.bit(models->rootInParent) : walkInParent;
+    const int context = std::min(depth, kRtinDepths - 1);
+    const bool split = coder.bit(models->split[size_t(context * 2 + (inParent ? 1 : 0))]);
+    const bool parentSplits = split && inParent && coder.bit(models->parentSplits[size_t(context)]);
+    return {!coder.failed(), split, parentSplits};
   };
   Walk walk(side);
   if (!walkChunk(sideLog2, flags & kRtinFlagRising, clipX, clipY, vertexCount, decide, walk) ||
-      !bits.exhausted())
-    return bad("split bits do not match the chunk");
+      decided != decisionCount)
+    return bad("split decisions do not match the chunk");
   if (walk.positions.size() != vertexCount || walk.indices.size() != 3 * size_t(triangleCount))
-    return bad("split bits do not give the stored counts");
+    return bad("split decisions do not give the stored counts");
 
   std::vector<ChunkVertex> vertices(vertexCount);
   for (size_t i = 0; i < vertexCount; ++i)
     vertices[i] = {uint16_t(walk.positions[i].x), uint16_t(walk.positions[i].y), 0, 0};
-  VarintReader zs(streams[1]);
-  VarintReader ds(streams[2]);
   Prediction previous{0, 0};
   for (const Coded& c : codingOrder(walk, side)) {
     const Prediction p = predict(c, vertices, previous);
-    const int64_t zResidual = zs.get();
+    const int64_t zResidual = rc::decodeInteger(coder, models->z[size_t(c.context)]);
+    const int64_t deltaResidual =
+        rc::decodeInteger(coder, models->delta[size_t(c.context * 2 + (c.parentVertex ? 1 : 0))]);
     const int64_t z = p.z + zResidual;
-    const int64_t target = p.target + zResidual + ds.get();
+    const int64_t target = p.target + zResidual + deltaResidual;
     const int64_t delta = target - z;
-    if (zs.failed() || ds.failed() || z < 0 || z > 65535 || delta < -32768 || delta > 32767)
+    if (coder.failed() || z < 0 || z > 65535 || delta < -32768 || delta > 32767)
       return bad("height out of range");
     ChunkVertex& v = vertices[c.vertex];
     v.z = uint16_t(z);
     v.morphDelta = int16_t(delta);
     previous = {int32_t(z), int32_t(target)};
   }
-  if (!zs.exhausted() || !ds.exhausted()) return bad("height streams longer than the vertices");
+  if (!coder.exhausted()) return bad("coded data longer than the chunk");
 
   g.parts = splitChunkParts(vertices, std::move(walk.indices), {}, g.skirtSteps, uint16_t(side));
   const Status skirts = appendDerivedSkirts(g);

@@ -1,11 +1,12 @@
 #pragma once
 // Chunk payload version 3 (format version 7): an RTIN chunk stored as what makes it instead of
-// its vertex and index lists. The triangles are the leaves of the chunk's bintree, so one bit
-// per splittable triangle visited gives them all, and the vertices' grid positions and order
-// with them; a height is stored as its difference from the mean of its split's two hypotenuse
-// ends, a morph delta as its difference from the same mean of their morph targets (the parent's
-// surface is linear along the hypotenuse when the parent does not split there). A reader walks
-// the bintree as the mesher did and gets exactly the vertices, triangles and parts that payload
+// its vertex and index lists. The triangles are the leaves of the chunk's bintree, so one
+// decision per splittable triangle visited gives them all, and the vertices' grid positions and
+// order with them; a height is stored as its difference from the mean of its split's two
+// hypotenuse ends, a morph delta as its difference from the same mean of their morph targets
+// (the parent's surface is linear along the hypotenuse when the parent does not split there).
+// Decisions and residuals are range-coded in contexts (range_coder.h). A reader walks the
+// bintree as the mesher did and gets exactly the vertices, triangles and parts that payload
 // version 2 stores (docs/format.md "Version 7").
 
 #include <array>
@@ -42,9 +43,9 @@ struct RtinChunkInput {
 };
 
 /// Encodes payload version 3; nothing when walking `decisions` does not give exactly
-/// `vertices` and `indices` (the caller then stores payload version 2).
-std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk,
-                                                    int compressionLevel);
+/// `vertices` and `indices` (the caller then stores payload version 2). The coded bytes do not
+/// compress: the blob's zstd frame is written at level 1 whatever the build's level.
+std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk);
 
 /// Decodes a payload version 3 (after its zstd frame): the geometry payload version 2 of the
 /// same chunk decodes to. `subject` names the blob in errors.
