@@ -124,9 +124,9 @@ Result<EncodedChunk> encodeChunkMesh(const ChunkMesh& mesh, const ErrorBudget& b
       out.payload = ChunkPayloadVersion::kRtinCoded;
     }
   }
-  splitIntoParts(mesh, std::move(*vertices), payload, out.geometry);
   // Greedy chunks, and any the walk would not reproduce, as payload version 2.
   if (out.blob.empty()) {
+    splitIntoParts(mesh, std::move(*vertices), payload, out.geometry);
     out.payload =
         payload == ChunkPayloadVersion::kRtinCoded ? ChunkPayloadVersion::kDerivedSkirts : payload;
     out.blob = encodeChunk(out.geometry, compressionLevel, out.payload);

@@ -140,17 +140,23 @@ constexpr size_t kPartVertexLimit = 65535;
 
 // Skirt bottoms a reader derives for these surface triangles (payload version 2 and 3): one
 // per vertex and skirted side, over the edges along that side.
+// `slot` is scratch, one entry per vertex, ~0u on entry and on return.
 size_t derivedBottoms(const std::vector<ChunkVertex>& vertices,
                       const std::vector<uint32_t>& surface,
-                      const std::array<uint16_t, 4>& skirtSteps, uint16_t side) {
+                      const std::array<uint16_t, 4>& skirtSteps, uint16_t side,
+                      std::vector<uint32_t>& slot) {
   if (skirtSteps == std::array<uint16_t, 4>{}) return 0;
   ChunkPart part;
-  std::unordered_map<uint32_t, uint32_t> local;
+  std::vector<uint32_t> used;
   for (uint32_t i : surface) {
-    auto [it, fresh] = local.try_emplace(i, uint32_t(part.vertices.size()));
-    if (fresh) part.vertices.push_back(vertices[i]);
-    part.indices.push_back(it->second);
+    if (slot[i] == ~0u) {
+      slot[i] = uint32_t(part.vertices.size());
+      part.vertices.push_back(vertices[i]);
+      used.push_back(i);
+    }
+    part.indices.push_back(slot[i]);
   }
+  for (uint32_t i : used) slot[i] = ~0u;
   part.surfaceIndexCount = uint32_t(part.indices.size());
   // The extents a reader finds: the chunk's side wherever a side has a skirt (its footprint is
   // clipped only along the data's boundary, which has none).
@@ -163,24 +169,37 @@ size_t derivedBottoms(const std::vector<ChunkVertex>& vertices,
 
 void splitParts(const std::vector<ChunkVertex>& vertices, const std::array<uint16_t, 4>& steps,
                 uint16_t chunkSide, std::vector<uint32_t> surface, std::vector<uint32_t> skirt,
-                double x0, double y0, double side, std::vector<ChunkPart>& parts) {
-  std::unordered_map<uint32_t, uint32_t> remap;
-  for (uint32_t i : surface) remap.try_emplace(i, 0);
-  for (uint32_t i : skirt) remap.try_emplace(i, 0);
-  const size_t size = remap.size() + derivedBottoms(vertices, surface, steps, chunkSide);
-  if (size <= kPartVertexLimit || side <= 1) {
-    ChunkPart part;
-    std::vector<uint32_t> order;
-    order.reserve(remap.size());
-    for (auto& [from, to] : remap) order.push_back(from);
+                double x0, double y0, double side, std::vector<uint32_t>& slot,
+                std::vector<ChunkPart>& parts) {
+  // The distinct vertices used, in increasing order.
+  std::vector<uint32_t> order;
+  for (const auto* list : {&surface, &skirt})
+    for (uint32_t i : *list)
+      if (slot[i] == ~0u) {
+        slot[i] = 0;
+        order.push_back(i);
+      }
+  for (uint32_t i : order) slot[i] = ~0u;
+  // The bottoms a reader derives count only where they could tip the balance (at most c + 1
+  // a side).
+  const size_t bottomsAtMost = 4 * (size_t(chunkSide) + 1);
+  const bool fits = order.size() <= kPartVertexLimit &&
+                    (order.size() + bottomsAtMost <= kPartVertexLimit ||
+                     order.size() + derivedBottoms(vertices, surface, steps, chunkSide, slot) <=
+                         kPartVertexLimit);
+  if (fits || side <= 1) {
     std::sort(order.begin(), order.end());
+    ChunkPart part;
+    part.vertices.reserve(order.size());
     for (uint32_t from : order) {
-      remap[from] = static_cast<uint32_t>(part.vertices.size());
+      slot[from] = static_cast<uint32_t>(part.vertices.size());
       part.vertices.push_back(vertices[from]);
     }
-    for (uint32_t i : surface) part.indices.push_back(remap[i]);
+    part.indices.reserve(surface.size() + skirt.size());
+    for (uint32_t i : surface) part.indices.push_back(slot[i]);
     part.surfaceIndexCount = static_cast<uint32_t>(part.indices.size());
-    for (uint32_t i : skirt) part.indices.push_back(remap[i]);
+    for (uint32_t i : skirt) part.indices.push_back(slot[i]);
+    for (uint32_t i : order) slot[i] = ~0u;
     if (!part.indices.empty()) parts.push_back(std::move(part));
     return;
   }
@@ -201,7 +220,7 @@ void splitParts(const std::vector<ChunkVertex>& vertices, const std::array<uint1
   }
   for (int q = 0; q < 4; ++q)
     splitParts(vertices, steps, chunkSide, std::move(qs[q]), std::move(qk[q]), x0 + (q & 1) * half,
-               y0 + (q >> 1) * half, half, parts);
+               y0 + (q >> 1) * half, half, slot, parts);
 }
 
 }  // namespace
@@ -227,8 +246,9 @@ std::vector<ChunkPart> splitChunkParts(const std::vector<ChunkVertex>& vertices,
       return parts;
     }
   }
+  std::vector<uint32_t> slot(vertices.size(), ~0u);
   splitParts(vertices, derivedSkirtSteps, side, std::move(surface), std::move(skirt), 0, 0, side,
-             parts);
+             slot, parts);
   return parts;
 }
 

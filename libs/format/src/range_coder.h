@@ -41,6 +41,15 @@ class Encoder {
       shiftLow();
     }
   }
+  /// A bit at even odds, without a probability (LZMA's direct bits).
+  void direct(bool bit) {
+    mRange >>= 1;
+    if (bit) mLow += mRange;
+    while (mRange < kTop) {
+      mRange <<= 8;
+      shiftLow();
+    }
+  }
   /// Flushes; the coder is spent afterwards.
   std::vector<uint8_t> finish() {
     for (int i = 0; i < 5; ++i) shiftLow();
@@ -93,6 +102,16 @@ class Decoder {
     }
     return bit;
   }
+  bool direct() {
+    mRange >>= 1;
+    const bool bit = mCode >= mRange;
+    if (bit) mCode -= mRange;
+    while (mRange < kTop) {
+      mRange <<= 8;
+      mCode = (mCode << 8) | next();
+    }
+    return bit;
+  }
   /// Read past the end of the input (a valid stream never does: the encoder flushes 5 bytes).
   bool failed() const { return mFailed; }
   /// Every byte of the input read (what a valid stream ends with).
@@ -112,7 +131,7 @@ class Decoder {
 
 /// A signed integer's model: whether it is 0, its sign, its magnitude's bit length (unary,
 /// each step with its own odds) and the bit below the leading one (in the length's odds); the
-/// lower bits at even odds.
+/// lower bits direct, at even odds.
 struct IntegerModel {
   static constexpr int kMaxLength = 32;
   Probability zero, sign;
@@ -129,11 +148,7 @@ inline void encodeInteger(Encoder& e, IntegerModel& m, int32_t value) {
   for (int i = 1; i < length; ++i) e.bit(m.longer[size_t(i - 1)], true);
   if (length < IntegerModel::kMaxLength) e.bit(m.longer[size_t(length - 1)], false);
   if (length >= 2) e.bit(m.second[size_t(length - 1)], (magnitude >> (length - 2)) & 1u);
-  Probability even;
-  for (int b = length - 3; b >= 0; --b) {
-    even = {};
-    e.bit(even, (magnitude >> b) & 1u);
-  }
+  for (int b = length - 3; b >= 0; --b) e.direct((magnitude >> b) & 1u);
 }
 
 /// The integer encodeInteger wrote; values outside int32 come back as 0 with the decoder
@@ -145,11 +160,7 @@ inline int64_t decodeInteger(Decoder& d, IntegerModel& m) {
   while (length < IntegerModel::kMaxLength && d.bit(m.longer[size_t(length - 1)])) ++length;
   uint64_t magnitude = 1;
   if (length >= 2) magnitude = (magnitude << 1) | (d.bit(m.second[size_t(length - 1)]) ? 1 : 0);
-  Probability even;
-  for (int b = length - 3; b >= 0; --b) {
-    even = {};
-    magnitude = (magnitude << 1) | (d.bit(even) ? 1 : 0);
-  }
+  for (int b = length - 3; b >= 0; --b) magnitude = (magnitude << 1) | (d.direct() ? 1 : 0);
   return negative ? -int64_t(magnitude) : int64_t(magnitude);
 }
 

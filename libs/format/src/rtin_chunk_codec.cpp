@@ -45,7 +45,8 @@ struct Models {
 class PointIndex {
  public:
   explicit PointIndex(int32_t side) : mStride(side + 1) {
-    if (size_t(mStride) * size_t(mStride) <= (size_t{1} << 20))
+    // Dense up to 2048-cell squares (16 MB): a hash map cost a tenth of a build.
+    if (size_t(mStride) * size_t(mStride) <= (size_t{2049} * 2049))
       mDense.assign(size_t(mStride) * size_t(mStride), -1);
   }
   int32_t find(GridPoint p) const {
@@ -260,6 +261,9 @@ std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk)
     return {true, split, parentSplits};
   };
   Walk walk(side);
+  walk.positions.reserve(chunk.vertices.size());
+  walk.indices.reserve(chunk.indices.size());
+  walk.splits.reserve(chunk.vertices.size());
   if (!walkChunk(chunk.sideLog2, chunk.rising, chunk.clipX, chunk.clipY, chunk.vertices.size(),
                  decide, walk) ||
       next != chunk.decisions.size())
@@ -352,6 +356,9 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
     return {!coder.failed(), split, parentSplits};
   };
   Walk walk(side);
+  walk.positions.reserve(vertexCount);
+  walk.indices.reserve(3 * size_t(triangleCount));
+  walk.splits.reserve(vertexCount);
   if (!walkChunk(sideLog2, flags & kRtinFlagRising, clipX, clipY, vertexCount, decide, walk) ||
       decided != decisionCount)
     return bad("split decisions do not match the chunk");

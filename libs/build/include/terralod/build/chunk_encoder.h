@@ -14,7 +14,8 @@ namespace terralod {
 Result<ChunkGeometry> quantizeChunk(const ChunkMesh& mesh, const ErrorBudget& budget,
                                     ChunkPayloadVersion payload);
 
-/// A chunk's stored geometry (what a reader decodes) and its blob.
+/// A chunk's blob, and its geometry's height scale and skirt steps (and parts, for payloads 1
+/// and 2: a bintree blob's reader makes them).
 struct EncodedChunk {
   ChunkGeometry geometry;
   std::vector<uint8_t> blob;
