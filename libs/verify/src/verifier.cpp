@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <unordered_map>
 
 #include "terralod/core/parallel.h"
@@ -236,7 +237,14 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
   std::vector<ChunkSides> sides(nodes.size());
   const unsigned threads = options.threads ? options.threads : hardwareThreads();
   progress.begin("verifying chunks", nodes.size());
-  parallelFor(nodes.size(), threads, [&](size_t index, unsigned) {
+  // Each worker keeps the last parent it decoded: siblings come in a row, so most children
+  // find theirs decoded.
+  struct Kept {
+    uint32_t node = ~0u;
+    std::optional<Decoded> decoded;
+  };
+  std::vector<Kept> lastParent(std::max(threads, 1u));
+  parallelFor(nodes.size(), threads, [&](size_t index, unsigned worker) {
     progress.advance();
     const uint32_t i = uint32_t(index);
     auto self = decode(i);
@@ -272,8 +280,13 @@ Result<VerifyReport> verifyTileset(const std::string& tilesetPath, const std::st
     // The fully morphed surface must be the parent's surface.
     double mismatch = 0, tolerance = 0;
     if (n.level > 0) {
-      auto parent = decode(n.parent);
-      if (!parent) return addFailure(parent.error().message);
+      Kept& kept = lastParent[worker];
+      if (kept.node != n.parent) {
+        auto decoded = decode(n.parent);
+        if (!decoded) return addFailure(decoded.error().message);
+        kept = {n.parent, std::move(decoded).value()};
+      }
+      const Decoded* parent = &*kept.decoded;
       Window target = makeWindow(self->x0, self->y0, x1, y1);
       rasterizeSurface(*parent, 0.0, target);
       Window morphed = makeWindow(self->x0, self->y0, x1, y1);
