@@ -1,9 +1,6 @@
 #include "terralod/format/rtin_chunk_codec.h"
 
-#include <zstd.h>
-
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <memory>
 #include <unordered_map>
