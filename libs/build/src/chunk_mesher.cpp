@@ -114,32 +114,12 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
     addTriangle(poly[0], poly[1], poly[2]);
     return;
   }
-  // Clip to x <= w, then y <= h. Bintree edges are axis-aligned or diagonal, so every
-  // crossing of a grid line is itself a grid point; heights follow the triangle's plane.
-  auto clip = [&](bool alongX, int32_t limit) {
-    ClipVertex out[8];
-    int m = 0;
-    for (int i = 0; i < n; ++i) {
-      const ClipVertex& p = poly[i];
-      const ClipVertex& q = poly[(i + 1) % n];
-      const int32_t pc = alongX ? p.p.x : p.p.y, qc = alongX ? q.p.x : q.p.y;
-      if (pc <= limit) out[m++] = p;
-      if (int64_t(pc - limit) * (qc - limit) < 0) {
-        const int32_t po = alongX ? p.p.y : p.p.x, qo = alongX ? q.p.y : q.p.x;
-        assert((int64_t(limit - pc) * (qo - po)) % (qc - pc) == 0);
-        const int32_t other = po + int32_t(int64_t(limit - pc) * (qo - po) / (qc - pc));
-        const double f = double(limit - pc) / double(qc - pc);
-        ClipVertex v;
-        v.p = alongX ? GridPoint{limit, other} : GridPoint{other, limit};
-        v.z = p.z + f * (q.z - p.z);
-        out[m++] = v;
-      }
-    }
-    n = m;
-    std::copy(out, out + m, poly);
+  // Clip to x <= w, then y <= h; heights follow the triangle's plane.
+  auto between = [](const ClipVertex& a, const ClipVertex& b, double f) {
+    return ClipVertex{{}, a.z + f * (b.z - a.z)};
   };
-  if (maxX > w) clip(true, w);
-  if (maxY > h) clip(false, h);
+  if (maxX > w) clipToLine(poly, n, true, w, between);
+  if (maxY > h) clipToLine(poly, n, false, h, between);
   for (int i = 1; i + 1 < n; ++i) addTriangle(poly[0], poly[i], poly[i + 1]);
 }
 

@@ -85,6 +85,11 @@ struct Walk {
   explicit Walk(int32_t side) : index(side) {}
 };
 
+// A corner of a leaf being clipped to the data (clipToLine).
+struct Corner {
+  GridPoint p;
+};
+
 struct Decision {
   bool ok = true;
   bool split = false, parentSplits = false;
@@ -97,10 +102,7 @@ template <typename Decide>
 bool walkChunk(int sideLog2, bool rising, uint16_t clipX, uint16_t clipY, size_t vertexLimit,
                Decide&& decide, Walk& walk) {
   const int32_t side = int32_t{1} << sideLog2;
-  const GridPoint sw{0, 0}, se{side, 0}, nw{0, side}, ne{side, side};
-  const std::array<BinTriangle, 2> roots =
-      rising ? std::array{BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}}
-             : std::array{BinTriangle{nw, se, sw}, BinTriangle{nw, se, ne}};
+  const std::array<BinTriangle, 2> roots = squareTriangles(0, 0, side, rising);
   struct Item {
     BinTriangle t;
     int depth;
@@ -130,31 +132,16 @@ bool walkChunk(int sideLog2, bool rising, uint16_t clipX, uint16_t clipY, size_t
     const int32_t minX = std::min({t.a.x, t.b.x, t.apex.x}),
                   minY = std::min({t.a.y, t.b.y, t.apex.y});
     if (minX >= w || minY >= h) return;
-    GridPoint poly[8] = {t.a, t.b, t.apex};
+    Corner poly[8] = {{t.a}, {t.b}, {t.apex}};
     int n = 3;
     if (maxX <= w && maxY <= h) {
-      addTriangle(poly[0], poly[1], poly[2]);
+      addTriangle(t.a, t.b, t.apex);
       return;
     }
-    auto clip = [&](bool alongX, int32_t limit) {
-      GridPoint out[8];
-      int m = 0;
-      for (int i = 0; i < n; ++i) {
-        const GridPoint p = poly[i], q = poly[(i + 1) % n];
-        const int32_t pc = alongX ? p.x : p.y, qc = alongX ? q.x : q.y;
-        if (pc <= limit) out[m++] = p;
-        if (int64_t(pc - limit) * (qc - limit) < 0) {
-          const int32_t po = alongX ? p.y : p.x, qo = alongX ? q.y : q.x;
-          const int32_t other = po + int32_t(int64_t(limit - pc) * (qo - po) / (qc - pc));
-          out[m++] = alongX ? GridPoint{limit, other} : GridPoint{other, limit};
-        }
-      }
-      n = m;
-      std::copy(out, out + m, poly);
-    };
-    if (maxX > w) clip(true, w);
-    if (maxY > h) clip(false, h);
-    for (int i = 1; i + 1 < n; ++i) addTriangle(poly[0], poly[i], poly[i + 1]);
+    auto between = [](const Corner&, const Corner&, double) { return Corner{}; };
+    if (maxX > w) clipToLine(poly, n, true, w, between);
+    if (maxY > h) clipToLine(poly, n, false, h, between);
+    for (int i = 1; i + 1 < n; ++i) addTriangle(poly[0].p, poly[i].p, poly[i + 1].p);
   };
 
   while (!stack.empty()) {
@@ -198,7 +185,7 @@ std::vector<Coded> codingOrder(const Walk& walk, int32_t side) {
   order.reserve(n);
   for (const GridPoint c :
        {GridPoint{0, 0}, GridPoint{side, 0}, GridPoint{0, side}, {side, side}}) {
-    const int32_t i = c.x <= side && c.y <= side ? walk.index.find(c) : -1;
+    const int32_t i = walk.index.find(c);
     if (i >= 0 && !done[size_t(i)]) {
       done[size_t(i)] = 1;
       order.push_back({uint32_t(i)});

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <bit>
+#include <cassert>
 #include <cstdint>
 
 namespace terralod {
@@ -63,12 +64,17 @@ inline bool squareHasRisingDiagonal(int32_t x0, int32_t y0, int32_t side) {
   return ((x0 / side + y0 / side) & 1) == 0;
 }
 
+/// The two triangles of a square cut along "/" (`rising`) or "\\" (slot 0, slot 1).
+inline std::array<BinTriangle, 2> squareTriangles(int32_t x0, int32_t y0, int32_t side,
+                                                  bool rising) {
+  const GridPoint sw{x0, y0}, se{x0 + side, y0}, nw{x0, y0 + side}, ne{x0 + side, y0 + side};
+  if (rising) return {BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}};
+  return {BinTriangle{nw, se, sw}, BinTriangle{nw, se, ne}};
+}
+
 /// The two triangles of an axis-aligned square of the hierarchy (slot 0, slot 1).
 inline std::array<BinTriangle, 2> squareTriangles(int32_t x0, int32_t y0, int32_t side) {
-  const GridPoint sw{x0, y0}, se{x0 + side, y0}, nw{x0, y0 + side}, ne{x0 + side, y0 + side};
-  if (squareHasRisingDiagonal(x0, y0, side))
-    return {BinTriangle{sw, ne, se}, BinTriangle{sw, ne, nw}};
-  return {BinTriangle{nw, se, sw}, BinTriangle{nw, se, ne}};
+  return squareTriangles(x0, y0, side, squareHasRisingDiagonal(x0, y0, side));
 }
 
 /// The (up to) two triangles whose hypotenuse midpoint is v. Slot order is fixed:
@@ -148,6 +154,37 @@ inline int childContaining(const BinTriangle& t, GridPoint p) {
   const int64_t sideP = orient2d(t.apex, m, p);
   const int64_t sideA = orient2d(t.apex, m, t.a);
   return (sideP == 0 || (sideP > 0) == (sideA > 0)) ? 0 : 1;
+}
+
+}  // namespace terralod
+
+namespace terralod {
+
+/// Clips the convex polygon `poly` (n corners; room for 8) to x <= limit (`alongX`) or
+/// y <= limit, Sutherland-Hodgman in corner order. Bintree edges are axis-aligned or diagonal,
+/// so every crossing of a grid line is itself a grid point. A corner is anything with a
+/// GridPoint `p`; `between(a, b, f)` makes the crossing at fraction f from a to b, whose `p`
+/// is then set.
+template <typename Corner, typename Between>
+void clipToLine(Corner (&poly)[8], int& n, bool alongX, int32_t limit, Between&& between) {
+  Corner out[8];
+  int m = 0;
+  for (int i = 0; i < n; ++i) {
+    const Corner& a = poly[i];
+    const Corner& b = poly[(i + 1) % n];
+    const int32_t ac = alongX ? a.p.x : a.p.y, bc = alongX ? b.p.x : b.p.y;
+    if (ac <= limit) out[m++] = a;
+    if (int64_t(ac - limit) * (bc - limit) < 0) {
+      const int32_t ao = alongX ? a.p.y : a.p.x, bo = alongX ? b.p.y : b.p.x;
+      assert((int64_t(limit - ac) * (bo - ao)) % (bc - ac) == 0);
+      const int32_t other = ao + int32_t(int64_t(limit - ac) * (bo - ao) / (bc - ac));
+      Corner c = between(a, b, double(limit - ac) / double(bc - ac));
+      c.p = alongX ? GridPoint{limit, other} : GridPoint{other, limit};
+      out[m++] = c;
+    }
+  }
+  n = m;
+  for (int i = 0; i < m; ++i) poly[i] = out[i];
 }
 
 }  // namespace terralod
