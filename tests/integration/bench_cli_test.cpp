@@ -25,9 +25,9 @@ class BenchCli : public ::testing::Test {
           return built.exitCode == 0 ? std::string() : built.err;
         }));
     ASSERT_EQ(sTileset->error, "");
-    // Down from 6 km towards the south-west rim, about 0.5 % of the height per frame.
+    // Down from 6 km towards the south-west rim, about 1 % of the height per frame.
     std::ofstream(sDir->file("descend.json")) << R"({"fov_deg": 60, "size": [320, 240],
-      "frames": 300, "keyframes": [
+      "frames": 150, "keyframes": [
         {"eye": [5000, -2000, 6000], "target": [7500, 8000, 1900]},
         {"eye": [5000, 1000, 3500], "target": [7500, 8000, 1900]},
         {"eye": [5200, 2500, 2700], "target": [7500, 8000, 1900]}]})";
@@ -59,7 +59,7 @@ TEST_F(BenchCli, MorphingAndSkirtsLeaveNoPopsNoHolesAndErrorWithinTau) {
        {"frames", "tau", "select_us_p50", "select_us_max", "frame_ms_p50", "frame_ms_p99",
         "triangles_p50", "draws_p50", "max_error_px", "max_pop_px", "holes_total"})
     EXPECT_TRUE(j.contains(key)) << key;
-  EXPECT_EQ(j["frames"], 300);
+  EXPECT_EQ(j["frames"], 150);
   EXPECT_LE(j["max_error_px"].get<double>(), 1.0);
   EXPECT_GT(j["max_error_px"].get<double>(), 0.0);
   EXPECT_LE(j["max_pop_px"].get<double>(), 0.1);

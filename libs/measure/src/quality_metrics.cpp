@@ -142,11 +142,15 @@ Result<double> QualityMetrics::maxErrorPixels(const View& view,
     const Candidate& c = candidates[i];
     double worst = found.load(std::memory_order_relaxed);
     if (c.bound <= worst) return;
+    // Samples are in view at their true heights: none where the box of those lies outside a
+    // plane, every one where it lies inside all (then not tested one by one).
+    if (!boxInFrustum(view, c.cached->truthBox)) return;
+    const bool allInView = boxWithinFrustum(view, c.cached->truthBox);
     rasterizeChunk(
         c.chunk->node, *c.cached, c.chunk->morph, &view,
         [&](int64_t x, int64_t y, double z) {
           const double truth = mSource(int32_t(x), int32_t(y));
-          if (!inView(view, x, y, truth)) return;
+          if (!allInView && !inView(view, x, y, truth)) return;
           const glm::dvec3 p{double(x) * spacing.x, double(y) * spacing.y, truth};
           const double distance = glm::length(p - view.camera.eye);
           worst = std::max(worst, screenSpaceError(view, std::fabs(z - truth), distance));

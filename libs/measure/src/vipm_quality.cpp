@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <limits>
 
-#include "sample_key.h"
 #include "terralod/core/parallel.h"
 #include "terralod/format/chunk_position.h"
 #include "terralod/format/vipm_chunk_codec.h"
@@ -49,23 +49,69 @@ void rasterizeReal(const std::array<std::array<double, 3>, 3>& v, int64_t minX, 
 struct Layers {
   double low = 0.0, high = 0.0;
 };
-using SampleLayers = std::unordered_map<uint64_t, Layers>;
 
-void keepLayer(SampleLayers& layers, uint64_t key, double z) {
-  auto [it, fresh] = layers.emplace(key, Layers{z, z});
-  if (!fresh) {
-    it->second.low = std::min(it->second.low, z);
-    it->second.high = std::max(it->second.high, z);
+// A surface's layers at the measured samples of its chunk's rectangle (the multiples of the
+// stride in [x0, maxX] x [y0, maxY]), in a grid (low and high of each cell in turn; NaN where
+// it covers none): a chunk's surface covers most of them. The grid's storage is handed in and
+// back, so the next frame's reuses it.
+class SampleLayers {
+ public:
+  SampleLayers(int64_t x0, int64_t y0, int64_t maxX, int64_t maxY, int64_t stride,
+               std::vector<double> storage)
+      : mStride(stride),
+        mX0(roundUp(x0, stride)),
+        mY0(roundUp(y0, stride)),
+        mColumns(maxX >= mX0 ? (maxX - mX0) / stride + 1 : 0),
+        mRows(maxY >= mY0 ? (maxY - mY0) / stride + 1 : 0),
+        mCells(std::move(storage)) {
+    mCells.assign(size_t(2 * mColumns * mRows), kNone);
   }
-}
 
-// The layers of several surfaces at `key` (false if none covers it).
-bool layersAt(std::span<const SampleLayers* const> surfaces, uint64_t key, Layers& out) {
+  // (x, y): a measured sample inside the rectangle.
+  void keep(int64_t x, int64_t y, double z) {
+    double* l = &mCells[2 * size_t((y - mY0) / mStride * mColumns + (x - mX0) / mStride)];
+    if (std::isnan(l[0])) {
+      l[0] = l[1] = z;
+    } else {
+      l[0] = std::min(l[0], z);
+      l[1] = std::max(l[1], z);
+    }
+  }
+  // Its layers at the measured sample (x, y) (false where it covers none).
+  bool find(int64_t x, int64_t y, Layers& out) const {
+    if (x < mX0 || y < mY0) return false;
+    const int64_t i = (x - mX0) / mStride, j = (y - mY0) / mStride;
+    if (i >= mColumns || j >= mRows) return false;
+    const double* l = &mCells[2 * size_t(j * mColumns + i)];
+    if (std::isnan(l[0])) return false;
+    out = {l[0], l[1]};
+    return true;
+  }
+  // Calls visit(x, y) at every sample it covers.
+  template <typename Visit>
+  void forEach(Visit&& visit) const {
+    for (int64_t j = 0; j < mRows; ++j)
+      for (int64_t i = 0; i < mColumns; ++i)
+        if (!std::isnan(mCells[2 * size_t(j * mColumns + i)]))
+          visit(mX0 + i * mStride, mY0 + j * mStride);
+  }
+  std::vector<double> release() { return std::move(mCells); }
+
+ private:
+  static constexpr double kNone = std::numeric_limits<double>::quiet_NaN();
+  static int64_t roundUp(int64_t v, int64_t stride) {
+    return (std::max<int64_t>(v, 0) + stride - 1) / stride * stride;
+  }
+  int64_t mStride, mX0, mY0, mColumns, mRows;
+  std::vector<double> mCells;
+};
+
+// The layers of several surfaces at (x, y) (false if none covers it).
+bool layersAt(std::span<const SampleLayers* const> surfaces, int64_t x, int64_t y, Layers& out) {
   bool covered = false;
   for (const SampleLayers* samples : surfaces)
-    if (const auto it = samples->find(key); it != samples->end()) {
-      out = covered ? Layers{std::min(out.low, it->second.low), std::max(out.high, it->second.high)}
-                    : it->second;
+    if (Layers l; samples->find(x, y, l)) {
+      out = covered ? Layers{std::min(out.low, l.low), std::max(out.high, l.high)} : l;
       covered = true;
     }
   return covered;
@@ -216,6 +262,13 @@ template <typename Visit>
 void VipmQuality::rasterize(const Chunk& c, std::span<const Triangle> triangles, const View& view,
                             Visit&& visit) const {
   const auto spacing = mTree.spacing();
+  // Samples are in view at their true heights: none where the box of those lies outside a
+  // plane, every one where it lies inside all (then not tested one by one).
+  Box truth;
+  truth.min = {double(c.x0) * spacing[0], double(c.y0) * spacing[1], c.truthMin};
+  truth.max = {double(c.maxX) * spacing[0], double(c.maxY) * spacing[1], c.truthMax};
+  if (!boxInFrustum(view, truth)) return;
+  const bool allInView = boxWithinFrustum(view, truth);
   for (const Triangle& t : triangles) {
     Box box;
     box.min = {std::min({t.v[0][0], t.v[1][0], t.v[2][0]}) * spacing[0],
@@ -226,7 +279,7 @@ void VipmQuality::rasterize(const Chunk& c, std::span<const Triangle> triangles,
                std::max({t.v[0][2], t.v[1][2], t.v[2][2], c.truthMax})};
     if (!boxInFrustum(view, box)) continue;
     rasterizeReal(t.v, c.x0, c.maxX, c.y0, c.maxY, mStride, [&](int64_t x, int64_t y, double z) {
-      if (inView(view, x, y, mSource(int32_t(x), int32_t(y)))) visit(x, y, z);
+      if (allInView || inView(view, x, y, mSource(int32_t(x), int32_t(y)))) visit(x, y, z);
     });
   }
 }
@@ -337,9 +390,17 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
                       const Drawn& d) -> const SampleLayers* {
     if (const auto it = cache.find(d.node); it != cache.end()) return &it->second;
     const Surface& surface = made[size_t(&d - frame.data())];
-    SampleLayers& mine = cache[d.node];
-    rasterize(*surface.chunk, surface.triangles, view,
-              [&](int64_t x, int64_t y, double z) { keepLayer(mine, sampleKey(x, y), z); });
+    const Chunk& c = *surface.chunk;
+    std::vector<double> storage;
+    if (!mSpareGrids.empty()) {
+      storage = std::move(mSpareGrids.back());
+      mSpareGrids.pop_back();
+    }
+    SampleLayers& mine =
+        cache.try_emplace(d.node, c.x0, c.y0, c.maxX, c.maxY, int64_t(mStride), std::move(storage))
+            .first->second;
+    rasterize(c, surface.triangles, view,
+              [&](int64_t x, int64_t y, double z) { mine.keep(x, y, z); });
     return &mine;
   };
   std::unordered_map<uint32_t, SampleLayers> earlierSurfaces, laterSurfaces;
@@ -358,15 +419,16 @@ Result<double> VipmQuality::maxPopPixels(const View& view, std::span<const Drawn
     }
     if (then.empty()) continue;  // newly in view: nothing it replaced
     const SampleLayers* mine = layersOf(laterSurfaces, *later, current, *d);
-    for (const auto& [key, unused] : *mine) {
+    mine->forEach([&](int64_t x, int64_t y) {
       Layers was, is;
-      if (!layersAt(then, key, was) || !layersAt(now, key, is)) continue;
+      if (!layersAt(then, x, y, was) || !layersAt(now, x, y, is)) return;
       const double moved = std::max(std::fabs(is.low - was.low), std::fabs(is.high - was.high));
-      const glm::dvec3 p{double(key >> 32) * spacing[0], double(key & 0xffffffffu) * spacing[1],
-                         is.high};
+      const glm::dvec3 p{double(x) * spacing[0], double(y) * spacing[1], is.high};
       worst = std::max(worst, screenSpaceError(view, moved, glm::length(p - view.camera.eye)));
-    }
+    });
   }
+  for (auto* cache : {&earlierSurfaces, &laterSurfaces})
+    for (auto& [node, layers] : *cache) mSpareGrids.push_back(layers.release());
   return worst;
 }
 

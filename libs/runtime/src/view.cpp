@@ -64,14 +64,32 @@ double distanceToBox(const glm::dvec3& p, const Box& b) {
   return std::sqrt(sum);
 }
 
+namespace {
+
+// The box corner furthest along `direction`.
+glm::dvec3 furthestCorner(const Box& b, const glm::dvec3& direction) {
+  return {direction.x >= 0 ? b.max[0] : b.min[0], direction.y >= 0 ? b.max[1] : b.min[1],
+          direction.z >= 0 ? b.max[2] : b.min[2]};
+}
+
+bool insidePlane(const glm::dvec4& plane, const glm::dvec3& p) {
+  return glm::dot(glm::dvec3(plane), p) + plane.w >= 0.0;
+}
+
+}  // namespace
+
 bool boxInFrustum(const View& view, const Box& b) {
-  for (const glm::dvec4& plane : view.planes) {
-    // The box corner furthest along the plane's normal decides.
-    const glm::dvec3 corner{plane.x >= 0 ? b.max[0] : b.min[0], plane.y >= 0 ? b.max[1] : b.min[1],
-                            plane.z >= 0 ? b.max[2] : b.min[2]};
-    if (glm::dot(glm::dvec3(plane), corner) + plane.w < 0.0) return false;
-  }
-  return true;
+  // Per plane, the corner furthest along its normal decides.
+  return std::all_of(view.planes.begin(), view.planes.end(), [&](const glm::dvec4& plane) {
+    return insidePlane(plane, furthestCorner(b, glm::dvec3(plane)));
+  });
+}
+
+bool boxWithinFrustum(const View& view, const Box& b) {
+  // Per plane, the corner nearest along its normal decides.
+  return std::all_of(view.planes.begin(), view.planes.end(), [&](const glm::dvec4& plane) {
+    return insidePlane(plane, furthestCorner(b, -glm::dvec3(plane)));
+  });
 }
 
 double screenSpaceError(const View& view, double error, double distance) {

@@ -38,6 +38,31 @@ TEST(View, FrustumKeepsWhatIsInFrontAndCullsWhatIsBehind) {
   EXPECT_DOUBLE_EQ(distanceToBox({0, 0, 0}, Box{{3, 4, -1}, {5, 6, 1}}), 5.0);
 }
 
+TEST(View, ABoxWithinTheFrustumHasEveryPointInIt) {
+  const View v = viewFrom({0, 0, 10}, {0, 100, 10});
+  EXPECT_TRUE(boxWithinFrustum(v, Box{{-1, 50, 9}, {1, 51, 11}}));
+  EXPECT_FALSE(boxWithinFrustum(v, Box{{-5, -5, 0}, {5, 5, 20}})) << "around the eye";
+  EXPECT_FALSE(boxWithinFrustum(v, Box{{-1, -51, 9}, {1, -50, 11}})) << "behind the eye";
+  // Whenever it says within, so does every plane at random points of the box.
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> at(-300.0, 300.0), size(0.0, 80.0);
+  int within = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const glm::dvec3 lo{at(random), std::fabs(at(random)), at(random) / 10.0};
+    const glm::dvec3 hi = lo + glm::dvec3(size(random), size(random), size(random));
+    const Box b{{lo.x, lo.y, lo.z}, {hi.x, hi.y, hi.z}};
+    if (!boxWithinFrustum(v, b)) continue;
+    ++within;
+    EXPECT_TRUE(boxInFrustum(v, b));
+    for (int p = 0; p < 8; ++p) {
+      const glm::dvec3 q{p & 1 ? hi.x : lo.x, p & 2 ? hi.y : lo.y, p & 4 ? hi.z : lo.z};
+      for (const glm::dvec4& plane : v.planes)
+        EXPECT_GE(glm::dot(glm::dvec3(plane), q) + plane.w, 0.0);
+    }
+  }
+  EXPECT_GT(within, 10);
+}
+
 TEST(Selection, SplitsExactlyWhereRhoPassesTau) {
   const FullTree f(3);
   const ChunkTree tree = f.tree();

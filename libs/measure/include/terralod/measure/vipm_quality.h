@@ -113,6 +113,7 @@ class VipmQuality {
   Geomorph mGeomorph;
   VipmStitch mStitch;
   std::unordered_map<uint32_t, Chunk> mChunks;
+  std::vector<std::vector<double>> mSpareGrids;  // maxPopPixels' sample grids, for the next call
 };
 
 }  // namespace terralod

@@ -40,6 +40,10 @@ double distanceToBox(const glm::dvec3& p, const Box& box);
 /// Conservative: false only when the box lies wholly outside one frustum plane.
 bool boxInFrustum(const View& view, const Box& box);
 
+/// True when the box lies wholly inside every frustum plane: then so does every point in it,
+/// as computed in doubles (each plane's dot product only grows towards its furthest corner).
+bool boxWithinFrustum(const View& view, const Box& box);
+
 /// The surface error in pixels that a geometric error `error` at `distance` metres makes on
 /// screen (Ulrich's eq. 2, ρ = δ K / D); infinite at distance 0.
 double screenSpaceError(const View& view, double error, double distance);
