@@ -12,9 +12,6 @@ TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
 DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
-# One compiler per core: with Ninja's default (cores + 2) a clean release build took 288 s on
-# 2 cores against 274 s (one run each); three builds side by side at that took 547 s, not 441.
-JOBS ?= $(shell nproc)
 
 .PHONY: all deps configure build app demo test test-tsan test-sanitize test-asan format check-format clean
 
@@ -27,11 +24,11 @@ configure: deps
 	cmake --preset $(PRESET) >/dev/null
 
 build: configure
-	cmake --build --preset $(PRESET) -j $(JOBS)
+	cmake --build --preset $(PRESET)
 
 # Only the terralod program (and the libraries it links), not the tests: what the demo runs.
 app: configure
-	cmake --build --preset $(PRESET) -j $(JOBS) --target terralod
+	cmake --build --preset $(PRESET) --target terralod
 
 demo: app
 	mkdir -p $(DEMO_DIR)
@@ -52,7 +49,7 @@ test: build
 # The chunk loader and cache tests under ThreadSanitizer (a build of the runtime tests only).
 test-tsan: deps
 	cmake --preset tsan >/dev/null
-	cmake --build --preset tsan -j $(JOBS)
+	cmake --build --preset tsan
 	ctest --preset tsan
 
 # Everything that reads untrusted bytes, under sanitizers, from one clang build (preset fuzz,
@@ -61,14 +58,14 @@ test-tsan: deps
 # (bench/fuzz.sh runs them for longer).
 test-sanitize: deps
 	cmake --preset fuzz >/dev/null
-	cmake --build --preset fuzz -j $(JOBS)
+	cmake --build --preset fuzz
 	ctest --preset fuzz
 
 # The same unit tests in a plain ASan + UBSan build without fuzzing instrumentation (preset asan,
 # which also builds the CLI for bench/leak_check.sh); not part of make test.
 test-asan: deps
 	cmake --preset asan >/dev/null
-	cmake --build --preset asan -j $(JOBS)
+	cmake --build --preset asan
 	ctest --preset asan
 
 format:
