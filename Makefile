@@ -12,6 +12,10 @@ TERRALOD := $(BUILD_DIR)/apps/terralod/terralod
 DEMO_DEM := tests/data/zion_srtm3_utm12_30m.tif
 DEMO_IMAGE := tests/data/zion_landsat8_rgb_utm12_30m.tif
 DEMO_DIR := build/demo
+# One compiler per core. Against Ninja's default (cores + 2) on 2 cores, in clean make test runs:
+# the release build 274 and 292 s against 288 s (no gain), the sanitizer builds 33 + 96 s
+# against 40 + 113 s (clang's instrumented units crowd each other out of the caches).
+JOBS ?= $(shell nproc)
 
 .PHONY: all deps configure build app demo test test-tsan test-sanitize test-asan format check-format clean
 
@@ -24,11 +28,11 @@ configure: deps
 	cmake --preset $(PRESET) >/dev/null
 
 build: configure
-	cmake --build --preset $(PRESET)
+	cmake --build --preset $(PRESET) -j $(JOBS)
 
 # Only the terralod program (and the libraries it links), not the tests: what the demo runs.
 app: configure
-	cmake --build --preset $(PRESET) --target terralod
+	cmake --build --preset $(PRESET) -j $(JOBS) --target terralod
 
 demo: app
 	mkdir -p $(DEMO_DIR)
@@ -49,7 +53,7 @@ test: build
 # The chunk loader and cache tests under ThreadSanitizer (a build of the runtime tests only).
 test-tsan: deps
 	cmake --preset tsan >/dev/null
-	cmake --build --preset tsan
+	cmake --build --preset tsan -j $(JOBS)
 	ctest --preset tsan
 
 # Everything that reads untrusted bytes, under sanitizers, from one clang build (preset fuzz,
@@ -58,14 +62,14 @@ test-tsan: deps
 # (bench/fuzz.sh runs them for longer).
 test-sanitize: deps
 	cmake --preset fuzz >/dev/null
-	cmake --build --preset fuzz
+	cmake --build --preset fuzz -j $(JOBS)
 	ctest --preset fuzz
 
 # The same unit tests in a plain ASan + UBSan build without fuzzing instrumentation (preset asan,
 # which also builds the CLI for bench/leak_check.sh); not part of make test.
 test-asan: deps
 	cmake --preset asan >/dev/null
-	cmake --build --preset asan
+	cmake --build --preset asan -j $(JOBS)
 	ctest --preset asan
 
 format:
