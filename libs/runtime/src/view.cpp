@@ -9,6 +9,16 @@
 namespace terralod {
 namespace {
 
+// The box corner furthest along `direction`.
+glm::dvec3 furthestCorner(const Box& b, const glm::dvec3& direction) {
+  return {direction.x >= 0 ? b.max[0] : b.min[0], direction.y >= 0 ? b.max[1] : b.min[1],
+          direction.z >= 0 ? b.max[2] : b.min[2]};
+}
+
+bool insidePlane(const glm::dvec4& plane, const glm::dvec3& p) {
+  return glm::dot(glm::dvec3(plane), p) + plane.w >= 0.0;
+}
+
 bool finite(const glm::dvec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
@@ -63,20 +73,6 @@ double distanceToBox(const glm::dvec3& p, const Box& b) {
   }
   return std::sqrt(sum);
 }
-
-namespace {
-
-// The box corner furthest along `direction`.
-glm::dvec3 furthestCorner(const Box& b, const glm::dvec3& direction) {
-  return {direction.x >= 0 ? b.max[0] : b.min[0], direction.y >= 0 ? b.max[1] : b.min[1],
-          direction.z >= 0 ? b.max[2] : b.min[2]};
-}
-
-bool insidePlane(const glm::dvec4& plane, const glm::dvec3& p) {
-  return glm::dot(glm::dvec3(plane), p) + plane.w >= 0.0;
-}
-
-}  // namespace
 
 bool boxInFrustum(const View& view, const Box& b) {
   // Per plane, the corner furthest along its normal decides.

@@ -156,10 +156,6 @@ inline int childContaining(const BinTriangle& t, GridPoint p) {
   return (sideP == 0 || (sideP > 0) == (sideA > 0)) ? 0 : 1;
 }
 
-}  // namespace terralod
-
-namespace terralod {
-
 /// Clips the convex polygon `poly` (n corners; room for 8) to x <= limit (`alongX`) or
 /// y <= limit, Sutherland-Hodgman in corner order. Bintree edges are axis-aligned or diagonal,
 /// so every crossing of a grid line is itself a grid point. A corner is anything with a
