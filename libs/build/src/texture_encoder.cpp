@@ -5,6 +5,8 @@
 
 #include <cstring>
 
+#include "alpha_block.h"
+
 #define STB_DXT_STATIC
 #define STB_DXT_IMPLEMENTATION
 #include <stb_dxt.h>
@@ -81,7 +83,7 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
     std::vector<uint8_t> r(n);
     for (size_t i = 0; i < n; ++i) r[i] = toByte(level.values[i]);
     return encodeBlocks<1>(r, level.size, 8,
-                           [](uint8_t* out, uint8_t* t) { stb_compress_bc4_block(out, t); });
+                           [](uint8_t* out, uint8_t* t) { encodeBc4Block(out, t); });
   }
   std::vector<uint8_t> rg(n * 2);
   for (size_t i = 0; i < n; ++i) {
@@ -92,7 +94,7 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
     rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
   }
   return encodeBlocks<2>(rg, level.size, 16,
-                         [](uint8_t* out, uint8_t* t) { stb_compress_bc5_block(out, t); });
+                         [](uint8_t* out, uint8_t* t) { encodeBc5Block(out, t); });
 }
 
 TextureLayer encodeColorLayer(const TexelTile& tile, uint8_t flags, std::vector<uint8_t> level0) {

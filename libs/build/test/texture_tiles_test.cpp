@@ -9,6 +9,7 @@
 #include <functional>
 #include <random>
 
+#include "alpha_block.h"
 #include "bc_decode.h"
 #include "temp_dir.h"
 #include "terralod/build/height_source.h"
@@ -21,6 +22,10 @@
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/image_drape.h"
 #include "test_terrain.h"
+
+#define STB_DXT_STATIC
+#define STB_DXT_IMPLEMENTATION
+#include <stb_dxt.h>
 
 namespace terralod {
 namespace {
@@ -602,6 +607,33 @@ void checkLayerShape(const TextureLayer& l, TextureLayerKind kind, TextureEncodi
   auto decoded = decodeTexture(encodeTexture(t, 3), "test");
   ASSERT_TRUE(decoded.ok()) << decoded.error().message;
   EXPECT_EQ(decoded->layers[0].mips, l.mips);
+}
+
+// alpha_block.h's BC4 and BC5 encoders, vector and portable, give stb_dxt's bytes: on random
+// blocks of every range (constant, narrow, both sides of the 8-step rounding change, full).
+TEST(TextureEncoder, AlphaBlocksAreStbDxtsBytes) {
+  std::mt19937 rng(7);
+  int differing = 0, blocks = 0;
+  for (int range : {0, 1, 2, 3, 7, 8, 9, 15, 16, 40, 100, 255})
+    for (int trial = 0; trial < 2000; ++trial) {
+      const int lo = int(rng() % uint32_t(256 - range));
+      uint8_t texels[32];
+      for (uint8_t& t : texels) t = uint8_t(lo + (range ? int(rng() % uint32_t(range + 1)) : 0));
+      uint8_t theirs4[8], theirs5[16], ours[16];
+      stb_compress_bc4_block(theirs4, texels);
+      stb_compress_bc5_block(theirs5, texels);
+      encodeBc4Block(ours, texels);
+      differing += std::memcmp(ours, theirs4, 8) != 0;
+      encodeAlphaBlockPortable<1>(ours, texels);
+      differing += std::memcmp(ours, theirs4, 8) != 0;
+      encodeBc5Block(ours, texels);
+      differing += std::memcmp(ours, theirs5, 16) != 0;
+      encodeAlphaBlockPortable<2>(ours, texels);
+      encodeAlphaBlockPortable<2>(ours + 8, texels + 1);
+      differing += std::memcmp(ours, theirs5, 16) != 0;
+      blocks += 4;
+    }
+  EXPECT_EQ(differing, 0) << "of " << blocks;
 }
 
 TEST(TextureEncoder, NormalLayerOfAPlaneDecodesToItsNormal) {

@@ -1,7 +1,8 @@
 #pragma once
 // Turns a chunk's float tiles into stored texture layers: the mip chain (edge-aligned
-// resampling, see texel_tile.h) and GPU block compression of every level (stb_dxt: BC1 for
-// colour, BC5 for normals' x and y).
+// resampling, see texel_tile.h) and GPU block compression of every level (BC1 for colour, by
+// stb_dxt; BC5 for normals' x and y and BC4 for one channel, by alpha_block.h's encoder, which
+// gives stb_dxt's bytes faster).
 
 #include <array>
 #include <vector>
