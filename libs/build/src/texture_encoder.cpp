@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "alpha_block.h"
+#include "texel_bytes.h"
 
 #define STB_DXT_STATIC
 #define STB_DXT_IMPLEMENTATION
@@ -14,13 +15,9 @@
 namespace terralod {
 namespace {
 
-uint8_t toByte(float v) {
-  return uint8_t(std::clamp(v * 255.0f + 0.5f, 0.0f, 255.0f));
-}
-
 // Encodes one mip level of 8-bit texels (`bytes` per texel, row-major) block by block;
 // texels past the edge repeat the last row/column. `bytes` is a template argument so that
-// gathering a texel is one load and one store, not a call to memcpy.
+// gathering a row of a block is one load and one store, not a call to memcpy.
 template <uint32_t bytes, typename Block>
 std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t size,
                                   size_t blockBytes, Block&& block) {
@@ -29,8 +26,13 @@ std::vector<uint8_t> encodeBlocks(const std::vector<uint8_t>& texels, uint32_t s
   uint8_t gathered[16 * 4];
   for (uint32_t by = 0; by < blocks; ++by)
     for (uint32_t bx = 0; bx < blocks; ++bx) {
+      const bool wholeRows = bx * 4 + 4 <= size;
       for (uint32_t j = 0; j < 4; ++j) {
         const uint8_t* row = texels.data() + size_t(std::min(by * 4 + j, size - 1)) * size * bytes;
+        if (wholeRows) {
+          std::memcpy(gathered + j * 4 * bytes, row + size_t(bx) * 4 * bytes, 4 * bytes);
+          continue;
+        }
         for (uint32_t i = 0; i < 4; ++i)
           std::memcpy(gathered + (j * 4 + i) * bytes,
                       row + size_t(std::min(bx * 4 + i, size - 1)) * bytes, bytes);
@@ -74,25 +76,19 @@ std::vector<uint8_t> encodeLevel(const TexelTile& level, TextureEncoding encodin
   if (encoding == TextureEncoding::kBc1) {
     std::vector<uint8_t> rgba(n * 4, 255);
     for (size_t i = 0; i < n; ++i)
-      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = toByte(level.values[i * 3 + c]);
+      for (size_t c = 0; c < 3; ++c) rgba[i * 4 + c] = unitToByte(level.values[i * 3 + c]);
     return encodeBlocks<4>(rgba, level.size, 8, [](uint8_t* out, uint8_t* t) {
       stb_compress_dxt_block(out, t, 0, STB_DXT_NORMAL);
     });
   }
   if (encoding == TextureEncoding::kBc4) {
     std::vector<uint8_t> r(n);
-    for (size_t i = 0; i < n; ++i) r[i] = toByte(level.values[i]);
+    unitsToBytes(level.values.data(), n, r.data());
     return encodeBlocks<1>(r, level.size, 8,
                            [](uint8_t* out, uint8_t* t) { encodeBc4Block(out, t); });
   }
   std::vector<uint8_t> rg(n * 2);
-  for (size_t i = 0; i < n; ++i) {
-    const float* v = level.values.data() + i * 3;
-    const float len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-    const float inv = len > 0 ? 1.0f / len : 0.0f;
-    rg[i * 2 + 0] = toByte(0.5f * (v[0] * inv + 1.0f));
-    rg[i * 2 + 1] = toByte(0.5f * (v[1] * inv + 1.0f));
-  }
+  normalsToRg(level.values.data(), n, rg.data());
   return encodeBlocks<2>(rg, level.size, 16,
                          [](uint8_t* out, uint8_t* t) { encodeBc5Block(out, t); });
 }

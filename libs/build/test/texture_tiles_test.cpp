@@ -22,6 +22,7 @@
 #include "terralod/raster/dem_reader.h"
 #include "terralod/raster/image_drape.h"
 #include "test_terrain.h"
+#include "texel_bytes.h"
 
 #define STB_DXT_STATIC
 #define STB_DXT_IMPLEMENTATION
@@ -634,6 +635,38 @@ TEST(TextureEncoder, AlphaBlocksAreStbDxtsBytes) {
       blocks += 4;
     }
   EXPECT_EQ(differing, 0) << "of " << blocks;
+}
+
+// The texel-to-byte conversions give the portable loops' bytes, on lengths that leave a
+// remainder for the scalar tail, with values beyond [0, 1], zero normals and long ones.
+TEST(TextureEncoder, TexelBytesAreThePortableLoopsBytes) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> wide(-1.5f, 2.5f), normal(-4.0f, 4.0f);
+  for (size_t n : {size_t(1), size_t(15), size_t(16), size_t(17), size_t(1089)}) {
+    std::vector<float> units(n), normals(3 * n);
+    for (float& v : units) v = wide(rng);
+    for (float& v : normals) v = normal(rng);
+    for (size_t i = 0; i < n; i += 7) std::fill_n(normals.begin() + ptrdiff_t(3 * i), 3, 0.0f);
+    std::vector<uint8_t> fast(2 * n), portable(2 * n);
+    unitsToBytes(units.data(), n, fast.data());
+    texel_bytes::unitsToBytesPortable(units.data(), n, portable.data());
+    EXPECT_EQ(std::vector<uint8_t>(fast.begin(), fast.begin() + ptrdiff_t(n)),
+              std::vector<uint8_t>(portable.begin(), portable.begin() + ptrdiff_t(n)))
+        << n;
+    normalsToRg(normals.data(), n, fast.data());
+    texel_bytes::normalsToRgPortable(normals.data(), n, portable.data());
+    EXPECT_EQ(fast, portable) << n;
+  }
+  uint8_t rg[2];
+  const float zero[3] = {0, 0, 0}, east[3] = {3, 0, 0};
+  normalToRg(zero, rg);
+  EXPECT_EQ(rg[0], 128);
+  EXPECT_EQ(rg[1], 128);
+  normalToRg(east, rg);
+  EXPECT_EQ(rg[0], 255);
+  EXPECT_EQ(rg[1], 128);
+  EXPECT_EQ(unitToByte(-0.2f), 0);
+  EXPECT_EQ(unitToByte(1.7f), 255);
 }
 
 TEST(TextureEncoder, NormalLayerOfAPlaneDecodesToItsNormal) {
