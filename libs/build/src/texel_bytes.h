@@ -42,8 +42,7 @@ inline void normalsToRgPortable(const float* xyz, size_t n, uint8_t* rg) {
 // unitToByte of four values, as four int32 lanes.
 inline __m128i unitsToInts(__m128 v) {
   const __m128 scaled = _mm_add_ps(_mm_mul_ps(v, _mm_set1_ps(255.0f)), _mm_set1_ps(0.5f));
-  return _mm_cvttps_epi32(
-      _mm_min_ps(_mm_max_ps(scaled, _mm_setzero_ps()), _mm_set1_ps(255.0f)));
+  return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(scaled, _mm_setzero_ps()), _mm_set1_ps(255.0f)));
 }
 #endif
 
@@ -73,12 +72,14 @@ inline void normalsToRg(const float* xyz, size_t n, uint8_t* rg) {
     const float* v = xyz + 3 * i;
     const __m128 x = _mm_setr_ps(v[0], v[3], v[6], v[9]), y = _mm_setr_ps(v[1], v[4], v[7], v[10]),
                  z = _mm_setr_ps(v[2], v[5], v[8], v[11]);
-    const __m128 len = _mm_sqrt_ps(
-        _mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z)));
+    const __m128 len =
+        _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(x, x), _mm_mul_ps(y, y)), _mm_mul_ps(z, z)));
     // 1 / len where len > 0, else 0 (the division's infinity masked away).
     const __m128 inv = _mm_and_ps(_mm_cmpgt_ps(len, zero), _mm_div_ps(one, len));
-    const __m128i bx = texel_bytes::unitsToInts(_mm_mul_ps(half, _mm_add_ps(_mm_mul_ps(x, inv), one)));
-    const __m128i by = texel_bytes::unitsToInts(_mm_mul_ps(half, _mm_add_ps(_mm_mul_ps(y, inv), one)));
+    const __m128i bx =
+        texel_bytes::unitsToInts(_mm_mul_ps(half, _mm_add_ps(_mm_mul_ps(x, inv), one)));
+    const __m128i by =
+        texel_bytes::unitsToInts(_mm_mul_ps(half, _mm_add_ps(_mm_mul_ps(y, inv), one)));
     // Bytes x0 x1 x2 x3 y0 y1 y2 y3, then interleaved: x0 y0 x1 y1 ...
     const __m128i xy = _mm_packus_epi16(_mm_packs_epi32(bx, by), _mm_setzero_si128());
     _mm_storel_epi64(reinterpret_cast<__m128i*>(rg + 2 * i),
