@@ -727,7 +727,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
                            o.compressionLevel, texturePass.get(), o.mesher, chunkPayloadOf(o)};
   const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
   DemWindows windows(*s.reader, threads, nullptr);
-  std::vector<std::vector<float>> heights(threads);
+  std::vector<BlockWindow> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
   // The textures above this job's blocks that need no other job's (whole subtrees), and the
@@ -754,14 +754,11 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     if (reduced->bytes().size() != halo.points.size())
       return makeError(reducedHalo(work, k), "was written for another block layout");
     applyHalo(grid, halo, {reduced->bytes().begin(), reduced->bytes().end()});
-    heights[w].resize(size_t(s.block + 1) * (s.block + 1));
-    if (Status st =
-            windows.read(origin.x, origin.y, s.block + 1, s.block + 1, heights[w].data(), w);
+    if (Status st = readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
         !st)
       return st;
     ChunkMesher mesher(s.layout, s.budget, grid, none);
-    auto built =
-        buildBlockChunks(context, blockNodes[k], heights[w].data(), mesher, grid, windows, w);
+    auto built = buildBlockChunks(context, blockNodes[k], &heights[w], mesher, grid, windows, w);
     if (!built) return built.error();
     BlockCoarse c;
     c.heights = std::move(built->points);

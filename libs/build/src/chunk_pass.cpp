@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cassert>
 #include <bit>
 #include <cmath>
 #include <deque>
@@ -28,24 +29,41 @@ float floatAbove(double v) {
   return double(f) >= v ? f : std::nextafter(f, std::numeric_limits<float>::infinity());
 }
 
-// Heights of one block's window; anything outside it is a bug in the caller.
+// Heights of one block's window (its margin excepted); anything outside it is a bug in the
+// caller.
 class WindowSampler final : public HeightSampler {
  public:
-  void set(const float* values, int32_t x0, int32_t y0, int32_t side) {
-    mValues = values;
-    mX0 = x0;
-    mY0 = y0;
-    mSide = side;
-  }
+  explicit WindowSampler(const BlockWindow& window) : mWindow(window) {}
   double at(int32_t x, int32_t y) const override {
-    const int32_t lx = x - mX0, ly = y - mY0;
-    if (lx < 0 || ly < 0 || lx > mSide || ly > mSide) return std::nan("");
-    return mValues[size_t(ly) * (mSide + 1) + lx];
+    const int32_t lx = x - mWindow.x0, ly = y - mWindow.y0;
+    if (lx < 0 || ly < 0 || lx > mWindow.cells || ly > mWindow.cells) return std::nan("");
+    return mWindow.at(x, y);
   }
 
  private:
-  const float* mValues = nullptr;
-  int32_t mX0 = 0, mY0 = 0, mSide = 0;
+  const BlockWindow& mWindow;
+};
+
+// The texture pass's reads: the block window with its margin, which the chunk pass has read
+// already, from it; anything else from `next`.
+class BlockWindowReads final : public HeightWindows {
+ public:
+  BlockWindowReads(const BlockWindow* window, HeightWindows& next)
+      : mWindow(window), mNext(next) {}
+  Status read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out,
+              unsigned worker) override {
+    const BlockWindow* b = mWindow;
+    if (b && x0 == b->x0 - b->margin && y0 == b->y0 - b->margin && w == b->stride() &&
+        h == b->stride()) {
+      std::copy(b->values.begin(), b->values.end(), out);
+      return {};
+    }
+    return mNext.read(x0, y0, w, h, out, worker);
+  }
+
+ private:
+  const BlockWindow* mWindow;
+  HeightWindows& mNext;
 };
 
 }  // namespace
@@ -126,8 +144,19 @@ std::vector<uint32_t> coarseNodesOf(const std::vector<NodeRecord>& nodes, int32_
   return out;
 }
 
+Status readBlockWindow(const ChunkPassContext& context, HeightWindows& windows, int32_t x0,
+                       int32_t y0, int32_t cells, BlockWindow& window, unsigned worker) {
+  window.x0 = x0;
+  window.y0 = y0;
+  window.cells = cells;
+  window.margin = context.textures ? BlockTexels::kMargin : 0;
+  window.values.resize(size_t(window.stride()) * size_t(window.stride()));
+  return windows.read(x0 - window.margin, y0 - window.margin, window.stride(), window.stride(),
+                      window.values.data(), worker);
+}
+
 Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t blockNode,
-                                     const float* window, ChunkMesher& mesher,
+                                     const BlockWindow* window, ChunkMesher& mesher,
                                      const ActivationGrid& grid, HeightWindows& windows,
                                      unsigned worker) {
   const TreeLayout& layout = context.layout;
@@ -135,10 +164,11 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
   const int32_t block = std::clamp(context.blockCells, layout.leafCells, layout.rootCells);
   const NodeRecord& b = nodes[blockNode];
   const int32_t x0 = int32_t(b.x) * block, y0 = int32_t(b.y) * block;
-  WindowSampler sampler;
+  std::optional<WindowSampler> sampler;
   if (window) {
-    sampler.set(window, x0, y0, block);
-    mesher.setHeights(sampler);
+    assert(window->x0 == x0 && window->y0 == y0 && window->cells == block);
+    sampler.emplace(*window);
+    mesher.setHeights(*sampler);
   }
   mesher.setMethod(context.mesher, blockLevelOf(layout, block) + 1);
   BlockChunks out;
@@ -160,7 +190,8 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
   }
   if (context.textures) {
     std::vector<std::pair<uint32_t, std::vector<uint8_t>>> textures;
-    auto tiles = context.textures->buildBlock(blockNode, windows, worker, textures);
+    BlockWindowReads reads(window, windows);
+    auto tiles = context.textures->buildBlock(blockNode, reads, worker, textures);
     if (!tiles) return tiles.error();
     out.tiles = std::move(tiles).value();
     std::unordered_map<uint32_t, size_t> where;
@@ -180,8 +211,7 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
     for (int32_t y = y0; y <= y1; ++y)
       for (int32_t x = x0; x <= x1; ++x)
         if (grid.get(x, y) >= coarse)
-          out.points.emplace_back(SparseHeights::key(x, y),
-                                  window[size_t(y - y0) * (block + 1) + (x - x0)]);
+          out.points.emplace_back(SparseHeights::key(x, y), window->at(x, y));
   }
   return out;
 }
@@ -244,7 +274,7 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   const HeightSampler& coarseHeights = allHeights ? *allHeights : *sparse;
   std::vector<std::unique_ptr<ChunkMesher>> meshers(threads);
   for (auto& m : meshers) m = std::make_unique<ChunkMesher>(layout, budget, grid, coarseHeights);
-  std::vector<std::vector<float>> windowsOf(threads);
+  std::vector<BlockWindow> windowsOf(threads);
 
   std::unique_ptr<TexturePass> texturePass;
   if (options.textures) {
@@ -280,16 +310,15 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   parallelFor(blockNodes.size(), threads, [&](size_t task, unsigned w) {
     if (failed) return;
     const NodeRecord& b = nodes[blockNodes[task]];
-    const float* window = nullptr;
+    const BlockWindow* window = nullptr;
     if (allHeights) {
       meshers[w]->setHeights(*allHeights);
     } else {
-      windowsOf[w].resize(size_t(block + 1) * (block + 1));
-      if (Status s = windows.read(int32_t(b.x) * block, int32_t(b.y) * block, block + 1, block + 1,
-                                  windowsOf[w].data(), w);
+      if (Status s = readBlockWindow(context, windows, int32_t(b.x) * block, int32_t(b.y) * block,
+                                     block, windowsOf[w], w);
           !s)
         return fail(s.error());
-      window = windowsOf[w].data();
+      window = &windowsOf[w];
     }
     auto built = buildBlockChunks(context, blockNodes[task], window, *meshers[w], grid, windows, w);
     if (!built) return fail(built.error());

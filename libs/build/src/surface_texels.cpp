@@ -29,6 +29,12 @@ float toDisplay(float linear) {
   return table[i] + (table[i + 1] - table[i]) * (x - float(i));
 }
 
+// Occlusion from the sum of the heights of the (2r + 1)^2 samples around a sample at `height`.
+float occlusionOf(double sum, float height, double area, double scale) {
+  const double mean = sum / area;
+  return float(std::clamp(1.0 + 0.8 * (height - mean) / scale, double(kMinOcclusion), 1.0));
+}
+
 }  // namespace
 
 Status BlockTexels::load(HeightWindows& heights, unsigned worker, const ImageDrape* image,
@@ -162,9 +168,8 @@ float BlockTexels::occlusion(int32_t gx, int32_t gy) const {
   const size_t w = size_t(mSide + 1);
   const double sum = mSums[size_t(ly1) * w + lx1] - mSums[size_t(ly0) * w + lx1] -
                      mSums[size_t(ly1) * w + lx0] + mSums[size_t(ly0) * w + lx0];
-  const double mean = sum / double((2 * r + 1) * (2 * r + 1));
-  const double scale = r * std::max(mOptions.spacingX, mOptions.spacingY);
-  return float(std::clamp(1.0 + 0.8 * (height(gx, gy) - mean) / scale, double(kMinOcclusion), 1.0));
+  return occlusionOf(sum, height(gx, gy), double((2 * r + 1) * (2 * r + 1)),
+                     r * std::max(mOptions.spacingX, mOptions.spacingY));
 }
 
 void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
@@ -188,14 +193,31 @@ void BlockTexels::generatedColor(int32_t gx, int32_t gy, float* rgb) const {
   rgb[2] = c.b * shade;
 }
 
+// occlusion() and water() of every texel, a row at a time.
 TexelTile BlockTexels::shades(int32_t x0, int32_t y0, int32_t cells) const {
   TexelTile tile(uint32_t(cells + 1), 1);
-  for (int32_t j = 0; j <= cells; ++j)
+  const int32_t r = kReliefRadius;
+  const size_t w = size_t(mSide + 1);
+  const double area = double((2 * r + 1) * (2 * r + 1)),
+               scale = r * std::max(mOptions.spacingX, mOptions.spacingY);
+  for (int32_t j = 0; j <= cells; ++j) {
+    const int32_t ly = y0 + j - mY0, lx = x0 - mX0;
+    const float* h = mHeights.data() + size_t(ly) * mSide + lx;
+    const uint8_t* water = mWater.data() + size_t(ly) * mSide + lx;
+    // Summed-area rows above and below the window, at the window's west edge.
+    const double* above = mSums.data() + size_t(ly + r + 1) * w + (lx - r);
+    const double* below = mSums.data() + size_t(ly - r) * w + (lx - r);
+    float* out = tile.at(0, uint32_t(j));
     for (int32_t i = 0; i <= cells; ++i) {
-      const int32_t gx = x0 + i, gy = y0 + j;
-      const bool w = water(gx, gy);
-      *tile.at(uint32_t(i), uint32_t(j)) = shadeValue(w, w ? 1.0f : occlusion(gx, gy));
+      if (water[i]) {
+        out[i] = shadeValue(true, 1.0f);
+        continue;
+      }
+      const int32_t e = i + 2 * r + 1;
+      const double sum = above[e] - below[e] - above[i] + below[i];
+      out[i] = shadeValue(false, occlusionOf(sum, h[i], area, scale));
     }
+  }
   return tile;
 }
 

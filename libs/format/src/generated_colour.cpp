@@ -53,12 +53,6 @@ GroundColor groundColor(double height, float slope, double latitudeDeg) {
   return groundColorBelow(float(height), slope, float(snowLine(latitudeDeg)));
 }
 
-float shadeValue(bool water, float occlusion) {
-  if (water) return 0.0f;
-  const float t = std::clamp((occlusion - kMinOcclusion) / (1.0f - kMinOcclusion), 0.0f, 1.0f);
-  return kLandShade + (1.0f - kLandShade) * t;
-}
-
 GroundColor shadedColour(float height, float slope, float snowLine, float shade) {
   const float v = std::clamp(shade, 0.0f, 1.0f);
   // Below kLandShade the texel is part water: taken as water and open land (shade 1) mixed,

@@ -78,11 +78,31 @@ struct ChunkPassContext {
   ChunkPayloadVersion payload = kStaticChunkPayload;
 };
 
-/// Builds the chunks below block node `blockNode` from its (blockCells+1)² `window` of
-/// heights, with `mesher` (whose activation grid covers the block). `windows` serves the
-/// texture pass; `worker` names the calling thread.
+/// A block's heights as read once for both of its passes: the (cells + 1)² samples from
+/// (x0, y0), and around them `margin` more on every side, which the texture pass reads
+/// (BlockTexels::kMargin; 0 without textures). Rows of stride() samples.
+struct BlockWindow {
+  std::vector<float> values;
+  int32_t x0 = 0, y0 = 0, cells = 0, margin = 0;
+
+  int32_t stride() const { return cells + 1 + 2 * margin; }
+  /// The height at grid point (x, y), within the margin.
+  float at(int32_t x, int32_t y) const {
+    return values[size_t(y - y0 + margin) * size_t(stride()) + size_t(x - x0 + margin)];
+  }
+};
+
+/// Reads block (x0, y0)'s `cells` window into `window`, with the texture pass's margin when
+/// `context` makes textures.
+Status readBlockWindow(const ChunkPassContext& context, HeightWindows& windows, int32_t x0,
+                       int32_t y0, int32_t cells, BlockWindow& window, unsigned worker);
+
+/// Builds the chunks below block node `blockNode` from its `window` of heights (null: the
+/// mesher already has every height), with `mesher` (whose activation grid covers the block).
+/// The texture pass takes its heights from the window too, and from `windows` without one;
+/// `worker` names the calling thread.
 Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t blockNode,
-                                     const float* window, ChunkMesher& mesher,
+                                     const BlockWindow* window, ChunkMesher& mesher,
                                      const ActivationGrid& grid, HeightWindows& windows,
                                      unsigned worker);
 

@@ -11,6 +11,7 @@
 // for exports), or, with `build --bake-colour` or under a draped image, the build stores the
 // colour itself.
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -74,8 +75,12 @@ GroundColor groundColor(double height, float slope, double latitudeDeg);
 GroundColor groundColorBelow(float height, float slope, float snowLine);
 
 /// The shade layer's value of a texel: 0 for water, else kLandShade .. 1 for occlusion
-/// kMinOcclusion .. 1.
-float shadeValue(bool water, float occlusion);
+/// kMinOcclusion .. 1. Inline: the build calls it for every texel of every leaf.
+inline float shadeValue(bool water, float occlusion) {
+  if (water) return 0.0f;
+  const float t = std::clamp((occlusion - kMinOcclusion) / (1.0f - kMinOcclusion), 0.0f, 1.0f);
+  return kLandShade + (1.0f - kLandShade) * t;
+}
 
 /// The colour a shade texel (filtered or not) stands for on ground at `height` with `slope`
 /// under `snowLine`, in display values: land darkened by its occlusion, mixed with water where
