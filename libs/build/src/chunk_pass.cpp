@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
-#include <cassert>
 #include <bit>
+#include <cassert>
 #include <cmath>
 #include <deque>
 #include <functional>
@@ -48,10 +48,8 @@ class WindowSampler final : public HeightSampler {
 // already, from it; anything else from `next`.
 class BlockWindowReads final : public HeightWindows {
  public:
-  BlockWindowReads(const BlockWindow* window, HeightWindows& next)
-      : mWindow(window), mNext(next) {}
-  Status read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out,
-              unsigned worker) override {
+  BlockWindowReads(const BlockWindow* window, HeightWindows& next) : mWindow(window), mNext(next) {}
+  Status read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out, unsigned worker) override {
     const BlockWindow* b = mWindow;
     if (b && x0 == b->x0 - b->margin && y0 == b->y0 - b->margin && w == b->stride() &&
         h == b->stride()) {

@@ -6,6 +6,10 @@
 #include <limits>
 #include <vector>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "terralod/build/height_source.h"
 #include "terralod/raster/image_drape.h"
 #include "terralod/raster/void_fill.h"
@@ -33,6 +37,54 @@ float toDisplay(float linear) {
 float occlusionOf(double sum, float height, double area, double scale) {
   const double mean = sum / area;
   return float(std::clamp(1.0 + 0.8 * (height - mean) / scale, double(kMinOcclusion), 1.0));
+}
+
+// Each 7-sample window along a row of `side` heights, by its centre (kWaterRadius .. side -
+// kWaterRadius - 1): all at sea level (bit 0 of `flags`), and within kLakeFlatness of each
+// other (bit 1), with their minimum and maximum (which only windows with bit 1 need). With SSE2
+// four windows at a time; the same flags either way (min and max keep their operand order, so
+// even NaNs come out as in the scalar loop).
+void rowWindows(const float* h, int32_t side, uint8_t* flags, float* lo, float* hi) {
+  const int32_t r = kWaterRadius;
+  const float band = float(kSeaLevelBand), flat = float(kLakeFlatness);
+  int32_t x = r;
+#if defined(__SSE2__)
+  const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), bands = _mm_set1_ps(band),
+               flats = _mm_set1_ps(flat);
+  for (; x + 4 <= side - r; x += 4) {
+    __m128 v = _mm_loadu_ps(h + x - r);
+    __m128 mn = v, mx = v, sea = _mm_cmple_ps(_mm_and_ps(v, magnitude), bands);
+    for (int32_t k = -r + 1; k <= r; ++k) {
+      v = _mm_loadu_ps(h + x + k);
+      mn = _mm_min_ps(v, mn);
+      mx = _mm_max_ps(v, mx);
+      sea = _mm_and_ps(sea, _mm_cmple_ps(_mm_and_ps(v, magnitude), bands));
+    }
+    const int seaBits = _mm_movemask_ps(sea),
+              lakeBits = _mm_movemask_ps(_mm_cmple_ps(_mm_sub_ps(mx, mn), flats));
+    _mm_storeu_ps(lo + x, mn);
+    _mm_storeu_ps(hi + x, mx);
+    for (int l = 0; l < 4; ++l)
+      flags[x + l] = uint8_t(((seaBits >> l) & 1) | (((lakeBits >> l) & 1) << 1));
+  }
+#endif
+  // Both tests stop at the first sample that fails them, which on land is the first or second.
+  for (; x < side - r; ++x) {
+    const float* w = h + x;
+    uint8_t f = 1;
+    for (int32_t k = -r; k <= r && f; ++k)
+      if (!(std::fabs(w[k]) <= band)) f = 0;
+    float l = w[-r], u = w[-r];
+    bool lake = true;
+    for (int32_t k = -r + 1; k <= r && lake; ++k) {
+      l = std::min(l, w[k]);
+      u = std::max(u, w[k]);
+      lake = u - l <= flat;
+    }
+    flags[x] = uint8_t(f | (lake ? 2 : 0));
+    lo[x] = l;
+    hi[x] = u;
+  }
 }
 
 }  // namespace
@@ -81,32 +133,16 @@ void BlockTexels::findWater() {
   const int32_t side = mSide, r = kWaterRadius;
   mWater.assign(size_t(side) * side, 0);
   auto inside = [](int32_t g, int32_t size) { return size == 0 || (g >= 0 && g < size); };
-  // Each row's 7 samples: all at sea level (bit 0), and within kLakeFlatness of each other
-  // (bit 1, with their minimum and maximum). Both tests stop at the first sample that fails
-  // them, which on land is the first or second.
-  const float band = float(kSeaLevelBand), flat = float(kLakeFlatness);
   mRowFlags.assign(size_t(side) * side, 0);
   mRowMin.resize(size_t(side) * side);
   mRowMax.resize(size_t(side) * side);
-  for (int32_t y = 0; y < side; ++y)
-    for (int32_t x = r; x < side - r; ++x) {
-      const float* h = mHeights.data() + size_t(y) * side + x;
-      uint8_t f = 1;
-      for (int32_t k = -r; k <= r && f; ++k)
-        if (!(std::fabs(h[k]) <= band)) f = 0;
-      float lo = h[-r], hi = h[-r];
-      bool lake = true;
-      for (int32_t k = -r + 1; k <= r && lake; ++k) {
-        lo = std::min(lo, h[k]);
-        hi = std::max(hi, h[k]);
-        lake = hi - lo <= flat;
-      }
-      const size_t i = size_t(y) * side + x;
-      mRowFlags[i] = uint8_t(f | (lake ? 2 : 0));
-      mRowMin[i] = lo;
-      mRowMax[i] = hi;
-    }
+  for (int32_t y = 0; y < side; ++y) {
+    const size_t row = size_t(y) * side;
+    rowWindows(mHeights.data() + row, side, mRowFlags.data() + row, mRowMin.data() + row,
+               mRowMax.data() + row);
+  }
   // Windows: 7 rows that are all at sea level, or all flat and together within kLakeFlatness.
+  const float flat = float(kLakeFlatness);
   std::vector<uint8_t> core(size_t(side) * side, 0);
   bool any = false;
   for (int32_t y = r; y < side - r; ++y) {
