@@ -244,7 +244,36 @@ TexelTile BlockTexels::shades(int32_t x0, int32_t y0, int32_t cells) const {
     const double* above = mSums.data() + size_t(ly + r + 1) * w + (lx - r);
     const double* below = mSums.data() + size_t(ly - r) * w + (lx - r);
     float* out = tile.at(0, uint32_t(j));
-    for (int32_t i = 0; i <= cells; ++i) {
+    int32_t i = 0;
+#if defined(__SSE2__)
+    // Two texels at a time, by the same operations in the same order as occlusionOf and
+    // shadeValue (the divisions are most of the time, and SSE2 does two at once).
+    for (; i + 2 <= cells + 1; i += 2) {
+      const int32_t e = i + 2 * r + 1;
+      const __m128d sum =
+          _mm_add_pd(_mm_sub_pd(_mm_sub_pd(_mm_loadu_pd(above + e), _mm_loadu_pd(below + e)),
+                                _mm_loadu_pd(above + i)),
+                     _mm_loadu_pd(below + i));
+      const __m128d mean = _mm_div_pd(sum, _mm_set1_pd(area));
+      const __m128d height = _mm_cvtps_pd(_mm_setr_ps(h[i], h[i + 1], 0.0f, 0.0f));
+      const __m128d relief =
+          _mm_div_pd(_mm_mul_pd(_mm_set1_pd(0.8), _mm_sub_pd(height, mean)), _mm_set1_pd(scale));
+      const __m128d occlusion = _mm_min_pd(
+          _mm_set1_pd(1.0),
+          _mm_max_pd(_mm_set1_pd(double(kMinOcclusion)), _mm_add_pd(_mm_set1_pd(1.0), relief)));
+      const __m128 t = _mm_div_ps(_mm_sub_ps(_mm_cvtpd_ps(occlusion), _mm_set1_ps(kMinOcclusion)),
+                                  _mm_set1_ps(1.0f - kMinOcclusion));
+      const __m128 shade =
+          _mm_add_ps(_mm_set1_ps(kLandShade),
+                     _mm_mul_ps(_mm_set1_ps(1.0f - kLandShade),
+                                _mm_min_ps(_mm_set1_ps(1.0f), _mm_max_ps(_mm_setzero_ps(), t))));
+      float two[4];
+      _mm_storeu_ps(two, shade);
+      out[i] = water[i] ? shadeValue(true, 1.0f) : two[0];
+      out[i + 1] = water[i + 1] ? shadeValue(true, 1.0f) : two[1];
+    }
+#endif
+    for (; i <= cells; ++i) {
       if (water[i]) {
         out[i] = shadeValue(true, 1.0f);
         continue;
