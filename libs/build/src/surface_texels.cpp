@@ -191,9 +191,50 @@ void BlockTexels::findWater() {
         if (sea->at(mX0 + x, mY0 + y)) mWater[size_t(y) * side + x] = 1;
 }
 
+// centralDifferenceNormals over the window's rows; with SSE2 four texels at a time, by the same
+// operations in the same order.
 TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
+#if defined(__SSE2__)
+  TexelTile tile(uint32_t(cells + 1), 3);
+  const float ix = float(0.5 / mOptions.spacingX), iy = float(0.5 / mOptions.spacingY);
+  for (int32_t j = 0; j <= cells; ++j) {
+    const float* h = mHeights.data() + size_t(y0 + j - mY0) * mSide + (x0 - mX0);
+    const float *south = h - mSide, *north = h + mSide;
+    float* out = tile.at(0, uint32_t(j));
+    int32_t i = 0;
+    for (; i + 4 <= cells + 1; i += 4) {
+      const __m128 dx =
+          _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(h + i + 1), _mm_loadu_ps(h + i - 1)), _mm_set1_ps(ix));
+      const __m128 dy =
+          _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(north + i), _mm_loadu_ps(south + i)), _mm_set1_ps(iy));
+      const __m128 inv =
+          _mm_div_ps(_mm_set1_ps(1.0f),
+                     _mm_sqrt_ps(_mm_add_ps(_mm_add_ps(_mm_mul_ps(dx, dx), _mm_mul_ps(dy, dy)),
+                                            _mm_set1_ps(1.0f))));
+      const __m128 sign = _mm_set1_ps(-0.0f);
+      float nx[4], ny[4], nz[4];
+      _mm_storeu_ps(nx, _mm_mul_ps(_mm_xor_ps(dx, sign), inv));
+      _mm_storeu_ps(ny, _mm_mul_ps(_mm_xor_ps(dy, sign), inv));
+      _mm_storeu_ps(nz, inv);
+      for (int l = 0; l < 4; ++l) {
+        out[3 * (i + l)] = nx[l];
+        out[3 * (i + l) + 1] = ny[l];
+        out[3 * (i + l) + 2] = nz[l];
+      }
+    }
+    for (; i <= cells; ++i) {
+      const float dx = (h[i + 1] - h[i - 1]) * ix, dy = (north[i] - south[i]) * iy;
+      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
+      out[3 * i] = -dx * inv;
+      out[3 * i + 1] = -dy * inv;
+      out[3 * i + 2] = inv;
+    }
+  }
+  return tile;
+#else
   return centralDifferenceNormals(x0, y0, cells, mOptions.spacingX, mOptions.spacingY,
                                   [this](int32_t gx, int32_t gy) { return height(gx, gy); });
+#endif
 }
 
 // Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.
