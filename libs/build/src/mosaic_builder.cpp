@@ -14,10 +14,10 @@ MosaicBuilder::MosaicBuilder(uint32_t childSize, uint32_t channels, uint32_t siz
       mChannels(channels),
       mSize(size),
       mSource(2 * childSize - 1),
-      mPresent(present),
-      mOut(size, channels) {
+      mPresent(present) {
   assert(present[0] && (!present[3] || (present[1] && present[2])));
-  if (mSize == mSource) return;  // the mosaic itself: children are placed, not filtered
+  if (mSize == mSource) return;  // the mosaic itself: children are kept, then joined
+  mOut = TexelTile(size, channels);
   const std::vector<Taps>& taps = tapsFor(mSource, mSize, Placement::kEdgeAligned);
   mRowClass.resize(mSize);
   mColClass.resize(mSize);
@@ -58,8 +58,50 @@ uint8_t MosaicBuilder::ownerOfTaps(uint32_t first, size_t count, bool rows) cons
   return a == b ? a : uint8_t(kMixed);
 }
 
+void MosaicBuilder::add(size_t quadrant, TexelTile&& child) {
+  assert(mPresent[quadrant] && child.size == mChild && child.channels == mChannels);
+  if (mSize == mSource) {
+    mKept[quadrant] = std::move(child);
+    return;
+  }
+  add(quadrant, static_cast<const TexelTile&>(child));
+}
+
+// Mosaic row r: for each half of the columns, the row of the child that holds it (rowOwner,
+// colOwner), the last texel repeated where the east child is missing; zeros for a child that
+// is not there (which trees do not make: a north-east child exists when the north and east
+// ones do).
+TexelTile MosaicBuilder::joinKept() {
+  const uint32_t n = mChild, c = mChannels, m = mSource;
+  TexelTile out;
+  out.size = m;
+  out.channels = c;
+  out.values.reserve(size_t(m) * m * c);
+  auto append = [&](const TexelTile& child, uint32_t row, uint32_t count) {
+    if (child.values.empty()) {
+      out.values.insert(out.values.end(), size_t(count) * c, 0.0f);
+      return;
+    }
+    const float* in = child.at(0, row);
+    const uint32_t own = std::min(count, n);
+    out.values.insert(out.values.end(), in, in + size_t(own) * c);
+    for (uint32_t k = own; k < count; ++k)
+      out.values.insert(out.values.end(), in + size_t(n - 1) * c, in + size_t(n) * c);
+  };
+  for (uint32_t r = 0; r < m; ++r) {
+    const uint32_t half = rowOwner(r), row = std::min(r - half * (n - 1), n - 1);
+    append(mKept[half * 2], row, mPresent[1] ? n - 1 : m);
+    if (mPresent[1]) append(mKept[half * 2 + 1], row, n);
+  }
+  return out;
+}
+
 void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
   assert(mPresent[quadrant] && child.size == mChild && child.channels == mChannels);
+  if (mSize == mSource) {
+    mKept[quadrant] = child;
+    return;
+  }
   const uint8_t hx = uint8_t(quadrant & 1), hy = uint8_t(quadrant >> 1);
   const uint32_t n = mChild, c = mChannels, ox = hx * (n - 1), oy = hy * (n - 1);
   // The mosaic's rows and columns this child holds (as rowOwner and colOwner give them): its
@@ -78,11 +120,6 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
                   sizeof(float) * c);
     return static_cast<const float*>(segment.data());
   };
-  if (mSize == mSource) {
-    for (uint32_t r = r0; r < r1; ++r)
-      std::memcpy(mOut.at(k0, r), rowOf(r), sizeof(float) * (k1 - k0) * c);
-    return;
-  }
   for (uint32_t r = r0; r < r1; ++r)
     if (r >= mBandRow0 && r < mBandRow0 + mBandRows)
       std::memcpy(mBandRowValues.data() + (size_t(r - mBandRow0) * mSource + k0) * c, rowOf(r),
@@ -108,30 +145,33 @@ void MosaicBuilder::add(size_t quadrant, const TexelTile& child) {
 }
 
 TexelTile MosaicBuilder::finish() {
-  if (mSize != mSource) {
-    const std::vector<Taps>& taps = tapsFor(mSource, mSize, Placement::kEdgeAligned);
-    const uint32_t c = mChannels;
-    const size_t sourceRow = size_t(mSource) * c;
-    std::vector<float> sums(sourceRow);
-    for (uint32_t y = 0; y < mSize; ++y) {
-      if (mRowClass[y] == kMixed) {
-        // Rows across the seam: every tap row is whole by now.
-        const Taps& t = taps[y];
-        std::fill(sums.begin(), sums.end(), 0.0f);
-        for (size_t i = 0; i < t.weights.size(); ++i)
-          addWeightedRow(sums.data(),
-                         mBandRowValues.data() + size_t(t.first + i - mBandRow0) * sourceRow,
-                         t.weights[i], sourceRow);
-        for (uint32_t x = 0; x < mSize; ++x)
-          resampleTexel(mOut.at(x, y), sums.data() + size_t(taps[x].first) * c, taps[x], c);
-        continue;
-      }
-      // Columns across the seam of a row one child made.
-      const float* band = mBandColSums.data() + size_t(y) * mBandCols * c;
+  if (mSize == mSource) {
+    TexelTile out = joinKept();
+    mKept = {};
+    return out;
+  }
+  const std::vector<Taps>& taps = tapsFor(mSource, mSize, Placement::kEdgeAligned);
+  const uint32_t c = mChannels;
+  const size_t sourceRow = size_t(mSource) * c;
+  std::vector<float> sums(sourceRow);
+  for (uint32_t y = 0; y < mSize; ++y) {
+    if (mRowClass[y] == kMixed) {
+      // Rows across the seam: every tap row is whole by now.
+      const Taps& t = taps[y];
+      std::fill(sums.begin(), sums.end(), 0.0f);
+      for (size_t i = 0; i < t.weights.size(); ++i)
+        addWeightedRow(sums.data(),
+                       mBandRowValues.data() + size_t(t.first + i - mBandRow0) * sourceRow,
+                       t.weights[i], sourceRow);
       for (uint32_t x = 0; x < mSize; ++x)
-        if (mColClass[x] == kMixed)
-          resampleTexel(mOut.at(x, y), band + size_t(taps[x].first - mBandCol0) * c, taps[x], c);
+        resampleTexel(mOut.at(x, y), sums.data() + size_t(taps[x].first) * c, taps[x], c);
+      continue;
     }
+    // Columns across the seam of a row one child made.
+    const float* band = mBandColSums.data() + size_t(y) * mBandCols * c;
+    for (uint32_t x = 0; x < mSize; ++x)
+      if (mColClass[x] == kMixed)
+        resampleTexel(mOut.at(x, y), band + size_t(taps[x].first - mBandCol0) * c, taps[x], c);
   }
   mBandRowValues = {};
   mBandColSums = {};

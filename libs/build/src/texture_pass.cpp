@@ -149,9 +149,10 @@ void TexturePass::startParent(uint32_t node, PartialTiles& partial, const ChunkT
 }
 
 void TexturePass::addChild(PartialTiles& partial, size_t quadrant, ChunkTiles& child) const {
-  partial.color->add(quadrant, child.color.levels[0]);
+  // Taken: the builder keeps it (an unresampled parent) or is done with it (a resampled one).
+  partial.color->add(quadrant, std::move(child.color.levels[0]));
   std::vector<float>().swap(child.color.levels[0].values);
-  partial.normal->add(quadrant, child.normal.levels[0]);
+  partial.normal->add(quadrant, std::move(child.normal.levels[0]));
   std::vector<float>().swap(child.normal.levels[0].values);
 }
 

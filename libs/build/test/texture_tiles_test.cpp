@@ -301,12 +301,22 @@ TEST(MosaicBuilder, ChildrenAddedOneAtATimeGiveTheSameFloatsInAnyOrder) {
       do {
         SCOPED_TRACE(testing::Message()
                      << order.size() << " children, first " << order[0] << ", to " << size);
-        MosaicBuilder builder(n, 3, size, present);
-        for (size_t q : order) builder.add(q, t[q]);
-        const TexelTile got = builder.finish();
-        ASSERT_EQ(got.size, expected.size);
-        for (size_t i = 0; i < got.values.size(); ++i)
-          ASSERT_TRUE(bitwiseEqual(got.values[i], expected.values[i])) << "value " << i;
+        // Children lent (the const overload) and given (the one that may keep them).
+        for (bool given : {false, true}) {
+          MosaicBuilder builder(n, 3, size, present);
+          for (size_t q : order) {
+            if (given)
+              builder.add(q, TexelTile(t[q]));
+            else
+              builder.add(q, t[q]);
+          }
+          const TexelTile got = builder.finish();
+          ASSERT_EQ(got.size, expected.size);
+          ASSERT_EQ(got.values.size(), expected.values.size());
+          for (size_t i = 0; i < got.values.size(); ++i)
+            ASSERT_TRUE(bitwiseEqual(got.values[i], expected.values[i]))
+                << "value " << i << (given ? " given" : " lent");
+        }
       } while (std::next_permutation(order.begin(), order.end()));
     }
   }

@@ -26,6 +26,10 @@ class MosaicBuilder {
   /// Uses child `quadrant`'s tile. Children may be added in any order, and concurrently
   /// (each writes its own texels).
   void add(size_t quadrant, const TexelTile& child);
+  /// The same, taking the tile: a parent that holds its children unresampled (size 2 childSize
+  /// - 1) keeps them and joins their rows in finish(), never filling a mosaic with zeros first
+  /// (those mosaics are most of a textured build's new memory). A copy, for the const overload.
+  void add(size_t quadrant, TexelTile&& child);
   /// The parent's tile, once every present child has been added.
   TexelTile finish();
 
@@ -35,9 +39,12 @@ class MosaicBuilder {
   uint8_t colOwner(uint32_t k) const;
   uint8_t ownerOfTaps(uint32_t first, size_t count, bool rows) const;
 
+  TexelTile joinKept();  // the unresampled mosaic of mKept
+
   uint32_t mChild, mChannels, mSize, mSource;  // mSource: the mosaic's side
   std::array<bool, 4> mPresent;
-  TexelTile mOut;
+  TexelTile mOut;                             // resampled parents: written as children come
+  std::array<TexelTile, 4> mKept;             // unresampled parents: the children, until finish()
   std::vector<uint8_t> mRowClass, mColClass;  // per output row / column: its taps' owner
   uint32_t mBandRow0 = 0, mBandRows = 0;      // mosaic rows the mixed output rows reach
   std::vector<float> mBandRowValues;          // those rows, whole
