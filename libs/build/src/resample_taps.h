@@ -38,19 +38,32 @@ inline void addWeightedRow(float* sums, const float* row, float weight, size_t c
   for (; k < count; ++k) sums[k] += weight * row[k];
 }
 
-template <uint32_t c>
-inline void resampleTexelOf(float* out, const float* sums, const Taps& taps) {
-  for (size_t i = 0; i < taps.weights.size(); ++i, sums += c) {
-    const float w = taps.weights[i];
-    for (uint32_t ch = 0; ch < c; ++ch) out[ch] += w * sums[ch];
+// One- and three-channel texels with their sums in registers (the compiler cannot tell that
+// `out` aliases nothing), added in the same order as the general loop below.
+inline void resampleTexel1(float* out, const float* sums, const Taps& taps) {
+  float a = out[0];
+  const float* w = taps.weights.data();
+  for (size_t i = 0, n = taps.weights.size(); i < n; ++i) a += w[i] * sums[i];
+  out[0] = a;
+}
+inline void resampleTexel3(float* out, const float* sums, const Taps& taps) {
+  float a = out[0], b = out[1], d = out[2];
+  const float* w = taps.weights.data();
+  for (size_t i = 0, n = taps.weights.size(); i < n; ++i, sums += 3) {
+    a += w[i] * sums[0];
+    b += w[i] * sums[1];
+    d += w[i] * sums[2];
   }
+  out[0] = a;
+  out[1] = b;
+  out[2] = d;
 }
 
 /// The row pass: one output texel (`c` channels, zero before) from the column sums, `sums`
-/// pointing at the sums of its first tap. The layers' channel counts (1 and 3) unrolled.
+/// pointing at the sums of its first tap.
 inline void resampleTexel(float* out, const float* sums, const Taps& taps, uint32_t c) {
-  if (c == 1) return resampleTexelOf<1>(out, sums, taps);
-  if (c == 3) return resampleTexelOf<3>(out, sums, taps);
+  if (c == 1) return resampleTexel1(out, sums, taps);
+  if (c == 3) return resampleTexel3(out, sums, taps);
   for (size_t i = 0; i < taps.weights.size(); ++i, sums += c) {
     const float w = taps.weights[i];
     for (uint32_t ch = 0; ch < c; ++ch) out[ch] += w * sums[ch];
