@@ -192,9 +192,8 @@ void BlockTexels::findWater() {
 }
 
 // centralDifferenceNormals over the window's rows; with SSE2 four texels at a time, by the same
-// operations in the same order.
+// operations in the same order as normalFromSlopes.
 TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
-#if defined(__SSE2__)
   TexelTile tile(uint32_t(cells + 1), 3);
   const float ix = float(0.5 / mOptions.spacingX), iy = float(0.5 / mOptions.spacingY);
   for (int32_t j = 0; j <= cells; ++j) {
@@ -202,6 +201,7 @@ TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
     const float *south = h - mSide, *north = h + mSide;
     float* out = tile.at(0, uint32_t(j));
     int32_t i = 0;
+#if defined(__SSE2__)
     for (; i + 4 <= cells + 1; i += 4) {
       const __m128 dx =
           _mm_mul_ps(_mm_sub_ps(_mm_loadu_ps(h + i + 1), _mm_loadu_ps(h + i - 1)), _mm_set1_ps(ix));
@@ -222,19 +222,11 @@ TexelTile BlockTexels::normals(int32_t x0, int32_t y0, int32_t cells) const {
         out[3 * (i + l) + 2] = nz[l];
       }
     }
-    for (; i <= cells; ++i) {
-      const float dx = (h[i + 1] - h[i - 1]) * ix, dy = (north[i] - south[i]) * iy;
-      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-      out[3 * i] = -dx * inv;
-      out[3 * i + 1] = -dy * inv;
-      out[3 * i + 2] = inv;
-    }
+#endif
+    for (; i <= cells; ++i)
+      normalFromSlopes((h[i + 1] - h[i - 1]) * ix, (north[i] - south[i]) * iy, out + 3 * i);
   }
   return tile;
-#else
-  return centralDifferenceNormals(x0, y0, cells, mOptions.spacingX, mOptions.spacingY,
-                                  [this](int32_t gx, int32_t gy) { return height(gx, gy); });
-#endif
 }
 
 // Hollows (below the mean of their surroundings) see less sky: a baked occlusion term.

@@ -29,6 +29,15 @@ struct TexelTile {
   }
 };
 
+/// The unit normal of a surface of slopes dx, dy (height per metre along x and y):
+/// (-dx, -dy, 1) normalised.
+inline void normalFromSlopes(float dx, float dy, float* n) {
+  const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
+  n[0] = -dx * inv;
+  n[1] = -dy * inv;
+  n[2] = inv;
+}
+
 /// Unit normals (x, y, z) by central differences, one texel per grid point of the `cells`-cell
 /// square whose south-west grid point is (x0, y0); `height(gx, gy)` gives the heights one
 /// point beyond the square too (clamped at the data's edge). Static tilesets' normal layers
@@ -43,11 +52,7 @@ TexelTile centralDifferenceNormals(int32_t x0, int32_t y0, int32_t cells, double
       const int32_t gx = x0 + i, gy = y0 + j;
       const float dx = (height(gx + 1, gy) - height(gx - 1, gy)) * ix;
       const float dy = (height(gx, gy + 1) - height(gx, gy - 1)) * iy;
-      const float inv = 1.0f / std::sqrt(dx * dx + dy * dy + 1.0f);
-      float* n = tile.at(uint32_t(i), uint32_t(j));
-      n[0] = -dx * inv;
-      n[1] = -dy * inv;
-      n[2] = inv;
+      normalFromSlopes(dx, dy, tile.at(uint32_t(i), uint32_t(j)));
     }
   return tile;
 }
