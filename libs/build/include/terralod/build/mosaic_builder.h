@@ -1,10 +1,11 @@
 #pragma once
 // A parent's level 0 made from its children's as they come: resampleTile(mosaicTiles(...))
-// without the mosaic, and without ever holding the children together. Each child is used once, as
-// it is added: the parent texels whose filter reaches that child alone are finished at once, and
-// the few rows and columns of sums across the seams between children are kept until the last child
-// is in. The same products are added in the same order as resampleTile adds them, so the floats are
-// the same.
+// without the mosaic. A resampled parent never holds its children together: each child is used
+// once, as it is added: the parent texels whose filter reaches that child alone are finished at
+// once, and the few rows and columns of sums across the seams between children are kept until the
+// last child is in. The same products are added in the same order as resampleTile adds them, so
+// the floats are the same. An unresampled parent (the mosaic itself) keeps the children it is
+// given and joins their rows once, at the end.
 //
 // Children exist from the south-west (a missing child lies east or north of a present one:
 // {SW}, {SW, SE}, {SW, NW} or all four), as in every tree TreeLayout makes.
