@@ -67,9 +67,9 @@ class Pass {
         const size_t v = at(x, y);
         if (!real(x, y)) continue;
         const double d = double(mH[v]) - 0.5 * (double(mH[v - step]) + double(mH[v + step]));
-        const float above = roundUp(std::max(0.0, d)), below = roundUp(std::max(0.0, -d));
-        mE[v] = SlotErrors{{above, above}, {below, below}};
-        mA[v] = mBudget.activationFrom(std::max(above, below), 0);
+        const TriangleErrorBounds e = roundUpSides(d, 0.0, 0.0);
+        mE[v] = SlotErrors{{e.above, e.above}, {e.below, e.below}};
+        mA[v] = mBudget.activationFrom(std::max(e.above, e.below), 0);
       }
     }
   }
@@ -86,9 +86,9 @@ class Pass {
         const double d =
             rising ? double(mH[v]) - 0.5 * (double(mH[v - w - 1]) + double(mH[v + w + 1]))
                    : double(mH[v]) - 0.5 * (double(mH[v + w - 1]) + double(mH[v - w + 1]));
-        const bool self = real(x, y);
-        const float dAbove = self ? roundUp(std::max(0.0, d)) : 0.0f;
-        const float dBelow = self ? roundUp(std::max(0.0, -d)) : 0.0f;
+        const TriangleErrorBounds own =
+            real(x, y) ? roundUpSides(d, 0.0, 0.0) : TriangleErrorBounds{};
+        const float dAbove = own.above, dBelow = own.below;
         // Children: rising: slot 0 = south & east sides, slot 1 = west & north; falling:
         // slot 0 = west & south, slot 1 = north & east. E_1 slots are equal, read slot 0.
         const size_t south = v - w, north = v + w, west = v - 1, east = v + 1;
@@ -120,10 +120,10 @@ class Pass {
     }
     const SlotErrors& k0 = mE[size_t(ptrdiff_t(v) + kids[0].offset)];
     const SlotErrors& k1 = mE[size_t(ptrdiff_t(v) + kids[1].offset)];
-    float above = roundUp(double(std::max(k0.above[kids[0].slot], k1.above[kids[1].slot])) +
-                          std::max(0.0, d));
-    float below = roundUp(double(std::max(k0.below[kids[0].slot], k1.below[kids[1].slot])) +
-                          std::max(0.0, -d));
+    const TriangleErrorBounds bound =
+        roundUpSides(d, double(std::max(k0.above[kids[0].slot], k1.above[kids[1].slot])),
+                     double(std::max(k0.below[kids[0].slot], k1.below[kids[1].slot])));
+    float above = bound.above, below = bound.below;
     if (std::max(above, below) > mBudget.thresholdAbove(activation)) {
       const TriangleErrorBounds e = scanTriangle(mH, mStride, t, mG.realX, mG.realY);
       above = e.above;

@@ -4,9 +4,13 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
+#include <limits>
+#include <random>
 
 #include "terralod/core/bintree.h"
 #include "test_terrain.h"
+#include "triangle_scan.h"
 
 namespace terralod {
 namespace {
@@ -117,6 +121,31 @@ TEST_P(ActivationMatchesBruteForce, ExactInsideBlocksConservativeAbove) {
   if (block == layout.rootCells) {
     EXPECT_EQ(higher, 0);
   }
+}
+
+// The branch-free sides give the scalar formula's floats: never below the exact sum, and
+// the nearest float at or above it.
+TEST(TriangleBound, RoundUpSidesIsTheScalarRounding) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> offset(-50.0, 50.0), base(0.0, 20.0);
+  std::uniform_int_distribution<int> pick(0, 5);
+  int roundedUp = 0;
+  for (int i = 0; i < 200000; ++i) {
+    double d = offset(rng);
+    double ba = pick(rng) == 0 ? 0.0 : double(float(base(rng)));
+    double bb = pick(rng) == 0 ? 0.0 : double(float(base(rng)));
+    if (pick(rng) == 0) d = double(float(d));  // exactly representable sums
+    if (i < 3) d = i == 0 ? 0.0 : (i == 1 ? -0.0 : 1e-300);
+    const TriangleErrorBounds got = roundUpSides(d, ba, bb);
+    const float wantAbove = roundUp(ba + std::max(0.0, d));
+    const float wantBelow = roundUp(bb + std::max(0.0, -d));
+    ASSERT_EQ(std::bit_cast<uint32_t>(got.above), std::bit_cast<uint32_t>(wantAbove)) << d;
+    ASSERT_EQ(std::bit_cast<uint32_t>(got.below), std::bit_cast<uint32_t>(wantBelow)) << d;
+    ASSERT_GE(double(got.above), ba + std::max(0.0, d));
+    ASSERT_GE(double(got.below), bb + std::max(0.0, -d));
+    roundedUp += double(got.above) > ba + std::max(0.0, d);
+  }
+  EXPECT_GT(roundedUp, 1000);  // the rounding step is exercised
 }
 
 INSTANTIATE_TEST_SUITE_P(
