@@ -16,10 +16,15 @@
 #include <unordered_map>
 #include <vector>
 
+#include "terralod/core/large_buffer.h"
+
 namespace terralod {
 
 class ActivationGrid {
  public:
+  /// Whole-tree grids are tens of megabytes, filled once: huge pages where the system has them.
+  using Nibbles = std::vector<uint8_t, LargeBufferAllocator<uint8_t>>;
+
   ActivationGrid() = default;
   /// Points (0..cellsX) x (0..cellsY), all zero.
   ActivationGrid(int32_t cellsX, int32_t cellsY)
@@ -49,8 +54,8 @@ class ActivationGrid {
   int32_t cellsY() const { return mCellsY; }
   size_t bytes() const { return mNibbles.size(); }
   /// The packed points (two to a byte, rows padded to whole bytes), for saving a window.
-  std::vector<uint8_t>& nibbles() { return mNibbles; }
-  const std::vector<uint8_t>& nibbles() const { return mNibbles; }
+  Nibbles& nibbles() { return mNibbles; }
+  const Nibbles& nibbles() const { return mNibbles; }
 
   uint8_t get(int32_t x, int32_t y) const {
     if (mSparse) [[unlikely]] {
@@ -88,7 +93,7 @@ class ActivationGrid {
   int32_t mCellsX = 0;
   int32_t mCellsY = 0;
   int64_t mRowBytes = 0;
-  std::vector<uint8_t> mNibbles;
+  Nibbles mNibbles;
   std::shared_ptr<const SparsePoints> mSparse;
 };
 
