@@ -7,8 +7,8 @@ namespace terralod {
 
 void BlockScratch::reset(int32_t side) {
   const size_t n = size_t(side + 1) * (side + 1);
-  slots.assign(n, SlotErrors{{0, 0}, {0, 0}});
-  activation.assign(n, 0);
+  slots.resize(n);
+  activation.resize(n);
   heights.resize(n);
 }
 
@@ -36,7 +36,20 @@ class Pass {
         mE(s.slots.data()),
         mA(s.activation.data()) {}
 
+  // Every slot and activation run() does not compute reads as zero: clipped blocks skip
+  // samples past the data, so they start from zeros; whole blocks write every slot (those
+  // outside the block as zeros) and leave only the corners.
   void run() {
+    const int32_t s = mG.side;
+    if (kClipped) {
+      std::fill(mS.slots.begin(), mS.slots.end(), SlotErrors{{0, 0}, {0, 0}});
+      std::fill(mS.activation.begin(), mS.activation.end(), uint8_t{0});
+    } else {
+      for (const size_t corner : {at(0, 0), at(s, 0), at(0, s), at(s, s)}) {
+        mE[corner] = SlotErrors{{0, 0}, {0, 0}};
+        mA[corner] = 0;
+      }
+    }
     smallestEdges();
     smallestCentres();
     for (int32_t h = 2; h <= mG.side / 2; h *= 2) {
@@ -51,6 +64,7 @@ class Pass {
 
  private:
   size_t at(int32_t x, int32_t y) const { return size_t(y) * mStride + x; }
+  void clearSlot(size_t v, int slot) { mE[v].above[slot] = mE[v].below[slot] = 0.0f; }
   bool real(int32_t x, int32_t y) const { return !kClipped || (x <= mG.realX && y <= mG.realY); }
   bool touchesData(const BinTriangle& t) const {
     return !kClipped || (std::min({t.a.x, t.b.x, t.apex.x}) <= mG.realX &&
@@ -165,8 +179,12 @@ class Pass {
         const GridPoint a{x - h, y}, b{x + h, y};
         if (up)
           activation = std::max(activation, slot(v, 0, d, north, {a, b, {x, y + h}}, children));
+        else
+          clearSlot(v, 0);
         if (down)
           activation = std::max(activation, slot(v, 1, d, south, {a, b, {x, y - h}}, children));
+        else
+          clearSlot(v, 1);
         mA[v] = activation;
       }
     for (int32_t y = h; y <= s; y += 2 * h)
@@ -183,8 +201,12 @@ class Pass {
         const GridPoint a{x, y - h}, b{x, y + h};
         if (right)
           activation = std::max(activation, slot(v, 0, d, east, {a, b, {x + h, y}}, children));
+        else
+          clearSlot(v, 0);
         if (left)
           activation = std::max(activation, slot(v, 1, d, west, {a, b, {x - h, y}}, children));
+        else
+          clearSlot(v, 1);
         mA[v] = activation;
       }
   }
