@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "block_pass.h"
@@ -9,6 +10,7 @@
 #include "terralod/build/builder.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/tree_layout.h"
+#include "terralod/core/parallel.h"
 #include "terralod/raster/dem_reader.h"
 
 namespace terralod {
@@ -31,7 +33,8 @@ int32_t automaticLeafCells(int32_t rootCells, double trianglesPer64) {
   return cells;
 }
 
-Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError) {
+Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError,
+                                                   unsigned threads) {
   const DemInfo& info = reader.info();
   auto layout = makeTreeLayout(info.columns, info.rows, 64);
   if (!layout) return layout.error();
@@ -43,36 +46,64 @@ Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, doub
   if (!budget) return budget.error();
 
   const int32_t nx = std::min(kSamplesPerSide, blocksX), ny = std::min(kSamplesPerSide, blocksY);
-  BlockScratch scratch;
-  ActivationStats stats;
-  uint64_t points = 0, interior = 0;
-  for (int32_t j = 0; j < ny; ++j)
-    for (int32_t i = 0; i < nx; ++i) {
-      const int32_t bx = int32_t((i + 0.5) * blocksX / nx) * kSampleCells;
-      const int32_t by = int32_t((j + 0.5) * blocksY / ny) * kSampleCells;
-      scratch.reset(kSampleCells);
-      if (Status s =
-              reader.readWindow(bx, by, kSampleCells + 1, kSampleCells + 1, scratch.heights.data());
-          !s)
-        return s.error();
-      if (std::any_of(scratch.heights.begin(), scratch.heights.end(),
-                      [](float h) { return std::isnan(h); }))
-        continue;  // voids are filled before the real pass 1; a sample need not be
-      BlockGeometry geometry;
-      geometry.side = kSampleCells;
-      geometry.origin = {bx, by};
-      geometry.realX = geometry.realY = kSampleCells;
-      ActivationGrid grid = ActivationGrid::window(bx, by, kSampleCells, kSampleCells);
-      BlockResult result;
-      computeBlock(geometry, *budget, scratch, grid, result, stats);
-      // The block's inner points: its border lines are shared with its neighbours.
-      const size_t stride = size_t(kSampleCells) + 1;
-      for (int32_t y = 1; y < kSampleCells; ++y)
-        for (int32_t x = 1; x < kSampleCells; ++x)
-          points += scratch.activation[size_t(y) * stride + size_t(x)] >= 1;
-      interior += uint64_t(kSampleCells - 1) * (kSampleCells - 1);
-      ++estimate.blocks;
+  // The samples on `threads` workers, each with its own reader (the caller's is worker 0's).
+  struct Sample {
+    Status status;
+    uint64_t points = 0;
+    bool measured = false;
+  };
+  std::vector<Sample> samples(size_t(nx) * size_t(ny));
+  const unsigned workers = std::clamp<unsigned>(threads, 1, unsigned(samples.size()));
+  std::vector<std::unique_ptr<DemReader>> readers(workers);
+  std::vector<BlockScratch> scratches(workers);
+  std::vector<ActivationStats> stats(workers);
+  parallelFor(samples.size(), workers, [&](size_t k, unsigned worker) {
+    Sample& sample = samples[k];
+    const DemReader* own = &reader;
+    if (worker > 0) {
+      if (!readers[worker]) {
+        auto opened = reader.reopen();
+        if (!opened) {
+          sample.status = opened.error();
+          return;
+        }
+        readers[worker] = std::move(opened).value();
+      }
+      own = readers[worker].get();
     }
+    const int32_t i = int32_t(k % size_t(nx)), j = int32_t(k / size_t(nx));
+    const int32_t bx = int32_t((i + 0.5) * blocksX / nx) * kSampleCells;
+    const int32_t by = int32_t((j + 0.5) * blocksY / ny) * kSampleCells;
+    BlockScratch& scratch = scratches[worker];
+    scratch.reset(kSampleCells);
+    sample.status =
+        own->readWindow(bx, by, kSampleCells + 1, kSampleCells + 1, scratch.heights.data());
+    if (!sample.status) return;
+    if (std::any_of(scratch.heights.begin(), scratch.heights.end(),
+                    [](float h) { return std::isnan(h); }))
+      return;  // voids are filled before the real pass 1; a sample need not be
+    BlockGeometry geometry;
+    geometry.side = kSampleCells;
+    geometry.origin = {bx, by};
+    geometry.realX = geometry.realY = kSampleCells;
+    ActivationGrid grid = ActivationGrid::window(bx, by, kSampleCells, kSampleCells);
+    BlockResult result;
+    computeBlock(geometry, *budget, scratch, grid, result, stats[worker]);
+    // The block's inner points: its border lines are shared with its neighbours.
+    const size_t stride = size_t(kSampleCells) + 1;
+    for (int32_t y = 1; y < kSampleCells; ++y)
+      for (int32_t x = 1; x < kSampleCells; ++x)
+        sample.points += scratch.activation[size_t(y) * stride + size_t(x)] >= 1;
+    sample.measured = true;
+  });
+  uint64_t points = 0, interior = 0;
+  for (const Sample& sample : samples) {
+    if (!sample.status) return sample.status.error();
+    if (!sample.measured) continue;
+    points += sample.points;
+    interior += uint64_t(kSampleCells - 1) * (kSampleCells - 1);
+    ++estimate.blocks;
+  }
   // A triangulation of V points has about 2V triangles.
   if (interior > 0) estimate.trianglesPer64 = 2.0 * double(points) / double(interior) * 64 * 64;
   return estimate;
@@ -86,7 +117,8 @@ Result<int32_t> leafCellsFor(const BuildOptions& options, const DemReader& reade
   auto layout = makeTreeLayout(info.columns, info.rows, 0);
   if (!layout) return layout.error();
   if (layout->rootCells / 8 < 128) return 0;
-  auto estimate = estimateLeafTriangles(reader, options.maxError);
+  const unsigned threads = options.threads ? options.threads : hardwareThreads();
+  auto estimate = estimateLeafTriangles(reader, options.maxError, threads);
   if (!estimate) return estimate.error();
   if (estimate->blocks == 0) return 0;
   return automaticLeafCells(layout->rootCells, estimate->trianglesPer64);

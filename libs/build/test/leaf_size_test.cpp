@@ -82,6 +82,10 @@ TEST_F(LeafSize, TheEstimateIsNearTheLeafTrianglesABuildMakes) {
     auto estimate = estimateLeafTriangles(**reader, 1.0);
     ASSERT_TRUE(estimate.ok()) << estimate.error().message;
     EXPECT_EQ(estimate->blocks, 16);
+    auto twoThreads = estimateLeafTriangles(**reader, 1.0, 2);
+    ASSERT_TRUE(twoThreads.ok()) << twoThreads.error().message;
+    EXPECT_EQ(twoThreads->blocks, 16);
+    EXPECT_EQ(twoThreads->trianglesPer64, estimate->trianglesPer64);
     auto t = TilesetReader::openFile(build(dem, 64));
     ASSERT_TRUE(t.ok()) << t.error().message;
     const uint32_t leaf = (*t)->header().levelCount - 1;

@@ -38,7 +38,9 @@ struct LeafTriangleEstimate {
 
 /// Runs pass 1 on up to 16 blocks of 256 cells spread over the raster (blocks with voids are
 /// skipped) and counts the points the leaf level keeps: twice that is about its triangles.
-Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError);
+/// The blocks run on `threads` workers (the same estimate for any number).
+Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, double maxError,
+                                                   unsigned threads = 1);
 
 /// options.chunkCells when set; else, for static tilesets whose roots (makeTreeLayout with 0)
 /// have room for 128-cell leaves in four levels, automaticLeafCells from
