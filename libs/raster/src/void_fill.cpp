@@ -179,7 +179,7 @@ Result<uint64_t> fillVoids(Heightfield& heights, const std::string& subject) {
   std::vector<Level> pyramid(1);
   pyramid[0].w = heights.columns();
   pyramid[0].h = heights.rows();
-  pyramid[0].value = heights.values();
+  pyramid[0].value.assign(heights.values().begin(), heights.values().end());
   pyramid[0].valid.resize(pyramid[0].value.size());
   for (size_t i = 0; i < pyramid[0].value.size(); ++i) {
     pyramid[0].valid[i] = std::isnan(pyramid[0].value[i]) ? 0 : 1;
@@ -192,7 +192,7 @@ Result<uint64_t> fillVoids(Heightfield& heights, const std::string& subject) {
   while (hasVoid(pyramid.back())) pyramid.push_back(pull(pyramid.back()));
   for (size_t k = pyramid.size() - 1; k-- > 0;) push(pyramid[k], pyramid[k + 1]);
 
-  std::vector<float>& out = heights.values();
+  Heightfield::Values& out = heights.values();
   for (size_t i = 0; i < out.size(); ++i)
     if (std::isnan(out[i])) out[i] = pyramid[0].value[i];
   return voids;

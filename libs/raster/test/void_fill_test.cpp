@@ -25,7 +25,8 @@ struct Grid {
 };
 
 std::vector<float> referenceFill(const Heightfield& heights) {
-  std::vector<Grid> levels{{heights.columns(), heights.rows(), heights.values(), {}}};
+  std::vector<Grid> levels{
+      {heights.columns(), heights.rows(), {heights.values().begin(), heights.values().end()}, {}}};
   for (float& value : levels[0].v) {
     levels[0].ok.push_back(std::isnan(value) ? 0 : 1);
     if (std::isnan(value)) value = 0.0f;
@@ -112,7 +113,7 @@ TEST(VoidFill, SameValuesAsWholeGridRelaxation) {
 
 TEST(VoidFill, KeepsValidSamplesAndStaysWithinTheirRange) {
   Heightfield field = holey(150, 120, 120, 42);
-  const std::vector<float> before = field.values();
+  const Heightfield::Values before = field.values();
   float low = std::numeric_limits<float>::max(), high = -low;
   for (float v : before) {
     if (!std::isnan(v)) low = std::min(low, v), high = std::max(high, v);

@@ -31,7 +31,7 @@ class ActivationGrid {
       : mCellsX(cellsX),
         mCellsY(cellsY),
         mRowBytes((int64_t(cellsX) + 2) / 2),
-        mNibbles(size_t(mRowBytes) * (int64_t(cellsY) + 1), 0) {}
+        mNibbles(size_t(mRowBytes) * (int64_t(cellsY) + 1)) {}  // zero, untouched
 
   /// Points (x0..x0+cellsX) x (y0..y0+cellsY) of a larger grid, all zero; x0 even.
   static ActivationGrid window(int32_t x0, int32_t y0, int32_t cellsX, int32_t cellsY) {
