@@ -270,6 +270,7 @@ void addBuildCommand(CLI::App& root, Runner& run) {
       }
       // A streamed build reads as it goes: its reading time is inside the two passes.
       char read[32] = "streamed";
+      if (s.readOnce) std::snprintf(read, sizeof read, "streamed, read once");
       if (!s.streamed) std::snprintf(read, sizeof read, "read %.2f s", s.loadSeconds);
       const uint64_t geometryBytes = s.fileBytes - s.textureBytes;
       char texture[64] = "";

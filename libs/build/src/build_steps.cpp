@@ -9,17 +9,13 @@
 #include "terralod/raster/image_drape.h"
 
 namespace terralod {
-namespace {
-
-constexpr uint64_t kStreamAbove = uint64_t{1} << 24;  // samples
-
-}  // namespace
 
 bool streamsInput(const BuildOptions& options, const DemInfo& info) {
   const uint64_t samples = uint64_t(info.columns) * uint64_t(info.rows);
   const bool fitsMemory = samples * sizeof(float) <= options.memoryMB << 20;
   return options.streaming == Streaming::kAlways ||
-         (options.streaming == Streaming::kAuto && (!fitsMemory || samples > kStreamAbove) &&
+         (options.streaming == Streaming::kAuto &&
+          (!fitsMemory || samples > options.streamAboveSamples) &&
           info.encoding == HeightEncoding::kPlain);
 }
 

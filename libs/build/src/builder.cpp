@@ -134,10 +134,15 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
   auto [guessLo, guessHi] = guessHeightRange(*b.reader);
   plan.sparse = std::make_unique<SparseHeights>(b.layout, b.block);
   plan.windows = std::make_unique<DemWindows>(*b.reader, b.threads, plan.sparse.get());
+  // Within the memory budget, pass 1 keeps what it reads and pass 2 reads memory: one decode
+  // of the raster instead of two. (--streaming always keeps nothing.)
+  const bool keep = b.fitsMemory && options.streaming == Streaming::kAuto;
+  if (keep) plan.memory = std::make_unique<Heightfield>(info.columns, info.rows);
   Result<ErrorPass> pass = Error{};
   for (int attempt = 0; attempt < 2; ++attempt) {
     auto budget = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
     if (!budget) return makeError(info.path, budget.error().message);
+    if (keep) plan.windows->keepInto(*plan.memory);
     const auto errorStart = Clock::now();
     ActivationStats stats;
     auto grid = computeActivations(b.layout, *budget, *plan.windows, *plan.sparse, activation,
@@ -166,6 +171,10 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     return pass;
   }
   plan.windows->stopRecording();
+  if (plan.memory && plan.windows->keptAll())
+    plan.memoryHeights = std::make_unique<MemoryHeights>(*plan.memory);
+  else
+    plan.memory.reset();
   return pass;
 }
 
@@ -210,6 +219,7 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     pass = streamedErrors(options, b, plan, progress, summary);
     if (!pass) return pass.error();
     summary.streamed = plan.windows != nullptr;  // false: voids, so in memory after all
+    summary.readOnce = summary.streamed && plan.memoryHeights != nullptr;
   }
   if (!summary.streamed) {
     pass = inMemoryErrors(options, b, plan, progress, summary, start);
@@ -233,12 +243,14 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     textures.surface.seaVoids = plan.seaVoids;
     chunkOptions.textures = &textures;
   }
-  HeightWindows& windows = summary.streamed ? static_cast<HeightWindows&>(*plan.windows)
-                                            : static_cast<HeightWindows&>(*plan.memoryHeights);
-  if (Status s = buildChunks(b.layout, pass->budget, pass->grid, nodes, windows,
-                             summary.streamed ? nullptr : plan.memoryHeights.get(),
-                             summary.streamed ? plan.sparse.get() : nullptr, chunkOptions,
-                             *b.writer, progress);
+  // Pass 2 reads memory when the raster is there (loaded whole, or kept by pass 1).
+  const bool inMemory = plan.memoryHeights != nullptr;
+  HeightWindows& windows = inMemory ? static_cast<HeightWindows&>(*plan.memoryHeights)
+                                    : static_cast<HeightWindows&>(*plan.windows);
+  if (Status s =
+          buildChunks(b.layout, pass->budget, pass->grid, nodes, windows,
+                      inMemory ? plan.memoryHeights.get() : nullptr,
+                      inMemory ? nullptr : plan.sparse.get(), chunkOptions, *b.writer, progress);
       !s)
     return s.error();
   summary.meshSeconds = secondsSince(meshStart);

@@ -11,7 +11,8 @@ DemWindows::DemWindows(const DemReader& reader, unsigned workers, SparseHeights*
       mOwnReaders(std::max(1u, workers)),
       mRecord(record),
       mMin(std::max(1u, workers), std::numeric_limits<double>::infinity()),
-      mMax(std::max(1u, workers), -std::numeric_limits<double>::infinity()) {}
+      mMax(std::max(1u, workers), -std::numeric_limits<double>::infinity()),
+      mKept(std::max(1u, workers), 0) {}
 
 Status DemWindows::read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out, unsigned worker) {
   const DemReader* reader = &mReader;
@@ -38,7 +39,31 @@ Status DemWindows::read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out
   mMin[worker] = std::min(mMin[worker], double(lo));
   mMax[worker] = std::max(mMax[worker], double(hi));
   if (mRecord) mRecord->recordLines(x0, y0, w, h, out);
+  if (mKeep) {
+    const int32_t cols = mKeep->columns(), rows = mKeep->rows();
+    const int32_t xBegin = std::max(x0, 0), yBegin = std::max(y0, 0);
+    const int32_t xEnd = x0 + w - 1 >= cols - 1 ? cols : x0 + w - 1;
+    const int32_t yEnd = y0 + h - 1 >= rows - 1 ? rows : y0 + h - 1;
+    if (xBegin < xEnd && yBegin < yEnd) {
+      for (int32_t y = yBegin; y < yEnd; ++y)
+        std::copy_n(out + size_t(y - y0) * size_t(w) + size_t(xBegin - x0), xEnd - xBegin,
+                    mKeep->row(y) + xBegin);
+      mKept[worker] += uint64_t(xEnd - xBegin) * uint64_t(yEnd - yBegin);
+    }
+  }
   return {};
+}
+
+void DemWindows::keepInto(Heightfield& field) {
+  mKeep = &field;
+  std::fill(mKept.begin(), mKept.end(), uint64_t{0});
+}
+
+bool DemWindows::keptAll() const {
+  if (!mKeep) return false;
+  uint64_t kept = 0;
+  for (uint64_t k : mKept) kept += k;
+  return kept == uint64_t(mKeep->columns()) * uint64_t(mKeep->rows());
 }
 
 double DemWindows::minHeight() const {

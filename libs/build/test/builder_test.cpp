@@ -128,6 +128,41 @@ TEST(Builder, StreamedBuildMatchesInMemory) {
   EXPECT_TRUE(verify(dir.file("memory.tlod"), dir.file("in.tif")).ok());
 }
 
+// Within the memory budget, an automatic streamed build keeps pass 1's windows for pass 2
+// (the raster decoded once): the same bytes as reading every window again. Odd sizes and small
+// blocks make the windows' shares of the raster meet on partial blocks.
+TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(301, 211, 33), dir.file("in.tif"), 5.0);
+  auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
+    BuildOptions options;
+    options.input = dir.file("in.tif");
+    options.output = dir.file(name);
+    options.streaming = streaming;
+    options.streamAboveSamples = 1000;
+    options.memoryMB = memoryMB;
+    options.blockCells = 32;
+    options.chunkCells = 16;
+    options.threads = 2;
+    NullProgress progress;
+    auto summary = buildTileset(options, progress, [](const std::string&) {});
+    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
+    return summary ? *summary : BuildSummary{};
+  };
+  const BuildSummary kept = buildWith(Streaming::kAuto, 64, "kept.tlod");
+  const BuildSummary windows = buildWith(Streaming::kAlways, 64, "windows.tlod");
+  EXPECT_TRUE(kept.streamed);
+  EXPECT_TRUE(kept.readOnce);
+  EXPECT_TRUE(windows.streamed);
+  EXPECT_FALSE(windows.readOnce);
+  EXPECT_EQ(fileBytes(dir.file("kept.tlod")), fileBytes(dir.file("windows.tlod")));
+  // Over the budget nothing is kept.
+  const BuildSummary over = buildWith(Streaming::kAuto, 0, "over.tlod");
+  EXPECT_TRUE(over.streamed);
+  EXPECT_FALSE(over.readOnce);
+  EXPECT_EQ(fileBytes(dir.file("over.tlod")), fileBytes(dir.file("windows.tlod")));
+}
+
 TEST(Builder, StreamedBuildFallsBackToMemoryForVoids) {
   TempDir dir;
   Heightfield h = test::makeTestTerrain(150, 150, 32);

@@ -36,8 +36,9 @@ enum class ChunkCodec {
 
 /// Whether the raster is read whole into memory or streamed in windows.
 enum class Streaming {
-  kAuto,    ///< stream plain rasters over 16 M samples or over the memory budget, load the rest
-            ///< (RGB-encoded tiles are always loaded)
+  kAuto,    ///< stream plain rasters over BuildOptions::streamAboveSamples (16 M) or over the
+            ///< memory budget, load the rest (RGB-encoded tiles are always loaded); a streamed
+            ///< raster within the budget is kept by pass 1 for pass 2 (decoded once)
   kAlways,  ///< always stream (the path huge rasters take; slower for small ones)
   kNever,   ///< always load whole; fails over the memory budget
 };
@@ -84,7 +85,8 @@ struct BuildOptions {
   uint64_t memoryMB = 2048;  ///< above this the input is read in windows, never whole
   int compressionLevel = kDefaultChunkCompressionLevel;  ///< zstd level for chunk blobs
   Streaming streaming = Streaming::kAuto;
-  int32_t blockCells = 512;  ///< side of the blocks both passes work in
+  uint64_t streamAboveSamples = uint64_t{1} << 24;  ///< kAuto's threshold (tests lower it)
+  int32_t blockCells = 512;                         ///< side of the blocks both passes work in
   /// Chunk meshes below the blocks: RTIN or greedy insertion (`--mesher`).
   MeshMethod mesher = MeshMethod::kRtin;
   bool textures = true;      ///< colour and normal-map tiles per chunk (format version 2)
@@ -123,6 +125,7 @@ struct BuildSummary {
   uint64_t filledVoids = 0;
   uint64_t sourceSamples = 0;
   bool streamed = false;  ///< the raster was read in windows, never whole
+  bool readOnce = false;  ///< streamed, and pass 1 kept the samples for pass 2 (within budget)
   int errorPasses = 0;    ///< 2 when the streamed height range estimate was too small
   double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
   uint64_t trianglesScanned = 0, trianglesBounded = 0;

@@ -12,6 +12,7 @@
 #include "terralod/build/height_source.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/raster/dem_reader.h"
+#include "terralod/raster/heightfield.h"
 
 namespace terralod {
 
@@ -28,6 +29,15 @@ class DemWindows final : public HeightWindows {
   /// Stops recording into the SparseHeights (later passes read the same windows again).
   void stopRecording() { mRecord = nullptr; }
 
+  /// From now on copies the windows' samples into `field` (grid order, the raster's size), so
+  /// that a raster within the memory budget is decoded once for both passes. A window
+  /// (x0, y0, w, h) gives columns x0 .. x0 + w - 2 and rows y0 .. y0 + h - 2, and its last
+  /// column and row where they reach the raster's last: pass 1's block windows (side + 1
+  /// samples at multiples of the side) so give every sample once. Starts the count afresh.
+  void keepInto(Heightfield& field);
+  /// Whether exactly the raster's samples have been kept since keepInto.
+  bool keptAll() const;
+
  private:
   const DemReader& mReader;
   std::vector<std::unique_ptr<DemReader>> mOwnReaders;
@@ -35,6 +45,8 @@ class DemWindows final : public HeightWindows {
   SparseHeights* mRecord;
   std::atomic<bool> mSawVoid{false};
   std::vector<double> mMin, mMax;  // per worker
+  Heightfield* mKeep = nullptr;
+  std::vector<uint64_t> mKept;  // samples kept, per worker
 };
 
 }  // namespace terralod
