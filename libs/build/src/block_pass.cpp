@@ -56,8 +56,8 @@ class Pass {
       edges(h);
       centres(h);
     }
-    // Counted here and added once: the workers' stats share a cache line, and an increment
-    // per triangle made the two cores fight over it.
+    // Counted here and added once, so that workers do not write to the cache line their
+    // stats share (they sit side by side) on every triangle.
     mStats.trianglesScanned += mScanned;
     mStats.trianglesBounded += mBounded;
   }
