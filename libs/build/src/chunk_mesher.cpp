@@ -31,11 +31,8 @@ uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const 
   assert(lx >= 0 && ly >= 0 && lx <= mSide && ly <= mSide);
   const auto next = static_cast<uint32_t>(mesh.vertices.size());
   if (mSide <= kDenseLimit) {
-    const size_t key = size_t(ly) * (mSide + 1) + lx;
-    int32_t& slot = mDenseIndex[key];
-    if (slot >= 0) return uint32_t(slot);
-    slot = int32_t(next);
-    mTouched.push_back(key);
+    const int32_t slot = mDenseIndex.findOrAdd(size_t(ly) * (mSide + 1) + lx, int32_t(next));
+    if (slot != int32_t(next)) return uint32_t(slot);
   } else {
     const uint64_t key = (uint64_t(ly) << 32) | uint32_t(lx);
     const auto [it, inserted] = mSparseIndex.try_emplace(key, next);
@@ -287,8 +284,7 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mOriginY = mesh.y0;
   mSide = mesh.side;
   if (mSide <= kDenseLimit) {
-    const size_t n = size_t(mSide + 1) * (mSide + 1);
-    if (mDenseIndex.size() < n) mDenseIndex.assign(n, -1);
+    mDenseIndex.reserve(size_t(mSide + 1) * (mSide + 1));
   } else {
     mSparseIndex.clear();
   }
@@ -358,8 +354,7 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   }
   finishSurface(mesh);
 
-  for (size_t key : mTouched) mDenseIndex[key] = -1;
-  mTouched.clear();
+  mDenseIndex.clear();
   return mesh;
 }
 

@@ -7,6 +7,7 @@
 
 #include "range_coder.h"
 #include "terralod/core/bintree.h"
+#include "terralod/core/touched_index.h"
 #include "terralod/format/byte_io.h"
 #include "zstd_frame.h"
 
@@ -38,15 +39,13 @@ struct Models {
   std::array<rc::IntegerModel, 2 * (kRtinDepths + 1)> delta;
 };
 
-// A dense table of vertex numbers that stays with its thread from chunk to chunk, all -1
-// between uses: a fresh (side+1)^2 table per chunk cost 360 MB of fills and 6,000 page faults
-// in an 8193^2 build. A walk clears only the entries it set.
-struct DenseTable {
-  std::vector<int32_t> slots;
-  std::vector<size_t> touched;
+// The dense table stays with its thread from chunk to chunk: a fresh (side+1)^2 table per
+// chunk cost 360 MB of fills and 6,000 page faults in an 8193^2 build.
+struct ThreadTable {
+  TouchedIndex index;
   bool inUse = false;
 };
-thread_local DenseTable tDenseTable;
+thread_local ThreadTable tThreadTable;
 
 // Grid point to vertex number over the chunk's square: dense for small squares.
 class PointIndex {
@@ -55,50 +54,39 @@ class PointIndex {
     // Dense up to 2048-cell squares (16 MB): a hash map cost a tenth of a build.
     const size_t n = size_t(mStride) * size_t(mStride);
     if (n > size_t{2049} * 2049) return;
-    if (!tDenseTable.inUse) {
-      mTable = &tDenseTable;
-      mTable->inUse = true;
+    if (!tThreadTable.inUse) {
+      tThreadTable.inUse = true;
+      mDense = &tThreadTable.index;
     } else {
-      mOwn = std::make_unique<DenseTable>();  // a walk inside a walk: its own table
-      mTable = mOwn.get();
+      mOwn = std::make_unique<TouchedIndex>();  // a walk inside a walk: its own table
+      mDense = mOwn.get();
     }
-    if (mTable->slots.size() < n) mTable->slots.resize(n, -1);
-    mDense = mTable->slots.data();
+    mDense->reserve(n);
   }
   ~PointIndex() {
-    if (!mTable) return;
-    for (size_t i : mTable->touched) mTable->slots[i] = -1;
-    mTable->touched.clear();
-    mTable->inUse = false;
+    if (!mDense) return;
+    mDense->clear();
+    if (!mOwn) tThreadTable.inUse = false;
   }
   PointIndex(const PointIndex&) = delete;
   PointIndex& operator=(const PointIndex&) = delete;
 
   int32_t find(GridPoint p) const {
-    if (mDense) return mDense[size_t(p.y) * mStride + p.x];
+    if (mDense) return mDense->find(size_t(p.y) * mStride + p.x);
     const auto it = mSparse.find(key(p));
     return it == mSparse.end() ? -1 : it->second;
   }
   /// The vertex at p, numbered `next` if it has none yet.
   int32_t findOrAdd(GridPoint p, int32_t next) {
-    if (mDense) {
-      const size_t i = size_t(p.y) * mStride + p.x;
-      int32_t& slot = mDense[i];
-      if (slot < 0) {
-        slot = next;
-        mTable->touched.push_back(i);
-      }
-      return slot;
-    }
+    if (mDense) return mDense->findOrAdd(size_t(p.y) * mStride + p.x, next);
     return mSparse.try_emplace(key(p), next).first->second;
   }
 
  private:
   static uint64_t key(GridPoint p) { return (uint64_t(uint32_t(p.y)) << 32) | uint32_t(p.x); }
   int32_t mStride;
-  DenseTable* mTable = nullptr;
-  std::unique_ptr<DenseTable> mOwn;
-  int32_t* mDense = nullptr;
+  TouchedIndex* mDense = nullptr;
+  std::unique_ptr<TouchedIndex> mOwn;
   std::unordered_map<uint64_t, int32_t> mSparse;
 };
 

@@ -21,6 +21,7 @@
 #include "terralod/build/surface_interpolation.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/bintree.h"
+#include "terralod/core/touched_index.h"
 
 namespace terralod {
 
@@ -110,8 +111,7 @@ class ChunkMesher {
   const ActivationGrid& mGrid;
   const HeightSampler* mHeights;
   int32_t mOriginX = 0, mOriginY = 0, mSide = 0;
-  std::vector<int32_t> mDenseIndex;  // (side+1)^2 for small chunks, -1 = unused
-  std::vector<size_t> mTouched;
+  TouchedIndex mDenseIndex;  // (side+1)^2 for small chunks
   std::unordered_map<uint64_t, uint32_t> mSparseIndex;
   struct Pending {
     BinTriangle t;
