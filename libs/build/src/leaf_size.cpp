@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <vector>
 
 #include "block_pass.h"
 #include "build_steps.h"
 #include "terralod/build/builder.h"
+#include "terralod/build/dem_windows.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/core/parallel.h"
@@ -46,7 +46,8 @@ Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, doub
   if (!budget) return budget.error();
 
   const int32_t nx = std::min(kSamplesPerSide, blocksX), ny = std::min(kSamplesPerSide, blocksY);
-  // The samples on `threads` workers, each with its own reader (the caller's is worker 0's).
+  // The samples on `threads` workers, each with its own reader (DemWindows; the caller's
+  // reader is worker 0's).
   struct Sample {
     Status status;
     uint64_t points = 0;
@@ -54,30 +55,18 @@ Result<LeafTriangleEstimate> estimateLeafTriangles(const DemReader& reader, doub
   };
   std::vector<Sample> samples(size_t(nx) * size_t(ny));
   const unsigned workers = std::clamp<unsigned>(threads, 1, unsigned(samples.size()));
-  std::vector<std::unique_ptr<DemReader>> readers(workers);
+  DemWindows windows(reader, workers, nullptr);
   std::vector<BlockScratch> scratches(workers);
   std::vector<ActivationStats> stats(workers);
   parallelFor(samples.size(), workers, [&](size_t k, unsigned worker) {
     Sample& sample = samples[k];
-    const DemReader* own = &reader;
-    if (worker > 0) {
-      if (!readers[worker]) {
-        auto opened = reader.reopen();
-        if (!opened) {
-          sample.status = opened.error();
-          return;
-        }
-        readers[worker] = std::move(opened).value();
-      }
-      own = readers[worker].get();
-    }
     const int32_t i = int32_t(k % size_t(nx)), j = int32_t(k / size_t(nx));
     const int32_t bx = int32_t((i + 0.5) * blocksX / nx) * kSampleCells;
     const int32_t by = int32_t((j + 0.5) * blocksY / ny) * kSampleCells;
     BlockScratch& scratch = scratches[worker];
     scratch.reset(kSampleCells);
     sample.status =
-        own->readWindow(bx, by, kSampleCells + 1, kSampleCells + 1, scratch.heights.data());
+        windows.read(bx, by, kSampleCells + 1, kSampleCells + 1, scratch.heights.data(), worker);
     if (!sample.status) return;
     if (std::any_of(scratch.heights.begin(), scratch.heights.end(),
                     [](float h) { return std::isnan(h); }))
