@@ -40,7 +40,10 @@ struct Models {
 };
 
 // The dense table stays with its thread from chunk to chunk: a fresh (side+1)^2 table per
-// chunk cost 360 MB of fills and 6,000 page faults in an 8193^2 build.
+// chunk cost 360 MB of fills and 6,000 page faults in an 8193^2 build. Only for squares up to
+// kThreadTableSide cells (1 MB): the runtime's loader threads decode chunks too, and a table
+// they kept for 2048-cell chunks would hold 16 MB each outside the memory budget.
+constexpr size_t kThreadTableSide = 512;
 struct ThreadTable {
   TouchedIndex index;
   bool inUse = false;
@@ -54,11 +57,12 @@ class PointIndex {
     // Dense up to 2048-cell squares (16 MB): a hash map cost a tenth of a build.
     const size_t n = size_t(mStride) * size_t(mStride);
     if (n > size_t{2049} * 2049) return;
-    if (!tThreadTable.inUse) {
+    const size_t most = (kThreadTableSide + 1) * (kThreadTableSide + 1);
+    if (n <= most && !tThreadTable.inUse) {
       tThreadTable.inUse = true;
       mDense = &tThreadTable.index;
     } else {
-      mOwn = std::make_unique<TouchedIndex>();  // a walk inside a walk: its own table
+      mOwn = std::make_unique<TouchedIndex>();  // large, or a walk inside a walk: its own
       mDense = mOwn.get();
     }
     mDense->reserve(n);
