@@ -17,21 +17,31 @@ DEMO_DIR := build/demo
 # against 40 + 113 s (clang's instrumented units crowd each other out of the caches).
 JOBS ?= $(shell nproc)
 
-.PHONY: all deps configure build app demo test test-tsan test-sanitize test-asan format check-format clean
+.PHONY: all deps deps-demo configure configure-app build app demo test test-tsan test-sanitize test-asan format check-format clean
 
 all: build
 
 deps:
 	./scripts/install-deps.sh
 
+# Only what building and running terralod needs: no test, benchmark or sanitizer packages.
+deps-demo:
+	./scripts/install-deps.sh --demo
+
+# make app configures the build without tests and benchmarks (whose packages deps-demo does not
+# install); configure turns them on again. Neither option changes how terralod itself compiles,
+# so switching between the two rebuilds nothing.
 configure: deps
-	cmake --preset $(PRESET) >/dev/null
+	cmake --preset $(PRESET) $(if $(filter release debug,$(PRESET)),-DTERRALOD_BUILD_TESTS=ON -DTERRALOD_BUILD_BENCH=ON) >/dev/null
+
+configure-app: deps-demo
+	cmake --preset $(PRESET) -DTERRALOD_BUILD_TESTS=OFF -DTERRALOD_BUILD_BENCH=OFF >/dev/null
 
 build: configure
 	cmake --build --preset $(PRESET) -j $(JOBS)
 
 # Only the terralod program (and the libraries it links), not the tests: what the demo runs.
-app: configure
+app: configure-app
 	cmake --build --preset $(PRESET) -j $(JOBS) --target terralod
 
 demo: app

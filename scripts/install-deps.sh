@@ -1,28 +1,36 @@
 #!/usr/bin/env bash
 # Installs every Debian package terralod needs to build, test and run.
 # Idempotent: packages already present are skipped, so a second run is quick.
-# Works as root or through sudo.
+# Works as root or through sudo. With --demo, only what building and running terralod needs.
 set -euo pipefail
 
-packages=(
+# What `terralod` itself needs to build and run (make demo installs only these: --demo).
+demo_packages=(
   # toolchain
-  build-essential cmake ninja-build pkg-config clang-format
-  # sanitizer builds and fuzzing: clang, its runtimes (ASan, UBSan, TSan, libFuzzer) and
-  # llvm-symbolizer for readable reports
-  clang libclang-rt-14-dev llvm
-  # rasters, meshes, compression (libopenmesh-dev: only bench/bench_vipm_openmesh, the VIPM
-  # generation benchmark)
-  libgdal-dev gdal-bin libmeshoptimizer-dev libzstd-dev zlib1g-dev libopenmesh-dev
+  build-essential cmake ninja-build pkg-config
+  # rasters, meshes, compression
+  libgdal-dev libmeshoptimizer-dev libzstd-dev zlib1g-dev
   # ray casting for the vegetation baker (terralod vegetation bake)
   libembree-dev
   # math, CLI, JSON, images
   libglm-dev libcli11-dev nlohmann-json3-dev libstb-dev
   # OpenGL 4.5 core through EGL (headless) and GLFW (windows), Dear ImGui
   libepoxy-dev libegl-dev libgl-dev libglfw3-dev libimgui-dev libgl1-mesa-dri libegl-mesa0
+  # network: libcurl for HTTP tilesets
+  libcurl4-openssl-dev
+)
+# What the tests, the benchmarks and the format check need besides (make test, make build).
+test_packages=(
+  clang-format gdal-bin
+  # sanitizer builds and fuzzing: clang, its runtimes (ASan, UBSan, TSan, libFuzzer) and
+  # llvm-symbolizer for readable reports
+  clang libclang-rt-14-dev llvm
+  # OpenMesh: only bench/bench_vipm_openmesh, the VIPM generation benchmark
+  libopenmesh-dev
   # a virtual X server for the windowed tests
   xvfb xauth
-  # network: libcurl for HTTP tilesets; nginx (/usr/sbin/nginx) serves them in the HTTP tests
-  libcurl4-openssl-dev nginx
+  # nginx (/usr/sbin/nginx) serves tilesets in the HTTP tests
+  nginx
   # a real 3D Tiles client for the export's test: CesiumJS (npm, below) in headless Chromium
   # (scripts/cesium-screenshot.sh)
   chromium
@@ -31,9 +39,19 @@ packages=(
   # tests and benchmarks; gnuplot draws the plots of `terralod bench --report`
   libgtest-dev libgmock-dev libbenchmark-dev gnuplot-nox
 )
-# The glTF validator test runs on node; the machine image may already ship node and npm
-# outside Debian's packages, in which case Debian's npm would conflict with it.
-command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+demo_only=false
+case "${1:-}" in
+  --demo) demo_only=true ;;
+  "") ;;
+  *) echo "install-deps: unknown argument '$1' (usage: install-deps.sh [--demo])" >&2; exit 2 ;;
+esac
+packages=("${demo_packages[@]}")
+if ! $demo_only; then
+  packages+=("${test_packages[@]}")
+  # The glTF validator test runs on node; the machine image may already ship node and npm
+  # outside Debian's packages, in which case Debian's npm would conflict with it.
+  command -v npm >/dev/null 2>&1 || packages+=(nodejs npm)
+fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -55,6 +73,11 @@ if [ ${#missing[@]} -gt 0 ]; then
       $sudo service nginx stop >/dev/null 2>&1 || true
     fi
   fi
+fi
+
+if $demo_only; then
+  echo "install-deps: the demo's dependencies present"
+  exit 0
 fi
 
 # npm packages the tests and benchmarks run, pinned by tests/tools/package-lock.json: the Khronos
