@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <random>
 
 #include "chunk_triangles.h"
@@ -97,6 +98,33 @@ TEST(BintreeChunks, SplitChunksOfSeveralPartsAsTheWriterDoes) {
   compareEveryChunk(heights, 256, 0.01, 100.0, totals);
   if (HasFatalFailure()) return;
   EXPECT_GT(totals.parts, totals.chunks);
+}
+
+// Squares over 512 cells number their vertices through a hash sized from the vertex count
+// instead of the thread's dense table: a smooth terrain's coarse chunks (few vertices in a
+// 1024-cell square), and noise whose 1024-cell root has every sample of a strip (over 160,000
+// vertices, more than the hash is first sized for, so it grows while the walk goes).
+TEST(BintreeChunks, LargeSquaresWithFewVertices) {
+  Heightfield hills(1025, 1025);
+  for (int32_t y = 0; y < 1025; ++y)
+    for (int32_t x = 0; x < 1025; ++x)
+      hills(x, y) = float(50.0 * std::sin(x / 90.0) * std::cos(y / 130.0));
+  Totals smooth;
+  compareEveryChunk(hills, 256, 0.5, 100.0, smooth);
+  if (HasFatalFailure()) return;
+  EXPECT_EQ(smooth.chunks, 21u);
+}
+TEST(BintreeChunks, LargeSquaresWithMoreVerticesThanTheHashFirstHolds) {
+  // Noise in a strip along the south edge, flat beyond it.
+  Heightfield noise(1025, 1025);
+  std::mt19937 rng(6);
+  for (int32_t y = 0; y < 1025; ++y)
+    for (int32_t x = 0; x < 1025; ++x) noise(x, y) = y < 160 ? float(rng() % 1000) * 0.1f : 0.0f;
+  Totals rough;
+  compareEveryChunk(noise, 256, 0.01, 100.0, rough);
+  if (HasFatalFailure()) return;
+  EXPECT_EQ(rough.chunks, 21u);
+  EXPECT_GT(rough.parts, rough.chunks);
 }
 
 }  // namespace

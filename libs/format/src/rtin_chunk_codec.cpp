@@ -3,10 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <unordered_map>
+#include <optional>
 
 #include "range_coder.h"
 #include "terralod/core/bintree.h"
+#include "terralod/core/key_hash.h"
 #include "terralod/core/touched_index.h"
 #include "terralod/format/byte_io.h"
 #include "zstd_frame.h"
@@ -50,48 +51,45 @@ struct ThreadTable {
 };
 thread_local ThreadTable tThreadTable;
 
-// Grid point to vertex number over the chunk's square: dense for small squares.
+// Grid point to vertex number over the chunk's square: the thread's dense table for small
+// squares, a hash sized from the vertex count for larger ones: a coarse chunk has a few
+// thousand vertices in a square of up to 8193^2 grid points, and a dense table per chunk cost a
+// 4-16 MB fill each (a twentieth of an 8193^2 build).
 class PointIndex {
  public:
-  explicit PointIndex(int32_t side) : mStride(side + 1) {
-    // Dense up to 2048-cell squares (16 MB): a hash map cost a tenth of a build.
+  PointIndex(int32_t side, size_t expectedVertices) : mStride(uint32_t(side) + 1) {
     const size_t n = size_t(mStride) * size_t(mStride);
-    if (n > size_t{2049} * 2049) return;
     const size_t most = (kThreadTableSide + 1) * (kThreadTableSide + 1);
     if (n <= most && !tThreadTable.inUse) {
       tThreadTable.inUse = true;
       mDense = &tThreadTable.index;
+      mDense->reserve(n);
     } else {
-      mOwn = std::make_unique<TouchedIndex>();  // large, or a walk inside a walk: its own
-      mDense = mOwn.get();
+      mHash.emplace(expectedVertices);  // large, or a walk inside a walk
     }
-    mDense->reserve(n);
   }
   ~PointIndex() {
     if (!mDense) return;
     mDense->clear();
-    if (!mOwn) tThreadTable.inUse = false;
+    tThreadTable.inUse = false;
   }
   PointIndex(const PointIndex&) = delete;
   PointIndex& operator=(const PointIndex&) = delete;
 
   int32_t find(GridPoint p) const {
-    if (mDense) return mDense->find(size_t(p.y) * mStride + p.x);
-    const auto it = mSparse.find(key(p));
-    return it == mSparse.end() ? -1 : it->second;
+    return mDense ? mDense->find(key(p)) : mHash->find(uint32_t(key(p)));
   }
   /// The vertex at p, numbered `next` if it has none yet.
   int32_t findOrAdd(GridPoint p, int32_t next) {
-    if (mDense) return mDense->findOrAdd(size_t(p.y) * mStride + p.x, next);
-    return mSparse.try_emplace(key(p), next).first->second;
+    return mDense ? mDense->findOrAdd(key(p), next) : mHash->findOrAdd(uint32_t(key(p)), next);
   }
 
  private:
-  static uint64_t key(GridPoint p) { return (uint64_t(uint32_t(p.y)) << 32) | uint32_t(p.x); }
-  int32_t mStride;
+  // Below 2^32 for every square (sides up to 2^15 cells).
+  size_t key(GridPoint p) const { return size_t(p.y) * mStride + size_t(p.x); }
+  uint32_t mStride;
   TouchedIndex* mDense = nullptr;
-  std::unique_ptr<TouchedIndex> mOwn;
-  std::unordered_map<uint64_t, int32_t> mSparse;
+  std::optional<KeyHash> mHash;
 };
 
 struct Split {
@@ -108,7 +106,7 @@ struct Walk {
   std::vector<uint32_t> indices;
   std::vector<Split> splits;
   PointIndex index;
-  explicit Walk(int32_t side) : index(side) {}
+  Walk(int32_t side, size_t expectedVertices) : index(side, expectedVertices) {}
 };
 
 // A corner of a leaf being clipped to the data (clipToLine).
@@ -270,7 +268,7 @@ std::optional<std::vector<uint8_t>> encodeRtinChunk(const RtinChunkInput& chunk)
     if (split && inParent) coder.bit(models->parentSplits[size_t(context)], parentSplits);
     return {true, split, parentSplits};
   };
-  Walk walk(side);
+  Walk walk(side, chunk.vertices.size());
   walk.positions.reserve(chunk.vertices.size());
   walk.indices.reserve(chunk.indices.size());
   walk.splits.reserve(chunk.vertices.size());
@@ -365,7 +363,7 @@ Result<ChunkGeometry> decodeRtinPayload(std::span<const uint8_t> raw, const std:
     const bool parentSplits = split && inParent && coder.bit(models->parentSplits[size_t(context)]);
     return {!coder.failed(), split, parentSplits};
   };
-  Walk walk(side);
+  Walk walk(side, vertexCount);
   walk.positions.reserve(vertexCount);
   walk.indices.reserve(3 * size_t(triangleCount));
   walk.splits.reserve(vertexCount);
