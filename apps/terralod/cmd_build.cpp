@@ -269,8 +269,11 @@ void addBuildCommand(CLI::App& root, Runner& run) {
         return 0;
       }
       // A streamed build reads as it goes: its reading time is inside the two passes.
-      char read[32] = "streamed";
+      char read[64] = "streamed";
       if (s.readOnce) std::snprintf(read, sizeof read, "streamed, read once");
+      if (s.keptSamples)
+        std::snprintf(read, sizeof read, "streamed, read once, %.1f %% of it kept",
+                      100.0 * double(s.keptSamples) / double(s.sourceSamples));
       if (!s.streamed) std::snprintf(read, sizeof read, "read %.2f s", s.loadSeconds);
       const uint64_t geometryBytes = s.fileBytes - s.textureBytes;
       char texture[64] = "";

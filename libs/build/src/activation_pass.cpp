@@ -7,6 +7,7 @@
 
 #include "block_pass.h"
 #include "border_reduce.h"
+#include "terralod/build/kept_heights.h"
 #include "terralod/core/bintree.h"
 #include "terralod/core/parallel.h"
 #include "triangle_scan.h"
@@ -47,6 +48,7 @@ Result<ActivationGrid> computeActivations(const TreeLayout& layout, const ErrorB
     geometry.realX = std::min(block, layout.cellsX - bx);
     geometry.realY = std::min(block, layout.cellsY - by);
     computeBlock(geometry, budget, s, grid, results[i], workerStats[worker]);
+    if (options.keep) options.keep->keepBlock(geometry.origin, s.heights.data(), grid);
   });
   progress.end();
   for (const Status& st : workerStatus)

@@ -7,6 +7,7 @@
 #include "source_metadata.h"
 #include "terralod/build/surface_texels.h"
 #include "terralod/raster/image_drape.h"
+#include "terralod/raster/void_fill.h"
 
 namespace terralod {
 

@@ -17,6 +17,7 @@
 #include "terralod/build/dem_windows.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/height_source.h"
+#include "terralod/build/kept_heights.h"
 #include "terralod/build/leaf_size.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
@@ -40,6 +41,7 @@ struct HeightPlan {
   std::unique_ptr<Heightfield> memory;  // in-memory raster (voids filled)
   std::unique_ptr<MemoryHeights> memoryHeights;
   std::unique_ptr<SparseHeights> sparse;  // streamed raster
+  std::unique_ptr<KeptHeights> kept;      // streamed, untextured: what pass 2 reads, read once
   std::unique_ptr<DemWindows> windows;
   double zMin = 0, zMax = 0;
   std::shared_ptr<const SampleMask> seaVoids;  // voids that were sea (in memory only)
@@ -135,14 +137,21 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
   plan.sparse = std::make_unique<SparseHeights>(b.layout, b.block);
   plan.windows = std::make_unique<DemWindows>(*b.reader, b.threads, plan.sparse.get());
   // Within the memory budget, pass 1 keeps what it reads and pass 2 reads memory: one decode
-  // of the raster instead of two. (--streaming always keeps nothing.)
+  // of the raster instead of two. (--streaming always keeps nothing.) Without textures, and with
+  // RTIN chunks, pass 2 reads only the vertices and the chunk sides: pass 1 keeps just those.
   const bool keep = b.fitsMemory && options.streaming == Streaming::kAuto;
-  if (keep) plan.memory = std::make_unique<Heightfield>(info.columns, info.rows);
+  const bool keepSome = keep && !options.textures && options.mesher == MeshMethod::kRtin;
+  if (keepSome) {
+    plan.kept = std::make_unique<KeptHeights>(b.layout, b.block);
+    activation.keep = plan.kept.get();
+  } else if (keep) {
+    plan.memory = std::make_unique<Heightfield>(info.columns, info.rows);
+  }
   Result<ErrorPass> pass = Error{};
   for (int attempt = 0; attempt < 2; ++attempt) {
     auto budget = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
     if (!budget) return makeError(info.path, budget.error().message);
-    if (keep) plan.windows->keepInto(*plan.memory);
+    if (plan.memory) plan.windows->keepInto(*plan.memory);
     const auto errorStart = Clock::now();
     ActivationStats stats;
     auto grid = computeActivations(b.layout, *budget, *plan.windows, *plan.sparse, activation,
@@ -175,6 +184,9 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     plan.memoryHeights = std::make_unique<MemoryHeights>(*plan.memory);
   else
     plan.memory.reset();
+  const size_t blocks = size_t((info.columns - 2 + b.block) / b.block) *
+                        size_t((info.rows - 2 + b.block) / b.block);  // inside the data
+  if (plan.kept && plan.kept->keptBlocks() != blocks) plan.kept.reset();
   return pass;
 }
 
@@ -219,7 +231,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     pass = streamedErrors(options, b, plan, progress, summary);
     if (!pass) return pass.error();
     summary.streamed = plan.windows != nullptr;  // false: voids, so in memory after all
-    summary.readOnce = summary.streamed && plan.memoryHeights != nullptr;
+    summary.readOnce = summary.streamed && (plan.memoryHeights || plan.kept);
+    if (plan.kept) summary.keptSamples = plan.kept->keptSamples();
   }
   if (!summary.streamed) {
     pass = inMemoryErrors(options, b, plan, progress, summary, start);
@@ -247,12 +260,16 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   const bool inMemory = plan.memoryHeights != nullptr;
   HeightWindows& windows = inMemory ? static_cast<HeightWindows&>(*plan.memoryHeights)
                                     : static_cast<HeightWindows&>(*plan.windows);
+  const HeightSampler* allHeights =
+      inMemory ? static_cast<const HeightSampler*>(plan.memoryHeights.get()) : plan.kept.get();
   if (Status s =
-          buildChunks(b.layout, pass->budget, pass->grid, nodes, windows,
-                      inMemory ? plan.memoryHeights.get() : nullptr,
-                      inMemory ? nullptr : plan.sparse.get(), chunkOptions, *b.writer, progress);
+          buildChunks(b.layout, pass->budget, pass->grid, nodes, windows, allHeights,
+                      allHeights ? nullptr : plan.sparse.get(), chunkOptions, *b.writer, progress);
       !s)
     return s.error();
+  if (plan.kept && plan.kept->misses() > 0)
+    return Error{"internal error: " + std::to_string(plan.kept->misses()) +
+                 " heights were needed that pass 1 had not kept"};
   summary.meshSeconds = secondsSince(meshStart);
 
   if (options.textures) markInheritedTextures(textures.plan, nodes);

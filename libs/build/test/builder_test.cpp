@@ -131,10 +131,15 @@ TEST(Builder, StreamedBuildMatchesInMemory) {
 // Within the memory budget, an automatic streamed build keeps pass 1's windows for pass 2
 // (the raster decoded once): the same bytes as reading every window again. Odd sizes and small
 // blocks make the windows' shares of the raster meet on partial blocks.
+// Textured, pass 1 keeps every sample (a Heightfield); untextured, only what pass 2 reads
+// (KeptHeights: vertices, halos, leaf-chunk lines, the data's last row and column). Either way
+// the tileset is the one the windows give. 301 x 211 with 16-cell leaves and 32-cell blocks:
+// the data ends mid-block and mid-leaf on both axes.
 TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(301, 211, 33), dir.file("in.tif"), 5.0);
-  auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
+  auto buildWith = [&](Streaming streaming, uint64_t memoryMB, bool textures,
+                       const std::string& name) {
     BuildOptions options;
     options.input = dir.file("in.tif");
     options.output = dir.file(name);
@@ -144,23 +149,34 @@ TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
     options.blockCells = 32;
     options.chunkCells = 16;
     options.threads = 2;
+    options.textures = textures;
+    options.maxError = textures ? 1.0 : 0.25;
     NullProgress progress;
     auto summary = buildTileset(options, progress, [](const std::string&) {});
     EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
     return summary ? *summary : BuildSummary{};
   };
-  const BuildSummary kept = buildWith(Streaming::kAuto, 64, "kept.tlod");
-  const BuildSummary windows = buildWith(Streaming::kAlways, 64, "windows.tlod");
-  EXPECT_TRUE(kept.streamed);
-  EXPECT_TRUE(kept.readOnce);
-  EXPECT_TRUE(windows.streamed);
-  EXPECT_FALSE(windows.readOnce);
-  EXPECT_EQ(fileBytes(dir.file("kept.tlod")), fileBytes(dir.file("windows.tlod")));
-  // Over the budget nothing is kept.
-  const BuildSummary over = buildWith(Streaming::kAuto, 0, "over.tlod");
-  EXPECT_TRUE(over.streamed);
-  EXPECT_FALSE(over.readOnce);
-  EXPECT_EQ(fileBytes(dir.file("over.tlod")), fileBytes(dir.file("windows.tlod")));
+  for (const bool textures : {true, false}) {
+    SCOPED_TRACE(textures ? "textured" : "untextured");
+    const BuildSummary kept = buildWith(Streaming::kAuto, 64, textures, "kept.tlod");
+    const BuildSummary windows = buildWith(Streaming::kAlways, 64, textures, "windows.tlod");
+    EXPECT_TRUE(kept.streamed);
+    EXPECT_TRUE(kept.readOnce);
+    EXPECT_TRUE(windows.streamed);
+    EXPECT_FALSE(windows.readOnce);
+    EXPECT_EQ(fileBytes(dir.file("kept.tlod")), fileBytes(dir.file("windows.tlod")));
+    if (textures) {
+      EXPECT_EQ(kept.keptSamples, 0u);  // every sample, in a Heightfield
+    } else {
+      EXPECT_GT(kept.keptSamples, 1000u);  // some samples, not all
+      EXPECT_LT(kept.keptSamples, kept.sourceSamples);
+    }
+    // Over the budget nothing is kept.
+    const BuildSummary over = buildWith(Streaming::kAuto, 0, textures, "over.tlod");
+    EXPECT_TRUE(over.streamed);
+    EXPECT_FALSE(over.readOnce);
+    EXPECT_EQ(fileBytes(dir.file("over.tlod")), fileBytes(dir.file("windows.tlod")));
+  }
 }
 
 TEST(Builder, StreamedBuildFallsBackToMemoryForVoids) {

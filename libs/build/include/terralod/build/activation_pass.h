@@ -23,9 +23,12 @@
 
 namespace terralod {
 
+class KeptHeights;
+
 struct ActivationOptions {
   int32_t blockCells = 512;  ///< side of a block (power of two, <= rootCells, >= leafCells)
   unsigned threads = 1;
+  KeptHeights* keep = nullptr;  ///< keeps each block's heights that pass 2 reads (optional)
 };
 
 struct ActivationStats {

@@ -1,0 +1,65 @@
+#pragma once
+// The heights pass 2 of an untextured RTIN build reads, kept by pass 1 block by block as it
+// decodes them, so that a streamed raster within the memory budget is decoded once without a
+// copy of every sample: an 8193^2 build keeps 2-6 % of its 268 MB of heights and peaks at
+// 190-200 MB instead of 430. Per block, the points of its closed square that:
+// - are a vertex at some level (activation above zero when pass 1 computed the block);
+// - finishing the borders can still raise (the block's halo, halo.h);
+// - lie on a leaf-chunk line (chunk sides: skirts measure the data along them) or on the data's
+//   last row or column (where clipped triangles and clamped reads land).
+// Those are every height the chunk mesher reads (chunk_mesher.cpp): vertices, the corners of
+// the parent level's triangles, and the samples along chunk sides. A read of any other point
+// counts as a miss and returns NaN; the build reports misses as an internal error.
+
+#include <atomic>
+#include <cstdint>
+#include <vector>
+
+#include "terralod/build/activation_grid.h"
+#include "terralod/build/halo.h"
+#include "terralod/build/height_source.h"
+#include "terralod/build/tree_layout.h"
+#include "terralod/core/bintree.h"
+
+namespace terralod {
+
+class KeptHeights final : public HeightSampler {
+ public:
+  /// Blocks of side `block` (a power of two, a multiple of the leaf cells) as pass 1
+  /// computes them.
+  KeptHeights(const TreeLayout& layout, int32_t block);
+
+  /// Keeps the block at `origin`: `window` is its closed square's (block + 1)^2 samples in grid
+  /// order, `grid` the activations pass 1 has just computed inside it. Replaces what an earlier
+  /// pass kept there. Thread-safe for distinct blocks; reads no point another block writes.
+  void keepBlock(GridPoint origin, const float* window, const ActivationGrid& grid);
+
+  /// Height at a grid point, clamped to the data; NaN (and a miss) where nothing was kept.
+  double at(int32_t x, int32_t y) const override;
+  uint64_t misses() const { return mMisses.load(); }
+  /// Samples kept over every block (points on shared block borders once per block).
+  uint64_t keptSamples() const;
+  /// Blocks kept since construction (each counted once, however often kept).
+  size_t keptBlocks() const;
+  /// The halo keepBlock uses for every block (what haloOf gives for each; tests check it).
+  const HaloPattern& halo() const { return mHalo; }
+
+ private:
+  struct Block {
+    std::vector<uint64_t> bits;    // which points of the closed square are kept
+    std::vector<uint32_t> ranks;   // kept points before each word of bits
+    std::vector<float> values;     // their heights, in point order
+  };
+  const TreeLayout& mLayout;
+  int32_t mBlock, mBlockLog2;
+  int32_t mBlocksX, mBlocksY;
+  // Every block's halo is the same pattern: a block's interior points and its border points
+  // fall in the same vertex classes wherever the block is (origins are multiples of its
+  // power-of-two side), and the block centre's dependency parents are its corners, which are
+  // border points anyway (checked against haloOf for every block in the tests).
+  HaloPattern mHalo;
+  std::vector<Block> mBlocks;
+  mutable std::atomic<uint64_t> mMisses{0};
+};
+
+}  // namespace terralod

@@ -1,0 +1,63 @@
+// KeptHeights: the one halo pattern it keeps is every block's (what haloOf gives for each
+// origin), and it answers exactly the points it kept, misses counted for the others.
+
+#include "terralod/build/kept_heights.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "terralod/build/halo.h"
+#include "terralod/build/tree_layout.h"
+
+namespace terralod {
+namespace {
+
+struct KeptLayoutCase {
+  int32_t columns, rows, leafCells, block;
+};
+
+TEST(KeptHeights, OneHaloServesEveryBlock) {
+  for (const KeptLayoutCase c : {KeptLayoutCase{301, 211, 16, 32}, KeptLayoutCase{1025, 1025, 64, 256},
+                           KeptLayoutCase{129, 77, 16, 64}, KeptLayoutCase{2049, 700, 128, 512},
+                           KeptLayoutCase{513, 513, 16, 512}}) {
+    const TreeLayout layout = makeTreeLayout(c.columns, c.rows, c.leafCells).value();
+    const KeptHeights kept(layout, c.block);
+    for (int32_t oy = 0; oy + c.block <= layout.gridY(); oy += c.block)
+      for (int32_t ox = 0; ox + c.block <= layout.gridX(); ox += c.block)
+        ASSERT_EQ(kept.halo(), haloOf(layout, {ox, oy}, c.block))
+            << c.columns << "x" << c.rows << " block " << c.block << " at " << ox << "," << oy;
+  }
+}
+
+TEST(KeptHeights, AnswersWhatItKeptAndCountsTheRest) {
+  const TreeLayout layout = makeTreeLayout(100, 70, 16).value();  // cells 99 x 69
+  const int32_t block = 32;
+  KeptHeights kept(layout, block);
+  ActivationGrid grid(layout.gridX(), layout.gridY());
+  grid.set(5, 7, 3);  // an interior point with an activation
+  std::vector<float> window(size_t(block + 1) * (block + 1));
+  for (int32_t oy = 0; oy < layout.cellsY; oy += block)
+    for (int32_t ox = 0; ox < layout.cellsX; ox += block) {
+      for (int32_t ly = 0; ly <= block; ++ly)
+        for (int32_t lx = 0; lx <= block; ++lx)
+          window[size_t(ly) * (block + 1) + lx] = float((ox + lx) * 1000 + oy + ly);
+      kept.keepBlock({ox, oy}, window.data(), grid);
+    }
+  EXPECT_EQ(kept.keptBlocks(), 4u * 3u);
+  EXPECT_EQ(kept.at(5, 7), 5007.0);     // activated
+  EXPECT_EQ(kept.at(16, 9), 16009.0);   // a leaf line
+  EXPECT_EQ(kept.at(40, 48), 40048.0);  // another
+  EXPECT_EQ(kept.at(99, 50), 99050.0);  // the data's last column
+  EXPECT_EQ(kept.at(120, 50), 99050.0);  // clamped to it
+  EXPECT_EQ(kept.at(70, 69), 70069.0);  // the last row
+  EXPECT_EQ(kept.misses(), 0u);
+  // Not activated, on no line, and (for a 32-cell block) in no halo: a band along the borders.
+  EXPECT_TRUE(std::isnan(kept.at(45, 43)));
+  EXPECT_EQ(kept.misses(), 1u);
+  EXPECT_LT(kept.keptSamples(), uint64_t(100) * 70);
+}
+
+}  // namespace
+}  // namespace terralod
