@@ -26,7 +26,8 @@ ChunkMesher::ChunkMesher(const TreeLayout& layout, const ErrorBudget& budget,
                          const ActivationGrid& grid, const HeightSampler& heights)
     : mLayout(layout), mBudget(budget), mGrid(grid), mHeights(&heights) {}
 
-uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const Plane& parent) {
+template <typename Height>
+uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, Height&& z, const Plane& parent) {
   const int32_t lx = p.x - mOriginX, ly = p.y - mOriginY;
   assert(lx >= 0 && ly >= 0 && lx <= mSide && ly <= mSide);
   const auto next = static_cast<uint32_t>(mesh.vertices.size());
@@ -38,7 +39,7 @@ uint32_t ChunkMesher::vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const 
     const auto [it, inserted] = mSparseIndex.try_emplace(key, next);
     if (!inserted) return it->second;
   }
-  mesh.vertices.push_back({p.x, p.y, z, parent.at(p)});
+  mesh.vertices.push_back({p.x, p.y, z(), parent.at(p)});
   return next;
 }
 
@@ -98,19 +99,28 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
     // Number new vertices in the order the index list first names them (fetch order).
     const ClipVertex& second = o > 0 ? b : c;
     const ClipVertex& third = o > 0 ? c : b;
-    const uint32_t i0 = vertexIndex(mesh, a.p, a.z, parent);
-    const uint32_t i1 = vertexIndex(mesh, second.p, second.z, parent);
-    const uint32_t i2 = vertexIndex(mesh, third.p, third.z, parent);
+    const uint32_t i0 = vertexIndex(mesh, a.p, [&] { return a.z; }, parent);
+    const uint32_t i1 = vertexIndex(mesh, second.p, [&] { return second.z; }, parent);
+    const uint32_t i2 = vertexIndex(mesh, third.p, [&] { return third.z; }, parent);
     mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
   };
 
+  if (maxX <= w && maxY <= h) {
+    // Inside the data: a vertex's height is the data's, read once when the vertex is new.
+    const int64_t o = orient2d(t.a, t.b, t.apex);
+    if (o == 0) return;
+    auto data = [&](GridPoint p) {
+      return vertexIndex(mesh, p, [&] { return mHeights->at(p.x, p.y); }, parent);
+    };
+    const uint32_t i0 = data(t.a);
+    const uint32_t i1 = data(o > 0 ? t.b : t.apex);
+    const uint32_t i2 = data(o > 0 ? t.apex : t.b);
+    mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
+    return;
+  }
   ClipVertex poly[8];
   int n = 3;
   for (int i = 0; i < 3; ++i) poly[i] = {corners[i], mHeights->at(corners[i].x, corners[i].y)};
-  if (maxX <= w && maxY <= h) {
-    addTriangle(poly[0], poly[1], poly[2]);
-    return;
-  }
   // Clip to x <= w, then y <= h; heights follow the triangle's plane.
   auto between = [](const ClipVertex& a, const ClipVertex& b, double f) {
     return ClipVertex{{}, a.z + f * (b.z - a.z)};

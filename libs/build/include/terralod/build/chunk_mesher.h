@@ -99,7 +99,9 @@ class ChunkMesher {
     double at(GridPoint p) const { return z0 + gx * (p.x - origin.x) + gy * (p.y - origin.y); }
   };
   Plane planeOf(const BinTriangle& t) const;
-  uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, double z, const Plane& parent);
+  /// The vertex at p, added with height z() if new (z is called only then).
+  template <typename Height>
+  uint32_t vertexIndex(ChunkMesh& mesh, GridPoint p, Height&& z, const Plane& parent);
   void emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plane& parent);
   void addSkirts(ChunkMesh& mesh);
   /// Counts the surface's vertices, takes its height range and adds the skirts.
