@@ -99,9 +99,12 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
     // Number new vertices in the order the index list first names them (fetch order).
     const ClipVertex& second = o > 0 ? b : c;
     const ClipVertex& third = o > 0 ? c : b;
-    const uint32_t i0 = vertexIndex(mesh, a.p, [&] { return a.z; }, parent);
-    const uint32_t i1 = vertexIndex(mesh, second.p, [&] { return second.z; }, parent);
-    const uint32_t i2 = vertexIndex(mesh, third.p, [&] { return third.z; }, parent);
+    const uint32_t i0 = vertexIndex(
+        mesh, a.p, [&] { return a.z; }, parent);
+    const uint32_t i1 = vertexIndex(
+        mesh, second.p, [&] { return second.z; }, parent);
+    const uint32_t i2 = vertexIndex(
+        mesh, third.p, [&] { return third.z; }, parent);
     mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
   };
 
@@ -110,7 +113,8 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
     const int64_t o = orient2d(t.a, t.b, t.apex);
     if (o == 0) return;
     auto data = [&](GridPoint p) {
-      return vertexIndex(mesh, p, [&] { return mHeights->at(p.x, p.y); }, parent);
+      return vertexIndex(
+          mesh, p, [&] { return mHeights->at(p.x, p.y); }, parent);
     };
     const uint32_t i0 = data(t.a);
     const uint32_t i1 = data(o > 0 ? t.b : t.apex);

@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstring>
 
-
 namespace terralod {
 
 KeptHeights::KeptHeights(const TreeLayout& layout, int32_t block)
@@ -90,8 +89,8 @@ double KeptHeights::at(int32_t x, int32_t y) const {
   const int32_t bx = std::min(x >> mBlockLog2, mBlocksX - 1);
   const int32_t by = std::min(y >> mBlockLog2, mBlocksY - 1);
   const Block& b = mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)];
-  const size_t i = size_t(y - (by << mBlockLog2)) * size_t(mBlock + 1) +
-                   size_t(x - (bx << mBlockLog2));
+  const size_t i =
+      size_t(y - (by << mBlockLog2)) * size_t(mBlock + 1) + size_t(x - (bx << mBlockLog2));
   const uint64_t bit = uint64_t{1} << (i & 63);
   const uint64_t word = (i >> 6) < b.bits.size() ? b.bits[i >> 6] : 0;
   if (!(word & bit)) {

@@ -19,9 +19,10 @@ struct KeptLayoutCase {
 };
 
 TEST(KeptHeights, OneHaloServesEveryBlock) {
-  for (const KeptLayoutCase c : {KeptLayoutCase{301, 211, 16, 32}, KeptLayoutCase{1025, 1025, 64, 256},
-                           KeptLayoutCase{129, 77, 16, 64}, KeptLayoutCase{2049, 700, 128, 512},
-                           KeptLayoutCase{513, 513, 16, 512}}) {
+  for (const KeptLayoutCase c :
+       {KeptLayoutCase{301, 211, 16, 32}, KeptLayoutCase{1025, 1025, 64, 256},
+        KeptLayoutCase{129, 77, 16, 64}, KeptLayoutCase{2049, 700, 128, 512},
+        KeptLayoutCase{513, 513, 16, 512}}) {
     const TreeLayout layout = makeTreeLayout(c.columns, c.rows, c.leafCells).value();
     const KeptHeights kept(layout, c.block);
     for (int32_t oy = 0; oy + c.block <= layout.gridY(); oy += c.block)
@@ -46,12 +47,12 @@ TEST(KeptHeights, AnswersWhatItKeptAndCountsTheRest) {
       kept.keepBlock({ox, oy}, window.data(), grid);
     }
   EXPECT_EQ(kept.keptBlocks(), 4u * 3u);
-  EXPECT_EQ(kept.at(5, 7), 5007.0);     // activated
-  EXPECT_EQ(kept.at(16, 9), 16009.0);   // a leaf line
-  EXPECT_EQ(kept.at(40, 48), 40048.0);  // another
-  EXPECT_EQ(kept.at(99, 50), 99050.0);  // the data's last column
+  EXPECT_EQ(kept.at(5, 7), 5007.0);      // activated
+  EXPECT_EQ(kept.at(16, 9), 16009.0);    // a leaf line
+  EXPECT_EQ(kept.at(40, 48), 40048.0);   // another
+  EXPECT_EQ(kept.at(99, 50), 99050.0);   // the data's last column
   EXPECT_EQ(kept.at(120, 50), 99050.0);  // clamped to it
-  EXPECT_EQ(kept.at(70, 69), 70069.0);  // the last row
+  EXPECT_EQ(kept.at(70, 69), 70069.0);   // the last row
   EXPECT_EQ(kept.misses(), 0u);
   // Not activated, on no line, and (for a 32-cell block) in no halo: a band along the borders.
   EXPECT_TRUE(std::isnan(kept.at(45, 43)));

@@ -46,9 +46,9 @@ class KeptHeights final : public HeightSampler {
 
  private:
   struct Block {
-    std::vector<uint64_t> bits;    // which points of the closed square are kept
-    std::vector<uint32_t> ranks;   // kept points before each word of bits
-    std::vector<float> values;     // their heights, in point order
+    std::vector<uint64_t> bits;   // which points of the closed square are kept
+    std::vector<uint32_t> ranks;  // kept points before each word of bits
+    std::vector<float> values;    // their heights, in point order
   };
   const TreeLayout& mLayout;
   int32_t mBlock, mBlockLog2;
