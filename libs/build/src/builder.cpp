@@ -138,13 +138,13 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
   plan.windows = std::make_unique<DemWindows>(*b.reader, b.threads, plan.sparse.get());
   // Within the memory budget, pass 1 keeps what it reads and pass 2 reads memory: one decode
   // of the raster instead of two. (--streaming always keeps nothing.) Without textures, and with
-  // RTIN chunks, pass 2 reads only the vertices and the chunk sides: pass 1 keeps just those.
-  const bool keep = b.fitsMemory && options.streaming == Streaming::kAuto;
-  const bool keepSome = keep && !options.textures && options.mesher == MeshMethod::kRtin;
-  if (keepSome) {
-    plan.kept = std::make_unique<KeptHeights>(b.layout, b.block);
+  // RTIN chunks, pass 2 reads only the vertices and the chunk sides: pass 1 keeps just those,
+  // for a raster of any size, as long as they fit the budget.
+  const bool automatic = options.streaming == Streaming::kAuto;
+  if (automatic && !options.textures && options.mesher == MeshMethod::kRtin) {
+    plan.kept = std::make_unique<KeptHeights>(b.layout, b.block, options.memoryMB << 20);
     activation.keep = plan.kept.get();
-  } else if (keep) {
+  } else if (automatic && b.fitsMemory) {
     plan.memory = std::make_unique<Heightfield>(info.columns, info.rows);
   }
   Result<ErrorPass> pass = Error{};

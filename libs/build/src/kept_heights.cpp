@@ -7,18 +7,31 @@
 
 namespace terralod {
 
-KeptHeights::KeptHeights(const TreeLayout& layout, int32_t block)
+KeptHeights::KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budgetBytes)
     : mLayout(layout),
       mBlock(block),
       mBlockLog2(std::countr_zero(uint32_t(block))),
       mBlocksX(layout.gridX() / block),
       mBlocksY(layout.gridY() / block),
       mHalo(haloOf(layout, {0, 0}, block)),
-      mBlocks(size_t(mBlocksX) * size_t(mBlocksY)) {}
+      mBlocks(size_t(mBlocksX) * size_t(mBlocksY)),
+      mBudget(budgetBytes) {}
+
+namespace {
+
+uint64_t bytesOf(const std::vector<uint64_t>& bits, const std::vector<uint32_t>& ranks,
+                 const std::vector<float>& values) {
+  return bits.capacity() * sizeof(uint64_t) + ranks.capacity() * sizeof(uint32_t) +
+         values.capacity() * sizeof(float);
+}
+
+}  // namespace
 
 void KeptHeights::keepBlock(GridPoint origin, const float* window, const ActivationGrid& grid) {
+  if (mOverBudget) return;
   const int32_t side = mBlock, stride = side + 1;
   Block& b = mBlocks[size_t(origin.y / side) * size_t(mBlocksX) + size_t(origin.x / side)];
+  mBytes -= bytesOf(b.bits, b.ranks, b.values);  // kept by an earlier pass: replaced
   const size_t points = size_t(stride) * size_t(stride);
   b.bits.assign((points + 63) / 64, 0);
   auto mark = [&](size_t i) { b.bits[i >> 6] |= uint64_t{1} << (i & 63); };
@@ -68,6 +81,13 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
   for (size_t w = 0; w < b.bits.size(); ++w)
     for (uint64_t bits = b.bits[w]; bits; bits &= bits - 1)
       b.values.push_back(window[w * 64 + size_t(std::countr_zero(bits))]);
+  // Over the budget, this block and every later one are let go; those kept before stay until
+  // the owner drops the whole store (keptBlocks() says 0).
+  if ((mBytes += bytesOf(b.bits, b.ranks, b.values)) > mBudget) mOverBudget = true;
+  if (mOverBudget) {
+    mBytes -= bytesOf(b.bits, b.ranks, b.values);
+    b = Block{};
+  }
 }
 
 namespace {
@@ -107,6 +127,7 @@ uint64_t KeptHeights::keptSamples() const {
 }
 
 size_t KeptHeights::keptBlocks() const {
+  if (mOverBudget) return 0;
   return size_t(std::count_if(mBlocks.begin(), mBlocks.end(),
                               [](const Block& b) { return !b.bits.empty(); }));
 }

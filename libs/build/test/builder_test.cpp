@@ -179,6 +179,35 @@ TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
   }
 }
 
+// Untextured, what pass 1 keeps has a budget of its own: a raster larger than --memory-mb is
+// still read once when the heights its meshes need fit.
+TEST(Builder, UntexturedBuildKeepsWhatFitsTheBudget) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(700, 500, 34), dir.file("in.tif"), 5.0);  // 1.4 MB
+  auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
+    BuildOptions options;
+    options.input = dir.file("in.tif");
+    options.output = dir.file(name);
+    options.streaming = streaming;
+    options.memoryMB = memoryMB;
+    options.blockCells = 64;
+    options.threads = 2;
+    options.textures = false;
+    NullProgress progress;
+    auto summary = buildTileset(options, progress, [](const std::string&) {});
+    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
+    return summary ? *summary : BuildSummary{};
+  };
+  const BuildSummary kept = buildWith(Streaming::kAuto, 1, "kept.tlod");
+  const BuildSummary windows = buildWith(Streaming::kAlways, 1, "windows.tlod");
+  EXPECT_TRUE(kept.streamed);  // 1.4 MB of heights over a 1 MB budget
+  EXPECT_TRUE(kept.readOnce);
+  EXPECT_GT(kept.keptSamples, 0u);
+  EXPECT_LT(kept.keptSamples * sizeof(float), uint64_t{1} << 20);
+  EXPECT_FALSE(windows.readOnce);
+  EXPECT_EQ(fileBytes(dir.file("kept.tlod")), fileBytes(dir.file("windows.tlod")));
+}
+
 TEST(Builder, StreamedBuildFallsBackToMemoryForVoids) {
   TempDir dir;
   Heightfield h = test::makeTestTerrain(150, 150, 32);

@@ -1,5 +1,6 @@
 // KeptHeights: the one halo pattern it keeps is every block's (what haloOf gives for each
-// origin), and it answers exactly the points it kept, misses counted for the others.
+// origin); it answers exactly the points it kept, misses counted for the others; and over its
+// budget it keeps no block.
 
 #include "terralod/build/kept_heights.h"
 
@@ -24,7 +25,7 @@ TEST(KeptHeights, OneHaloServesEveryBlock) {
         KeptLayoutCase{129, 77, 16, 64}, KeptLayoutCase{2049, 700, 128, 512},
         KeptLayoutCase{513, 513, 16, 512}}) {
     const TreeLayout layout = makeTreeLayout(c.columns, c.rows, c.leafCells).value();
-    const KeptHeights kept(layout, c.block);
+    const KeptHeights kept(layout, c.block, uint64_t{1} << 30);
     for (int32_t oy = 0; oy + c.block <= layout.gridY(); oy += c.block)
       for (int32_t ox = 0; ox + c.block <= layout.gridX(); ox += c.block)
         ASSERT_EQ(kept.halo(), haloOf(layout, {ox, oy}, c.block))
@@ -35,7 +36,8 @@ TEST(KeptHeights, OneHaloServesEveryBlock) {
 TEST(KeptHeights, AnswersWhatItKeptAndCountsTheRest) {
   const TreeLayout layout = makeTreeLayout(100, 70, 16).value();  // cells 99 x 69
   const int32_t block = 32;
-  KeptHeights kept(layout, block);
+  KeptHeights kept(layout, block, uint64_t{1} << 30);
+  KeptHeights tight(layout, block, 5000);  // room for a few blocks, not twelve
   ActivationGrid grid(layout.gridX(), layout.gridY());
   grid.set(5, 7, 3);  // an interior point with an activation
   std::vector<float> window(size_t(block + 1) * (block + 1));
@@ -45,6 +47,7 @@ TEST(KeptHeights, AnswersWhatItKeptAndCountsTheRest) {
         for (int32_t lx = 0; lx <= block; ++lx)
           window[size_t(ly) * (block + 1) + lx] = float((ox + lx) * 1000 + oy + ly);
       kept.keepBlock({ox, oy}, window.data(), grid);
+      tight.keepBlock({ox, oy}, window.data(), grid);
     }
   EXPECT_EQ(kept.keptBlocks(), 4u * 3u);
   EXPECT_EQ(kept.at(5, 7), 5007.0);      // activated
@@ -58,6 +61,10 @@ TEST(KeptHeights, AnswersWhatItKeptAndCountsTheRest) {
   EXPECT_TRUE(std::isnan(kept.at(45, 43)));
   EXPECT_EQ(kept.misses(), 1u);
   EXPECT_LT(kept.keptSamples(), uint64_t(100) * 70);
+  EXPECT_GT(kept.bytes(), 5000u);
+  // Over its budget a store says it kept no block, and lets go of the blocks that did not fit.
+  EXPECT_EQ(tight.keptBlocks(), 0u);
+  EXPECT_LE(tight.bytes(), 5000u);
 }
 
 }  // namespace

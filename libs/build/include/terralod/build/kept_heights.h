@@ -26,8 +26,9 @@ namespace terralod {
 class KeptHeights final : public HeightSampler {
  public:
   /// Blocks of side `block` (a power of two, a multiple of the leaf cells) as pass 1
-  /// computes them.
-  KeptHeights(const TreeLayout& layout, int32_t block);
+  /// computes them, in at most `budgetBytes`: past that it keeps nothing more and lets go of
+  /// what it had (keptBlocks() then falls short, and pass 2 reads the raster again).
+  KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budgetBytes);
 
   /// Keeps the block at `origin`: `window` is its closed square's (block + 1)^2 samples in grid
   /// order, `grid` the activations pass 1 has just computed inside it. Replaces what an earlier
@@ -39,8 +40,11 @@ class KeptHeights final : public HeightSampler {
   uint64_t misses() const { return mMisses.load(); }
   /// Samples kept over every block (points on shared block borders once per block).
   uint64_t keptSamples() const;
-  /// Blocks kept since construction (each counted once, however often kept).
+  /// Blocks kept since construction (each counted once, however often kept); 0 once over
+  /// the budget.
   size_t keptBlocks() const;
+  /// Bytes held (heights and their index).
+  uint64_t bytes() const { return mBytes.load(); }
   /// The halo keepBlock uses for every block (what haloOf gives for each; tests check it).
   const HaloPattern& halo() const { return mHalo; }
 
@@ -59,6 +63,9 @@ class KeptHeights final : public HeightSampler {
   // border points anyway (checked against haloOf for every block in the tests).
   HaloPattern mHalo;
   std::vector<Block> mBlocks;
+  uint64_t mBudget;
+  std::atomic<uint64_t> mBytes{0};
+  std::atomic<bool> mOverBudget{false};
   mutable std::atomic<uint64_t> mMisses{0};
 };
 
