@@ -1,7 +1,7 @@
 # terralod — the two commands that do everything on a fresh Debian 12 machine:
-#   make demo   install dependencies, build, turn the bundled default DEM (with its Landsat image
-#               draped over it) into a tileset, describe,
-#               verify and render it (an overview and the first frames of the automatic flight),
+#   make demo   install the program's dependencies, build it, turn the bundled default DEM
+#               (with its Landsat image draped over it) into a tileset, describe, verify and
+#               render it (an overview and the first frames of the automatic flight),
 #               then benchmark part of the flight against the source
 #   make test   install dependencies, build, run every test (the loader's under ThreadSanitizer,
 #               the readers' under AddressSanitizer + UndefinedBehaviorSanitizer, and every
