@@ -1,8 +1,9 @@
 #pragma once
 // The heights pass 2 of an untextured RTIN build reads, kept by pass 1 block by block as it
-// decodes them, so that a streamed raster within the memory budget is decoded once without a
-// copy of every sample: an 8193^2 build keeps 2-6 % of its 268 MB of heights and peaks at
-// 190-200 MB instead of 430. Per block, the points of its closed square that:
+// decodes them, so that a streamed raster is decoded once without a copy of every sample, for
+// any raster whose kept share fits the memory budget: an 8193^2 build keeps 2-6 % of its
+// 268 MB of heights and peaks at 190-200 MB instead of 430. Per block, the points of its
+// closed square that:
 // - are a vertex at some level (activation above zero when pass 1 computed the block);
 // - finishing the borders can still raise (the block's halo, halo.h);
 // - lie on a leaf-chunk line (chunk sides: skirts measure the data along them) or on the data's
@@ -26,8 +27,8 @@ namespace terralod {
 class KeptHeights final : public HeightSampler {
  public:
   /// Blocks of side `block` (a power of two, a multiple of the leaf cells) as pass 1
-  /// computes them, in at most `budgetBytes`: past that it keeps nothing more and lets go of
-  /// what it had (keptBlocks() then falls short, and pass 2 reads the raster again).
+  /// computes them, in at most `budgetBytes`: past that it keeps nothing more and reports no
+  /// block kept (its owner drops it, and pass 2 reads the raster again).
   KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budgetBytes);
 
   /// Keeps the block at `origin`: `window` is its closed square's (block + 1)^2 samples in grid
