@@ -184,9 +184,7 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     plan.memoryHeights = std::make_unique<MemoryHeights>(*plan.memory);
   else
     plan.memory.reset();
-  const size_t blocks = size_t((info.columns - 2 + b.block) / b.block) *
-                        size_t((info.rows - 2 + b.block) / b.block);  // inside the data
-  if (plan.kept && plan.kept->keptBlocks() != blocks) plan.kept.reset();
+  if (plan.kept && !plan.kept->keptAll()) plan.kept.reset();
   return pass;
 }
 

@@ -19,6 +19,15 @@ KeptHeights::KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budge
 
 namespace {
 
+// Set bits of x, without a call: the build targets x86-64 without POPCNT, where std::popcount
+// is a call into libgcc (2 % of a build through at()).
+inline uint32_t bitCount(uint64_t x) {
+  x -= (x >> 1) & 0x5555555555555555ull;
+  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
+  x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return uint32_t((x * 0x0101010101010101ull) >> 56);
+}
+
 uint64_t bytesOf(const std::vector<uint64_t>& bits, const std::vector<uint32_t>& ranks,
                  const std::vector<float>& values) {
   return bits.capacity() * sizeof(uint64_t) + ranks.capacity() * sizeof(uint32_t) +
@@ -74,7 +83,7 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
   uint32_t kept = 0;
   for (size_t w = 0; w < b.bits.size(); ++w) {
     b.ranks[w] = kept;
-    kept += uint32_t(std::popcount(b.bits[w]));
+    kept += bitCount(b.bits[w]);
   }
   b.values.clear();
   b.values.reserve(kept);
@@ -82,26 +91,13 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
     for (uint64_t bits = b.bits[w]; bits; bits &= bits - 1)
       b.values.push_back(window[w * 64 + size_t(std::countr_zero(bits))]);
   // Over the budget, this block and every later one are let go; those kept before stay until
-  // the owner drops the whole store (keptBlocks() says 0).
+  // the owner drops the whole store (keptAll() says false).
   if ((mBytes += bytesOf(b.bits, b.ranks, b.values)) > mBudget) mOverBudget = true;
   if (mOverBudget) {
     mBytes -= bytesOf(b.bits, b.ranks, b.values);
     b = Block{};
   }
 }
-
-namespace {
-
-// Set bits of x, without a call: the build targets x86-64 without POPCNT, where std::popcount
-// is a call into libgcc (2 % of a build through at()).
-inline uint32_t bitCount(uint64_t x) {
-  x -= (x >> 1) & 0x5555555555555555ull;
-  x = (x & 0x3333333333333333ull) + ((x >> 2) & 0x3333333333333333ull);
-  x = (x + (x >> 4)) & 0x0F0F0F0F0F0F0F0Full;
-  return uint32_t((x * 0x0101010101010101ull) >> 56);
-}
-
-}  // namespace
 
 double KeptHeights::at(int32_t x, int32_t y) const {
   x = std::clamp(x, 0, mLayout.cellsX);
@@ -126,10 +122,13 @@ uint64_t KeptHeights::keptSamples() const {
   return n;
 }
 
-size_t KeptHeights::keptBlocks() const {
-  if (mOverBudget) return 0;
-  return size_t(std::count_if(mBlocks.begin(), mBlocks.end(),
-                              [](const Block& b) { return !b.bits.empty(); }));
+bool KeptHeights::keptAll() const {
+  if (mOverBudget) return false;
+  // The blocks pass 1 computes: those with a corner inside the data.
+  for (int32_t by = 0; by * mBlock < mLayout.cellsY; ++by)
+    for (int32_t bx = 0; bx * mBlock < mLayout.cellsX; ++bx)
+      if (mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)].bits.empty()) return false;
+  return true;
 }
 
 }  // namespace terralod

@@ -128,13 +128,11 @@ TEST(Builder, StreamedBuildMatchesInMemory) {
   EXPECT_TRUE(verify(dir.file("memory.tlod"), dir.file("in.tif")).ok());
 }
 
-// Within the memory budget, an automatic streamed build keeps pass 1's windows for pass 2
-// (the raster decoded once): the same bytes as reading every window again. Odd sizes and small
-// blocks make the windows' shares of the raster meet on partial blocks.
-// Textured, pass 1 keeps every sample (a Heightfield); untextured, only what pass 2 reads
-// (KeptHeights: vertices, halos, leaf-chunk lines, the data's last row and column). Either way
-// the tileset is the one the windows give. 301 x 211 with 16-cell leaves and 32-cell blocks:
-// the data ends mid-block and mid-leaf on both axes.
+// Within the memory budget, an automatic streamed build keeps what pass 1 reads for pass 2 (the
+// raster decoded once): textured, every sample (a Heightfield); untextured, only what pass 2
+// reads (KeptHeights: vertices, halos, leaf-chunk lines, the data's last row and column).
+// Either way the tileset is the one reading every window again gives. 301 x 211 with 16-cell
+// leaves and 32-cell blocks: the data ends mid-block and mid-leaf on both axes.
 TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(301, 211, 33), dir.file("in.tif"), 5.0);

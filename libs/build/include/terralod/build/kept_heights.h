@@ -13,6 +13,7 @@
 // counts as a miss and returns NaN; the build reports misses as an internal error.
 
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -27,8 +28,8 @@ namespace terralod {
 class KeptHeights final : public HeightSampler {
  public:
   /// Blocks of side `block` (a power of two, a multiple of the leaf cells) as pass 1
-  /// computes them, in at most `budgetBytes`: past that it keeps nothing more and reports no
-  /// block kept (its owner drops it, and pass 2 reads the raster again).
+  /// computes them, in at most `budgetBytes`: past that it keeps nothing more and keptAll() is
+  /// false (its owner drops it, and pass 2 reads the raster again).
   KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budgetBytes);
 
   /// Keeps the block at `origin`: `window` is its closed square's (block + 1)^2 samples in grid
@@ -41,9 +42,9 @@ class KeptHeights final : public HeightSampler {
   uint64_t misses() const { return mMisses.load(); }
   /// Samples kept over every block (points on shared block borders once per block).
   uint64_t keptSamples() const;
-  /// Blocks kept since construction (each counted once, however often kept); 0 once over
-  /// the budget.
-  size_t keptBlocks() const;
+  /// Whether every block pass 1 computes (those with a corner inside the data) is kept and
+  /// the budget held: what pass 2 needs to read only this store.
+  bool keptAll() const;
   /// Bytes held (heights and their index).
   uint64_t bytes() const { return mBytes.load(); }
   /// The halo keepBlock uses for every block (what haloOf gives for each; tests check it).
