@@ -43,11 +43,12 @@ float occlusionOf(double sum, float height, double area, double scale) {
 // kWaterRadius - 1): all at sea level (bit 0 of `flags`), and within kLakeFlatness of each
 // other (bit 1), with their minimum and maximum (which only windows with bit 1 need). With SSE2
 // four windows at a time; the same flags either way (min and max keep their operand order, so
-// even NaNs come out as in the scalar loop).
-void rowWindows(const float* h, int32_t side, uint8_t* flags, float* lo, float* hi) {
+// even NaNs come out as in the scalar loop). Returns whether any window has a flag.
+bool rowWindows(const float* h, int32_t side, uint8_t* flags, float* lo, float* hi) {
   const int32_t r = kWaterRadius;
   const float band = float(kSeaLevelBand), flat = float(kLakeFlatness);
   int32_t x = r;
+  int any = 0;
 #if defined(__SSE2__)
   const __m128 magnitude = _mm_castsi128_ps(_mm_set1_epi32(0x7fffffff)), bands = _mm_set1_ps(band),
                flats = _mm_set1_ps(flat);
@@ -64,6 +65,7 @@ void rowWindows(const float* h, int32_t side, uint8_t* flags, float* lo, float* 
               lakeBits = _mm_movemask_ps(_mm_cmple_ps(_mm_sub_ps(mx, mn), flats));
     _mm_storeu_ps(lo + x, mn);
     _mm_storeu_ps(hi + x, mx);
+    any |= seaBits | lakeBits;
     for (int l = 0; l < 4; ++l)
       flags[x + l] = uint8_t(((seaBits >> l) & 1) | (((lakeBits >> l) & 1) << 1));
   }
@@ -82,9 +84,11 @@ void rowWindows(const float* h, int32_t side, uint8_t* flags, float* lo, float* 
       lake = u - l <= flat;
     }
     flags[x] = uint8_t(f | (lake ? 2 : 0));
+    any |= flags[x];
     lo[x] = l;
     hi[x] = u;
   }
+  return any != 0;
 }
 
 }  // namespace
@@ -136,16 +140,21 @@ void BlockTexels::findWater() {
   mRowFlags.assign(size_t(side) * side, 0);
   mRowMin.resize(size_t(side) * side);
   mRowMax.resize(size_t(side) * side);
+  // flagged[y]: how many rows up to y in a row have a flagged window (a window of 7 rows
+  // needs 7; on land most have none, and their rows are skipped below).
+  std::vector<int32_t> flagged(size_t(side), 0);
   for (int32_t y = 0; y < side; ++y) {
     const size_t row = size_t(y) * side;
-    rowWindows(mHeights.data() + row, side, mRowFlags.data() + row, mRowMin.data() + row,
-               mRowMax.data() + row);
+    if (rowWindows(mHeights.data() + row, side, mRowFlags.data() + row, mRowMin.data() + row,
+                   mRowMax.data() + row))
+      flagged[size_t(y)] = y > 0 ? flagged[size_t(y) - 1] + 1 : 1;
   }
   // Windows: 7 rows that are all at sea level, or all flat and together within kLakeFlatness.
   const float flat = float(kLakeFlatness);
   std::vector<uint8_t> core(size_t(side) * side, 0);
   bool any = false;
   for (int32_t y = r; y < side - r; ++y) {
+    if (flagged[size_t(y + r)] < 2 * r + 1) continue;
     if (!inside(mY0 + y - r, mOptions.rows) || !inside(mY0 + y + r, mOptions.rows)) continue;
     for (int32_t x = r; x < side - r; ++x) {
       if (!inside(mX0 + x - r, mOptions.columns) || !inside(mX0 + x + r, mOptions.columns))
