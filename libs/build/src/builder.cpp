@@ -19,6 +19,7 @@
 #include "terralod/build/height_source.h"
 #include "terralod/build/kept_heights.h"
 #include "terralod/build/leaf_size.h"
+#include "terralod/build/pass_one_textures.h"
 #include "terralod/build/sparse_heights.h"
 #include "terralod/build/tree_layout.h"
 #include "terralod/build/vipm_builder.h"
@@ -41,8 +42,12 @@ struct HeightPlan {
   std::unique_ptr<Heightfield> memory;  // in-memory raster (voids filled)
   std::unique_ptr<MemoryHeights> memoryHeights;
   std::unique_ptr<SparseHeights> sparse;  // streamed raster
-  std::unique_ptr<KeptHeights> kept;      // streamed, untextured: what pass 2 reads, read once
+  std::unique_ptr<KeptHeights> kept;      // streamed, RTIN: what pass 2 reads, read once
   std::unique_ptr<DemWindows> windows;
+  // Streamed, textured, within the memory budget: the textures made in pass 1 from its
+  // windows, so that pass 2 needs only `kept` (the raster is not kept whole).
+  std::unique_ptr<TextureBuild> textureBuild;
+  std::unique_ptr<PassOneTextures> passOneTextures;
   double zMin = 0, zMax = 0;
   std::shared_ptr<const SampleMask> seaVoids;  // voids that were sea (in memory only)
 };
@@ -129,7 +134,8 @@ struct ErrorPass {
 
 // Pass 1 over a streamed raster: the budget from the height estimate, again with the true range
 // when the data leave it. Leaves `plan` empty when the raster has voids (they need it whole).
-Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& b, HeightPlan& plan,
+Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& b,
+                                 const std::vector<NodeRecord>& nodes, HeightPlan& plan,
                                  Progress& progress, BuildSummary& summary) {
   const DemInfo& info = b.reader->info();
   ActivationOptions activation{b.block, b.threads};
@@ -137,11 +143,13 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
   plan.sparse = std::make_unique<SparseHeights>(b.layout, b.block);
   plan.windows = std::make_unique<DemWindows>(*b.reader, b.threads, plan.sparse.get());
   // Within the memory budget, pass 1 keeps what it reads and pass 2 reads memory: one decode
-  // of the raster instead of two. (--streaming always keeps nothing.) Without textures, and with
-  // RTIN chunks, pass 2 reads only the vertices and the chunk sides: pass 1 keeps just those,
-  // for a raster of any size, as long as they fit the budget.
+  // of the raster instead of two. (--streaming always keeps nothing.) With RTIN chunks, pass 2
+  // reads only the vertices and the chunk sides: pass 1 keeps just those, for a raster of any
+  // size, as long as they fit the budget; a textured build then makes its textures in pass 1
+  // (when the raster fits the budget: the texture blobs are held until pass 2 writes them).
   const bool automatic = options.streaming == Streaming::kAuto;
-  if (automatic && !options.textures && options.mesher == MeshMethod::kRtin) {
+  const bool rtin = options.mesher == MeshMethod::kRtin;
+  if (automatic && rtin && (!options.textures || b.fitsMemory)) {
     plan.kept = std::make_unique<KeptHeights>(b.layout, b.block, options.memoryMB << 20);
     activation.keep = plan.kept.get();
   } else if (automatic && b.fitsMemory) {
@@ -152,6 +160,16 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     auto budget = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
     if (!budget) return makeError(info.path, budget.error().message);
     if (plan.memory) plan.windows->keepInto(*plan.memory);
+    if (attempt == 0 && plan.kept && options.textures) {
+      // The textures depend on the heights and the levels' errors, not on the height range:
+      // made once, in the first attempt.
+      plan.textureBuild = std::make_unique<TextureBuild>(
+          textureBuildFor(options, b.layout, *budget, *b.reader, b.image.get()));
+      plan.passOneTextures = std::make_unique<PassOneTextures>(b.layout, *plan.textureBuild, nodes,
+                                                               b.block, b.threads);
+      if (Status s = plan.passOneTextures->open(); !s) return s.error();
+      activation.user = plan.passOneTextures.get();
+    }
     const auto errorStart = Clock::now();
     ActivationStats stats;
     auto grid = computeActivations(b.layout, *budget, *plan.windows, *plan.sparse, activation,
@@ -162,6 +180,7 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     summary.trianglesScanned = stats.trianglesScanned;
     summary.trianglesBounded = stats.trianglesBounded;
     pass = ErrorPass{std::move(budget).value(), std::move(grid).value()};
+    activation.user = nullptr;
     if (plan.windows->sawVoid()) break;
     plan.zMin = plan.windows->minHeight();
     plan.zMax = plan.windows->maxHeight();
@@ -221,12 +240,13 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   LocalBuild& b = *opened;
   const DemInfo& info = b.reader->info();
 
-  // Pass 1: errors into activations.
+  // Pass 1: errors into activations (and, streamed, maybe the textures).
+  std::vector<NodeRecord> nodes = enumerateNodes(b.layout);
   HeightPlan plan;
   Result<ErrorPass> pass = Error{};
   summary.streamed = streamsInput(options, info);
   if (summary.streamed) {
-    pass = streamedErrors(options, b, plan, progress, summary);
+    pass = streamedErrors(options, b, nodes, plan, progress, summary);
     if (!pass) return pass.error();
     summary.streamed = plan.windows != nullptr;  // false: voids, so in memory after all
     summary.readOnce = summary.streamed && (plan.memoryHeights || plan.kept);
@@ -241,7 +261,6 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
 
   // Pass 2: chunks and textures.
   const auto meshStart = Clock::now();
-  std::vector<NodeRecord> nodes = enumerateNodes(b.layout);
   ChunkPassOptions chunkOptions;
   chunkOptions.blockCells = b.block;
   chunkOptions.threads = b.threads;
@@ -249,7 +268,15 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
   chunkOptions.mesher = options.mesher;
   chunkOptions.payload = chunkPayloadOf(options);
   TextureBuild textures;
-  if (options.textures) {
+  std::vector<std::vector<uint8_t>> madeTextures;  // by node, when pass 1 made them
+  if (plan.passOneTextures) {
+    auto made = plan.passOneTextures->take();
+    if (!made) return made.error();
+    madeTextures = std::move(made).value();
+    plan.passOneTextures.reset();
+    textures = *plan.textureBuild;
+    chunkOptions.madeTextures = &madeTextures;
+  } else if (options.textures) {
     textures = textureBuildFor(options, b.layout, pass->budget, *b.reader, b.image.get());
     textures.surface.seaVoids = plan.seaVoids;
     chunkOptions.textures = &textures;

@@ -320,6 +320,9 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     }
     auto built = buildBlockChunks(context, blockNodes[task], window, *meshers[w], grid, windows, w);
     if (!built) return fail(built.error());
+    if (options.madeTextures)
+      for (BuiltChunk& chunk : built->chunks)
+        chunk.texture = std::move((*options.madeTextures)[chunk.node]);
     for (size_t k = 0; k < built->chunks.size(); ++k) progress.advance();
     if (pyramid) {
       pyramid->add(blockNodes[task], std::move(built->tiles));
@@ -345,9 +348,12 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   for (auto& m : meshers) m->setHeights(coarseHeights);
   if (pyramid)
     for (auto& t : pyramid->takeTextures()) blockTextures.push_back(std::move(t));
+  if (options.madeTextures)
+    for (uint32_t node : coarseNodes)
+      blockTextures.emplace_back(node, std::move((*options.madeTextures)[node]));
   auto coarse = buildCoarseChunks(context, coarseNodes, meshers, progress);
   if (!coarse) return coarse.error();
-  if (pyramid)
+  if (pyramid || options.madeTextures)
     if (Status s = attachTextures(*coarse, std::move(blockTextures), nodes); !s) return s;
   for (const BuiltChunk& chunk : *coarse)
     if (Status s = append(chunk); !s) return s;

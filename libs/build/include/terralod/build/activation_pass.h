@@ -25,10 +25,24 @@ namespace terralod {
 
 class KeptHeights;
 
+/// Work that reads each block's heights while pass 1 has them (the texture pass of a build that
+/// keeps no raster for pass 2). Pass 1 reads margin() more samples on every side of each block
+/// for it.
+class BlockWindowUser {
+ public:
+  virtual ~BlockWindowUser() = default;
+  virtual int32_t margin() const = 0;
+  /// The block of `side` cells at grid point (x0, y0): (side + 1 + 2 margin)² heights from
+  /// (x0 - margin, y0 - margin), in rows. Called from pass 1's workers, concurrently.
+  virtual Status useBlock(int32_t x0, int32_t y0, int32_t side, const float* heights,
+                          unsigned worker) = 0;
+};
+
 struct ActivationOptions {
   int32_t blockCells = 512;  ///< side of a block (power of two, <= rootCells, >= leafCells)
   unsigned threads = 1;
-  KeptHeights* keep = nullptr;  ///< keeps each block's heights that pass 2 reads (optional)
+  KeptHeights* keep = nullptr;      ///< keeps each block's heights that pass 2 reads (optional)
+  BlockWindowUser* user = nullptr;  ///< given each block's window too (optional)
 };
 
 struct ActivationStats {

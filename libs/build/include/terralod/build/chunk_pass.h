@@ -35,7 +35,10 @@ struct ChunkPassOptions {
   int32_t blockCells = 512;
   unsigned threads = 1;
   int compressionLevel = kDefaultChunkCompressionLevel;
-  const TextureBuild* textures = nullptr;  ///< null: geometry only
+  const TextureBuild* textures = nullptr;  ///< null: geometry only (or textures made already)
+  /// Textures made before this pass (PassOneTextures): every node's blob by node index, empty
+  /// for one that inherits its parent's; taken as the chunks are written. With `textures` null.
+  std::vector<std::vector<uint8_t>>* madeTextures = nullptr;
   MeshMethod mesher = MeshMethod::kRtin;
   ChunkPayloadVersion payload = kStaticChunkPayload;
 };
