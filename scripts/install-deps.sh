@@ -10,6 +10,8 @@ demo_packages=(
   build-essential cmake ninja-build pkg-config
   # rasters, meshes, compression
   libgdal-dev libmeshoptimizer-dev libzstd-dev zlib1g-dev
+  # the allocator: jemalloc, with transparent huge pages (apps/terralod/allocator.cpp)
+  libjemalloc-dev
   # ray casting for the vegetation baker (terralod vegetation bake)
   libembree-dev
   # math, CLI, JSON, images
