@@ -146,10 +146,19 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
   // of the raster instead of two. (--streaming always keeps nothing.) With RTIN chunks, pass 2
   // reads only the vertices and the chunk sides: pass 1 keeps just those, for a raster of any
   // size, as long as they fit the budget; a textured build then makes its textures in pass 1
-  // (when the raster fits the budget: the texture blobs are held until pass 2 writes them).
+  // when the raster and the texture blocks, which are held until pass 2 writes them, both fit.
   const bool automatic = options.streaming == Streaming::kAuto;
   const bool rtin = options.mesher == MeshMethod::kRtin;
-  if (automatic && rtin && (!options.textures || b.fitsMemory)) {
+  if (automatic && rtin && options.textures && b.fitsMemory) {
+    // The textures depend on the heights and the levels' errors, not on the height range.
+    auto levels = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
+    if (!levels) return makeError(info.path, levels.error().message);
+    auto build = std::make_unique<TextureBuild>(
+        textureBuildFor(options, b.layout, *levels, *b.reader, b.image.get()));
+    if (PassOneTextures::blockBytes(*build, nodes) <= options.memoryMB << 20)
+      plan.textureBuild = std::move(build);
+  }
+  if (automatic && rtin && (!options.textures || plan.textureBuild)) {
     plan.kept = std::make_unique<KeptHeights>(b.layout, b.block, options.memoryMB << 20);
     activation.keep = plan.kept.get();
   } else if (automatic && b.fitsMemory) {
@@ -160,11 +169,7 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     auto budget = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
     if (!budget) return makeError(info.path, budget.error().message);
     if (plan.memory) plan.windows->keepInto(*plan.memory);
-    if (attempt == 0 && plan.kept && options.textures) {
-      // The textures depend on the heights and the levels' errors, not on the height range:
-      // made once, in the first attempt.
-      plan.textureBuild = std::make_unique<TextureBuild>(
-          textureBuildFor(options, b.layout, *budget, *b.reader, b.image.get()));
+    if (attempt == 0 && plan.textureBuild) {  // made once, in the first attempt
       plan.passOneTextures = std::make_unique<PassOneTextures>(b.layout, *plan.textureBuild, nodes,
                                                                b.block, b.threads);
       if (Status s = plan.passOneTextures->open(); !s) return s.error();

@@ -47,9 +47,30 @@ PassOneTextures::PassOneTextures(const TreeLayout& layout, const TextureBuild& b
 
 PassOneTextures::~PassOneTextures() = default;
 
-Status PassOneTextures::open() { return mPass.open(); }
+Status PassOneTextures::open() {
+  return mPass.open();
+}
 
-int32_t PassOneTextures::margin() const { return BlockTexels::kMargin; }
+uint64_t PassOneTextures::blockBytes(const TextureBuild& build,
+                                     const std::vector<NodeRecord>& nodes) {
+  std::vector<uint64_t> perNode(build.plan.size(), 0);
+  for (size_t level = 0; level < build.plan.size(); ++level) {
+    const TextureLevel& t = build.plan[level];
+    if (t.inherited) continue;
+    for (uint32_t m = 0; m < mipCount(t.colorSize); ++m)
+      perNode[level] += mipBytes(build.colourEncoding(), t.colorSize, m);
+    for (uint32_t m = 0; m < mipCount(t.normalSize); ++m)
+      perNode[level] += mipBytes(TextureEncoding::kBc5, t.normalSize, m);
+  }
+  uint64_t bytes = 0;
+  for (const NodeRecord& n : nodes)
+    if (n.level < perNode.size()) bytes += perNode[n.level];
+  return bytes;
+}
+
+int32_t PassOneTextures::margin() const {
+  return BlockTexels::kMargin;
+}
 
 Status PassOneTextures::useBlock(int32_t x0, int32_t y0, int32_t side, const float* heights,
                                  unsigned worker) {

@@ -211,6 +211,39 @@ TEST(Builder, TexturesMadeInPassOneSurviveItsSecondAttempt) {
   EXPECT_EQ(fileBytes(dir.file("once.tlod")), fileBytes(dir.file("windows.tlod")));
 }
 
+// Texture blocks held from pass 1 to pass 2 must fit the memory budget too: when they would
+// not, the raster is kept whole (it fits) and pass 2 makes the textures, with the same bytes.
+// 700 x 500 with a texture per chunk: 1.4 MB of heights, more than 2 MB of texture blocks.
+TEST(Builder, TexturesTooLargeToHoldAreMadeInPassTwo) {
+  TempDir dir;
+  test::writeGeoTiff(test::makeTestTerrain(700, 500, 36), dir.file("in.tif"), 5.0);
+  auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
+    BuildOptions options;
+    options.input = dir.file("in.tif");
+    options.output = dir.file(name);
+    options.streaming = streaming;
+    options.streamAboveSamples = 1000;
+    options.memoryMB = memoryMB;
+    options.blockCells = 64;
+    options.chunkCells = 16;
+    options.threads = 2;
+    options.textureSharing = TextureSharing::kEveryChunk;
+    NullProgress progress;
+    auto summary = buildTileset(options, progress, [](const std::string&) {});
+    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
+    return summary ? *summary : BuildSummary{};
+  };
+  const BuildSummary tight = buildWith(Streaming::kAuto, 2, "tight.tlod");
+  const BuildSummary roomy = buildWith(Streaming::kAuto, 64, "roomy.tlod");
+  const BuildSummary windows = buildWith(Streaming::kAlways, 64, "windows.tlod");
+  EXPECT_FALSE(windows.readOnce);
+  EXPECT_TRUE(tight.readOnce);
+  EXPECT_EQ(tight.keptSamples, 0u);  // every sample, in a Heightfield
+  EXPECT_GT(roomy.keptSamples, 0u);  // textures in pass 1, KeptHeights
+  EXPECT_EQ(fileBytes(dir.file("tight.tlod")), fileBytes(dir.file("windows.tlod")));
+  EXPECT_EQ(fileBytes(dir.file("roomy.tlod")), fileBytes(dir.file("windows.tlod")));
+}
+
 // Untextured, what pass 1 keeps has a budget of its own: a raster larger than --memory-mb is
 // still read once when the heights its meshes need fit.
 TEST(Builder, UntexturedBuildKeepsWhatFitsTheBudget) {

@@ -28,6 +28,10 @@ class PassOneTextures final : public BlockWindowUser {
   /// Opens the per-thread image readers.
   Status open();
 
+  /// The bytes of every node's texture blocks (all mips, before zstd): about what is held from
+  /// pass 1 to pass 2, for deciding whether that fits the memory budget.
+  static uint64_t blockBytes(const TextureBuild& build, const std::vector<NodeRecord>& nodes);
+
   int32_t margin() const override;
   Status useBlock(int32_t x0, int32_t y0, int32_t side, const float* heights,
                   unsigned worker) override;
@@ -42,9 +46,9 @@ class PassOneTextures final : public BlockWindowUser {
   int32_t mBlock = 0;
   TexturePass mPass;
   TilePyramid mPyramid;
-  std::vector<uint32_t> mBlockNodes;              // by block, row-major over the grid
-  std::vector<std::vector<uint8_t>> mBlobs;       // by node
-  std::vector<uint8_t> mDone;                     // by block
+  std::vector<uint32_t> mBlockNodes;         // by block, row-major over the grid
+  std::vector<std::vector<uint8_t>> mBlobs;  // by node
+  std::vector<uint8_t> mDone;                // by block
 };
 
 }  // namespace terralod
