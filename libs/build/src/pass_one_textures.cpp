@@ -31,7 +31,6 @@ PassOneTextures::PassOneTextures(const TreeLayout& layout, const TextureBuild& b
                                  const std::vector<NodeRecord>& nodes, int32_t blockCells,
                                  unsigned threads)
     : mLayout(layout),
-      mNodes(nodes),
       mBlock(std::clamp(blockCells, layout.leafCells, layout.rootCells)),
       mPass(layout, build, nodes, threads),
       mPyramid(mPass, nodes,

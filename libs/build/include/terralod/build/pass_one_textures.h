@@ -21,7 +21,7 @@ namespace terralod {
 
 class PassOneTextures final : public BlockWindowUser {
  public:
-  /// `nodes` is enumerateNodes(layout); `blockCells` the pass's block side.
+  /// `nodes` is enumerateNodes(layout) and outlives this; `blockCells` the pass's block side.
   PassOneTextures(const TreeLayout& layout, const TextureBuild& build,
                   const std::vector<NodeRecord>& nodes, int32_t blockCells, unsigned threads);
   ~PassOneTextures() override;
@@ -42,7 +42,6 @@ class PassOneTextures final : public BlockWindowUser {
 
  private:
   const TreeLayout& mLayout;
-  const std::vector<NodeRecord>& mNodes;
   int32_t mBlock = 0;
   TexturePass mPass;
   TilePyramid mPyramid;
