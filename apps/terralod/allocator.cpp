@@ -13,7 +13,8 @@
 // - dirty_decay_ms:30000, muzzy_decay_ms:-1: freed memory goes back to the kernel over 30 s,
 //   and then lazily (MADV_FREE, reclaimed only under memory pressure), not while a build
 //   still needs it.
-// Measured on the 8193² synths against glibc's malloc (docs/benchmarks.md, "The allocator").
+// Measured on the 8193² synths against glibc's malloc (docs/benchmarks.md, "Textured builds
+// and the allocator").
 // MALLOC_CONF in the environment still overrides any of it.
 extern "C" {
 // Read by jemalloc when it initialises (the name is its documented hook).
