@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 
 #include "tamper_chunk.h"
@@ -50,6 +51,23 @@ BuildSummary build(const std::string& input, const std::string& output, double m
   options.maxError = maxError;
   options.threads = threads;
   options.chunkCells = chunkCells;
+  NullProgress progress;
+  auto summary = buildTileset(options, progress, [](const std::string&) {});
+  EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
+  return summary ? *summary : BuildSummary{};
+}
+
+// The read-once tests' builds: `streaming`, 2 threads, streamed from 1,000 samples up (these
+// rasters are small), the rest as `set` leaves the options.
+BuildSummary buildStreamed(const std::string& input, const std::string& output, Streaming streaming,
+                           const std::function<void(BuildOptions&)>& set) {
+  BuildOptions options;
+  options.input = input;
+  options.output = output;
+  options.streaming = streaming;
+  options.streamAboveSamples = 1000;
+  options.threads = 2;
+  set(options);
   NullProgress progress;
   auto summary = buildTileset(options, progress, [](const std::string&) {});
   EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
@@ -139,21 +157,13 @@ TEST(Builder, StreamedBuildReadOnceIsTheSameTileset) {
   test::writeGeoTiff(test::makeTestTerrain(301, 211, 33), dir.file("in.tif"), 5.0);
   auto buildWith = [&](Streaming streaming, uint64_t memoryMB, bool textures,
                        const std::string& name) {
-    BuildOptions options;
-    options.input = dir.file("in.tif");
-    options.output = dir.file(name);
-    options.streaming = streaming;
-    options.streamAboveSamples = 1000;
-    options.memoryMB = memoryMB;
-    options.blockCells = 32;
-    options.chunkCells = 16;
-    options.threads = 2;
-    options.textures = textures;
-    options.maxError = textures ? 1.0 : 0.25;
-    NullProgress progress;
-    auto summary = buildTileset(options, progress, [](const std::string&) {});
-    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
-    return summary ? *summary : BuildSummary{};
+    return buildStreamed(dir.file("in.tif"), dir.file(name), streaming, [&](BuildOptions& o) {
+      o.memoryMB = memoryMB;
+      o.blockCells = 32;
+      o.chunkCells = 16;
+      o.textures = textures;
+      o.maxError = textures ? 1.0 : 0.25;
+    });
   };
   for (const bool textures : {true, false}) {
     SCOPED_TRACE(textures ? "textured" : "untextured");
@@ -188,19 +198,11 @@ TEST(Builder, TexturesMadeInPassOneSurviveItsSecondAttempt) {
   h(150, 113) += 3000.0f;
   test::writeGeoTiff(h, dir.file("in.tif"), 5.0);
   auto buildWith = [&](Streaming streaming, const std::string& name) {
-    BuildOptions options;
-    options.input = dir.file("in.tif");
-    options.output = dir.file(name);
-    options.streaming = streaming;
-    options.streamAboveSamples = 1000;
-    options.blockCells = 32;
-    options.chunkCells = 16;
-    options.threads = 2;
-    options.maxError = 1.0;
-    NullProgress progress;
-    auto summary = buildTileset(options, progress, [](const std::string&) {});
-    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
-    return summary ? *summary : BuildSummary{};
+    return buildStreamed(dir.file("in.tif"), dir.file(name), streaming, [](BuildOptions& o) {
+      o.blockCells = 32;
+      o.chunkCells = 16;
+      o.maxError = 1.0;
+    });
   };
   const BuildSummary once = buildWith(Streaming::kAuto, "once.tlod");
   const BuildSummary windows = buildWith(Streaming::kAlways, "windows.tlod");
@@ -218,20 +220,12 @@ TEST(Builder, TexturesTooLargeToHoldAreMadeInPassTwo) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(700, 500, 36), dir.file("in.tif"), 5.0);
   auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
-    BuildOptions options;
-    options.input = dir.file("in.tif");
-    options.output = dir.file(name);
-    options.streaming = streaming;
-    options.streamAboveSamples = 1000;
-    options.memoryMB = memoryMB;
-    options.blockCells = 64;
-    options.chunkCells = 16;
-    options.threads = 2;
-    options.textureSharing = TextureSharing::kEveryChunk;
-    NullProgress progress;
-    auto summary = buildTileset(options, progress, [](const std::string&) {});
-    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
-    return summary ? *summary : BuildSummary{};
+    return buildStreamed(dir.file("in.tif"), dir.file(name), streaming, [&](BuildOptions& o) {
+      o.memoryMB = memoryMB;
+      o.blockCells = 64;
+      o.chunkCells = 16;
+      o.textureSharing = TextureSharing::kEveryChunk;
+    });
   };
   const BuildSummary tight = buildWith(Streaming::kAuto, 2, "tight.tlod");
   const BuildSummary roomy = buildWith(Streaming::kAuto, 64, "roomy.tlod");
@@ -250,18 +244,11 @@ TEST(Builder, UntexturedBuildKeepsWhatFitsTheBudget) {
   TempDir dir;
   test::writeGeoTiff(test::makeTestTerrain(700, 500, 34), dir.file("in.tif"), 5.0);  // 1.4 MB
   auto buildWith = [&](Streaming streaming, uint64_t memoryMB, const std::string& name) {
-    BuildOptions options;
-    options.input = dir.file("in.tif");
-    options.output = dir.file(name);
-    options.streaming = streaming;
-    options.memoryMB = memoryMB;
-    options.blockCells = 64;
-    options.threads = 2;
-    options.textures = false;
-    NullProgress progress;
-    auto summary = buildTileset(options, progress, [](const std::string&) {});
-    EXPECT_TRUE(summary.ok()) << (summary ? "" : summary.error().message);
-    return summary ? *summary : BuildSummary{};
+    return buildStreamed(dir.file("in.tif"), dir.file(name), streaming, [&](BuildOptions& o) {
+      o.memoryMB = memoryMB;
+      o.blockCells = 64;
+      o.textures = false;
+    });
   };
   const BuildSummary kept = buildWith(Streaming::kAuto, 1, "kept.tlod");
   const BuildSummary windows = buildWith(Streaming::kAlways, 1, "windows.tlod");
