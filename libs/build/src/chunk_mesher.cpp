@@ -93,33 +93,22 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
                 minY = std::min({t.a.y, t.b.y, t.apex.y});
   if (minX >= w || minY >= h) return;  // padding only
 
-  auto addTriangle = [&](const ClipVertex& a, const ClipVertex& b, const ClipVertex& c) {
-    const int64_t o = orient2d(a.p, b.p, c.p);
+  // Triangle (a, b, c) wound counter-clockwise; za() etc. give a vertex's height, called only
+  // for a new vertex. New vertices are numbered in the order the index list first names them
+  // (fetch order).
+  auto addTriangle = [&](GridPoint a, GridPoint b, GridPoint c, auto&& za, auto&& zb, auto&& zc) {
+    const int64_t o = orient2d(a, b, c);
     if (o == 0) return;
-    // Number new vertices in the order the index list first names them (fetch order).
-    const ClipVertex& second = o > 0 ? b : c;
-    const ClipVertex& third = o > 0 ? c : b;
-    const uint32_t i0 = vertexIndex(
-        mesh, a.p, [&] { return a.z; }, parent);
-    const uint32_t i1 = vertexIndex(
-        mesh, second.p, [&] { return second.z; }, parent);
-    const uint32_t i2 = vertexIndex(
-        mesh, third.p, [&] { return third.z; }, parent);
+    const uint32_t i0 = vertexIndex(mesh, a, za, parent);
+    const uint32_t i1 = o > 0 ? vertexIndex(mesh, b, zb, parent) : vertexIndex(mesh, c, zc, parent);
+    const uint32_t i2 = o > 0 ? vertexIndex(mesh, c, zc, parent) : vertexIndex(mesh, b, zb, parent);
     mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
   };
 
   if (maxX <= w && maxY <= h) {
     // Inside the data: a vertex's height is the data's, read once when the vertex is new.
-    const int64_t o = orient2d(t.a, t.b, t.apex);
-    if (o == 0) return;
-    auto data = [&](GridPoint p) {
-      return vertexIndex(
-          mesh, p, [&] { return mHeights->at(p.x, p.y); }, parent);
-    };
-    const uint32_t i0 = data(t.a);
-    const uint32_t i1 = data(o > 0 ? t.b : t.apex);
-    const uint32_t i2 = data(o > 0 ? t.apex : t.b);
-    mesh.surfaceIndices.insert(mesh.surfaceIndices.end(), {i0, i1, i2});
+    auto data = [this](GridPoint p) { return [this, p] { return mHeights->at(p.x, p.y); }; };
+    addTriangle(t.a, t.b, t.apex, data(t.a), data(t.b), data(t.apex));
     return;
   }
   ClipVertex poly[8];
@@ -131,7 +120,10 @@ void ChunkMesher::emitTriangle(ChunkMesh& mesh, const BinTriangle& t, const Plan
   };
   if (maxX > w) clipToLine(poly, n, true, w, between);
   if (maxY > h) clipToLine(poly, n, false, h, between);
-  for (int i = 1; i + 1 < n; ++i) addTriangle(poly[0], poly[i], poly[i + 1]);
+  auto clipped = [](const ClipVertex& v) { return [&v] { return v.z; }; };
+  for (int i = 1; i + 1 < n; ++i)
+    addTriangle(poly[0].p, poly[i].p, poly[i + 1].p, clipped(poly[0]), clipped(poly[i]),
+                clipped(poly[i + 1]));
 }
 
 void ChunkMesher::addSkirts(ChunkMesh& mesh) {

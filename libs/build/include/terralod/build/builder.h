@@ -126,7 +126,7 @@ struct BuildSummary {
   uint64_t sourceSamples = 0;
   bool streamed = false;     ///< the raster was read in windows, never whole
   bool readOnce = false;     ///< streamed, and pass 1 kept the samples for pass 2 (within budget)
-  uint64_t keptSamples = 0;  ///< read once without textures: the samples pass 1 kept (KeptHeights)
+  uint64_t keptSamples = 0;  ///< read once, RTIN: the samples pass 1 kept (KeptHeights)
   int errorPasses = 0;       ///< 2 when the streamed height range estimate was too small
   double loadSeconds = 0, errorSeconds = 0, meshSeconds = 0, totalSeconds = 0;
   uint64_t trianglesScanned = 0, trianglesBounded = 0;
