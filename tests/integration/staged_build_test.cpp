@@ -118,7 +118,7 @@ TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
             0);
   for (int t = 0; t < 2; ++t)
     ASSERT_EQ(runTerralod({"build-stage", "pass1", work, "--task", std::to_string(t)}).exitCode, 0);
-  const std::string victim = work + "/pass1/1.halo";
+  const std::string victim = work + "/pass1/job-1.halo";
   const std::string bytes = readWholeFile(victim);
   ASSERT_GT(bytes.size(), 40u);
   std::ofstream(victim, std::ios::binary) << bytes.substr(0, bytes.size() - 7);
@@ -130,7 +130,7 @@ TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
   EXPECT_FALSE(fs::exists(file("damaged.tlod")));
 }
 
-// The files the coarse job and assemble read a piece at a time (a job's textures, a block's
+// The files the coarse job and assemble read a piece at a time (a job's textures, its
 // chunks, frontier tiles) are checked against their CRC only at their end, after what they held has
 // been written on: a byte changed in the middle must still give one line and no output.
 TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
@@ -165,13 +165,14 @@ TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
   expectOneDamagedLine(stage("coarse"), tiles);
   EXPECT_FALSE(fs::exists(work + "/coarse.chunks")) << "no coarse.chunks from damaged tiles";
   std::ofstream(tiles, std::ios::binary | std::ios::trunc) << tilesBefore;
+  ASSERT_EQ(stage("coarse").exitCode, 0);
+  // A job's textures, which assemble copies into the tileset as it reads them.
   const std::string textures = work + "/pass2/job-1.textures";
   const std::string original = damage(textures);
-  expectOneDamagedLine(stage("coarse"), textures);
-  EXPECT_FALSE(fs::exists(work + "/coarse.chunks")) << "no coarse.chunks from damaged input";
+  expectOneDamagedLine(stage("assemble"), textures);
+  EXPECT_FALSE(fs::exists(out)) << "no tileset from damaged textures";
   std::ofstream(textures, std::ios::binary | std::ios::trunc) << original;
-  ASSERT_EQ(stage("coarse").exitCode, 0);
-  const std::string chunks = work + "/pass2/5.chunks";
+  const std::string chunks = work + "/pass2/job-2.chunks";
   damage(chunks);
   expectOneDamagedLine(stage("assemble"), chunks);
   EXPECT_FALSE(fs::exists(out)) << "no tileset from damaged input";

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
+#include <numeric>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -36,35 +37,35 @@ namespace fs = std::filesystem;
 
 // ---- Where things are ----------------------------------------------------------------------
 
-// WORK/plan.json; per block K: pass1/K.halo, pass1/K.grid, reduce/K.halo, pass2/K.chunks,
-// pass2/K.coarse; per job J (textured): pass2/job-J.textures, pass2/job-J.tiles; once:
-// reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
+// WORK/plan.json; per job J: pass1/job-J.halo, pass1/job-J.grid, reduce/job-J.halo,
+// pass2/job-J.chunks, pass2/job-J.coarse and (textured) pass2/job-J.textures,
+// pass2/job-J.tiles; once: reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
 std::string planPath(const std::string& work) {
   return work + "/plan.json";
 }
-std::string blockFile(const std::string& work, const char* stage, size_t k, const char* ext) {
-  return work + "/" + stage + "/" + std::to_string(k) + "." + ext;
+std::string jobFile(const std::string& work, const char* stage, int job, const char* ext) {
+  return work + "/" + stage + "/job-" + std::to_string(job) + "." + ext;
 }
-std::string pass1Halo(const std::string& work, size_t k) {
-  return blockFile(work, "pass1", k, "halo");
+std::string pass1Halos(const std::string& work, int job) {
+  return jobFile(work, "pass1", job, "halo");
 }
-std::string pass1Grid(const std::string& work, size_t k) {
-  return blockFile(work, "pass1", k, "grid");
+std::string pass1Grids(const std::string& work, int job) {
+  return jobFile(work, "pass1", job, "grid");
 }
-std::string reducedHalo(const std::string& work, size_t k) {
-  return blockFile(work, "reduce", k, "halo");
+std::string reducedHalos(const std::string& work, int job) {
+  return jobFile(work, "reduce", job, "halo");
 }
-std::string pass2Chunks(const std::string& work, size_t k) {
-  return blockFile(work, "pass2", k, "chunks");
+std::string pass2Chunks(const std::string& work, int job) {
+  return jobFile(work, "pass2", job, "chunks");
 }
-std::string pass2Coarse(const std::string& work, size_t k) {
-  return blockFile(work, "pass2", k, "coarse");
+std::string pass2Coarse(const std::string& work, int job) {
+  return jobFile(work, "pass2", job, "coarse");
 }
 std::string jobTextures(const std::string& work, int job) {
-  return work + "/pass2/job-" + std::to_string(job) + ".textures";
+  return jobFile(work, "pass2", job, "textures");
 }
 std::string jobTiles(const std::string& work, int job) {
-  return work + "/pass2/job-" + std::to_string(job) + ".tiles";
+  return jobFile(work, "pass2", job, "tiles");
 }
 std::string coarsePoints(const std::string& work) {
   return work + "/reduce/coarse.points";
@@ -267,10 +268,8 @@ std::vector<uint8_t> packPass1Halo(const Pass1Halo& h) {
   return std::move(p.bytes());
 }
 
-Result<Pass1Halo> readPass1Halo(const std::string& path) {
-  auto bytes = readStageFile(path, StageFile::kPass1Halo);
-  if (!bytes) return bytes.error();
-  Unpacker u(bytes->bytes());
+Result<Pass1Halo> unpackPass1Halo(std::span<const uint8_t> record, const std::string& path) {
+  Unpacker u(record);
   Pass1Halo h;
   h.minHeight = u.get<double>();
   h.maxHeight = u.get<double>();
@@ -318,15 +317,14 @@ void packChunkMesh(Packer& p, const BuiltChunk& c, const std::vector<NodeRecord>
   p.putBytes(c.blob);
 }
 
-// Built chunks with their node records.
+// Built chunks with their node records (what follows a chunk file's count).
 std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
                                 const std::vector<NodeRecord>& nodes) {
   Packer p;
-  size_t bytes = 8;
+  size_t bytes = 0;
   for (const BuiltChunk& c : chunks)
     bytes += 4 + 3 * 8 + kNodeRecordBytes + c.blob.size() + c.texture.size();
   p.reserve(bytes);
-  p.put(uint64_t(chunks.size()));
   for (const BuiltChunk& c : chunks) {
     packChunkMesh(p, c, nodes);
     p.putBytes(c.texture);
@@ -334,10 +332,84 @@ std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
   return std::move(p.bytes());
 }
 
+// A chunk file from packChunks' pieces and their chunk counts.
+Status writeChunkFile(const std::string& path, const std::vector<std::vector<uint8_t>>& pieces,
+                      const std::vector<uint64_t>& counts) {
+  auto out = StageFileWriter::create(path, StageFile::kChunks);
+  if (!out) return out.error();
+  uint8_t count[8];
+  ByteWriter(count).put(std::accumulate(counts.begin(), counts.end(), uint64_t{0}));
+  if (Status st = out->write(count); !st) return st;
+  for (const auto& piece : pieces)
+    if (Status st = out->write(piece); !st) return st;
+  return out->commit();
+}
+
+// The texture blobs of coarse chunks that pass-2 jobs made (block nodes, and nodes above
+// them whose blocks are all one job's): assemble reads them from the jobs' files in step with
+// coarse.chunks (both in node order), where the coarse job left them empty. They are most of
+// a textured tileset's bytes, so they are copied once, not through coarse.chunks as well.
+class JobTextures {
+ public:
+  JobTextures() = default;
+  /// Which job made each node's texture (-1: none did), as the coarse job and assemble derive
+  /// it from the plan.
+  static std::vector<int> madeBy(const StageContext& s, const std::vector<NodeRecord>& nodes) {
+    const int32_t blockLevel = blockLevelOf(s.layout, s.block);
+    std::vector<int> by(nodes.size(), -1);
+    for (int job = 0; job < s.plan.jobs; ++job) {
+      const std::vector<uint32_t> blocks = jobBlockNodes(s, job);
+      const std::vector<uint8_t> builds = TilePyramid::buildableFrom(nodes, blockLevel, blocks);
+      for (size_t i = 0; i < nodes.size(); ++i)
+        if (builds[i]) by[i] = job;
+      for (uint32_t b : blocks) by[b] = job;
+    }
+    return by;
+  }
+  static Result<JobTextures> open(const std::string& work, const StageContext& s) {
+    JobTextures t;
+    t.mMadeBy = madeBy(s, s.nodes);
+    for (int job = 0; job < s.plan.jobs; ++job) {
+      auto reader = StageFileReader::open(jobTextures(work, job), StageFile::kJobTextures);
+      if (!reader) return reader.error();
+      auto count = reader->get<uint64_t>();
+      if (!count) return makeError(reader->path(), "damaged (records do not add up)");
+      t.mLeft.push_back(*count);
+      t.mJobs.push_back(std::move(*reader));
+    }
+    return t;
+  }
+  /// The texture a job made for `node` (valid until the next call), or nullopt if none did.
+  Result<std::optional<std::span<const uint8_t>>> take(uint32_t node) {
+    if (node >= mMadeBy.size() || mMadeBy[node] < 0)
+      return std::optional<std::span<const uint8_t>>();
+    const size_t job = size_t(mMadeBy[node]);
+    StageFileReader& r = mJobs[job];
+    if (mLeft[job] == 0) return makeError(r.path(), "damaged (records do not add up)");
+    --mLeft[job];
+    auto stored = r.get<uint32_t>();
+    auto texture = stored && *stored == node ? r.getView() : std::nullopt;
+    if (!texture) return makeError(r.path(), "damaged (records do not add up)");
+    return std::optional<std::span<const uint8_t>>(*texture);
+  }
+  /// Every job's file read to its end, with its checksum right.
+  Status finish() {
+    for (StageFileReader& r : mJobs)
+      if (Status st = r.finish(); !st) return st;
+    return {};
+  }
+
+ private:
+  std::vector<int> mMadeBy;
+  std::vector<StageFileReader> mJobs;
+  std::vector<uint64_t> mLeft;
+};
+
 // Reads built chunks back, copying their statistics into `nodes`, and appends them (a piece
-// at a time: the file's checksum is checked at its end, before the tileset can be finished).
+// at a time: the file's checksum is checked at its end, before the tileset can be finished),
+// each with the texture `jobs` holds for it, else its own.
 Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
-                        TilesetWriter& writer) {
+                        TilesetWriter& writer, JobTextures& jobs) {
   auto in = StageFileReader::open(path, StageFile::kChunks);
   if (!in) return in.error();
   auto damaged = [&] { return makeError(path, "damaged (records do not add up)"); };
@@ -363,8 +435,11 @@ Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
     auto offset = writer.appendBlob(*blob);
     if (!offset) return offset.error();
     n.blobOffset = *offset;
-    const auto texture = in->getView();
+    auto texture = in->getView();
     if (!texture) return damaged();
+    auto made = jobs.take(*node);
+    if (!made) return made.error();
+    if (*made) texture = **made;
     if (!texture->empty()) {
       if (auto at = writer.appendBlob(*texture); !at) return at.error();
       n.flags |= kNodeHasTexture;
@@ -453,10 +528,8 @@ std::vector<uint8_t> packBlockCoarse(const BlockCoarse& c) {
   return std::move(p.bytes());
 }
 
-Result<BlockCoarse> readBlockCoarse(const std::string& path) {
-  auto bytes = readStageFile(path, StageFile::kBlockCoarse);
-  if (!bytes) return bytes.error();
-  Unpacker u(bytes->bytes());
+Result<BlockCoarse> unpackBlockCoarse(std::span<const uint8_t> record, const std::string& path) {
+  Unpacker u(record);
   BlockCoarse c;
   c.heights = u.getKeyed<float>();
   c.activations = u.getKeyed<uint8_t>();
@@ -604,6 +677,7 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
   std::vector<BlockScratch> scratch(threads);
   std::vector<std::vector<float>> heights(threads);
   const auto range = s.plan.jobBlocks(job);
+  std::vector<std::vector<uint8_t>> grids(range[1] - range[0]), halos(grids.size());
   progress.begin("errors", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint o = s.origin(k);
@@ -620,17 +694,16 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     h.square = p.square;
     h.halo = haloValues(p.grid, haloOf(s.layout, o, s.block));
     h.lines = linesOf(s.layout, o, s.block, heights[w].data());
-    if (Status st = writeStageFile(pass1Grid(work, k), StageFile::kPass1Grid, p.grid.nibbles());
-        !st)
-      return st;
-    if (Status st = writeStageFile(pass1Halo(work, k), StageFile::kPass1Halo, packPass1Halo(h));
-        !st)
-      return st;
+    grids[k - range[0]].assign(p.grid.nibbles().begin(), p.grid.nibbles().end());
+    halos[k - range[0]] = packPass1Halo(h);
     progress.advance();
     return {};
   });
   progress.end();
-  return done;
+  if (!done) return done;
+  if (Status st = writeBlockRecords(pass1Grids(work, job), StageFile::kPass1Grids, grids); !st)
+    return st;
+  return writeBlockRecords(pass1Halos(work, job), StageFile::kPass1Halos, halos);
 }
 
 Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
@@ -642,19 +715,25 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
   std::vector<BlockSquare> squares(store.blockCount());
   double zMin = std::numeric_limits<double>::infinity(), zMax = -zMin;
   progress.begin("borders", s.plan.blocks.size());
-  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
-    auto h = readPass1Halo(pass1Halo(work, k));
-    if (!h) return h.error();
-    if (h->sawVoid) return makeError(s.plan.options.input, kVoidsRefused);
-    const size_t b = s.gridBlock(k);
-    if (h->halo.size() != store.values(b).size())
-      return makeError(pass1Halo(work, k), "was written for another block layout");
-    store.values(b) = std::move(h->halo);
-    squares[b] = h->square;
-    recordLines(lines, h->lines);
-    zMin = std::min(zMin, h->minHeight);
-    zMax = std::max(zMax, h->maxHeight);
-    progress.advance();
+  for (int job = 0; job < s.plan.jobs; ++job) {
+    const auto range = s.plan.jobBlocks(job);
+    const std::string path = pass1Halos(work, job);
+    auto records = BlockRecords::read(path, StageFile::kPass1Halos, range[1] - range[0]);
+    if (!records) return records.error();
+    for (size_t k = range[0]; k < range[1]; ++k) {
+      auto h = unpackPass1Halo((*records)[k - range[0]], path);
+      if (!h) return h.error();
+      if (h->sawVoid) return makeError(s.plan.options.input, kVoidsRefused);
+      const size_t b = s.gridBlock(k);
+      if (h->halo.size() != store.values(b).size())
+        return makeError(path, "was written for another block layout");
+      store.values(b) = std::move(h->halo);
+      squares[b] = h->square;
+      recordLines(lines, h->lines);
+      zMin = std::min(zMin, h->minHeight);
+      zMax = std::max(zMax, h->maxHeight);
+      progress.advance();
+    }
   }
   progress.end();
   if (!s.plan.exactRange && s.plan.attempt == 0 &&
@@ -678,11 +757,14 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
     return Error{"internal error: the border reduce reached " + std::to_string(store.misses()) +
                  " points outside the halos and " + std::to_string(lines.misses()) +
                  " heights off the block lines"};
-  for (size_t k = 0; k < s.plan.blocks.size(); ++k)
-    if (Status st =
-            writeStageFile(reducedHalo(work, k), StageFile::kReduced, store.values(s.gridBlock(k)));
+  for (int job = 0; job < s.plan.jobs; ++job) {
+    const auto range = s.plan.jobBlocks(job);
+    std::vector<std::vector<uint8_t>> halos;
+    for (size_t k = range[0]; k < range[1]; ++k) halos.push_back(store.values(s.gridBlock(k)));
+    if (Status st = writeBlockRecords(reducedHalos(work, job), StageFile::kReducedHalos, halos);
         !st)
       return st.error();
+  }
   // Halo points the coarse levels use (blocks without data have nothing else).
   const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
   Packer p;
@@ -730,6 +812,13 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   std::vector<BlockWindow> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
+  const size_t blocks = range[1] - range[0];
+  auto grids = BlockRecords::read(pass1Grids(work, job), StageFile::kPass1Grids, blocks);
+  if (!grids) return grids.error();
+  auto reduced = BlockRecords::read(reducedHalos(work, job), StageFile::kReducedHalos, blocks);
+  if (!reduced) return reduced.error();
+  std::vector<std::vector<uint8_t>> chunks(blocks), coarseRecords(blocks);
+  std::vector<uint64_t> chunkCounts(blocks, 0);
   // The textures above this job's blocks that need no other job's (whole subtrees), and the
   // block nodes' own. Their blobs wait in a temporary file, not in memory.
   std::optional<TilePyramid> pyramid;
@@ -742,18 +831,17 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   progress.begin("meshing", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint origin = s.origin(k);
+    const size_t i = k - range[0];
     ActivationGrid grid = ActivationGrid::window(origin.x, origin.y, s.block, s.block);
-    auto nibbles = readStageFile(pass1Grid(work, k), StageFile::kPass1Grid);
-    if (!nibbles) return nibbles.error();
-    if (nibbles->bytes().size() != grid.nibbles().size())
-      return makeError(pass1Grid(work, k), "was written for another block layout");
-    std::copy(nibbles->bytes().begin(), nibbles->bytes().end(), grid.nibbles().begin());
-    auto reduced = readStageFile(reducedHalo(work, k), StageFile::kReduced);
-    if (!reduced) return reduced.error();
+    const std::span<const uint8_t> nibbles = (*grids)[i];
+    if (nibbles.size() != grid.nibbles().size())
+      return makeError(pass1Grids(work, job), "was written for another block layout");
+    std::copy(nibbles.begin(), nibbles.end(), grid.nibbles().begin());
+    const std::span<const uint8_t> finished = (*reduced)[i];
     const HaloPattern halo = haloOf(s.layout, origin, s.block);
-    if (reduced->bytes().size() != halo.points.size())
-      return makeError(reducedHalo(work, k), "was written for another block layout");
-    applyHalo(grid, halo, {reduced->bytes().begin(), reduced->bytes().end()});
+    if (finished.size() != halo.points.size())
+      return makeError(reducedHalos(work, job), "was written for another block layout");
+    applyHalo(grid, halo, {finished.begin(), finished.end()});
     if (Status st = readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
         !st)
       return st;
@@ -770,19 +858,19 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
       pyramid->add(blockNodes[k], std::move(built->tiles));
       spool.add(blockNodes[k], built->blockTexture);
     }
-    if (Status st = writeStageFile(pass2Chunks(work, k), StageFile::kChunks,
-                                   packChunks(built->chunks, nodes));
-        !st)
-      return st;
-    if (Status st =
-            writeStageFile(pass2Coarse(work, k), StageFile::kBlockCoarse, packBlockCoarse(c));
-        !st)
-      return st;
+    chunks[i] = packChunks(built->chunks, nodes);
+    chunkCounts[i] = built->chunks.size();
+    coarseRecords[i] = packBlockCoarse(c);
     progress.advance();
     return {};
   });
   progress.end();
-  if (!done || !pyramid) return done;
+  if (!done) return done;
+  if (Status st = writeChunkFile(pass2Chunks(work, job), chunks, chunkCounts); !st) return st;
+  if (Status st = writeBlockRecords(pass2Coarse(work, job), StageFile::kBlockCoarse, coarseRecords);
+      !st)
+    return st;
+  if (!pyramid) return {};
   if (Status st = spool.writeSorted(jobTextures(work, job)); !st) return st;
   return writeStageFile(jobTiles(work, job), StageFile::kJobTiles,
                         packFrontier(pyramid->takeFrontier()));
@@ -813,32 +901,16 @@ Result<NodeTextures> topTextures(const std::string& work, const StageContext& s,
   return pyramid.takeTextures();
 }
 
-// Writes coarse.chunks: the coarse chunks in their order, each with its texture from where it
-// was made: the job of its blocks (pass2/job-J.textures, read in step: both are in node
-// order) or `top`. Streamed: one texture is held at a time.
+// Writes coarse.chunks: the coarse chunks in their order, each with the texture this job
+// made (`top`); a texture a pass-2 job made is left empty here, and assemble takes it from
+// that job's file (JobTextures).
 Status writeCoarseChunks(const std::string& work, const StageContext& s,
                          const std::vector<BuiltChunk>& chunks,
                          const std::vector<NodeRecord>& nodes, NodeTextures top, bool textured) {
-  const int32_t blockLevel = blockLevelOf(s.layout, s.block);
   std::unordered_map<uint32_t, size_t> topOf;
   for (size_t i = 0; i < top.size(); ++i) topOf.emplace(top[i].first, i);
-  std::vector<int> builtBy(nodes.size(), -1);
-  std::vector<std::optional<StageFileReader>> jobs(size_t(s.plan.jobs));
-  std::vector<uint64_t> left(jobs.size(), 0);
-  if (textured)
-    for (int job = 0; job < s.plan.jobs; ++job) {
-      const std::vector<uint32_t> blocks = jobBlockNodes(s, job);
-      const std::vector<uint8_t> builds = TilePyramid::buildableFrom(nodes, blockLevel, blocks);
-      for (size_t i = 0; i < nodes.size(); ++i)
-        if (builds[i]) builtBy[i] = job;
-      for (uint32_t b : blocks) builtBy[b] = job;
-      auto reader = StageFileReader::open(jobTextures(work, job), StageFile::kJobTextures);
-      if (!reader) return reader.error();
-      auto count = reader->get<uint64_t>();
-      if (!count) return makeError(reader->path(), "damaged (records do not add up)");
-      left[size_t(job)] = *count;
-      jobs[size_t(job)].emplace(std::move(*reader));
-    }
+  const std::vector<int> madeBy =
+      textured ? JobTextures::madeBy(s, nodes) : std::vector<int>(nodes.size(), -1);
   auto out = StageFileWriter::create(coarseChunks(work), StageFile::kChunks);
   if (!out) return out.error();
   Packer p;
@@ -849,13 +921,8 @@ Status writeCoarseChunks(const std::string& work, const StageContext& s,
       p.putBytes(c.texture);
     } else if (auto t = topOf.find(c.node); t != topOf.end()) {
       p.putBytes(top[t->second].second);
-    } else if (const int job = builtBy[c.node]; job >= 0 && left[size_t(job)] > 0) {
-      StageFileReader& r = *jobs[size_t(job)];
-      --left[size_t(job)];
-      auto node = r.get<uint32_t>();
-      auto texture = node && *node == c.node ? r.getView() : std::nullopt;
-      if (!texture) return makeError(r.path(), "damaged (records do not add up)");
-      p.putBytes(*texture);
+    } else if (madeBy[c.node] >= 0) {
+      p.putBytes({});
     } else {
       return Error{"internal error: chunk " + std::to_string(nodes[c.node].level) + "/" +
                    std::to_string(nodes[c.node].x) + "/" + std::to_string(nodes[c.node].y) +
@@ -864,9 +931,6 @@ Status writeCoarseChunks(const std::string& work, const StageContext& s,
     if (Status st = out->write(p.bytes()); !st) return st;
     p.bytes().clear();
   }
-  for (auto& r : jobs)
-    if (r)
-      if (Status st = r->finish(); !st) return st;
   return out->commit();
 }
 
@@ -888,15 +952,23 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   if (!reduced) return reduced.error();
   points->insert(reduced->activations.begin(), reduced->activations.end());
   progress.begin("coarse", s.plan.blocks.size() + coarseNodes.size());
-  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
-    auto h = readPass1Halo(pass1Halo(work, k));
-    if (!h) return h.error();
-    recordLines(heights, h->lines);
-    auto c = readBlockCoarse(pass2Coarse(work, k));
-    if (!c) return c.error();
-    heights.recordPoints(c->heights);
-    points->insert(c->activations.begin(), c->activations.end());
-    progress.advance();
+  for (int job = 0; job < s.plan.jobs; ++job) {
+    const auto range = s.plan.jobBlocks(job);
+    const std::string halosPath = pass1Halos(work, job), coarsePath = pass2Coarse(work, job);
+    auto halos = BlockRecords::read(halosPath, StageFile::kPass1Halos, range[1] - range[0]);
+    if (!halos) return halos.error();
+    auto coarse = BlockRecords::read(coarsePath, StageFile::kBlockCoarse, range[1] - range[0]);
+    if (!coarse) return coarse.error();
+    for (size_t i = 0; i < range[1] - range[0]; ++i) {
+      auto h = unpackPass1Halo((*halos)[i], halosPath);
+      if (!h) return h.error();
+      recordLines(heights, h->lines);
+      auto c = unpackBlockCoarse((*coarse)[i], coarsePath);
+      if (!c) return c.error();
+      heights.recordPoints(c->heights);
+      points->insert(c->activations.begin(), c->activations.end());
+      progress.advance();
+    }
   }
   const ActivationGrid grid = ActivationGrid::sparse(points);
   auto image = openImage(o, s.reader->info());
@@ -937,12 +1009,18 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   auto writer = TilesetWriter::create(o.output);
   if (!writer) return writer.error();
   std::vector<NodeRecord> nodes = s.nodes;
-  progress.begin("assembling", s.plan.blocks.size() + 1);
-  for (size_t k = 0; k < s.plan.blocks.size(); ++k) {
-    if (Status st = appendChunksFrom(pass2Chunks(work, k), nodes, **writer); !st) return st.error();
+  progress.begin("assembling", size_t(s.plan.jobs) + 1);
+  JobTextures none;
+  for (int job = 0; job < s.plan.jobs; ++job) {
+    if (Status st = appendChunksFrom(pass2Chunks(work, job), nodes, **writer, none); !st)
+      return st.error();
     progress.advance();
   }
-  if (Status st = appendChunksFrom(coarseChunks(work), nodes, **writer); !st) return st.error();
+  auto made = o.textures ? JobTextures::open(work, s) : Result<JobTextures>(JobTextures());
+  if (!made) return made.error();
+  if (Status st = appendChunksFrom(coarseChunks(work), nodes, **writer, *made); !st)
+    return st.error();
+  if (Status st = made->finish(); !st) return st.error();
   progress.end();
   for (const NodeRecord& n : nodes)
     if (n.blobBytes == 0)

@@ -100,6 +100,29 @@ Result<StagePayload> readStageFile(const std::string& path, StageFile kind) {
   return StagePayload(std::move(payload), rawBytes);
 }
 
+Status writeBlockRecords(const std::string& path, StageFile kind,
+                         const std::vector<std::vector<uint8_t>>& records) {
+  Packer p;
+  size_t bytes = 8;
+  for (const auto& r : records) bytes += 8 + r.size();
+  p.reserve(bytes);
+  p.put(uint64_t(records.size()));
+  for (const auto& r : records) p.putBytes(r);
+  return writeStageFile(path, kind, p.bytes());
+}
+
+Result<BlockRecords> BlockRecords::read(const std::string& path, StageFile kind, size_t blocks) {
+  auto payload = readStageFile(path, kind);
+  if (!payload) return payload.error();
+  BlockRecords out(std::move(*payload));
+  Unpacker u(out.mPayload.bytes());
+  const uint64_t count = u.get<uint64_t>();
+  if (u.ok() && count != blocks) return makeError(path, "was written for another block layout");
+  for (uint64_t i = 0; u.ok() && i < count; ++i) out.mRecords.push_back(u.getView());
+  if (!u.ok() || !u.atEnd()) return makeError(path, "damaged (records do not add up)");
+  return out;
+}
+
 Result<StageFileWriter> StageFileWriter::create(const std::string& path, StageFile kind) {
   if (!storedRaw(kind)) return Error{"internal error: only stored-raw stage files are streamed"};
   auto file = AtomicFile::create(path);

@@ -25,15 +25,17 @@
 namespace terralod {
 
 enum class StageFile : uint32_t {
-  kPass1Halo = 1,     ///< a block's halo values, square errors, heights on its lines, range
-  kPass1Grid = 2,     ///< a block's activations (closed square, borders one-sided)
-  kReduced = 3,       ///< a block's finished halo values
+  // 1, 2, 3 and 5 were kinds 10 to 13 for one block per file (before one file per job).
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
-  kBlockCoarse = 5,   ///< what the coarse levels need of a block (points)
   kChunks = 6,        ///< built chunks with their node records (stored as they are)
   // 7 held one block node's float texture tiles (before job frontiers)
   kJobTiles = 8,     ///< a pass-2 job's frontier: nodes' float texture tiles (stored as they are)
   kJobTextures = 9,  ///< the texture blobs of a pass-2 job's block nodes and the nodes it built
+  // One record per block of a job (writeBlockRecords):
+  kPass1Halos = 10,    ///< halo values, square errors, heights on the block lines, range
+  kPass1Grids = 11,    ///< activations (closed square, borders one-sided)
+  kReducedHalos = 12,  ///< finished halo values
+  kBlockCoarse = 13,   ///< what the coarse levels need of a block (points)
 };
 
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
@@ -163,6 +165,27 @@ class StagePayload {
 
 /// Errors name the file ("missing", "not a stage file", "damaged").
 Result<StagePayload> readStageFile(const std::string& path, StageFile kind);
+
+/// A job's per-block results in one file, in the job's block order: u64 count, then a byte
+/// string per block. (One file per block made a pass-1 task create 128 files, and a build
+/// five per block: ext4 spends much of a small task allocating their inodes, and cluster file
+/// systems are slower still at many small files.)
+Status writeBlockRecords(const std::string& path, StageFile kind,
+                         const std::vector<std::vector<uint8_t>>& records);
+
+/// What writeBlockRecords wrote, viewed in place; a count other than `blocks` is "written for
+/// another block layout".
+class BlockRecords {
+ public:
+  static Result<BlockRecords> read(const std::string& path, StageFile kind, size_t blocks);
+  std::span<const uint8_t> operator[](size_t i) const { return mRecords[i]; }
+  size_t size() const { return mRecords.size(); }
+
+ private:
+  explicit BlockRecords(StagePayload payload) : mPayload(std::move(payload)) {}
+  StagePayload mPayload;
+  std::vector<std::span<const uint8_t>> mRecords;
+};
 
 /// A stored-raw stage file written a piece at a time, for payloads not worth holding whole;
 /// the same bytes as writeStageFile of the pieces joined.

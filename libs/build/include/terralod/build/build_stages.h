@@ -5,9 +5,9 @@
 // activation grid or the whole raster. The result is byte for byte the local build's.
 //
 //   plan        (once)      WORK/plan.json
-//   pass1 J     (per job)   WORK/pass1/K.halo, K.grid        for the job's blocks K
-//   reduce      (once)      WORK/reduce/K.halo, coarse.points  (or a new plan: see below)
-//   pass2 J     (per job)   WORK/pass2/K.chunks, K.coarse
+//   pass1 J     (per job)   WORK/pass1/job-J.halo, job-J.grid     (a record per block of J)
+//   reduce      (once)      WORK/reduce/job-J.halo, coarse.points (or a new plan: see below)
+//   pass2 J     (per job)   WORK/pass2/job-J.chunks, job-J.coarse (+ .textures, .tiles)
 //   coarse      (once)      WORK/coarse.chunks
 //   assemble    (once)      OUT.tlod (atomically)
 //
