@@ -694,7 +694,7 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     h.square = p.square;
     h.halo = haloValues(p.grid, haloOf(s.layout, o, s.block));
     h.lines = linesOf(s.layout, o, s.block, heights[w].data());
-    grids[k - range[0]].assign(p.grid.nibbles().begin(), p.grid.nibbles().end());
+    grids[k - range[0]] = compressedRecord(p.grid.nibbles());
     halos[k - range[0]] = packPass1Halo(h);
     progress.advance();
     return {};
@@ -833,10 +833,8 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     const GridPoint origin = s.origin(k);
     const size_t i = k - range[0];
     ActivationGrid grid = ActivationGrid::window(origin.x, origin.y, s.block, s.block);
-    const std::span<const uint8_t> nibbles = (*grids)[i];
-    if (nibbles.size() != grid.nibbles().size())
-      return makeError(pass1Grids(work, job), "was written for another block layout");
-    std::copy(nibbles.begin(), nibbles.end(), grid.nibbles().begin());
+    if (Status st = decompressRecord((*grids)[i], grid.nibbles(), pass1Grids(work, job)); !st)
+      return st;
     const std::span<const uint8_t> finished = (*reduced)[i];
     const HaloPattern halo = haloOf(s.layout, origin, s.block);
     if (finished.size() != halo.points.size())

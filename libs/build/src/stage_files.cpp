@@ -111,6 +111,24 @@ Status writeBlockRecords(const std::string& path, StageFile kind,
   return writeStageFile(path, kind, p.bytes());
 }
 
+std::vector<uint8_t> compressedRecord(std::span<const uint8_t> raw) {
+  std::vector<uint8_t> frame(ZSTD_compressBound(raw.size()));
+  const size_t n = ZSTD_compress(frame.data(), frame.size(), raw.data(), raw.size(), 1);
+  frame.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail with a bound-sized buffer
+  return frame;
+}
+
+Status decompressRecord(std::span<const uint8_t> record, std::span<uint8_t> out,
+                        const std::string& path) {
+  const unsigned long long size = ZSTD_getFrameContentSize(record.data(), record.size());
+  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
+    return makeError(path, "damaged (does not decompress)");
+  if (size != out.size()) return makeError(path, "was written for another block layout");
+  const size_t n = ZSTD_decompress(out.data(), out.size(), record.data(), record.size());
+  if (ZSTD_isError(n) || n != out.size()) return makeError(path, "damaged (does not decompress)");
+  return {};
+}
+
 Result<BlockRecords> BlockRecords::read(const std::string& path, StageFile kind, size_t blocks) {
   auto payload = readStageFile(path, kind);
   if (!payload) return payload.error();

@@ -33,7 +33,7 @@ enum class StageFile : uint32_t {
   kJobTextures = 9,  ///< the texture blobs of a pass-2 job's block nodes and the nodes it built
   // One record per block of a job (writeBlockRecords):
   kPass1Halos = 10,    ///< halo values, square errors, heights on the block lines, range
-  kPass1Grids = 11,    ///< activations (closed square, borders one-sided)
+  kPass1Grids = 11,    ///< activations (closed square, borders one-sided), a zstd frame each
   kReducedHalos = 12,  ///< finished halo values
   kBlockCoarse = 13,   ///< what the coarse levels need of a block (points)
 };
@@ -41,7 +41,7 @@ enum class StageFile : uint32_t {
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
 inline bool storedRaw(StageFile kind) {
   return kind == StageFile::kChunks || kind == StageFile::kJobTiles ||
-         kind == StageFile::kJobTextures;
+         kind == StageFile::kJobTextures || kind == StageFile::kPass1Grids;
 }
 
 /// Growable little-endian writer.
@@ -172,6 +172,14 @@ Result<StagePayload> readStageFile(const std::string& path, StageFile kind);
 /// systems are slower still at many small files.)
 Status writeBlockRecords(const std::string& path, StageFile kind,
                          const std::vector<std::vector<uint8_t>>& records);
+
+/// A record compressed on its own (a zstd frame), for a job's records too large to hold
+/// uncompressed together: its blocks' activation grids (8 MB for 64 blocks of 512 cells).
+std::vector<uint8_t> compressedRecord(std::span<const uint8_t> raw);
+/// Decompresses a compressedRecord into `out`, which must be exactly its size (else the file
+/// is "written for another block layout"); errors name `path`.
+Status decompressRecord(std::span<const uint8_t> record, std::span<uint8_t> out,
+                        const std::string& path);
 
 /// What writeBlockRecords wrote, viewed in place; a count other than `blocks` is "written for
 /// another block layout".
