@@ -948,7 +948,7 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
   auto points = std::make_shared<ActivationGrid::SparsePoints>();
   auto reduced = readReduceSummary(work);
   if (!reduced) return reduced.error();
-  points->insert(reduced->activations.begin(), reduced->activations.end());
+  for (const auto& [key, a] : reduced->activations) points->findOrAdd(key, a);
   progress.begin("coarse", s.plan.blocks.size() + coarseNodes.size());
   for (int job = 0; job < s.plan.jobs; ++job) {
     const auto range = s.plan.jobBlocks(job);
@@ -964,7 +964,7 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
       auto c = unpackBlockCoarse((*coarse)[i], coarsePath);
       if (!c) return c.error();
       heights.recordPoints(c->heights);
-      points->insert(c->activations.begin(), c->activations.end());
+      for (const auto& [key, a] : c->activations) points->findOrAdd(key, a);
       progress.advance();
     }
   }

@@ -38,7 +38,7 @@ void SparseHeights::recordLines(int32_t x0, int32_t y0, int32_t w, int32_t h, co
 
 void SparseHeights::recordPoints(const std::vector<std::pair<uint64_t, float>>& points) {
   std::lock_guard lock(mMutex);
-  mPoints.insert(points.begin(), points.end());
+  for (const auto& [key, height] : points) mPoints.findOrAdd(key, height);
 }
 
 double SparseHeights::at(int32_t x, int32_t y) const {
@@ -54,8 +54,8 @@ double SparseHeights::at(int32_t x, int32_t y) const {
   } else if (x == mLayout.cellsX) {
     v = mColumns.back()[size_t(y)];
   } else {
-    const auto it = mPoints.find(key(x, y));
-    v = it == mPoints.end() ? std::nanf("") : it->second;
+    const float* height = mPoints.find(key(x, y));
+    v = height ? *height : std::nanf("");
   }
   if (std::isnan(v)) mMisses.fetch_add(1, std::memory_order_relaxed);
   return v;

@@ -1,5 +1,6 @@
-// KeyHash against std::unordered_map: the same answers for keys present and absent, across
-// the growth from its first size, and for keys that collide in its low and high bits.
+// KeyHash and KeyMap against std::unordered_map: the same answers for keys present and
+// absent, across the growth from its first size, and for keys that collide in its low and high
+// bits (grid keys (y << 32) | x among them).
 
 #include <gtest/gtest.h>
 
@@ -46,6 +47,27 @@ TEST(KeyHash, KeysThatShareLowOrHighBits) {
   EXPECT_EQ(hash.find(0), -1);
   EXPECT_EQ(hash.find(KeyHash::kNoKey - 1), -1);
   EXPECT_EQ(hash.size(), 9998u);
+}
+
+TEST(KeyMap, GridKeysOfSixtyFourBits) {
+  KeyMap<uint64_t, float> map;
+  std::unordered_map<uint64_t, float> reference;
+  std::mt19937 rng(7);
+  for (int i = 0; i < 100000; ++i) {
+    // Points of a 70,000-sample grid: rows and columns beyond 2^16 reach the high word.
+    const uint64_t key = (uint64_t(rng() % 70000) << 32) | (rng() % 70000);
+    const float value = float(i) * 0.5f;
+    const auto [it, added] = reference.try_emplace(key, value);
+    ASSERT_EQ(map.findOrAdd(key, value), it->second);
+  }
+  EXPECT_EQ(map.size(), reference.size());
+  for (const auto& [key, value] : reference) {
+    const float* found = map.find(key);
+    ASSERT_NE(found, nullptr);
+    EXPECT_EQ(*found, value);
+  }
+  EXPECT_EQ(map.find(uint64_t{70001} << 32), nullptr);
+  EXPECT_EQ(map.find(70001), nullptr);
 }
 
 }  // namespace

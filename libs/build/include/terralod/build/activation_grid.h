@@ -13,9 +13,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <vector>
 
+#include "terralod/core/key_hash.h"
 #include "terralod/core/large_buffer.h"
 
 namespace terralod {
@@ -40,7 +40,7 @@ class ActivationGrid {
     g.mY0 = y0;
     return g;
   }
-  using SparsePoints = std::unordered_map<uint64_t, uint8_t>;  ///< key(x, y) -> activation
+  using SparsePoints = KeyMap<uint64_t, uint8_t, 75>;  ///< key(x, y) -> activation (first kept)
   static ActivationGrid sparse(std::shared_ptr<const SparsePoints> points) {
     ActivationGrid g;
     g.mSparse = std::move(points);
@@ -59,8 +59,8 @@ class ActivationGrid {
 
   uint8_t get(int32_t x, int32_t y) const {
     if (mSparse) [[unlikely]] {
-      const auto it = mSparse->find(key(x, y));
-      return it == mSparse->end() ? 0 : it->second;
+      const uint8_t* value = mSparse->find(key(x, y));
+      return value ? *value : 0;
     }
     x -= mX0;
     y -= mY0;

@@ -7,11 +7,11 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
-#include <unordered_map>
 #include <vector>
 
 #include "terralod/build/height_source.h"
 #include "terralod/build/tree_layout.h"
+#include "terralod/core/key_hash.h"
 
 namespace terralod {
 
@@ -36,7 +36,7 @@ class SparseHeights final : public HeightSampler {
   int32_t mBlock;
   std::vector<std::vector<float>> mRows;  // y = k * block, and y = cellsY last
   std::vector<std::vector<float>> mColumns;
-  std::unordered_map<uint64_t, float> mPoints;
+  KeyMap<uint64_t, float, 75> mPoints;
   std::mutex mMutex;
   mutable std::atomic<uint64_t> mMisses{0};
 };

@@ -1,8 +1,12 @@
 #pragma once
-// 32-bit keys to int32 values, for a set of keys known roughly in advance and far smaller than
-// the key space: open addressing with linear probing, sized for the expected count at half
-// load and doubled when that is passed. No erase. The RTIN codec numbers a large chunk
-// square's vertices with one, where a dense table over the square would be mostly empty.
+// Integer keys to values, for a set of keys known roughly in advance and far smaller than the
+// key space: open addressing with linear probing, sized for the expected count and doubled
+// when more than `kMaxLoadPercent` of the slots would be used (half by default: lookups of
+// absent keys stay short). No erase. The RTIN codec numbers a large chunk square's
+// vertices with one (KeyHash), where a dense table over the square would be mostly empty; the
+// coarse levels of a staged build keep their sparse activations and heights in others, where
+// std::unordered_map spent a fifth of the coarse job in finding keys (a node per key, and a
+// division per lookup).
 
 #include <algorithm>
 #include <bit>
@@ -13,27 +17,28 @@
 
 namespace terralod {
 
-class KeyHash {
+template <typename Key, typename Value, unsigned kMaxLoadPercent = 50>
+class KeyMap {
  public:
   /// The one key that cannot be stored.
-  static constexpr uint32_t kNoKey = ~uint32_t{0};
+  static constexpr Key kNoKey = ~Key{0};
 
   /// Room for `expected` keys before it grows; at most 2^16 up front (an untrusted count
   /// reserves no more).
-  explicit KeyHash(size_t expected) {
-    rehash(std::bit_ceil(2 * std::clamp<size_t>(expected, 8, size_t{1} << 16)));
+  explicit KeyMap(size_t expected = 0) {
+    rehash(std::bit_ceil(slotsFor(std::clamp<size_t>(expected, 8, size_t{1} << 16))));
   }
   size_t size() const { return mCount; }
-  /// The value at `key`, or -1.
-  int32_t find(uint32_t key) const {
+  /// The value at `key`, or null.
+  const Value* find(Key key) const {
     for (size_t i = slotOf(key);; i = (i + 1) & mMask) {
-      if (mEntries[i].key == key) return mEntries[i].value;
-      if (mEntries[i].key == kNoKey) return -1;
+      if (mEntries[i].key == key) return &mEntries[i].value;
+      if (mEntries[i].key == kNoKey) return nullptr;
     }
   }
   /// The value at `key`, set to `value` if it had none.
-  int32_t findOrAdd(uint32_t key, int32_t value) {
-    if (2 * (mCount + 1) > mEntries.size()) rehash(2 * mEntries.size());
+  Value findOrAdd(Key key, Value value) {
+    if (slotsFor(mCount + 1) > mEntries.size()) rehash(2 * mEntries.size());
     for (size_t i = slotOf(key);; i = (i + 1) & mMask) {
       Entry& e = mEntries[i];
       if (e.key == key) return e.value;
@@ -47,15 +52,16 @@ class KeyHash {
 
  private:
   struct Entry {
-    uint32_t key;
-    int32_t value;
+    Key key;
+    Value value;
   };
-  // Fibonacci hashing: the top bits of the key times 2^64 / phi.
-  size_t slotOf(uint32_t key) const {
-    return size_t((uint64_t(key) * 0x9E3779B97F4A7C15ull) >> mShift);
+  static size_t slotsFor(size_t keys) {
+    return (keys * 100 + kMaxLoadPercent - 1) / kMaxLoadPercent;
   }
+  // Fibonacci hashing: the top bits of the key times 2^64 / phi.
+  size_t slotOf(Key key) const { return size_t((uint64_t(key) * 0x9E3779B97F4A7C15ull) >> mShift); }
   void rehash(size_t capacity) {
-    std::vector<Entry> old = std::exchange(mEntries, std::vector<Entry>(capacity, {kNoKey, -1}));
+    std::vector<Entry> old = std::exchange(mEntries, std::vector<Entry>(capacity, {kNoKey, {}}));
     mMask = capacity - 1;
     mShift = 64 - std::countr_zero(capacity);
     mCount = 0;
@@ -65,6 +71,17 @@ class KeyHash {
   std::vector<Entry> mEntries;
   size_t mMask = 0, mCount = 0;
   int mShift = 64;
+};
+
+/// 32-bit keys to int32 values, -1 for a key that is not there.
+class KeyHash : public KeyMap<uint32_t, int32_t> {
+ public:
+  using KeyMap::KeyMap;
+  /// The value at `key`, or -1.
+  int32_t find(uint32_t key) const {
+    const int32_t* value = KeyMap::find(key);
+    return value ? *value : -1;
+  }
 };
 
 }  // namespace terralod
