@@ -32,18 +32,18 @@ class KeyMap {
   /// The value at `key`, or null.
   const Value* find(Key key) const {
     for (size_t i = slotOf(key);; i = (i + 1) & mMask) {
-      if (mEntries[i].key == key) return &mEntries[i].value;
-      if (mEntries[i].key == kNoKey) return nullptr;
+      if (mKeys[i] == key) return &mValues[i];
+      if (mKeys[i] == kNoKey) return nullptr;
     }
   }
   /// The value at `key`, set to `value` if it had none.
   Value findOrAdd(Key key, Value value) {
-    if (slotsFor(mCount + 1) > mEntries.size()) rehash(2 * mEntries.size());
+    if (slotsFor(mCount + 1) > mKeys.size()) rehash(2 * mKeys.size());
     for (size_t i = slotOf(key);; i = (i + 1) & mMask) {
-      Entry& e = mEntries[i];
-      if (e.key == key) return e.value;
-      if (e.key == kNoKey) {
-        e = {key, value};
+      if (mKeys[i] == key) return mValues[i];
+      if (mKeys[i] == kNoKey) {
+        mKeys[i] = key;
+        mValues[i] = value;
         ++mCount;
         return value;
       }
@@ -51,24 +51,23 @@ class KeyMap {
   }
 
  private:
-  struct Entry {
-    Key key;
-    Value value;
-  };
   static size_t slotsFor(size_t keys) {
     return (keys * 100 + kMaxLoadPercent - 1) / kMaxLoadPercent;
   }
   // Fibonacci hashing: the top bits of the key times 2^64 / phi.
   size_t slotOf(Key key) const { return size_t((uint64_t(key) * 0x9E3779B97F4A7C15ull) >> mShift); }
   void rehash(size_t capacity) {
-    std::vector<Entry> old = std::exchange(mEntries, std::vector<Entry>(capacity, {kNoKey, {}}));
+    std::vector<Key> oldKeys = std::exchange(mKeys, std::vector<Key>(capacity, kNoKey));
+    std::vector<Value> oldValues = std::exchange(mValues, std::vector<Value>(capacity));
     mMask = capacity - 1;
     mShift = 64 - std::countr_zero(capacity);
     mCount = 0;
-    for (const Entry& e : old)
-      if (e.key != kNoKey) findOrAdd(e.key, e.value);
+    for (size_t i = 0; i < oldKeys.size(); ++i)
+      if (oldKeys[i] != kNoKey) findOrAdd(oldKeys[i], oldValues[i]);
   }
-  std::vector<Entry> mEntries;
+  // Keys and values apart: a uint64_t key beside a uint8_t value would take 16 bytes a slot.
+  std::vector<Key> mKeys;
+  std::vector<Value> mValues;
   size_t mMask = 0, mCount = 0;
   int mShift = 64;
 };
