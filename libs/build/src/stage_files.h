@@ -25,7 +25,8 @@
 namespace terralod {
 
 enum class StageFile : uint32_t {
-  // 1, 2, 3 and 5 were kinds 10 to 13 for one block per file (before one file per job).
+  // 1, 2, 3 and 5 held one block's pass-1 halo, grid, reduced halo and coarse points, a file
+  // per block; 10 to 13 hold the same for all of a job's blocks.
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
   kChunks = 6,        ///< built chunks with their node records (stored as they are)
   // 7 held one block node's float texture tiles (before job frontiers)
