@@ -11,7 +11,6 @@
 #include <fstream>
 #include <limits>
 #include <mutex>
-#include <numeric>
 #include <optional>
 #include <sstream>
 #include <unordered_map>
@@ -317,7 +316,7 @@ void packChunkMesh(Packer& p, const BuiltChunk& c, const std::vector<NodeRecord>
   p.putBytes(c.blob);
 }
 
-// Built chunks with their node records (what follows a chunk file's count).
+// Built chunks with their node records: a piece of a chunk file (kChunks).
 std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
                                 const std::vector<NodeRecord>& nodes) {
   Packer p;
@@ -330,19 +329,6 @@ std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
     p.putBytes(c.texture);
   }
   return std::move(p.bytes());
-}
-
-// A chunk file from packChunks' pieces and their chunk counts.
-Status writeChunkFile(const std::string& path, const std::vector<std::vector<uint8_t>>& pieces,
-                      const std::vector<uint64_t>& counts) {
-  auto out = StageFileWriter::create(path, StageFile::kChunks);
-  if (!out) return out.error();
-  uint8_t count[8];
-  ByteWriter(count).put(std::accumulate(counts.begin(), counts.end(), uint64_t{0}));
-  if (Status st = out->write(count); !st) return st;
-  for (const auto& piece : pieces)
-    if (Status st = out->write(piece); !st) return st;
-  return out->commit();
 }
 
 // The texture blobs of coarse chunks that pass-2 jobs made (block nodes, and nodes above
@@ -413,9 +399,7 @@ Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
   auto in = StageFileReader::open(path, StageFile::kChunks);
   if (!in) return in.error();
   auto damaged = [&] { return makeError(path, "damaged (records do not add up)"); };
-  const auto count = in->get<uint64_t>();
-  if (!count) return damaged();
-  for (uint64_t i = 0; i < *count; ++i) {
+  while (!in->atEnd()) {
     const auto node = in->get<uint32_t>();
     const auto record = in->getView();
     if (!node || !record || *node >= nodes.size() || record->size() != kNodeRecordBytes)
@@ -817,8 +801,12 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (!grids) return grids.error();
   auto reduced = BlockRecords::read(reducedHalos(work, job), StageFile::kReducedHalos, blocks);
   if (!reduced) return reduced.error();
-  std::vector<std::vector<uint8_t>> chunks(blocks), coarseRecords(blocks);
-  std::vector<uint64_t> chunkCounts(blocks, 0);
+  // The chunks go to their file block by block as they are made (in the blocks' order),
+  // never all of a job's at once: with a texture per chunk they are most of its output.
+  auto chunkFile = StageFileWriter::create(pass2Chunks(work, job), StageFile::kChunks);
+  if (!chunkFile) return chunkFile.error();
+  OrderedStageWriter chunks(std::move(*chunkFile));
+  std::vector<std::vector<uint8_t>> coarseRecords(blocks);
   // The textures above this job's blocks that need no other job's (whole subtrees), and the
   // block nodes' own. Their blobs wait in a temporary file, not in memory.
   std::optional<TilePyramid> pyramid;
@@ -856,15 +844,14 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
       pyramid->add(blockNodes[k], std::move(built->tiles));
       spool.add(blockNodes[k], built->blockTexture);
     }
-    chunks[i] = packChunks(built->chunks, nodes);
-    chunkCounts[i] = built->chunks.size();
+    chunks.put(i, packChunks(built->chunks, nodes));
     coarseRecords[i] = packBlockCoarse(c);
     progress.advance();
     return {};
   });
   progress.end();
   if (!done) return done;
-  if (Status st = writeChunkFile(pass2Chunks(work, job), chunks, chunkCounts); !st) return st;
+  if (Status st = chunks.commit(blocks); !st) return st;
   if (Status st = writeBlockRecords(pass2Coarse(work, job), StageFile::kBlockCoarse, coarseRecords);
       !st)
     return st;
@@ -912,7 +899,6 @@ Status writeCoarseChunks(const std::string& work, const StageContext& s,
   auto out = StageFileWriter::create(coarseChunks(work), StageFile::kChunks);
   if (!out) return out.error();
   Packer p;
-  p.put(uint64_t(chunks.size()));
   for (const BuiltChunk& c : chunks) {
     packChunkMesh(p, c, nodes);
     if (!textured) {

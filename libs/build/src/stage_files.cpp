@@ -160,6 +160,27 @@ Status StageFileWriter::commit() {
   return mFile.commit(AtomicFile::Durability::kUnsynced);
 }
 
+void OrderedStageWriter::put(size_t index, std::vector<uint8_t> piece) {
+  std::lock_guard lock(mMutex);
+  if (mFailure) return;
+  mWaiting.emplace(index, std::move(piece));
+  for (auto next = mWaiting.begin(); next != mWaiting.end() && next->first == mNext;
+       next = mWaiting.erase(next), ++mNext)
+    if (Status s = mFile.write(next->second); !s) {
+      mFailure = s.error();
+      return;
+    }
+}
+
+Status OrderedStageWriter::commit(size_t count) {
+  std::lock_guard lock(mMutex);
+  if (mFailure) return *mFailure;
+  if (mNext != count || !mWaiting.empty())
+    return Error{"internal error: a stage file's pieces came " + std::to_string(mNext) + " of " +
+                 std::to_string(count)};
+  return mFile.commit();
+}
+
 Result<StageFileReader> StageFileReader::open(const std::string& path, StageFile kind) {
   if (!storedRaw(kind)) return Error{"internal error: only stored-raw stage files are streamed"};
   auto in = std::make_unique<std::ifstream>(path, std::ios::binary);

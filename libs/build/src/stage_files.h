@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -28,7 +29,7 @@ enum class StageFile : uint32_t {
   // 1, 2, 3 and 5 held one block's pass-1 halo, grid, reduced halo and coarse points, a file
   // per block; 10 to 13 hold the same for all of a job's blocks.
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
-  kChunks = 6,        ///< built chunks with their node records (stored as they are)
+  // 6 held what 14 holds after a u64 count (which a job cannot know before its last block)
   // 7 held one block node's float texture tiles (before job frontiers)
   kJobTiles = 8,     ///< a pass-2 job's frontier: nodes' float texture tiles (stored as they are)
   kJobTextures = 9,  ///< the texture blobs of a pass-2 job's block nodes and the nodes it built
@@ -37,6 +38,7 @@ enum class StageFile : uint32_t {
   kPass1Grids = 11,    ///< activations (closed square, borders one-sided), a zstd frame each
   kReducedHalos = 12,  ///< finished halo values
   kBlockCoarse = 13,   ///< what the coarse levels need of a block (points)
+  kChunks = 14,        ///< built chunks with their node records, to the end (stored as they are)
 };
 
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
@@ -213,6 +215,25 @@ class StageFileWriter {
   uint32_t mCrc = 0;
 };
 
+/// A stored-raw stage file made of pieces numbered 0, 1, 2, ... that come in any order (from
+/// threads, each its own): each is written as soon as those before it are, so only pieces
+/// that come early wait in memory, not the whole file.
+class OrderedStageWriter {
+ public:
+  explicit OrderedStageWriter(StageFileWriter file) : mFile(std::move(file)) {}
+  /// Thread-safe. A failure is kept and returned by commit().
+  void put(size_t index, std::vector<uint8_t> piece);
+  /// Fails unless pieces 0 .. count - 1 were all given.
+  Status commit(size_t count);
+
+ private:
+  std::mutex mMutex;
+  StageFileWriter mFile;
+  size_t mNext = 0;
+  std::map<size_t, std::vector<uint8_t>> mWaiting;
+  std::optional<Error> mFailure;
+};
+
 /// A stored-raw stage file read a piece at a time. Its checksum covers the whole payload, so
 /// finish() says whether what was read can be trusted; use nothing read before it succeeds
 /// for anything that cannot be undone.
@@ -250,6 +271,8 @@ class StageFileReader {
     }
     return out;
   }
+  /// Whether every byte of the payload has been read.
+  bool atEnd() const { return mLeft == 0; }
   /// Whether the payload was read to its end, and its checksum matches.
   Status finish();
   const std::string& path() const { return mPath; }

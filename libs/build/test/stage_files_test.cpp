@@ -72,5 +72,37 @@ TEST_F(StageFiles, DamagedBlockRecordsAreRefused) {
       << back.error().message;
 }
 
+// Pieces given out of order (as threads finish blocks) are written in order: the file reads
+// back as the pieces joined. One never given fails the commit, and no file appears.
+TEST_F(StageFiles, OrderedPiecesAreWrittenInTheirOrder) {
+  const std::vector<std::vector<uint8_t>> pieces = {{1, 2}, {3}, {}, {4, 5, 6}, {7}};
+  const std::string file = path("job-3.chunks");
+  {
+    auto out = StageFileWriter::create(file, StageFile::kChunks);
+    ASSERT_TRUE(out) << out.error().message;
+    OrderedStageWriter ordered(std::move(*out));
+    for (size_t i : {3u, 1u, 0u, 4u, 2u}) ordered.put(i, pieces[i]);
+    ASSERT_TRUE(ordered.commit(pieces.size()));
+  }
+  auto in = StageFileReader::open(file, StageFile::kChunks);
+  ASSERT_TRUE(in) << in.error().message;
+  std::vector<uint8_t> back;
+  while (!in->atEnd()) back.push_back(*in->get<uint8_t>());
+  EXPECT_TRUE(in->finish());
+  EXPECT_EQ(back, (std::vector<uint8_t>{1, 2, 3, 4, 5, 6, 7}));
+
+  const std::string missing = path("job-4.chunks");
+  {
+    auto out = StageFileWriter::create(missing, StageFile::kChunks);
+    ASSERT_TRUE(out) << out.error().message;
+    OrderedStageWriter ordered(std::move(*out));
+    for (size_t i : {0u, 1u, 3u, 4u}) ordered.put(i, pieces[i]);
+    auto committed = ordered.commit(pieces.size());
+    ASSERT_FALSE(committed);
+    EXPECT_NE(committed.error().message.find("internal error"), std::string::npos);
+  }
+  EXPECT_FALSE(fs::exists(missing));
+}
+
 }  // namespace
 }  // namespace terralod
