@@ -37,11 +37,13 @@ TempDir* StagedBuild::sDir = nullptr;
 
 TEST_F(StagedBuild, LocalStagesMatchTheLocalBuild) {
   // 64 blocks of 128 cells in 5 jobs, with textures (the range read whole, as the local build
-  // does for a raster this small) and without (streamed: the range estimated, as the local
-  // build's --memory-mb makes it stream), with RTIN and greedy meshes.
+  // does for a raster this small; shared, and one per chunk: pass 1 makes them, and the
+  // chunks' own reach assemble in step with pass 2's chunks) and without (streamed: the range
+  // estimated, as the local build's --memory-mb makes it stream), with RTIN and greedy meshes.
   // Greedy meshes too, streamed: each chunk's mesh depends on its parent's, kept per block.
   for (const std::vector<std::string>& options :
-       {std::vector<std::string>{}, std::vector<std::string>{"--no-texture", "--memory-mb", "2"},
+       {std::vector<std::string>{}, std::vector<std::string>{"--texture-per-chunk"},
+        std::vector<std::string>{"--no-texture", "--memory-mb", "2"},
         std::vector<std::string>{"--no-texture", "--memory-mb", "2", "--mesher", "greedy"}}) {
     std::vector<std::string> local = {"build", dem(), "--block-cells",
                                       "128",   "-o",  file("local.tlod")};
@@ -128,6 +130,19 @@ TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
   EXPECT_TRUE(has(r.err, victim + ": damaged")) << r.err;
   EXPECT_EQ(readWholeFile(work + "/status/reduce-0.err"), r.err.substr(r.err.find(victim)));
   EXPECT_FALSE(fs::exists(file("damaged.tlod")));
+  // The heights pass 1 kept for pass 2 (which reads no DEM in an RTIN build).
+  std::ofstream(victim, std::ios::binary | std::ios::trunc) << bytes;
+  ASSERT_EQ(runTerralod({"build-stage", "reduce", work}).exitCode, 0);
+  const std::string kept = work + "/pass1/job-1.kept";
+  const std::string keptBytes = readWholeFile(kept);
+  ASSERT_GT(keptBytes.size(), 40u);
+  std::ofstream(kept, std::ios::binary | std::ios::trunc)
+      << keptBytes.substr(0, keptBytes.size() - 5);
+  const RunResult pass2 = runTerralod({"build-stage", "pass2", work, "--task", "1"});
+  EXPECT_EQ(pass2.exitCode, 1);
+  ASSERT_EQ(pass2.errLines().size(), 1u) << pass2.err;
+  EXPECT_TRUE(has(pass2.err, kept + ": damaged")) << pass2.err;
+  EXPECT_FALSE(fs::exists(work + "/pass2/job-1.chunks"));
 }
 
 // The files the coarse job and assemble read a piece at a time (a job's textures, its
@@ -159,19 +174,26 @@ TEST_F(StagedBuild, AStreamedStageFileDamagedInTheMiddleIsOneErrorAndNoOutput) {
     ASSERT_EQ(r.errLines().size(), 1u) << r.err;
     EXPECT_TRUE(has(r.err, victim + ": damaged")) << r.err;
   };
-  // A job's frontier tiles, read a tile at a time as well.
-  const std::string tiles = work + "/pass2/job-1.tiles";
+  // A job's frontier tiles, read a tile at a time as well (pass 1 makes the textures of an
+  // RTIN build, from the windows it reads).
+  const std::string tiles = work + "/pass1/job-1.tiles";
   const std::string tilesBefore = damage(tiles);
   expectOneDamagedLine(stage("coarse"), tiles);
   EXPECT_FALSE(fs::exists(work + "/coarse.chunks")) << "no coarse.chunks from damaged tiles";
   std::ofstream(tiles, std::ios::binary | std::ios::trunc) << tilesBefore;
   ASSERT_EQ(stage("coarse").exitCode, 0);
   // A job's textures, which assemble copies into the tileset as it reads them.
-  const std::string textures = work + "/pass2/job-1.textures";
+  const std::string textures = work + "/pass1/job-1.textures";
   const std::string original = damage(textures);
   expectOneDamagedLine(stage("assemble"), textures);
   EXPECT_FALSE(fs::exists(out)) << "no tileset from damaged textures";
   std::ofstream(textures, std::ios::binary | std::ios::trunc) << original;
+  // The textures of the chunks below a job's blocks, read in step with its chunk file.
+  const std::string chunkTextures = work + "/pass1/job-3.chunk-textures";
+  const std::string chunkTexturesBefore = damage(chunkTextures);
+  expectOneDamagedLine(stage("assemble"), chunkTextures);
+  EXPECT_FALSE(fs::exists(out)) << "no tileset from damaged chunk textures";
+  std::ofstream(chunkTextures, std::ios::binary | std::ios::trunc) << chunkTexturesBefore;
   const std::string chunks = work + "/pass2/job-2.chunks";
   damage(chunks);
   expectOneDamagedLine(stage("assemble"), chunks);

@@ -21,8 +21,10 @@
 #include "stage_files.h"
 #include "terralod/build/chunk_pass.h"
 #include "terralod/build/dem_windows.h"
+#include "terralod/build/kept_heights.h"
 #include "terralod/build/leaf_size.h"
 #include "terralod/build/sparse_heights.h"
+#include "terralod/build/surface_texels.h"
 #include "terralod/build/tile_pyramid.h"
 #include "terralod/core/atomic_file.h"
 #include "terralod/core/parallel.h"
@@ -36,9 +38,11 @@ namespace fs = std::filesystem;
 
 // ---- Where things are ----------------------------------------------------------------------
 
-// WORK/plan.json; per job J: pass1/job-J.halo, pass1/job-J.grid, reduce/job-J.halo,
-// pass2/job-J.chunks, pass2/job-J.coarse and (textured) pass2/job-J.textures,
-// pass2/job-J.tiles; once: reduce/coarse.points, coarse.chunks; status/STAGE-TASK.ENDING.
+// WORK/plan.json; per job J: pass1/job-J.halo, pass1/job-J.grid, (RTIN) pass1/job-J.kept,
+// reduce/job-J.halo, pass2/job-J.chunks, pass2/job-J.coarse and, textured,
+// STAGE/job-J.textures, STAGE/job-J.tiles (STAGE: the pass that makes textures) and (RTIN)
+// pass1/job-J.chunk-textures; once: reduce/coarse.points, coarse.chunks;
+// status/STAGE-TASK.ENDING.
 std::string planPath(const std::string& work) {
   return work + "/plan.json";
 }
@@ -60,11 +64,27 @@ std::string pass2Chunks(const std::string& work, int job) {
 std::string pass2Coarse(const std::string& work, int job) {
   return jobFile(work, "pass2", job, "coarse");
 }
-std::string jobTextures(const std::string& work, int job) {
-  return jobFile(work, "pass2", job, "textures");
+// Whether pass 1 keeps the heights pass 2 reads and makes the textures from the windows it
+// reads, so that pass 2 reads no DEM: RTIN chunk meshes read only what KeptHeights keeps;
+// greedy ones scan every sample of their block, so their pass 2 reads it again (and makes the
+// textures from it).
+bool passOneKeeps(const BuildOptions& o) {
+  return o.mesher == MeshMethod::kRtin;
 }
-std::string jobTiles(const std::string& work, int job) {
-  return jobFile(work, "pass2", job, "tiles");
+const char* texturePass(const BuildOptions& o) {
+  return passOneKeeps(o) ? "pass1" : "pass2";
+}
+std::string jobTextures(const std::string& work, const BuildOptions& o, int job) {
+  return jobFile(work, texturePass(o), job, "textures");
+}
+std::string jobTiles(const std::string& work, const BuildOptions& o, int job) {
+  return jobFile(work, texturePass(o), job, "tiles");
+}
+std::string keptHeights(const std::string& work, int job) {
+  return jobFile(work, "pass1", job, "kept");
+}
+std::string chunkTextures(const std::string& work, int job) {
+  return jobFile(work, "pass1", job, "chunk-textures");
 }
 std::string coarsePoints(const std::string& work) {
   return work + "/reduce/coarse.points";
@@ -331,11 +351,72 @@ std::vector<uint8_t> packChunks(const std::vector<BuiltChunk>& chunks,
   return std::move(p.bytes());
 }
 
+// A block's kept heights (KeptHeights::blockBits and blockValues), for its pass-2 job: a zstd
+// frame (a job holds its blocks' until it ends).
+std::vector<uint8_t> packKept(const KeptHeights& kept, GridPoint origin) {
+  Packer p;
+  const std::span<const uint64_t> bits = kept.blockBits(origin);
+  const std::span<const float> values = kept.blockValues(origin);
+  p.putArray(std::vector<uint64_t>(bits.begin(), bits.end()));
+  p.putArray(std::vector<float>(values.begin(), values.end()));
+  return compressedRecord(p.bytes());
+}
+
+Status restoreKept(KeptHeights& kept, GridPoint origin, int32_t block,
+                   std::span<const uint8_t> record, const std::string& path) {
+  const size_t points = size_t(block + 1) * size_t(block + 1);
+  auto raw = decompressRecord(record, 16 + (points + 63) / 64 * 8 + points * 4, path);
+  if (!raw) return raw.error();
+  Unpacker u(*raw);
+  std::vector<uint64_t> bits = u.getArray<uint64_t>();
+  std::vector<float> values = u.getArray<float>();
+  if (!u.ok() || !u.atEnd() || !kept.restoreBlock(origin, std::move(bits), std::move(values)))
+    return makeError(path, "was written for another block layout");
+  return {};
+}
+
+// Where assemble finds the texture of a chunk it appends: nullopt keeps the chunk file's own.
+class TextureSource {
+ public:
+  virtual ~TextureSource() = default;
+  /// The texture for `node` (valid until the next call), or nullopt.
+  virtual Result<std::optional<std::span<const uint8_t>>> take(uint32_t node) = 0;
+};
+
+// The chunk file's own textures.
+class OwnTextures final : public TextureSource {
+ public:
+  Result<std::optional<std::span<const uint8_t>>> take(uint32_t) override {
+    return std::optional<std::span<const uint8_t>>();
+  }
+};
+
+// A pass-1 job's chunk textures (kChunkTextures: u32 node, then the blob, for every chunk of
+// its chunk file in that file's order), read in step with the chunk file.
+class ChunkTexturesInStep final : public TextureSource {
+ public:
+  explicit ChunkTexturesInStep(StageFileReader in) : mIn(std::move(in)) {}
+  Result<std::optional<std::span<const uint8_t>>> take(uint32_t node) override {
+    auto stored = mIn.get<uint32_t>();
+    auto texture = stored && *stored == node ? mIn.getView() : std::nullopt;
+    if (!texture) return makeError(mIn.path(), "damaged (records do not add up)");
+    return std::optional<std::span<const uint8_t>>(*texture);
+  }
+  /// Read to its end (no chunk left without its texture), with its checksum right.
+  Status finish() {
+    if (!mIn.atEnd()) return makeError(mIn.path(), "damaged (records do not add up)");
+    return mIn.finish();
+  }
+
+ private:
+  StageFileReader mIn;
+};
+
 // The texture blobs of coarse chunks that pass-2 jobs made (block nodes, and nodes above
 // them whose blocks are all one job's): assemble reads them from the jobs' files in step with
 // coarse.chunks (both in node order), where the coarse job left them empty. They are most of
 // a textured tileset's bytes, so they are copied once, not through coarse.chunks as well.
-class JobTextures {
+class JobTextures final : public TextureSource {
  public:
   JobTextures() = default;
   /// Which job made each node's texture (-1: none did), as the coarse job and assemble derive
@@ -356,7 +437,8 @@ class JobTextures {
     JobTextures t;
     t.mMadeBy = madeBy(s, s.nodes);
     for (int job = 0; job < s.plan.jobs; ++job) {
-      auto reader = StageFileReader::open(jobTextures(work, job), StageFile::kJobTextures);
+      auto reader =
+          StageFileReader::open(jobTextures(work, s.plan.options, job), StageFile::kJobTextures);
       if (!reader) return reader.error();
       auto count = reader->get<uint64_t>();
       if (!count) return makeError(reader->path(), "damaged (records do not add up)");
@@ -366,7 +448,7 @@ class JobTextures {
     return t;
   }
   /// The texture a job made for `node` (valid until the next call), or nullopt if none did.
-  Result<std::optional<std::span<const uint8_t>>> take(uint32_t node) {
+  Result<std::optional<std::span<const uint8_t>>> take(uint32_t node) override {
     if (node >= mMadeBy.size() || mMadeBy[node] < 0)
       return std::optional<std::span<const uint8_t>>();
     const size_t job = size_t(mMadeBy[node]);
@@ -393,9 +475,9 @@ class JobTextures {
 
 // Reads built chunks back, copying their statistics into `nodes`, and appends them (a piece
 // at a time: the file's checksum is checked at its end, before the tileset can be finished),
-// each with the texture `jobs` holds for it, else its own.
+// each with the texture `textures` has for it, else its own.
 Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
-                        TilesetWriter& writer, JobTextures& jobs) {
+                        TilesetWriter& writer, TextureSource& textures) {
   auto in = StageFileReader::open(path, StageFile::kChunks);
   if (!in) return in.error();
   auto damaged = [&] { return makeError(path, "damaged (records do not add up)"); };
@@ -421,7 +503,7 @@ Status appendChunksFrom(const std::string& path, std::vector<NodeRecord>& nodes,
     n.blobOffset = *offset;
     auto texture = in->getView();
     if (!texture) return damaged();
-    auto made = jobs.take(*node);
+    auto made = textures.take(*node);
     if (!made) return made.error();
     if (*made) texture = **made;
     if (!texture->empty()) {
@@ -651,23 +733,145 @@ Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work
   return plan;
 }
 
+namespace {
+
+// What a pass-1 job of an RTIN build makes for its pass-2 job and assemble besides its
+// activations: each block's kept heights and, textured, its textures (from the windows with the
+// texture pass's margin), so that pass 2 reads no DEM. The textures above the job's blocks that
+// need no other job's are built here too (whole subtrees), the rest handed on as its frontier.
+class PassOneOutputs {
+ public:
+  PassOneOutputs(const std::string& work, const StageContext& s, int job, unsigned threads)
+      : mWork(work),
+        mS(s),
+        mJob(job),
+        mThreads(threads),
+        mKept(s.layout, s.block, UINT64_MAX),
+        mKeptRecords(s.plan.jobBlocks(job)[1] - s.plan.jobBlocks(job)[0]) {}
+
+  Status open() {
+    const BuildOptions& o = mS.plan.options;
+    if (!o.textures) return {};
+    auto image = openImage(o, mS.reader->info());
+    if (!image) return image.error();
+    mImage = std::move(image).value();
+    mBuild = textureBuildFor(o, mS.layout, mS.budget, *mS.reader, mImage.get());
+    mPass = std::make_unique<TexturePass>(mS.layout, mBuild, mS.nodes, mThreads);
+    if (Status st = mPass->open(); !st) return st;
+    auto file = StageFileWriter::create(chunkTextures(mWork, mJob), StageFile::kChunkTextures);
+    if (!file) return file.error();
+    mChunkTextures.emplace(std::move(*file));
+    mPyramid.emplace(
+        *mPass, mS.nodes,
+        TilePyramid::buildableFrom(mS.nodes, blockLevelOf(mS.layout, mS.block),
+                                   jobBlockNodes(mS, mJob)),
+        [this](uint32_t node, std::vector<uint8_t> texture) { mSpool.add(node, texture); });
+    return {};
+  }
+  /// The texture pass's margin around each block's window (0 untextured).
+  int32_t margin() const { return mPass ? BlockTexels::kMargin : 0; }
+
+  /// Block `k` of the plan (the job's i-th): `window` its window with margin(), `closed` its
+  /// closed square, `grid` its pass-1 activations. Thread-safe for distinct blocks.
+  Status add(size_t k, size_t i, const BlockWindow& window, const float* closed,
+             const ActivationGrid& grid, unsigned worker) {
+    const GridPoint origin = mS.origin(k);
+    mKept.keepBlock(origin, closed, grid);
+    mKeptRecords[i] = packKept(mKept, origin);
+    mKept.dropBlock(origin);
+    if (!mPass) return {};
+    const uint32_t blockNode = mS.blockNodes[k];
+    std::vector<std::pair<uint32_t, std::vector<uint8_t>>> blobs;
+    auto tiles = blockTexturesFrom(*mPass, blockNode, window, worker, blobs);
+    if (!tiles) return tiles.error();
+    std::unordered_map<uint32_t, size_t> of;
+    for (size_t b = 0; b < blobs.size(); ++b) of.emplace(blobs[b].first, b);
+    Packer piece;
+    for (const uint32_t node : chunksBelow(mS.nodes, blockNode)) {
+      const auto b = of.find(node);
+      if (b == of.end()) return Error{"internal error: the texture pass left a chunk out"};
+      piece.put(node);
+      piece.putBytes(blobs[b->second].second);
+    }
+    mChunkTextures->put(i, std::move(piece.bytes()));
+    mSpool.add(blockNode, blobs[of.at(blockNode)].second);
+    mPyramid->add(blockNode, std::move(tiles).value());
+    return {};
+  }
+
+  Status write() {
+    if (Status st =
+            writeBlockRecords(keptHeights(mWork, mJob), StageFile::kKeptHeights, mKeptRecords);
+        !st)
+      return st;
+    if (!mPass) return {};
+    if (Status st = mChunkTextures->commit(mKeptRecords.size()); !st) return st;
+    const BuildOptions& o = mS.plan.options;
+    if (Status st = mSpool.writeSorted(jobTextures(mWork, o, mJob)); !st) return st;
+    return writeStageFile(jobTiles(mWork, o, mJob), StageFile::kJobTiles,
+                          packFrontier(mPyramid->takeFrontier()));
+  }
+
+ private:
+  const std::string& mWork;
+  const StageContext& mS;
+  int mJob;
+  unsigned mThreads;
+  KeptHeights mKept;
+  std::vector<std::vector<uint8_t>> mKeptRecords;
+  std::unique_ptr<ImageDrape> mImage;
+  TextureBuild mBuild;
+  std::unique_ptr<TexturePass> mPass;
+  std::optional<OrderedStageWriter> mChunkTextures;
+  TextureSpool mSpool;
+  std::optional<TilePyramid> mPyramid;
+};
+
+}  // namespace
+
 Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
   const StageContext& s = *stage;
   if (Status st = checkJob(s, job, work); !st) return st;
   threads = std::max(1u, threads);
+  std::optional<PassOneOutputs> outputs;
+  if (passOneKeeps(s.plan.options)) {
+    outputs.emplace(work, s, job, threads);
+    if (Status st = outputs->open(); !st) return st;
+  }
+  const int32_t margin = outputs ? outputs->margin() : 0;
   DemWindows windows(*s.reader, threads, nullptr);
   std::vector<BlockScratch> scratch(threads);
+  std::vector<BlockWindow> margined(threads);
   std::vector<std::vector<float>> heights(threads);
   const auto range = s.plan.jobBlocks(job);
   std::vector<std::vector<uint8_t>> grids(range[1] - range[0]), halos(grids.size());
   progress.begin("errors", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint o = s.origin(k);
-    heights[w].resize(size_t(s.block + 1) * (s.block + 1));
-    if (Status st = windows.read(o.x, o.y, s.block + 1, s.block + 1, heights[w].data(), w); !st)
-      return st;
+    const size_t side = size_t(s.block) + 1;
+    heights[w].resize(side * side);
+    BlockWindow& window = margined[w];
+    window.x0 = o.x;
+    window.y0 = o.y;
+    window.cells = s.block;
+    window.margin = margin;
+    if (margin == 0) {
+      if (Status st = windows.read(o.x, o.y, s.block + 1, s.block + 1, heights[w].data(), w); !st)
+        return st;
+    } else {
+      // One read serves both: the closed square is copied out of the margined window.
+      const size_t stride = size_t(window.stride());
+      window.values.resize(stride * stride);
+      if (Status st = windows.read(o.x - margin, o.y - margin, window.stride(), window.stride(),
+                                   window.values.data(), w);
+          !st)
+        return st;
+      for (size_t y = 0; y < side; ++y)
+        std::copy_n(window.values.data() + (y + size_t(margin)) * stride + size_t(margin), side,
+                    heights[w].data() + y * side);
+    }
     const Pass1Block p = pass1Block(s.layout, s.budget, o, s.block, heights[w].data(), scratch[w]);
     Pass1Halo h;
     h.minHeight = p.minHeight;
@@ -680,6 +884,9 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     h.lines = linesOf(s.layout, o, s.block, heights[w].data());
     grids[k - range[0]] = compressedRecord(p.grid.nibbles());
     halos[k - range[0]] = packPass1Halo(h);
+    if (outputs)
+      if (Status st = outputs->add(k, k - range[0], window, heights[w].data(), p.grid, w); !st)
+        return st;
     progress.advance();
     return {};
   });
@@ -687,7 +894,9 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (!done) return done;
   if (Status st = writeBlockRecords(pass1Grids(work, job), StageFile::kPass1Grids, grids); !st)
     return st;
-  return writeBlockRecords(pass1Halos(work, job), StageFile::kPass1Halos, halos);
+  if (Status st = writeBlockRecords(pass1Halos(work, job), StageFile::kPass1Halos, halos); !st)
+    return st;
+  return outputs ? outputs->write() : Status{};
 }
 
 Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
@@ -782,9 +991,10 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   const std::vector<uint32_t>& blockNodes = s.blockNodes;
   auto image = openImage(o, s.reader->info());
   if (!image) return image.error();
+  const bool keeps = passOneKeeps(o);  // heights from pass 1, textures made there
   TextureBuild textures;
   std::unique_ptr<TexturePass> texturePass;
-  if (o.textures) {
+  if (o.textures && !keeps) {
     textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
     texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
     if (Status st = texturePass->open(); !st) return st;
@@ -801,6 +1011,16 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (!grids) return grids.error();
   auto reduced = BlockRecords::read(reducedHalos(work, job), StageFile::kReducedHalos, blocks);
   if (!reduced) return reduced.error();
+  std::optional<KeptHeights> kept;
+  if (keeps) {
+    kept.emplace(s.layout, s.block, UINT64_MAX);
+    const std::string path = keptHeights(work, job);
+    auto records = BlockRecords::read(path, StageFile::kKeptHeights, blocks);
+    if (!records) return records.error();
+    for (size_t i = 0; i < blocks; ++i)
+      if (Status st = restoreKept(*kept, s.origin(range[0] + i), s.block, (*records)[i], path); !st)
+        return st;
+  }
   // The chunks go to their file block by block as they are made (in the blocks' order),
   // never all of a job's at once: with a texture per chunk they are most of its output.
   auto chunkFile = StageFileWriter::create(pass2Chunks(work, job), StageFile::kChunks);
@@ -828,18 +1048,28 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     if (finished.size() != halo.points.size())
       return makeError(reducedHalos(work, job), "was written for another block layout");
     applyHalo(grid, halo, {finished.begin(), finished.end()});
-    if (Status st = readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
-        !st)
-      return st;
-    ChunkMesher mesher(s.layout, s.budget, grid, none);
-    auto built = buildBlockChunks(context, blockNodes[k], &heights[w], mesher, grid, windows, w);
+    if (!keeps)
+      if (Status st = readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
+          !st)
+        return st;
+    ChunkMesher mesher(
+        s.layout, s.budget, grid,
+        keeps ? static_cast<const HeightSampler&>(*kept) : static_cast<const HeightSampler&>(none));
+    auto built = buildBlockChunks(context, blockNodes[k], keeps ? nullptr : &heights[w], mesher,
+                                  grid, windows, w);
     if (!built) return built.error();
     BlockCoarse c;
     c.heights = std::move(built->points);
+    const int32_t x1 = std::min(origin.x + s.block, s.layout.cellsX),
+                  y1 = std::min(origin.y + s.block, s.layout.cellsY);
     for (int32_t y = origin.y; y <= origin.y + s.block; ++y)
       for (int32_t x = origin.x; x <= origin.x + s.block; ++x)
-        if (const uint8_t a = grid.get(x, y); a >= coarse)
+        if (const uint8_t a = grid.get(x, y); a >= coarse) {
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
+          // The heights a window would have given (buildBlockChunks' points), from the store.
+          if (keeps && x <= x1 && y <= y1)
+            c.heights.emplace_back(SparseHeights::key(x, y), float(kept->at(x, y)));
+        }
     if (pyramid) {
       pyramid->add(blockNodes[k], std::move(built->tiles));
       spool.add(blockNodes[k], built->blockTexture);
@@ -855,9 +1085,12 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (Status st = writeBlockRecords(pass2Coarse(work, job), StageFile::kBlockCoarse, coarseRecords);
       !st)
     return st;
+  if (kept && kept->misses() > 0)
+    return Error{"internal error: pass 2 read " + std::to_string(kept->misses()) +
+                 " heights that pass 1 had not kept"};
   if (!pyramid) return {};
-  if (Status st = spool.writeSorted(jobTextures(work, job)); !st) return st;
-  return writeStageFile(jobTiles(work, job), StageFile::kJobTiles,
+  if (Status st = spool.writeSorted(jobTextures(work, o, job)); !st) return st;
+  return writeStageFile(jobTiles(work, o, job), StageFile::kJobTiles,
                         packFrontier(pyramid->takeFrontier()));
 }
 
@@ -879,7 +1112,7 @@ Result<NodeTextures> topTextures(const std::string& work, const StageContext& s,
   }
   TilePyramid pyramid(pass, s.nodes, TilePyramid::ancestorsOf(s.nodes, all));
   for (int job = 0; job < s.plan.jobs; ++job) {
-    auto tiles = readFrontier(jobTiles(work, job), frontiers[size_t(job)]);
+    auto tiles = readFrontier(jobTiles(work, s.plan.options, job), frontiers[size_t(job)]);
     if (!tiles) return tiles.error();
     for (auto& [node, t] : *tiles) pyramid.add(node, std::move(t));
   }
@@ -994,10 +1227,20 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   if (!writer) return writer.error();
   std::vector<NodeRecord> nodes = s.nodes;
   progress.begin("assembling", size_t(s.plan.jobs) + 1);
-  JobTextures none;
   for (int job = 0; job < s.plan.jobs; ++job) {
-    if (Status st = appendChunksFrom(pass2Chunks(work, job), nodes, **writer, none); !st)
-      return st.error();
+    if (o.textures && passOneKeeps(o)) {
+      // Pass 1 made this job's chunk textures; its chunk file holds none.
+      auto in = StageFileReader::open(chunkTextures(work, job), StageFile::kChunkTextures);
+      if (!in) return in.error();
+      ChunkTexturesInStep textures(std::move(*in));
+      if (Status st = appendChunksFrom(pass2Chunks(work, job), nodes, **writer, textures); !st)
+        return st.error();
+      if (Status st = textures.finish(); !st) return st.error();
+    } else {
+      OwnTextures own;
+      if (Status st = appendChunksFrom(pass2Chunks(work, job), nodes, **writer, own); !st)
+        return st.error();
+    }
     progress.advance();
   }
   auto made = o.textures ? JobTextures::open(work, s) : Result<JobTextures>(JobTextures());

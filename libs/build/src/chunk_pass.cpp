@@ -5,7 +5,6 @@
 #include <bit>
 #include <cassert>
 #include <cmath>
-#include <deque>
 #include <functional>
 #include <limits>
 #include <mutex>
@@ -62,6 +61,14 @@ class BlockWindowReads final : public HeightWindows {
  private:
   const BlockWindow* mWindow;
   HeightWindows& mNext;
+};
+
+// Reads a texture pass must not make: all it needs is in the window it was given.
+class NoOtherReads final : public HeightWindows {
+ public:
+  Status read(int32_t, int32_t, int32_t, int32_t, float*, unsigned) override {
+    return Error{"internal error: the texture pass read outside its block's window"};
+  }
 };
 
 }  // namespace
@@ -142,6 +149,26 @@ std::vector<uint32_t> coarseNodesOf(const std::vector<NodeRecord>& nodes, int32_
   return out;
 }
 
+std::vector<uint32_t> chunksBelow(const std::vector<NodeRecord>& nodes, uint32_t blockNode) {
+  std::vector<uint32_t> order;
+  auto pushChildren = [&](uint32_t i) {
+    const NodeRecord& n = nodes[i];
+    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
+      order.push_back(n.firstChild + c);
+  };
+  pushChildren(blockNode);
+  for (size_t k = 0; k < order.size(); ++k) pushChildren(order[k]);
+  return order;
+}
+
+Result<ChunkTiles> blockTexturesFrom(
+    TexturePass& textures, uint32_t blockNode, const BlockWindow& window, unsigned worker,
+    std::vector<std::pair<uint32_t, std::vector<uint8_t>>>& blobs) {
+  NoOtherReads none;
+  BlockWindowReads reads(&window, none);
+  return textures.buildBlock(blockNode, reads, worker, blobs);
+}
+
 Status readBlockWindow(const ChunkPassContext& context, HeightWindows& windows, int32_t x0,
                        int32_t y0, int32_t cells, BlockWindow& window, unsigned worker) {
   window.x0 = x0;
@@ -170,21 +197,11 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
   }
   mesher.setMethod(context.mesher, blockLevelOf(layout, block) + 1);
   BlockChunks out;
-  std::deque<uint32_t> queue;
-  auto pushChildren = [&](uint32_t i) {
-    const NodeRecord& n = nodes[i];
-    for (uint32_t c = 0; c < uint32_t(std::popcount(unsigned(n.childMask))); ++c)
-      queue.push_back(n.firstChild + c);
-  };
-  pushChildren(blockNode);
-  while (!queue.empty()) {
-    const uint32_t i = queue.front();
-    queue.pop_front();
+  for (const uint32_t i : chunksBelow(nodes, blockNode)) {
     auto blob =
         buildChunk(mesher, context.budget, nodes[i], context.compressionLevel, context.payload);
     if (!blob) return blob.error();
     out.chunks.push_back({i, std::move(blob).value(), {}});
-    pushChildren(i);
   }
   if (context.textures) {
     std::vector<std::pair<uint32_t, std::vector<uint8_t>>> textures;

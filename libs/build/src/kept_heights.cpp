@@ -28,6 +28,12 @@ inline uint32_t bitCount(uint64_t x) {
   return uint32_t((x * 0x0101010101010101ull) >> 56);
 }
 
+size_t keptPoints(const std::vector<uint64_t>& bits) {
+  size_t n = 0;
+  for (const uint64_t w : bits) n += bitCount(w);
+  return n;
+}
+
 uint64_t bytesOf(const std::vector<uint64_t>& bits, const std::vector<uint32_t>& ranks,
                  const std::vector<float>& values) {
   return bits.capacity() * sizeof(uint64_t) + ranks.capacity() * sizeof(uint32_t) +
@@ -36,10 +42,18 @@ uint64_t bytesOf(const std::vector<uint64_t>& bits, const std::vector<uint32_t>&
 
 }  // namespace
 
+KeptHeights::Block& KeptHeights::blockAt(GridPoint origin) {
+  return mBlocks[size_t(origin.y / mBlock) * size_t(mBlocksX) + size_t(origin.x / mBlock)];
+}
+
+const KeptHeights::Block& KeptHeights::blockAt(GridPoint origin) const {
+  return mBlocks[size_t(origin.y / mBlock) * size_t(mBlocksX) + size_t(origin.x / mBlock)];
+}
+
 void KeptHeights::keepBlock(GridPoint origin, const float* window, const ActivationGrid& grid) {
   if (mOverBudget) return;
   const int32_t side = mBlock, stride = side + 1;
-  Block& b = mBlocks[size_t(origin.y / side) * size_t(mBlocksX) + size_t(origin.x / side)];
+  Block& b = blockAt(origin);
   mBytes -= bytesOf(b.bits, b.ranks, b.values);  // kept by an earlier pass: replaced
   const size_t points = size_t(stride) * size_t(stride);
   b.bits.assign((points + 63) / 64, 0);
@@ -79,17 +93,21 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
         mark(row + 2 * k + size_t(std::countr_zero(nonzero) / 4));
     }
   }
+  b.values.clear();
+  b.values.reserve(keptPoints(b.bits));
+  for (size_t w = 0; w < b.bits.size(); ++w)
+    for (uint64_t bits = b.bits[w]; bits; bits &= bits - 1)
+      b.values.push_back(window[w * 64 + size_t(std::countr_zero(bits))]);
+  finishBlock(b);
+}
+
+void KeptHeights::finishBlock(Block& b) {
   b.ranks.resize(b.bits.size());
   uint32_t kept = 0;
   for (size_t w = 0; w < b.bits.size(); ++w) {
     b.ranks[w] = kept;
     kept += bitCount(b.bits[w]);
   }
-  b.values.clear();
-  b.values.reserve(kept);
-  for (size_t w = 0; w < b.bits.size(); ++w)
-    for (uint64_t bits = b.bits[w]; bits; bits &= bits - 1)
-      b.values.push_back(window[w * 64 + size_t(std::countr_zero(bits))]);
   // Over the budget, this block and every later one are let go; those kept before stay until
   // the owner drops the whole store (keptAll() says false).
   if ((mBytes += bytesOf(b.bits, b.ranks, b.values)) > mBudget) mOverBudget = true;
@@ -99,21 +117,65 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
   }
 }
 
+std::span<const uint64_t> KeptHeights::blockBits(GridPoint origin) const {
+  return blockAt(origin).bits;
+}
+
+std::span<const float> KeptHeights::blockValues(GridPoint origin) const {
+  return blockAt(origin).values;
+}
+
+void KeptHeights::dropBlock(GridPoint origin) {
+  Block& b = blockAt(origin);
+  mBytes -= bytesOf(b.bits, b.ranks, b.values);
+  b = Block{};
+}
+
+bool KeptHeights::restoreBlock(GridPoint origin, std::vector<uint64_t> bits,
+                               std::vector<float> values) {
+  const size_t points = size_t(mBlock + 1) * size_t(mBlock + 1);
+  if (origin.x < 0 || origin.y < 0 || origin.x % mBlock != 0 || origin.y % mBlock != 0 ||
+      origin.x / mBlock >= mBlocksX || origin.y / mBlock >= mBlocksY ||
+      bits.size() != (points + 63) / 64 || keptPoints(bits) != values.size() ||
+      (points % 64 != 0 && bits.back() >> (points % 64) != 0))
+    return false;
+  if (mOverBudget) return true;
+  Block& b = blockAt(origin);
+  mBytes -= bytesOf(b.bits, b.ranks, b.values);
+  b.bits = std::move(bits);
+  b.values = std::move(values);
+  finishBlock(b);
+  return true;
+}
+
+bool KeptHeights::lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const {
+  const Block& b = mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)];
+  const size_t i = size_t(ly) * size_t(mBlock + 1) + size_t(lx);
+  const uint64_t bit = uint64_t{1} << (i & 63);
+  const uint64_t word = (i >> 6) < b.bits.size() ? b.bits[i >> 6] : 0;
+  if (!(word & bit)) return false;
+  out = b.values[b.ranks[i >> 6] + bitCount(word & (bit - 1))];
+  return true;
+}
+
 double KeptHeights::at(int32_t x, int32_t y) const {
   x = std::clamp(x, 0, mLayout.cellsX);
   y = std::clamp(y, 0, mLayout.cellsY);
   const int32_t bx = std::min(x >> mBlockLog2, mBlocksX - 1);
   const int32_t by = std::min(y >> mBlockLog2, mBlocksY - 1);
-  const Block& b = mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)];
-  const size_t i =
-      size_t(y - (by << mBlockLog2)) * size_t(mBlock + 1) + size_t(x - (bx << mBlockLog2));
-  const uint64_t bit = uint64_t{1} << (i & 63);
-  const uint64_t word = (i >> 6) < b.bits.size() ? b.bits[i >> 6] : 0;
-  if (!(word & bit)) {
-    mMisses.fetch_add(1, std::memory_order_relaxed);
-    return std::nan("");
+  const int32_t lx = x - (bx << mBlockLog2), ly = y - (by << mBlockLog2);
+  double h = 0;
+  if (lookup(bx, by, lx, ly, h)) return h;
+  // On the block's left or top side: the neighbour's closed square has it as its right or
+  // bottom side (every block keeps its whole border: block sides are leaf lines).
+  if (mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)].bits.empty()) {
+    const bool left = lx == 0 && bx > 0, top = ly == 0 && by > 0;
+    if ((left && lookup(bx - 1, by, mBlock, ly, h)) || (top && lookup(bx, by - 1, lx, mBlock, h)) ||
+        (left && top && lookup(bx - 1, by - 1, mBlock, mBlock, h)))
+      return h;
   }
-  return b.values[b.ranks[i >> 6] + bitCount(word & (bit - 1))];
+  mMisses.fetch_add(1, std::memory_order_relaxed);
+  return std::nan("");
 }
 
 uint64_t KeptHeights::keptSamples() const {

@@ -129,6 +129,17 @@ Status decompressRecord(std::span<const uint8_t> record, std::span<uint8_t> out,
   return {};
 }
 
+Result<std::vector<uint8_t>> decompressRecord(std::span<const uint8_t> record, size_t maxBytes,
+                                              const std::string& path) {
+  const unsigned long long size = ZSTD_getFrameContentSize(record.data(), record.size());
+  if (size == ZSTD_CONTENTSIZE_ERROR || size == ZSTD_CONTENTSIZE_UNKNOWN)
+    return makeError(path, "damaged (does not decompress)");
+  if (size > maxBytes) return makeError(path, "was written for another block layout");
+  std::vector<uint8_t> out(static_cast<size_t>(size));
+  if (Status st = decompressRecord(record, out, path); !st) return st.error();
+  return out;
+}
+
 Result<BlockRecords> BlockRecords::read(const std::string& path, StageFile kind, size_t blocks) {
   auto payload = readStageFile(path, kind);
   if (!payload) return payload.error();

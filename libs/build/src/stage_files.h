@@ -31,20 +31,25 @@ enum class StageFile : uint32_t {
   kCoarsePoints = 4,  ///< the height range, and halo points the coarse levels use
   // 6 held what 14 holds after a u64 count (which a job cannot know before its last block)
   // 7 held one block node's float texture tiles (before job frontiers)
-  kJobTiles = 8,     ///< a pass-2 job's frontier: nodes' float texture tiles (stored as they are)
-  kJobTextures = 9,  ///< the texture blobs of a pass-2 job's block nodes and the nodes it built
+  kJobTiles = 8,     ///< a block job's frontier: nodes' float texture tiles (stored as they are)
+  kJobTextures = 9,  ///< the texture blobs of a block job's block nodes and the nodes it built
   // One record per block of a job (writeBlockRecords):
   kPass1Halos = 10,    ///< halo values, square errors, heights on the block lines, range
   kPass1Grids = 11,    ///< activations (closed square, borders one-sided), a zstd frame each
   kReducedHalos = 12,  ///< finished halo values
   kBlockCoarse = 13,   ///< what the coarse levels need of a block (points)
   kChunks = 14,        ///< built chunks with their node records, to the end (stored as they are)
+  kKeptHeights = 15,   ///< the heights pass 2 reads (KeptHeights' bits, values), a zstd frame each
+  /// The texture blobs of the chunks below a job's block nodes, in its chunk file's order, to
+  /// the end (stored as they are): pass 1 makes them, assemble reads them in step.
+  kChunkTextures = 16,
 };
 
 /// Kinds whose payload is already compressed or is floats zstd barely shrinks: stored raw.
 inline bool storedRaw(StageFile kind) {
   return kind == StageFile::kChunks || kind == StageFile::kJobTiles ||
-         kind == StageFile::kJobTextures || kind == StageFile::kPass1Grids;
+         kind == StageFile::kJobTextures || kind == StageFile::kPass1Grids ||
+         kind == StageFile::kChunkTextures || kind == StageFile::kKeptHeights;
 }
 
 /// Growable little-endian writer.
@@ -184,6 +189,10 @@ std::vector<uint8_t> compressedRecord(std::span<const uint8_t> raw);
 Status decompressRecord(std::span<const uint8_t> record, std::span<uint8_t> out,
                         const std::string& path);
 
+/// A compressedRecord of at most `maxBytes` (more is "written for another block layout").
+Result<std::vector<uint8_t>> decompressRecord(std::span<const uint8_t> record, size_t maxBytes,
+                                              const std::string& path);
+
 /// What writeBlockRecords wrote, viewed in place; a count other than `blocks` is "written for
 /// another block layout".
 class BlockRecords {
@@ -290,7 +299,7 @@ class StageFileReader {
   std::vector<uint8_t> mBuffer;
 };
 
-/// Texture blobs as a pass-2 job makes them, in any order, kept in an unnamed temporary file
+/// Texture blobs as a block job makes them, in any order, kept in an unnamed temporary file
 /// (gone when the job ends, however it ends) instead of in memory, and written out in node
 /// order as a kJobTextures stage file (u64 count, then each: u32 node, u64 size, the blob).
 class TextureSpool {

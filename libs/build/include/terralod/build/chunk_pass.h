@@ -109,6 +109,17 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
                                      const ActivationGrid& grid, HeightWindows& windows,
                                      unsigned worker);
 
+/// The chunks below block node `blockNode`, in the order buildBlockChunks makes them
+/// (breadth first).
+std::vector<uint32_t> chunksBelow(const std::vector<NodeRecord>& nodes, uint32_t blockNode);
+
+/// The texture pass over block node `blockNode` from its margined `window` alone (a staged
+/// build's pass 1 makes textures from the window it reads): the block node's tiles, and the
+/// blobs of it and of every node below it into `blobs`.
+Result<ChunkTiles> blockTexturesFrom(TexturePass& textures, uint32_t blockNode,
+                                     const BlockWindow& window, unsigned worker,
+                                     std::vector<std::pair<uint32_t, std::vector<uint8_t>>>& blobs);
+
 /// Encoded texture blobs by node.
 using NodeTextures = std::vector<std::pair<uint32_t, std::vector<uint8_t>>>;
 

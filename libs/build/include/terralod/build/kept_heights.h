@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "terralod/build/activation_grid.h"
@@ -37,7 +38,20 @@ class KeptHeights final : public HeightSampler {
   /// pass kept there. Thread-safe for distinct blocks; reads no point another block writes.
   void keepBlock(GridPoint origin, const float* window, const ActivationGrid& grid);
 
-  /// Height at a grid point, clamped to the data; NaN (and a miss) where nothing was kept.
+  /// One block's kept points as keepBlock made them (empty if it kept nothing there): a bit
+  /// per point of its closed square in grid order, and the kept heights in that order. What a
+  /// staged build's pass-1 job hands its pass-2 job.
+  std::span<const uint64_t> blockBits(GridPoint origin) const;
+  std::span<const float> blockValues(GridPoint origin) const;
+  /// Lets go of what the store keeps for the block at `origin` (once handed on).
+  void dropBlock(GridPoint origin);
+  /// Puts back what blockBits and blockValues gave for the block at `origin`; false (nothing
+  /// kept) if they do not fit a block of this store. Thread-safe as keepBlock.
+  bool restoreBlock(GridPoint origin, std::vector<uint64_t> bits, std::vector<float> values);
+
+  /// Height at a grid point, clamped to the data; NaN (and a miss) where nothing was kept. A
+  /// point on a block's left or top side is in its neighbour's closed square too: a store
+  /// holding only some blocks (a staged job's) answers from whichever of them it holds.
   double at(int32_t x, int32_t y) const override;
   uint64_t misses() const { return mMisses.load(); }
   /// Samples kept over every block (points on shared block borders once per block).
@@ -56,6 +70,13 @@ class KeptHeights final : public HeightSampler {
     std::vector<uint32_t> ranks;  // kept points before each word of bits
     std::vector<float> values;    // their heights, in point order
   };
+  Block& blockAt(GridPoint origin);
+  const Block& blockAt(GridPoint origin) const;
+  // Counts the kept points before each word (b.ranks) and the bytes held; lets the block go
+  // when the budget is exceeded.
+  void finishBlock(Block& b);
+  // The height of point (lx, ly) of block (bx, by) into `out`; false where not kept.
+  bool lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const;
   const TreeLayout& mLayout;
   int32_t mBlock, mBlockLog2;
   int32_t mBlocksX, mBlocksY;
