@@ -165,9 +165,15 @@ double KeptHeights::at(int32_t x, int32_t y) const {
   const int32_t by = std::min(y >> mBlockLog2, mBlocksY - 1);
   const int32_t lx = x - (bx << mBlockLog2), ly = y - (by << mBlockLog2);
   double h = 0;
-  if (lookup(bx, by, lx, ly, h)) return h;
+  if (lookup(bx, by, lx, ly, h)) [[likely]]
+    return h;
+  return notInBlock(bx, by, lx, ly);
+}
+
+double KeptHeights::notInBlock(int32_t bx, int32_t by, int32_t lx, int32_t ly) const {
   // On the block's left or top side: the neighbour's closed square has it as its right or
   // bottom side (every block keeps its whole border: block sides are leaf lines).
+  double h = 0;
   if (mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)].bits.empty()) {
     const bool left = lx == 0 && bx > 0, top = ly == 0 && by > 0;
     if ((left && lookup(bx - 1, by, mBlock, ly, h)) || (top && lookup(bx, by - 1, lx, mBlock, h)) ||

@@ -77,6 +77,9 @@ class KeptHeights final : public HeightSampler {
   void finishBlock(Block& b);
   // The height of point (lx, ly) of block (bx, by) into `out`; false where not kept.
   bool lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const;
+  // at() where block (bx, by) has not kept point (lx, ly): a neighbour's, or a miss.
+  [[gnu::noinline, gnu::cold]] double notInBlock(int32_t bx, int32_t by, int32_t lx,
+                                                 int32_t ly) const;
   const TreeLayout& mLayout;
   int32_t mBlock, mBlockLog2;
   int32_t mBlocksX, mBlocksY;
