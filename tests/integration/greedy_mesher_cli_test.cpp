@@ -1,7 +1,8 @@
 // `terralod build --mesher greedy`: fewer triangles than the RTIN levels below the blocks, a
 // tileset `verify` passes (the parent's bound while geomorphing, the fully morphed surface
 // within the recorded gap of the parent's), and a flight that draws it within τ, without holes,
-// popping by at most the gap (a fraction of τ) where RTIN chunks pop by nothing.
+// popping by at most the gap (a fraction of τ) where RTIN chunks pop by nothing; rasters of
+// any size.
 
 #include <gtest/gtest.h>
 
@@ -64,6 +65,26 @@ TEST_F(GreedyMesherCli, FewerTrianglesBelowTheBlocksAndVerified) {
   EXPECT_TRUE(has(v.out, "plus 0.125 x the parent level's bound")) << v.out;
   const RunResult info = runTerralod({"info", tileset("greedy"), "--json"});
   EXPECT_TRUE(has(info.out, "\"mesher\": \"greedy\"")) << info.out;
+}
+
+// Rasters whose sides are not a power of two plus one: the RTIN level above the greedy ones
+// clips its triangles at the data's last row and column and fans what is left, with edges of any
+// slope, which a greedy chunk at the data's edge cannot cut along its lines at grid points. Those
+// chunks are RTIN (this failed with "has a vertex without a height" on both rasters, and on the
+// bundled New Zealand DEM).
+TEST_F(GreedyMesherCli, RastersOfAnySizeBuildAndVerify) {
+  for (const char* size : {"301", "2003"}) {
+    const std::string dem = sDir->file(std::string("synth") + size + ".tif");
+    ASSERT_EQ(
+        runTerralod({"synth", "--size", size, "--spacing", "5", "--seed", "1", "-o", dem}).exitCode,
+        0);
+    const std::string out = sDir->file(std::string("synth") + size + ".tlod");
+    const RunResult r =
+        runTerralod({"build", dem, "--no-texture", "--mesher", "greedy", "-o", out});
+    ASSERT_EQ(r.exitCode, 0) << size << ": " << r.err;
+    const RunResult v = runTerralod({"verify", out, "--source", dem});
+    EXPECT_EQ(v.exitCode, 0) << size << ": " << v.out << v.err;
+  }
 }
 
 TEST_F(GreedyMesherCli, FlightsStayWithinTauAndPopByAtMostTheGap) {

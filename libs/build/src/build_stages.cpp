@@ -841,6 +841,7 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     if (Status st = outputs->open(); !st) return st;
   }
   const int32_t margin = outputs ? outputs->margin() : 0;
+  const HaloPattern halo = blockHalo(s.layout, s.block);
   DemWindows windows(*s.reader, threads, nullptr);
   std::vector<BlockScratch> scratch(threads);
   std::vector<BlockWindow> margined(threads);
@@ -880,7 +881,7 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     h.scanned = p.stats.trianglesScanned;
     h.bounded = p.stats.trianglesBounded;
     h.square = p.square;
-    h.halo = haloValues(p.grid, haloOf(s.layout, o, s.block));
+    h.halo = haloValues(p.grid, halo);
     h.lines = linesOf(s.layout, o, s.block, heights[w].data());
     grids[k - range[0]] = compressedRecord(p.grid.nibbles());
     halos[k - range[0]] = packPass1Halo(h);
@@ -1036,6 +1037,7 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
         *texturePass, nodes,
         TilePyramid::buildableFrom(nodes, blockLevelOf(s.layout, s.block), jobBlockNodes(s, job)),
         [&spool](uint32_t node, std::vector<uint8_t> texture) { spool.add(node, texture); });
+  const HaloPattern halo = blockHalo(s.layout, s.block);
   progress.begin("meshing", range[1] - range[0]);
   Status done = forBlocks(range, threads, [&](size_t k, unsigned w) -> Status {
     const GridPoint origin = s.origin(k);
@@ -1044,7 +1046,6 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     if (Status st = decompressRecord((*grids)[i], grid.nibbles(), pass1Grids(work, job)); !st)
       return st;
     const std::span<const uint8_t> finished = (*reduced)[i];
-    const HaloPattern halo = haloOf(s.layout, origin, s.block);
     if (finished.size() != halo.points.size())
       return makeError(reducedHalos(work, job), "was written for another block layout");
     applyHalo(grid, halo, {finished.begin(), finished.end()});

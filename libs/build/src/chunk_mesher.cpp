@@ -224,7 +224,7 @@ void ChunkMesher::keepSurface(const ChunkMesh& mesh) {
   mSurfaces.push_back(std::move(surface));
 }
 
-ChunkMesh ChunkMesher::buildGreedy(ChunkMesh mesh) {
+std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
   const int32_t level = mesh.level;
   const int32_t w = std::min(mesh.side, mLayout.cellsX - mesh.x0),
                 h = std::min(mesh.side, mLayout.cellsY - mesh.y0);
@@ -257,12 +257,7 @@ ChunkMesh ChunkMesher::buildGreedy(ChunkMesh mesh) {
                   mGreedyParent, kGreedyMorphGap * mBudget.levelError[level - 1],
                   // morph targets are stored on this level's step
                   mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level]});
-  if (m.triangles.empty()) {
-    // The parent's triangles crossed a line off the grid (not a bintree or greedy mesh): a
-    // bug. A vertex without a height makes buildChunk report it.
-    mesh.vertices.push_back({mesh.x0, mesh.y0, std::nan(""), std::nan("")});
-    return mesh;
-  }
+  if (m.triangles.empty()) return std::nullopt;
   mesh.vertices.reserve(m.x.size());
   for (size_t i = 0; i < m.x.size(); ++i) {
     const size_t s = size_t(m.y[i]) * stride + size_t(m.x[i]);
@@ -285,7 +280,18 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.y0 = iy * mesh.side;
   mesh.dataX = std::min(mesh.side, mLayout.cellsX - mesh.x0);
   mesh.dataY = std::min(mesh.side, mLayout.cellsY - mesh.y0);
-  if (greedyAt(level)) return buildGreedy(std::move(mesh));
+  if (!greedyAt(level)) return buildRtin(std::move(mesh));
+  if (std::optional<ChunkMesh> greedy = buildGreedy(mesh)) return std::move(*greedy);
+  // An RTIN chunk instead, within the same bound; its parent is RTIN (greedy parents keep
+  // every line their children cut along), so its morph targets are the parent's surface, and
+  // its children start from it as from any RTIN parent.
+  ChunkMesh rtin = buildRtin(std::move(mesh));
+  if (level < mLayout.depth) keepSurface(rtin);
+  return rtin;
+}
+
+ChunkMesh ChunkMesher::buildRtin(ChunkMesh mesh) {
+  const int32_t level = mesh.level, ix = mesh.ix, iy = mesh.iy;
   mOriginX = mesh.x0;
   mOriginY = mesh.y0;
   mSide = mesh.side;

@@ -39,27 +39,21 @@ HaloPattern haloOf(const TreeLayout& layout, GridPoint origin, int32_t block) {
   return halo;
 }
 
-HaloStore::HaloStore(const TreeLayout& layout, int32_t block)
-    : mBlock(block), mBlocksX(layout.gridX() / block), mBlocksY(layout.gridY() / block) {
-  const size_t count = size_t(mBlocksX) * mBlocksY;
-  mPatterns.resize(count);
-  mValues.resize(count);
-  std::vector<std::shared_ptr<const HaloPattern>> distinct;
-  for (size_t b = 0; b < count; ++b) {
-    HaloPattern halo = haloOf(layout, origin(b), block);
-    auto same = std::find_if(distinct.begin(), distinct.end(),
-                             [&](const auto& known) { return *known == halo; });
-    if (same == distinct.end())
-      same = distinct.insert(distinct.end(), std::make_shared<const HaloPattern>(std::move(halo)));
-    mPatterns[b] = *same;
-    mValues[b].assign((*same)->points.size(), 0);
-  }
+HaloPattern blockHalo(const TreeLayout& layout, int32_t block) {
+  return haloOf(layout, {0, 0}, block);
 }
+
+HaloStore::HaloStore(const TreeLayout& layout, int32_t block)
+    : mBlock(block),
+      mBlocksX(layout.gridX() / block),
+      mBlocksY(layout.gridY() / block),
+      mPattern(blockHalo(layout, block)),
+      mValues(size_t(mBlocksX) * size_t(mBlocksY), std::vector<uint8_t>(mPattern.points.size())) {}
 
 ptrdiff_t HaloStore::slot(size_t block, int32_t x, int32_t y) const {
   const GridPoint o = origin(block);
   const uint32_t local = uint32_t(y - o.y) * uint32_t(mBlock + 1) + uint32_t(x - o.x);
-  const auto& points = mPatterns[block]->points;
+  const auto& points = mPattern.points;
   const auto it = std::lower_bound(points.begin(), points.end(), local);
   if (it == points.end() || *it != local) return -1;
   return it - points.begin();
@@ -101,7 +95,7 @@ void HaloStore::mergeBorders() {
   const uint32_t stride = uint32_t(mBlock) + 1;
   for (size_t b = 0; b < mValues.size(); ++b) {
     const GridPoint o = origin(b);
-    const auto& points = mPatterns[b]->points;
+    const auto& points = mPattern.points;
     for (size_t i = 0; i < points.size(); ++i) {
       const int32_t lx = int32_t(points[i] % stride), ly = int32_t(points[i] / stride);
       if (lx != 0 && ly != 0 && lx != mBlock && ly != mBlock) continue;

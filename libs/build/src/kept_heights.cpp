@@ -13,7 +13,7 @@ KeptHeights::KeptHeights(const TreeLayout& layout, int32_t block, uint64_t budge
       mBlockLog2(std::countr_zero(uint32_t(block))),
       mBlocksX(layout.gridX() / block),
       mBlocksY(layout.gridY() / block),
-      mHalo(haloOf(layout, {0, 0}, block)),
+      mHalo(blockHalo(layout, block)),
       mBlocks(size_t(mBlocksX) * size_t(mBlocksY)),
       mBudget(budgetBytes) {}
 
@@ -148,7 +148,7 @@ bool KeptHeights::restoreBlock(GridPoint origin, std::vector<uint64_t> bits,
   return true;
 }
 
-bool KeptHeights::lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const {
+inline bool KeptHeights::lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const {
   const Block& b = mBlocks[size_t(by) * size_t(mBlocksX) + size_t(bx)];
   const size_t i = size_t(ly) * size_t(mBlock + 1) + size_t(lx);
   const uint64_t bit = uint64_t{1} << (i & 63);

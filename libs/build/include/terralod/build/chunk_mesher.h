@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -84,7 +85,11 @@ class ChunkMesher {
   bool greedyAt(int32_t level) const {
     return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel && level > 0;
   }
-  ChunkMesh buildGreedy(ChunkMesh mesh);
+  /// nullopt where the parent's triangles cannot be cut along this chunk's lines at grid
+  /// points: an RTIN parent's triangles clipped at the data's last row or column (fanned, so
+  /// with edges of any slope), crossing a line inside a chunk at the data's edge.
+  std::optional<ChunkMesh> buildGreedy(ChunkMesh mesh);
+  ChunkMesh buildRtin(ChunkMesh mesh);
   const Surface& surfaceOf(int32_t level, int32_t ix, int32_t iy);
   void keepSurface(const ChunkMesh& mesh);
 

@@ -11,7 +11,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <memory>
 #include <vector>
 
 #include "terralod/build/tree_layout.h"
@@ -29,8 +28,15 @@ struct HaloPattern {
 /// The halo of the block of side `block` whose south-west corner is `origin`.
 HaloPattern haloOf(const TreeLayout& layout, GridPoint origin, int32_t block);
 
+/// Every block's halo (the first block's): a block's interior and border points fall in the
+/// same vertex classes wherever it is (origins are multiples of its power-of-two side), and the
+/// block centre's dependency parents are its corners, border points anyway, so one pattern
+/// serves all of them (`KeptHeights.OneHaloServesEveryBlock` checks it against haloOf for every
+/// block of five layouts).
+HaloPattern blockHalo(const TreeLayout& layout, int32_t block);
+
 /// The activations of every block's halo. Points on a border shared by several blocks have one
-/// copy per block; set() writes all of them. Blocks share patterns (there are only a few).
+/// copy per block; set() writes all of them. Every block has the same pattern (blockHalo).
 class HaloStore {
  public:
   HaloStore(const TreeLayout& layout, int32_t block);
@@ -41,7 +47,7 @@ class HaloStore {
   GridPoint origin(size_t block) const {
     return {int32_t(block % size_t(mBlocksX)) * mBlock, int32_t(block / size_t(mBlocksX)) * mBlock};
   }
-  const HaloPattern& pattern(size_t block) const { return *mPatterns[block]; }
+  const HaloPattern& pattern(size_t) const { return mPattern; }
   /// Values in the order of pattern(block).points.
   std::vector<uint8_t>& values(size_t block) { return mValues[block]; }
   const std::vector<uint8_t>& values(size_t block) const { return mValues[block]; }
@@ -61,7 +67,7 @@ class HaloStore {
   void forEachCopy(int32_t x, int32_t y, F&& f);
 
   int32_t mBlock, mBlocksX, mBlocksY;
-  std::vector<std::shared_ptr<const HaloPattern>> mPatterns;
+  HaloPattern mPattern;
   std::vector<std::vector<uint8_t>> mValues;
   mutable uint64_t mMisses = 0;
 };

@@ -76,18 +76,15 @@ class KeptHeights final : public HeightSampler {
   // when the budget is exceeded.
   void finishBlock(Block& b);
   // The height of point (lx, ly) of block (bx, by) into `out`; false where not kept.
-  bool lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly, double& out) const;
+  [[gnu::always_inline]] bool lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly,
+                                     double& out) const;
   // at() where block (bx, by) has not kept point (lx, ly): a neighbour's, or a miss.
   [[gnu::noinline, gnu::cold]] double notInBlock(int32_t bx, int32_t by, int32_t lx,
                                                  int32_t ly) const;
   const TreeLayout& mLayout;
   int32_t mBlock, mBlockLog2;
   int32_t mBlocksX, mBlocksY;
-  // Every block's halo is the same pattern: a block's interior points and its border points
-  // fall in the same vertex classes wherever the block is (origins are multiples of its
-  // power-of-two side), and the block centre's dependency parents are its corners, which are
-  // border points anyway (checked against haloOf for every block in the tests).
-  HaloPattern mHalo;
+  HaloPattern mHalo;  // every block's (blockHalo)
   std::vector<Block> mBlocks;
   uint64_t mBudget;
   std::atomic<uint64_t> mBytes{0};
