@@ -374,15 +374,17 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (!grids) return grids.error();
   auto reduced = BlockRecords::read(reducedHalos(work, job), StageFile::kReducedHalos, blocks);
   if (!reduced) return reduced.error();
-  std::optional<KeptHeights> kept;
+  // The heights pass 1 kept, a block at a time per thread (a store holding one block answers
+  // its whole closed square), so that a job of any size holds one block's per thread.
+  const std::string keptPath = keptHeights(work, job);
+  std::optional<BlockRecords> keptRecords;
+  std::vector<std::unique_ptr<KeptHeights>> kept;
   if (keeps) {
-    kept.emplace(s.layout, s.block, UINT64_MAX);
-    const std::string path = keptHeights(work, job);
-    auto records = BlockRecords::read(path, StageFile::kKeptHeights, blocks);
+    auto records = BlockRecords::read(keptPath, StageFile::kKeptHeights, blocks);
     if (!records) return records.error();
-    for (size_t i = 0; i < blocks; ++i)
-      if (Status st = restoreKept(*kept, s.origin(range[0] + i), s.block, (*records)[i], path); !st)
-        return st;
+    keptRecords.emplace(std::move(*records));
+    for (unsigned t = 0; t < threads; ++t)
+      kept.push_back(std::make_unique<KeptHeights>(s.layout, s.block, UINT64_MAX));
   }
   // The chunks go to their file block by block as they are made (in the blocks' order),
   // never all of a job's at once: with a texture per chunk they are most of its output.
@@ -411,13 +413,18 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
     if (finished.size() != halo.points.size())
       return makeError(reducedHalos(work, job), "was written for another block layout");
     applyHalo(grid, halo, {finished.begin(), finished.end()});
-    if (!keeps)
-      if (Status st = readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
-          !st)
+    KeptHeights* store = keeps ? kept[w].get() : nullptr;
+    if (store) {
+      if (Status st = restoreKept(*store, origin, s.block, (*keptRecords)[i], keptPath); !st)
         return st;
-    ChunkMesher mesher(
-        s.layout, s.budget, grid,
-        keeps ? static_cast<const HeightSampler&>(*kept) : static_cast<const HeightSampler&>(none));
+    } else if (Status st =
+                   readBlockWindow(context, windows, origin.x, origin.y, s.block, heights[w], w);
+               !st) {
+      return st;
+    }
+    ChunkMesher mesher(s.layout, s.budget, grid,
+                       store ? static_cast<const HeightSampler&>(*store)
+                             : static_cast<const HeightSampler&>(none));
     auto built = buildBlockChunks(context, blockNodes[k], keeps ? nullptr : &heights[w], mesher,
                                   grid, windows, w);
     if (!built) return built.error();
@@ -430,9 +437,10 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
         if (const uint8_t a = grid.get(x, y); a >= coarse) {
           c.activations.emplace_back(ActivationGrid::key(x, y), a);
           // The heights a window would have given (buildBlockChunks' points), from the store.
-          if (keeps && x <= x1 && y <= y1)
-            c.heights.emplace_back(SparseHeights::key(x, y), float(kept->at(x, y)));
+          if (store && x <= x1 && y <= y1)
+            c.heights.emplace_back(SparseHeights::key(x, y), float(store->at(x, y)));
         }
+    if (store) store->dropBlock(origin);
     if (pyramid) {
       pyramid->add(blockNodes[k], std::move(built->tiles));
       spool.add(blockNodes[k], built->blockTexture);
@@ -448,8 +456,10 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
   if (Status st = writeBlockRecords(pass2Coarse(work, job), StageFile::kBlockCoarse, coarseRecords);
       !st)
     return st;
-  if (kept && kept->misses() > 0)
-    return Error{"internal error: pass 2 read " + std::to_string(kept->misses()) +
+  uint64_t misses = 0;
+  for (const auto& store : kept) misses += store->misses();
+  if (misses > 0)
+    return Error{"internal error: pass 2 read " + std::to_string(misses) +
                  " heights that pass 1 had not kept"};
   if (!pyramid) return {};
   if (Status st = spool.writeSorted(jobTextures(work, o, job)); !st) return st;
