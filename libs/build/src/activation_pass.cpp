@@ -26,7 +26,7 @@ Result<ActivationGrid> computeActivations(const TreeLayout& layout, const ErrorB
   std::vector<BlockResult> results(size_t(blocksX) * blocksY);
   std::vector<BlockScratch> scratch(threads);
   const int32_t margin = options.user ? options.user->margin() : 0;
-  std::vector<std::vector<float>> margined(margin > 0 ? threads : 0);  // windows with the margin
+  std::vector<std::vector<float>> margined(threads);  // windows with the margin (margin > 0)
   std::vector<ActivationStats> workerStats(threads);
   std::vector<Status> workerStatus(threads);
   std::atomic<bool> failed{false};
@@ -39,20 +39,8 @@ Result<ActivationGrid> computeActivations(const TreeLayout& layout, const ErrorB
     if (bx >= layout.cellsX || by >= layout.cellsY) return;  // wholly padding: all zero
     BlockScratch& s = scratch[worker];
     s.reset(block);
-    Status st;
-    if (margin > 0) {
-      // One read serves both: the block's own samples are copied out of the margined window.
-      const int32_t stride = block + 1 + 2 * margin;
-      std::vector<float>& m = margined[worker];
-      m.resize(size_t(stride) * size_t(stride));
-      st = windows.read(bx - margin, by - margin, stride, stride, m.data(), worker);
-      if (st)
-        for (int32_t y = 0; y <= block; ++y)
-          std::copy_n(m.data() + size_t(y + margin) * size_t(stride) + size_t(margin), block + 1,
-                      s.heights.data() + size_t(y) * size_t(block + 1));
-    } else {
-      st = windows.read(bx, by, block + 1, block + 1, s.heights.data(), worker);
-    }
+    const Status st =
+        readWithMargin(windows, bx, by, block, margin, margined[worker], s.heights.data(), worker);
     if (!st) {
       workerStatus[worker] = st;
       failed = true;

@@ -220,21 +220,10 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
     window.y0 = o.y;
     window.cells = s.block;
     window.margin = margin;
-    if (margin == 0) {
-      if (Status st = windows.read(o.x, o.y, s.block + 1, s.block + 1, heights[w].data(), w); !st)
-        return st;
-    } else {
-      // One read serves both: the closed square is copied out of the margined window.
-      const size_t stride = size_t(window.stride());
-      window.values.resize(stride * stride);
-      if (Status st = windows.read(o.x - margin, o.y - margin, window.stride(), window.stride(),
-                                   window.values.data(), w);
-          !st)
-        return st;
-      for (size_t y = 0; y < side; ++y)
-        std::copy_n(window.values.data() + (y + size_t(margin)) * stride + size_t(margin), side,
-                    heights[w].data() + y * side);
-    }
+    if (Status st =
+            readWithMargin(windows, o.x, o.y, s.block, margin, window.values, heights[w].data(), w);
+        !st)
+      return st;
     const Pass1Block p = pass1Block(s.layout, s.budget, o, s.block, heights[w].data(), scratch[w]);
     Pass1Halo h;
     h.minHeight = p.minHeight;

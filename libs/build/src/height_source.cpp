@@ -5,6 +5,20 @@
 
 namespace terralod {
 
+Status readWithMargin(HeightWindows& windows, int32_t x0, int32_t y0, int32_t side, int32_t margin,
+                      std::vector<float>& margined, float* closed, unsigned worker) {
+  if (margin <= 0) return windows.read(x0, y0, side + 1, side + 1, closed, worker);
+  const int32_t stride = side + 1 + 2 * margin;
+  margined.resize(size_t(stride) * size_t(stride));
+  if (Status st = windows.read(x0 - margin, y0 - margin, stride, stride, margined.data(), worker);
+      !st)
+    return st;
+  for (int32_t y = 0; y <= side; ++y)
+    std::copy_n(margined.data() + size_t(y + margin) * size_t(stride) + size_t(margin), side + 1,
+                closed + size_t(y) * size_t(side + 1));
+  return {};
+}
+
 Status MemoryHeights::read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out, unsigned) {
   const int32_t cols = mHeights.columns(), rows = mHeights.rows();
   for (int32_t y = 0; y < h; ++y) {

@@ -28,10 +28,15 @@ inline uint32_t bitCount(uint64_t x) {
   return uint32_t((x * 0x0101010101010101ull) >> 56);
 }
 
-size_t keptPoints(const std::vector<uint64_t>& bits) {
-  size_t n = 0;
-  for (const uint64_t w : bits) n += bitCount(w);
-  return n;
+// Kept points before each word of `bits` into `ranks`; returns how many are kept.
+size_t rankBits(const std::vector<uint64_t>& bits, std::vector<uint32_t>& ranks) {
+  ranks.resize(bits.size());
+  uint32_t kept = 0;
+  for (size_t w = 0; w < bits.size(); ++w) {
+    ranks[w] = kept;
+    kept += bitCount(bits[w]);
+  }
+  return kept;
 }
 
 uint64_t bytesOf(const std::vector<uint64_t>& bits, const std::vector<uint32_t>& ranks,
@@ -94,20 +99,14 @@ void KeptHeights::keepBlock(GridPoint origin, const float* window, const Activat
     }
   }
   b.values.clear();
-  b.values.reserve(keptPoints(b.bits));
+  b.values.reserve(rankBits(b.bits, b.ranks));
   for (size_t w = 0; w < b.bits.size(); ++w)
     for (uint64_t bits = b.bits[w]; bits; bits &= bits - 1)
       b.values.push_back(window[w * 64 + size_t(std::countr_zero(bits))]);
-  finishBlock(b);
+  account(b);
 }
 
-void KeptHeights::finishBlock(Block& b) {
-  b.ranks.resize(b.bits.size());
-  uint32_t kept = 0;
-  for (size_t w = 0; w < b.bits.size(); ++w) {
-    b.ranks[w] = kept;
-    kept += bitCount(b.bits[w]);
-  }
+void KeptHeights::account(Block& b) {
   // Over the budget, this block and every later one are let go; those kept before stay until
   // the owner drops the whole store (keptAll() says false).
   if ((mBytes += bytesOf(b.bits, b.ranks, b.values)) > mBudget) mOverBudget = true;
@@ -136,15 +135,15 @@ bool KeptHeights::restoreBlock(GridPoint origin, std::vector<uint64_t> bits,
   const size_t points = size_t(mBlock + 1) * size_t(mBlock + 1);
   if (origin.x < 0 || origin.y < 0 || origin.x % mBlock != 0 || origin.y % mBlock != 0 ||
       origin.x / mBlock >= mBlocksX || origin.y / mBlock >= mBlocksY ||
-      bits.size() != (points + 63) / 64 || keptPoints(bits) != values.size() ||
-      (points % 64 != 0 && bits.back() >> (points % 64) != 0))
+      bits.size() != (points + 63) / 64 || (points % 64 != 0 && bits.back() >> (points % 64) != 0))
     return false;
+  std::vector<uint32_t> ranks;
+  if (rankBits(bits, ranks) != values.size()) return false;
   if (mOverBudget) return true;
   Block& b = blockAt(origin);
   mBytes -= bytesOf(b.bits, b.ranks, b.values);
-  b.bits = std::move(bits);
-  b.values = std::move(values);
-  finishBlock(b);
+  b = {std::move(bits), std::move(ranks), std::move(values)};
+  account(b);
   return true;
 }
 

@@ -5,6 +5,7 @@
 // of the chunk tree has heights too. Voids must already be filled.
 
 #include <cstdint>
+#include <vector>
 
 #include "terralod/core/result.h"
 #include "terralod/raster/heightfield.h"
@@ -19,6 +20,13 @@ class HeightWindows {
   virtual Status read(int32_t x0, int32_t y0, int32_t w, int32_t h, float* out,
                       unsigned worker) = 0;
 };
+
+/// Reads the (side + 1)² samples of the square at (x0, y0) into `closed` (rows of side + 1).
+/// With `margin` > 0 one read serves a texture pass too: the square and `margin` more samples
+/// on every side go into `margined` (rows of side + 1 + 2 margin), and the square is copied
+/// out of it.
+Status readWithMargin(HeightWindows& windows, int32_t x0, int32_t y0, int32_t side, int32_t margin,
+                      std::vector<float>& margined, float* closed, unsigned worker);
 
 class HeightSampler {
  public:

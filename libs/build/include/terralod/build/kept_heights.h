@@ -72,9 +72,9 @@ class KeptHeights final : public HeightSampler {
   };
   Block& blockAt(GridPoint origin);
   const Block& blockAt(GridPoint origin) const;
-  // Counts the kept points before each word (b.ranks) and the bytes held; lets the block go
-  // when the budget is exceeded.
-  void finishBlock(Block& b);
+  // Counts a block (its bits, ranks and values filled in) in the bytes held; lets it go when
+  // the budget is exceeded.
+  void account(Block& b);
   // The height of point (lx, ly) of block (bx, by) into `out`; false where not kept.
   [[gnu::always_inline]] bool lookup(int32_t bx, int32_t by, int32_t lx, int32_t ly,
                                      double& out) const;
