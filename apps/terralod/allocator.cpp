@@ -13,11 +13,16 @@
 // - dirty_decay_ms:30000, muzzy_decay_ms:-1: freed memory goes back to the kernel over 30 s,
 //   and then lazily (MADV_FREE, reclaimed only under memory pressure), not while a build
 //   still needs it.
+// - oversize_threshold:0: no arena of its own for requests of 8 MiB and more. jemalloc
+//   serves those from an arena that hands freed memory back to the kernel at once, so every
+//   parent texture tile (1025² texels of three floats: 12.6 MB) was fresh memory again: a
+//   pass-1 job of a staged build faulted in 221 huge pages where its peak needs 90.
 // Measured on the 8193² synths against glibc's malloc (docs/benchmarks.md, "Textured builds
-// and the allocator").
+// and the allocator", and "Session 64" under the cluster builds).
 // MALLOC_CONF in the environment still overrides any of it.
 extern "C" {
 // Read by jemalloc when it initialises (the name is its documented hook).
 const char* malloc_conf =  // NOLINT
-    "thp:always,metadata_thp:always,narenas:1,dirty_decay_ms:30000,muzzy_decay_ms:-1";
+    "thp:always,metadata_thp:always,narenas:1,dirty_decay_ms:30000,muzzy_decay_ms:-1,"
+    "oversize_threshold:0";
 }

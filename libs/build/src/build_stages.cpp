@@ -335,11 +335,13 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
 Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
+  if (Status st = checkJob(*stage, job, work); !st) return st;
+  // The job fills in its nodes' records; nothing below reads the stage's own (moved, not
+  // copied: the tree is the largest thing a pass-2 job of a large raster holds).
+  std::vector<NodeRecord> nodes = std::move(stage->nodes);
   const StageContext& s = *stage;
-  if (Status st = checkJob(s, job, work); !st) return st;
   threads = std::max(1u, threads);
   const BuildOptions& o = s.plan.options;
-  std::vector<NodeRecord> nodes = s.nodes;
   const std::vector<uint32_t>& blockNodes = s.blockNodes;
   auto image = openImage(o, s.reader->info());
   if (!image) return image.error();

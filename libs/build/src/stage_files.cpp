@@ -115,6 +115,9 @@ std::vector<uint8_t> compressedRecord(std::span<const uint8_t> raw) {
   std::vector<uint8_t> frame(ZSTD_compressBound(raw.size()));
   const size_t n = ZSTD_compress(frame.data(), frame.size(), raw.data(), raw.size(), 1);
   frame.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail with a bound-sized buffer
+  // A job holds a record per block until it writes them: at the bound's capacity, a pass-1
+  // job's records held 16 MB for the 1 MB they use.
+  frame.shrink_to_fit();
   return frame;
 }
 
