@@ -10,7 +10,7 @@ uint64_t VipmChunkPayload::bytes() const {
   uint64_t b = mesh.points.size() * 2 + mesh.targets.size() * 6 + mesh.triangles.size() * 6;
   for (const VipmPart& p : levels.parts())
     b +=
-        p.indices.size() * 2 + p.triangles.size() * 4 + p.moveStart.size() * 4 + p.moves.size() * 2;
+        p.indices.size() * 2 + p.triangles.size() * 4 + p.moveStart.size() * 4 + p.moves.size() * 4;
   b += positions.size() * sizeof(positions[0]) + materials.size();
   b += flanges.tops.size() * 4;
   b += stitcher.bytes();

@@ -22,14 +22,14 @@ Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
     for (uint16_t v : mesh.triangles[t])
       if (v < n) mask[t] |= uint8_t(1u << vertexMaterials[v]);
   std::vector<uint32_t> wholeMoveStart(r + 1, 0);
-  std::vector<uint16_t> wholeMoves;
+  std::vector<uint32_t> wholeMoves;
   std::vector<uint32_t> deaths(r, 0);
   uint32_t current = 0;
   const Status s = replayCollapses(
       mesh,
       [&](uint32_t j, uint32_t corner) {
         while (current < j) wholeMoveStart[++current] = uint32_t(wholeMoves.size());
-        wholeMoves.push_back(uint16_t(corner));
+        wholeMoves.push_back(corner);
         mask[corner / 3] |= uint8_t(1u << vertexMaterials[mesh.targets[j]]);
       },
       [&](uint32_t j, uint32_t) { ++deaths[j]; });
@@ -96,7 +96,7 @@ Result<VipmLevels> VipmLevels::reconstruct(const ProgressiveMesh& mesh,
       part.moveStart[j] = uint32_t(part.moves.size());
       for (uint32_t i = w.moveStart[j]; i < w.moveStart[j + 1]; ++i) {
         const uint32_t t = w.moves[i] / 3;
-        if (local[t] != UINT32_MAX) part.moves.push_back(uint16_t(3 * local[t] + w.moves[i] % 3));
+        if (local[t] != UINT32_MAX) part.moves.push_back(3 * local[t] + w.moves[i] % 3);
       }
     }
     part.moveStart[r] = uint32_t(part.moves.size());

@@ -98,6 +98,56 @@ TEST(VipmLevels, IndexEditsGiveTheSameMeshAsRenamingAtEveryLevel) {
   EXPECT_EQ(levels->parts().size(), 4u);  // the whole chunk and three materials
 }
 
+// A root of 129² points keeps up to 32,768 triangles: 98,304 corners, more than 16 bits count
+// (a rough root of the New Zealand DEM kept 28,000 and drew wrong triangles at some levels).
+TEST(VipmLevels, IndexEditsHoldInChunksOfMoreCornersThan16BitsCount) {
+  Built b;
+  b.patch.width = b.patch.height = 129;
+  uint32_t state = 12345;
+  for (int32_t i = 0; i < 129 * 129; ++i) {
+    state = state * 1664525u + 1013904223u;  // rough: every sample its own height
+    b.patch.heights.push_back(float(state >> 8) / float(1u << 24) * 50.0f);
+    b.patch.materials.push_back(uint8_t(i % 3));
+  }
+  CollapseStart start;
+  start.bakedError = 0.01f;
+  b.mesh =
+      makeProgressiveMesh(b.patch, buildCollapseOrder(b.patch, MaterialRules::kOff, start), 0.01);
+  for (uint16_t p : b.mesh.points) b.materials.push_back(b.patch.materials[p]);
+  ASSERT_GT(b.mesh.triangles.size() * 3, size_t{65536});
+  auto levels = VipmLevels::reconstruct(b.mesh, b.materials);
+  ASSERT_TRUE(levels.ok()) << levels.error().message;
+  const uint32_t r = b.mesh.collapseCount();
+  auto drawn = [&](const VipmPart& part) {
+    std::multiset<Tri> out;
+    for (uint32_t t = 0; t < levels->drawnTriangles(part); ++t)
+      out.insert({part.indices[3 * t], part.indices[3 * t + 1], part.indices[3 * t + 2]});
+    return out;
+  };
+  for (uint32_t j : {r / 3, r, r / 2}) {
+    levels->setApplied(j);
+    const auto expect = naive(b.mesh, j);
+    const VipmPart& whole = levels->whole();
+    ASSERT_EQ(levels->drawnTriangles(whole), expect.size()) << j;
+    for (size_t t = 0; t < expect.size(); ++t)
+      for (int k = 0; k < 3; ++k) ASSERT_EQ(whole.indices[3 * t + k], expect[t][k]) << j;
+    // Each material's part (collapses across materials: it keeps the triangles that ever had
+    // a corner of its material): living triangles only, and every one with such a corner now.
+    const std::multiset<Tri> living(expect.begin(), expect.end());
+    for (const VipmPart& part : levels->parts()) {
+      if (part.material == kWholeChunk) continue;
+      const std::multiset<Tri> mine = drawn(part);
+      std::multiset<Tri> must;
+      for (const Tri& t : expect)
+        if (b.materials[t[0]] == part.material || b.materials[t[1]] == part.material ||
+            b.materials[t[2]] == part.material)
+          must.insert(t);
+      EXPECT_TRUE(std::includes(living.begin(), living.end(), mine.begin(), mine.end())) << j;
+      EXPECT_TRUE(std::includes(mine.begin(), mine.end(), must.begin(), must.end())) << j;
+    }
+  }
+}
+
 TEST(VipmLevels, RefusesAnInconsistentMesh) {
   Built b = build(1.0);
   ProgressiveMesh broken = b.mesh;

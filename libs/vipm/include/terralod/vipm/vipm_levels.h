@@ -40,7 +40,9 @@ struct VipmPart {
   std::vector<uint16_t> indices;    ///< current state (the applied collapses' edits made)
   std::vector<uint32_t> triangles;  ///< per collapse count 0..R: living triangles (a prefix)
   std::vector<uint32_t> moveStart;  ///< per collapse 0..R: start of its moves
-  std::vector<uint16_t> moves;      ///< index positions in `indices` a collapse rewrites
+  /// Index positions in `indices` a collapse rewrites (32 bits: a root keeps up to 32,768
+  /// triangles, 98,304 positions).
+  std::vector<uint32_t> moves;
   /// Per triangle of the part: its index in the whole part (ascending; empty in the whole
   /// part itself, where it is the identity).
   std::vector<uint32_t> wholeTriangles;
