@@ -250,6 +250,29 @@ TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {
   EXPECT_EQ(tileset["extras"]["placed_on_earth"], false);
 }
 
+// A grid without a CRS whose bounds are longitudes and latitudes (an ESRI ASCII grid with no
+// .prj): its spacing was taken as WGS 84 degrees, and so is its place.
+TEST_F(Export3dTiles, ADemWithoutACrsInDegreesIsPlacedWhereItsDegreesSay) {
+  const std::string asc = dir->file("degrees.asc");
+  {
+    std::ofstream f(asc);
+    f << "ncols 65\nnrows 65\nxllcorner -105.5\nyllcorner 40.0\ncellsize 0.0008333333\n";
+    for (int r = 0; r < 65; ++r)
+      for (int c = 0; c < 65; ++c) f << (1800 + r + c % 7) << (c + 1 < 65 ? " " : "\n");
+  }
+  ASSERT_EQ(runTerralod({"build", asc, "-o", dir->file("degrees.tlod")}).exitCode, 0);
+  const RunResult r = runTerralod(
+      {"export", dir->file("degrees.tlod"), "--format", "3dtiles", "-o", dir->file("degrees3d")});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.err.find("placed on a plane tangent"), std::string::npos) << r.err;
+  const json tileset = json::parse(readWholeFile(dir->file("degrees3d/tileset.json")));
+  const json& t = tileset["root"]["transform"];
+  const auto where = roughlyWhere(t[12], t[13], t[14]);
+  EXPECT_NEAR(where[0], -105.47, 0.05);
+  EXPECT_NEAR(where[1], 40.03, 0.05);
+  EXPECT_EQ(tileset["extras"]["placed_on_earth"], true);
+}
+
 TEST_F(Export3dTiles, BadRequestsGetOneLineAndLeaveNothing) {
   const std::string out = dir->file("bad3d");
   expectOneErrorLine(runTerralod({"export", dir->file("flat.tlod"), "--format", "3dtiles",

@@ -13,11 +13,13 @@ nlohmann::json sourceMetadata(const DemInfo& info) {
       {"rows", info.rows},
       {"spacing", {info.spacingX, info.spacingY}},
       {"spacing_source", info.spacingSource},
-      {"crs_wkt", info.crsWkt},
+      {"crs_wkt", info.earthCrsWkt},
       {"encoding", info.encoding == HeightEncoding::kPlain        ? "none"
                    : info.encoding == HeightEncoding::kTerrainRgb ? "terrain-rgb"
                                                                   : "terrarium"},
   };
+  // A raster without a CRS whose bounds were taken as degrees: placed as WGS 84 (exports).
+  if (info.crsWkt.empty() && !info.earthCrsWkt.empty()) source["crs_assumed"] = true;
   if (info.hasGeoTransform) source["geotransform"] = info.geoTransform;
   if (info.nodata) source["nodata"] = *info.nodata;
   // Only multi-band sources say which band held the heights: single-band tilesets keep their

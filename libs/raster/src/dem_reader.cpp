@@ -120,6 +120,12 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
     // taken as WGS 84 degrees, anything else as metres.
     if (boundsLookLikeDegrees(info)) {
       geographic = true;
+      OGRSpatialReference wgs84;
+      char* wkt = nullptr;
+      if (wgs84.SetWellKnownGeogCS("WGS84") == OGRERR_NONE &&
+          wgs84.exportToWkt(&wkt) == OGRERR_NONE && wkt)
+        info.earthCrsWkt = wkt;
+      CPLFree(wkt);
     } else {
       info.spacingX = cellX;
       info.spacingY = cellY;
@@ -319,6 +325,7 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   if (!(info.spacingX > 0) || !(info.spacingY > 0) || !std::isfinite(info.spacingX) ||
       !std::isfinite(info.spacingY))
     return makeError(path, "horizontal spacing must be positive and finite");
+  if (info.earthCrsWkt.empty()) info.earthCrsWkt = info.crsWkt;
 
   return std::unique_ptr<DemReader>(new DemReader(std::move(impl), std::move(info), options));
 }

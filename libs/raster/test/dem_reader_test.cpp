@@ -101,7 +101,11 @@ TEST(DemReader, EsriAsciiWithAndWithoutProjection) {
   auto degrees = open(testData("landlab_srtmgl3_frontrange.asc"));
   EXPECT_NE(degrees->info().spacingSource.find("WGS 84 degrees assumed"), std::string::npos);
   EXPECT_NEAR(degrees->info().spacingY, 92.5, 0.1);
+  // No CRS in the file, and placed on Earth as WGS 84, as its spacing was taken.
+  EXPECT_TRUE(degrees->info().crsWkt.empty());
+  EXPECT_NE(degrees->info().earthCrsWkt.find("WGS 84"), std::string::npos);
   auto metres = open(testData("landlab_west_bijou_gully_3m.asc"));
+  EXPECT_TRUE(metres->info().earthCrsWkt.empty());
   EXPECT_DOUBLE_EQ(metres->info().spacingX, 3.0);
   EXPECT_EQ(countVoids(readAll(*metres)), 2739u);  // NODATA 0 outside the gully
 }

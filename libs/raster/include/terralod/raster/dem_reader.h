@@ -53,6 +53,10 @@ struct DemInfo {
   std::string dataType;  ///< GDAL type name of the band, e.g. "Int16"
   std::string driver;    ///< GDAL driver short name, e.g. "GTiff"
   std::string crsWkt;    ///< the raster's CRS as WKT (empty when unknown)
+  /// The CRS that places the raster on Earth: crsWkt, or WGS 84 when the raster has none and
+  /// its bounds are taken as degrees (as its spacing is: spacingSource says so); empty when
+  /// its place is unknown.
+  std::string earthCrsWkt;
   std::array<double, 6> geoTransform{0, 1, 0, 0, 0, -1};
   bool hasGeoTransform = false;
   bool southUp = false;  ///< raster row 0 is the southern edge (positive geotransform y step)
