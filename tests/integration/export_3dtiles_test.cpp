@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -227,50 +228,60 @@ TEST_F(Export3dTiles, VipmTilesetsExportEveryNodeAtItsFinestInItsMaterialsColour
   expectValidGltf(out + "/" + top["children"][5]["content"]["uri"].get<std::string>());
 }
 
-TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {
-  const std::string asc = dir->file("plain.asc");
+// A 65² ESRI ASCII grid (no .prj) with `corner` (its xllcorner, yllcorner) and `cellsize`, built
+// and exported to 3D Tiles: the export's stderr, where its root's origin lies (longitude,
+// latitude) and whether the export placed it on Earth.
+struct PlacedGrid {
+  std::string err;
+  std::array<double, 2> where{};
+  json placedOnEarth;
+};
+PlacedGrid exportAsciiGrid(TempDir& dir, const std::string& name, std::array<double, 2> corner,
+                           double cellsize) {
+  const std::string asc = dir.file(name + ".asc");
   {
     std::ofstream f(asc);
-    f << "ncols 65\nnrows 65\nxllcorner 0\nyllcorner 0\ncellsize 10\n";
+    f.precision(17);
+    f << "ncols 65\nnrows 65\nxllcorner " << corner[0] << "\nyllcorner " << corner[1]
+      << "\ncellsize " << cellsize << "\n";
     for (int r = 0; r < 65; ++r)
       for (int c = 0; c < 65; ++c) f << (100 + r + c % 7) << (c + 1 < 65 ? " " : "\n");
   }
-  ASSERT_EQ(runTerralod({"build", asc, "-o", dir->file("plain.tlod")}).exitCode, 0);
+  PlacedGrid out;
+  const RunResult built = runTerralod({"build", asc, "-o", dir.file(name + ".tlod")});
+  EXPECT_EQ(built.exitCode, 0) << built.err;
   const RunResult r = runTerralod(
-      {"export", dir->file("plain.tlod"), "--format", "3dtiles", "-o", dir->file("plain3d")});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_NE(r.err.find("has no coordinate reference system; placed on a plane tangent"),
-            std::string::npos)
-      << r.err;
-  const json tileset = json::parse(readWholeFile(dir->file("plain3d/tileset.json")));
+      {"export", dir.file(name + ".tlod"), "--format", "3dtiles", "-o", dir.file(name + "3d")});
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  if (built.exitCode != 0 || r.exitCode != 0) return out;
+  out.err = r.err;
+  const json tileset = json::parse(readWholeFile(dir.file(name + "3d/tileset.json")));
   const json& t = tileset["root"]["transform"];
-  const auto where = roughlyWhere(t[12], t[13], t[14]);
-  EXPECT_NEAR(where[0], 0.0, 0.01);
-  EXPECT_NEAR(where[1], 0.0, 0.01);
-  EXPECT_EQ(tileset["extras"]["placed_on_earth"], false);
+  out.where = roughlyWhere(t[12], t[13], t[14]);
+  out.placedOnEarth = tileset["extras"]["placed_on_earth"];
+  return out;
+}
+
+TEST_F(Export3dTiles, ADemWithoutACrsGetsTheDefaultPlaceAndAWarning) {
+  const PlacedGrid g = exportAsciiGrid(*dir, "plain", {0.0, 0.0}, 10.0);
+  if (HasFailure()) return;
+  EXPECT_NE(g.err.find("has no coordinate reference system; placed on a plane tangent"),
+            std::string::npos)
+      << g.err;
+  EXPECT_NEAR(g.where[0], 0.0, 0.01);
+  EXPECT_NEAR(g.where[1], 0.0, 0.01);
+  EXPECT_EQ(g.placedOnEarth, false);
 }
 
 // A grid without a CRS whose bounds are longitudes and latitudes (an ESRI ASCII grid with no
 // .prj): its spacing was taken as WGS 84 degrees, and so is its place.
 TEST_F(Export3dTiles, ADemWithoutACrsInDegreesIsPlacedWhereItsDegreesSay) {
-  const std::string asc = dir->file("degrees.asc");
-  {
-    std::ofstream f(asc);
-    f << "ncols 65\nnrows 65\nxllcorner -105.5\nyllcorner 40.0\ncellsize 0.0008333333\n";
-    for (int r = 0; r < 65; ++r)
-      for (int c = 0; c < 65; ++c) f << (1800 + r + c % 7) << (c + 1 < 65 ? " " : "\n");
-  }
-  ASSERT_EQ(runTerralod({"build", asc, "-o", dir->file("degrees.tlod")}).exitCode, 0);
-  const RunResult r = runTerralod(
-      {"export", dir->file("degrees.tlod"), "--format", "3dtiles", "-o", dir->file("degrees3d")});
-  ASSERT_EQ(r.exitCode, 0) << r.err;
-  EXPECT_EQ(r.err.find("placed on a plane tangent"), std::string::npos) << r.err;
-  const json tileset = json::parse(readWholeFile(dir->file("degrees3d/tileset.json")));
-  const json& t = tileset["root"]["transform"];
-  const auto where = roughlyWhere(t[12], t[13], t[14]);
-  EXPECT_NEAR(where[0], -105.47, 0.05);
-  EXPECT_NEAR(where[1], 40.03, 0.05);
-  EXPECT_EQ(tileset["extras"]["placed_on_earth"], true);
+  const PlacedGrid g = exportAsciiGrid(*dir, "degrees", {-105.5, 40.0}, 0.0008333333);
+  if (HasFailure()) return;
+  EXPECT_EQ(g.err.find("placed on a plane tangent"), std::string::npos) << g.err;
+  EXPECT_NEAR(g.where[0], -105.47, 0.05);
+  EXPECT_NEAR(g.where[1], 40.03, 0.05);
+  EXPECT_EQ(g.placedOnEarth, true);
 }
 
 TEST_F(Export3dTiles, BadRequestsGetOneLineAndLeaveNothing) {

@@ -76,6 +76,15 @@ std::optional<double> verticalUnitFactor(std::string unit) {
   return std::nullopt;
 }
 
+// `srs` as WKT ("" if GDAL cannot write it).
+std::string wktOf(const OGRSpatialReference& srs) {
+  char* wkt = nullptr;
+  std::string out;
+  if (srs.exportToWkt(&wkt) == OGRERR_NONE && wkt) out = wkt;
+  CPLFree(wkt);
+  return out;
+}
+
 // A raster without a CRS is taken as WGS 84 degrees when its bounds lie inside the
 // longitude/latitude range and its cells are small.
 bool boundsLookLikeDegrees(const DemInfo& info) {
@@ -121,11 +130,7 @@ Status deriveSpacing(GDALDataset& dataset, DemInfo& info) {
     if (boundsLookLikeDegrees(info)) {
       geographic = true;
       OGRSpatialReference wgs84;
-      char* wkt = nullptr;
-      if (wgs84.SetWellKnownGeogCS("WGS84") == OGRERR_NONE &&
-          wgs84.exportToWkt(&wkt) == OGRERR_NONE && wkt)
-        info.earthCrsWkt = wkt;
-      CPLFree(wkt);
+      if (wgs84.SetWellKnownGeogCS("WGS84") == OGRERR_NONE) info.earthCrsWkt = wktOf(wgs84);
     } else {
       info.spacingX = cellX;
       info.spacingY = cellY;
@@ -299,11 +304,7 @@ Result<std::unique_ptr<DemReader>> DemReader::open(const std::string& path,
   info.heightScale *= options.verticalScale;
   info.heightOffset *= options.verticalScale;
 
-  if (const OGRSpatialReference* srs = ds.GetSpatialRef()) {
-    char* wkt = nullptr;
-    if (srs->exportToWkt(&wkt) == OGRERR_NONE && wkt) info.crsWkt = wkt;
-    CPLFree(wkt);
-  }
+  if (const OGRSpatialReference* srs = ds.GetSpatialRef()) info.crsWkt = wktOf(*srs);
   info.hasGeoTransform = ds.GetGeoTransform(info.geoTransform.data()) == CE_None;
   if (info.hasGeoTransform && info.geoTransform[1] < 0.0)
     return makeError(path, "raster columns run east to west; warp it first (gdalwarp)");
