@@ -16,7 +16,7 @@
 // - oversize_threshold:0: no arena of its own for requests of 8 MiB and more. jemalloc
 //   serves those from an arena that hands freed memory back to the kernel at once, so every
 //   parent texture tile (1025² texels of three floats: 12.6 MB) was fresh memory again: a
-//   pass-1 job of a staged build faulted in 221 huge pages where its peak needs 90.
+//   pass-1 job of a staged build faulted in 223 huge pages, 93 with this setting.
 // Measured on the 8193² synths against glibc's malloc (docs/benchmarks.md, "Textured builds
 // and the allocator", and "Session 64" under the cluster builds).
 // MALLOC_CONF in the environment still overrides any of it.
