@@ -18,6 +18,14 @@ std::string selfExecutable() {
   return ec ? std::string("terralod") : path.string();
 }
 
+// terralod-stage beside this terralod, or empty.
+std::string stageExecutable() {
+  const std::filesystem::path self = selfExecutable();
+  if (!self.is_absolute()) return {};
+  const std::filesystem::path stage = self.parent_path() / "terralod-stage";
+  return ::access(stage.c_str(), X_OK) == 0 ? stage.string() : std::string();
+}
+
 Result<BuildSummary> buildStaged(const BuildOptions& options, const StagedRequest& request,
                                  Progress& progress, StageReport report) {
   if (request.scheduler == "local")
@@ -28,6 +36,7 @@ Result<BuildSummary> buildStaged(const BuildOptions& options, const StagedReques
   slurm.sbatchArgs = splitArguments(request.sbatchArgs);
   slurm.retries = request.retries;
   slurm.executable = selfExecutable();
+  slurm.stageExecutable = stageExecutable();
   auto built = buildOnSlurm(options, slurm, progress, warn);
   if (!built) return built.error();
   if (report == StageReport::kFigures)
@@ -42,17 +51,22 @@ int planForOtherScheduler(const BuildOptions& options, const StagedRequest& requ
   auto plan = planStage(options, request.work, request.jobs, quiet, warn);
   if (!plan) return fail(plan.error().message);
   const std::string self = selfExecutable();
+  const std::string stageProgram = stageExecutable();
   const std::string work = std::filesystem::absolute(request.work).string();
   std::printf(
       "terralod: wrote %s/plan.json: %zu blocks in %d jobs. Run these stages in order, each "
       "once every task of the one before has exited with status 0:\n",
       work.c_str(), plan->blocks.size(), plan->jobs);
   for (BuildStage stage : kJobStages) {
+    // The stages that read no raster start faster without GDAL, in terralod-stage.
+    const std::string program = stageProgram.empty() || stageReadsRasters(plan->options, stage)
+                                    ? self + " build-stage"
+                                    : stageProgram;
     if (perJob(stage))
-      std::printf("  %s build-stage %s %s --task T    for T = 0 .. %d (in parallel)\n",
-                  self.c_str(), stageName(stage), work.c_str(), plan->jobs - 1);
+      std::printf("  %s %s %s --task T    for T = 0 .. %d (in parallel)\n", program.c_str(),
+                  stageName(stage), work.c_str(), plan->jobs - 1);
     else
-      std::printf("  %s build-stage %s %s\n", self.c_str(), stageName(stage), work.c_str());
+      std::printf("  %s %s %s\n", program.c_str(), stageName(stage), work.c_str());
   }
   std::printf(
       "Exit status 3 from reduce: the height range estimate was wrong and the plan is updated; "

@@ -13,6 +13,7 @@
 #include "terralod/vegetation/ldi_baker.h"
 #include "terralod/vegetation/ldi_picture.h"
 #include "terralod/vegetation/vegetation_file.h"
+#include "terralod/vegetation/wang_tiling.h"
 #include "vegetation_commands.h"
 
 namespace terralod::cli {

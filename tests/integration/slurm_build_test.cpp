@@ -97,7 +97,8 @@ TEST_F(SlurmBuild, KilledAndCancelledTasksAreSubmittedAgain) {
   // kill lands, and a finished task is rightly not run again).
   bool killed = false;
   for (int i = 0; i < 3000 && !killed && !finished; ++i) {
-    const RunResult found = runProgram("pgrep", {"-a", "-f", "build-stage pass2 " + work});
+    // (`terralod-stage pass2`, or `terralod build-stage pass2` without it.)
+    const RunResult found = runProgram("pgrep", {"-a", "-f", "stage pass2 " + work});
     const size_t at = found.out.find("--task ");
     if (found.exitCode != 0 || at == std::string::npos) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));

@@ -73,7 +73,8 @@ TEST_F(StagedBuild, StageCommandsRecoverFromAWrongHeightEstimate) {
                    "--scheduler", "none", "--work-dir", work, "--jobs", "3"});
   ASSERT_EQ(planned.exitCode, 0) << planned.err;
   EXPECT_TRUE(has(planned.out, "build-stage pass1 " + work + " --task T")) << planned.out;
-  EXPECT_TRUE(has(planned.out, "build-stage assemble " + work)) << planned.out;
+  // The stages that read no raster are given to the program without GDAL beside terralod.
+  EXPECT_TRUE(has(planned.out, "terralod-stage assemble " + work)) << planned.out;
   EXPECT_FALSE(fs::exists(file("manual.tlod")));
 
   nlohmann::json plan = nlohmann::json::parse(readWholeFile(work + "/plan.json"));
@@ -110,6 +111,87 @@ TEST_F(StagedBuild, StageCommandsRecoverFromAWrongHeightEstimate) {
   EXPECT_EQ(outside.exitCode, 1);
   EXPECT_EQ(outside.errLines().size(), 1u) << outside.err;
   EXPECT_TRUE(has(outside.err, "plan.json: has jobs 0..2, not 3")) << outside.err;
+}
+
+// terralod-stage runs reduce, pass 2 (of a build whose pass 1 kept the heights), coarse and
+// assemble without GDAL: it links none, reads neither the DEM nor the draped image (both are
+// gone after pass 1 here), and the tileset is the local build's. The stages that read a raster
+// are refused with one line naming the command that runs them.
+TEST_F(StagedBuild, StagesWithoutARasterRunWithoutGdal) {
+  const std::string program = (fs::path(TERRALOD_CLI).parent_path() / "terralod-stage").string();
+  ASSERT_TRUE(fs::exists(program)) << program;
+  const RunResult needed = runProgram("readelf", {"-d", program});
+  ASSERT_EQ(needed.exitCode, 0) << needed.err;
+  EXPECT_TRUE(has(needed.out, "(NEEDED)")) << needed.out;
+  EXPECT_FALSE(has(needed.out, "libgdal")) << needed.out;
+
+  // The synth with the generated colour (its shade layer), and a void-free window of Zion with
+  // its Landsat image draped (the image's texels per cell come from the plan).
+  const std::string moved = file("moved.tif"), zion = file("zion.tif"),
+                    image = file("zion-rgb.tif");
+  fs::copy_file(dem(), moved, fs::copy_options::overwrite_existing);
+  for (const auto& [from, to] : {std::pair{"zion_srtm3_utm12_30m.tif", zion},
+                                 std::pair{"zion_landsat8_rgb_utm12_30m.tif", image}}) {
+    const RunResult cut =
+        runProgram("gdal_translate", {"-q", "-srcwin", "300", "500", "257", "257",
+                                      std::string(TERRALOD_TEST_DATA) + "/" + from, to});
+    ASSERT_EQ(cut.exitCode, 0) << cut.err;
+  }
+  for (const bool draped : {false, true}) {
+    const std::string source = draped ? zion : moved;
+    const std::string work = file(draped ? "slim-draped" : "slim");
+    std::vector<std::string> options = {"--block-cells", "128"};
+    if (draped) options.insert(options.end(), {"--texture", image});
+    std::vector<std::string> local = {"build", source, "-o", file("slim-local.tlod")};
+    local.insert(local.end(), options.begin(), options.end());
+    ASSERT_EQ(runTerralod(local).exitCode, 0);
+    std::vector<std::string> plan = {"build", source,       "-o", file("slim.tlod"), "--scheduler",
+                                     "none",  "--work-dir", work, "--jobs",          "2"};
+    plan.insert(plan.end(), options.begin(), options.end());
+    const RunResult planned = runTerralod(plan);
+    ASSERT_EQ(planned.exitCode, 0) << planned.err;
+    const RunResult early = runProgram(program, {"pass1", work, "--task", "0"});
+    EXPECT_EQ(early.exitCode, 1);
+    ASSERT_EQ(early.errLines().size(), 1u) << early.err;
+    EXPECT_TRUE(has(early.err, "terralod-stage: error: " + work +
+                                   "/plan.json: pass1 reads the DEM (run it with `terralod "
+                                   "build-stage pass1`)"))
+        << early.err;
+    for (int t = 0; t < 2; ++t)
+      ASSERT_EQ(runTerralod({"build-stage", "pass1", work, "--task", std::to_string(t)}).exitCode,
+                0);
+    fs::rename(source, source + ".away");
+    if (draped) fs::rename(image, image + ".away");
+    auto stage = [&](const std::string& name, int task = 0) {
+      return runProgram(program, {name, work, "--task", std::to_string(task)});
+    };
+    const RunResult reduce = stage("reduce");
+    ASSERT_EQ(reduce.exitCode, 0) << reduce.err;
+    for (int t = 0; t < 2; ++t) ASSERT_EQ(stage("pass2", t).exitCode, 0) << t;
+    ASSERT_EQ(stage("coarse").exitCode, 0);
+    const RunResult assemble = stage("assemble");
+    ASSERT_EQ(assemble.exitCode, 0) << assemble.err;
+    EXPECT_EQ(readWholeFile(file("slim.tlod")), readWholeFile(file("slim-local.tlod"))) << draped;
+    fs::rename(source + ".away", source);
+    if (draped) fs::rename(image + ".away", image);
+  }
+
+  // A greedy build's pass 2 reads the DEM.
+  const std::string work = file("slim-greedy");
+  ASSERT_EQ(
+      runTerralod({"build", moved, "--no-texture", "--mesher", "greedy", "-o", file("greedy.tlod"),
+                   "--scheduler", "none", "--work-dir", work, "--jobs", "1"})
+          .exitCode,
+      0);
+  ASSERT_EQ(runTerralod({"build-stage", "pass1", work}).exitCode, 0);
+  ASSERT_EQ(runProgram(program, {"reduce", work}).exitCode, 0);
+  const RunResult greedy = runProgram(program, {"pass2", work});
+  EXPECT_EQ(greedy.exitCode, 1);
+  ASSERT_EQ(greedy.errLines().size(), 1u) << greedy.err;
+  EXPECT_TRUE(has(greedy.err, "run it with `terralod build-stage pass2`")) << greedy.err;
+  EXPECT_EQ(readWholeFile(work + "/status/pass2-0.err"),
+            greedy.err.substr(greedy.err.find(work + "/plan.json")));
+  ASSERT_EQ(runTerralod({"build-stage", "pass2", work}).exitCode, 0);
 }
 
 TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {

@@ -58,7 +58,9 @@ Result<BuildPlan> planStage(const BuildOptions& options, const std::string& work
     return checked.error();
   if (options.textures && !(options.textureTau > 0 && std::isfinite(options.textureTau)))
     return Error{"--min-tau must be a positive number of pixels"};
-  if (auto image = openImage(plan.options, info); !image) return image.error();
+  auto image = openImage(plan.options, info);
+  if (!image) return image.error();
+  plan.source = sourceFactsOf(reader, image->get());
   // Fail on an unwritable output before any job runs.
   if (auto writer = TilesetWriter::create(plan.options.output); !writer) return writer.error();
   if (Status s = checkWorkDirectory(work); !s) return s.error();
@@ -114,10 +116,10 @@ class PassOneOutputs {
   Status open() {
     const BuildOptions& o = mS.plan.options;
     if (!o.textures) return {};
-    auto image = openImage(o, mS.reader->info());
+    auto image = openImage(o, mS.info());
     if (!image) return image.error();
     mImage = std::move(image).value();
-    mBuild = textureBuildFor(o, mS.layout, mS.budget, *mS.reader, mImage.get());
+    mBuild = textureBuildFor(o, mS.layout, mS.budget, mS.plan.source, mImage.get());
     mPass = std::make_unique<TexturePass>(mS.layout, mBuild, mS.nodes, mThreads);
     if (Status st = mPass->open(); !st) return st;
     auto file = StageFileWriter::create(chunkTextures(mWork, mJob), StageFile::kChunkTextures);
@@ -204,7 +206,9 @@ Status pass1Stage(const std::string& work, int job, unsigned threads, Progress& 
   }
   const int32_t margin = outputs ? outputs->margin() : 0;
   const HaloPattern halo = blockHalo(s.layout, s.block);
-  DemWindows windows(*s.reader, threads, nullptr);
+  auto reader = openStageDem(s, work);
+  if (!reader) return reader.error();
+  DemWindows windows(**reader, threads, nullptr);
   std::vector<BlockScratch> scratch(threads);
   std::vector<BlockWindow> margined(threads);
   std::vector<std::vector<float>> heights(threads);
@@ -332,31 +336,28 @@ Result<ReduceResult> reduceStage(const std::string& work, Progress& progress) {
   return ReduceResult::kDone;
 }
 
-Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
+namespace {
+
+Result<StageContext> loadJobStage(const std::string& work, int job) {
   auto stage = loadStage(work);
   if (!stage) return stage.error();
-  if (Status st = checkJob(*stage, job, work); !st) return st;
-  // The job fills in its nodes' records; nothing below reads the stage's own (moved, not
-  // copied: the tree is the largest thing a pass-2 job of a large raster holds).
-  std::vector<NodeRecord> nodes = std::move(stage->nodes);
-  const StageContext& s = *stage;
-  threads = std::max(1u, threads);
+  if (Status st = checkJob(*stage, job, work); !st) return st.error();
+  return stage;
+}
+
+// Pass 2 of job `job` with the tree `nodes` (the stage's, moved: nothing below reads the
+// stage's own, and the tree is the largest thing a pass-2 job of a large raster holds).
+// `texturePass` makes the textures when pass 1 did not; `windows` gives the heights when pass 1
+// kept none.
+Status pass2Blocks(const std::string& work, int job, unsigned threads, const StageContext& s,
+                   std::vector<NodeRecord>& nodes, TexturePass* texturePass, HeightWindows& windows,
+                   Progress& progress) {
   const BuildOptions& o = s.plan.options;
   const std::vector<uint32_t>& blockNodes = s.blockNodes;
-  auto image = openImage(o, s.reader->info());
-  if (!image) return image.error();
   const bool keeps = passOneKeeps(o);  // heights from pass 1, textures made there
-  TextureBuild textures;
-  std::unique_ptr<TexturePass> texturePass;
-  if (o.textures && !keeps) {
-    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
-    texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
-    if (Status st = texturePass->open(); !st) return st;
-  }
-  ChunkPassContext context{s.layout,           s.budget,          nodes,    s.block,
-                           o.compressionLevel, texturePass.get(), o.mesher, chunkPayloadOf(o)};
+  ChunkPassContext context{s.layout,           s.budget,    nodes,    s.block,
+                           o.compressionLevel, texturePass, o.mesher, chunkPayloadOf(o)};
   const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
-  DemWindows windows(*s.reader, threads, nullptr);
   std::vector<BlockWindow> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);
@@ -458,6 +459,43 @@ Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& 
                         packFrontier(pyramid->takeFrontier()));
 }
 
+// Pass 2 from the heights (and textures) pass 1 kept: it reads no raster.
+Status pass2FromKept(const std::string& work, int job, unsigned threads, StageContext& s,
+                     Progress& progress) {
+  if (!passOneKeeps(s.plan.options))
+    return makeError(planPath(work),
+                     "is a build whose pass 2 reads the DEM (run it with "
+                     "`terralod build-stage pass2`)");
+  std::vector<NodeRecord> nodes = std::move(s.nodes);
+  NoWindows none;
+  return pass2Blocks(work, job, std::max(1u, threads), s, nodes, nullptr, none, progress);
+}
+
+}  // namespace
+
+Status pass2Stage(const std::string& work, int job, unsigned threads, Progress& progress) {
+  auto stage = loadJobStage(work, job);
+  if (!stage) return stage.error();
+  if (passOneKeeps(stage->plan.options)) return pass2FromKept(work, job, threads, *stage, progress);
+  const StageContext& s = *stage;
+  const BuildOptions& o = s.plan.options;
+  threads = std::max(1u, threads);
+  std::vector<NodeRecord> nodes = std::move(stage->nodes);
+  auto reader = openStageDem(s, work);
+  if (!reader) return reader.error();
+  auto image = openImage(o, s.info());
+  if (!image) return image.error();
+  TextureBuild textures;
+  std::unique_ptr<TexturePass> texturePass;
+  if (o.textures) {
+    textures = textureBuildFor(o, s.layout, s.budget, s.plan.source, image->get());
+    texturePass = std::make_unique<TexturePass>(s.layout, textures, nodes, threads);
+    if (Status st = texturePass->open(); !st) return st;
+  }
+  DemWindows windows(**reader, threads, nullptr);
+  return pass2Blocks(work, job, threads, s, nodes, texturePass.get(), windows, progress);
+}
+
 namespace {
 
 // The textures of the nodes above the pass-2 jobs' frontiers, from the frontiers' tiles, one
@@ -552,12 +590,11 @@ Status coarseStage(const std::string& work, unsigned threads, Progress& progress
     }
   }
   const ActivationGrid grid = ActivationGrid::sparse(points);
-  auto image = openImage(o, s.reader->info());
-  if (!image) return image.error();
   NodeTextures top;
   if (o.textures) {
+    // The top of the pyramid is made of the jobs' tiles: no DEM, no image.
     const TextureBuild textureBuild =
-        textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+        textureBuildFor(o, s.layout, s.budget, s.plan.source, nullptr);
     const TexturePass pass(s.layout, textureBuild, nodes, threads);
     auto made = topTextures(work, s, pass);
     if (!made) return made.error();
@@ -582,11 +619,9 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   if (!stage) return stage.error();
   const StageContext& s = *stage;
   const BuildOptions& o = s.plan.options;
-  const DemInfo& info = s.reader->info();
+  const DemInfo& info = s.info();
   auto reduced = readReduceSummary(work);
   if (!reduced) return reduced.error();
-  auto image = openImage(o, info);
-  if (!image) return image.error();
   auto writer = TilesetWriter::create(o.output);
   if (!writer) return writer.error();
   std::vector<NodeRecord> nodes = s.nodes;
@@ -620,10 +655,10 @@ Result<BuildSummary> assembleStage(const std::string& work, Progress& progress) 
   BuildSummary summary;
   summary.sourceSamples = uint64_t(info.columns) * uint64_t(info.rows);
   summary.streamed = true;
-  if (*image) summary.textureRefine = (*image)->refine();
+  summary.textureRefine = s.plan.source.imageRefine;
   TextureBuild textures;
   if (o.textures) {
-    textures = textureBuildFor(o, s.layout, s.budget, *s.reader, image->get());
+    textures = textureBuildFor(o, s.layout, s.budget, s.plan.source, nullptr);
     markInheritedTextures(textures.plan, nodes);
   }
   summarizeNodes(nodes, summary);
@@ -719,33 +754,59 @@ std::string taskStatusPath(const std::string& work, BuildStage stage, int task,
   return work + "/status/" + stageName(stage) + "-" + std::to_string(task) + "." + ending;
 }
 
-Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task, unsigned threads,
-                             Progress& progress) {
+bool stageReadsRasters(const BuildOptions& options, BuildStage stage) {
+  return stage == BuildStage::kPass1 || (stage == BuildStage::kPass2 && !passOneKeeps(options));
+}
+
+namespace {
+
+Result<TaskEnd> endOf(const Status& status) {
+  if (!status) return status.error();
+  return TaskEnd::kDone;
+}
+
+// A task of a stage that reads no raster (stageReadsRasters false).
+Result<TaskEnd> rasterFreeTask(const std::string& work, BuildStage stage, int task,
+                               unsigned threads, Progress& progress) {
+  switch (stage) {
+    case BuildStage::kReduce: {
+      auto reduced = reduceStage(work, progress);
+      if (!reduced) return reduced.error();
+      return *reduced == ReduceResult::kReplanned ? TaskEnd::kReplanned : TaskEnd::kDone;
+    }
+    case BuildStage::kPass2: {
+      auto s = loadJobStage(work, task);
+      if (!s) return s.error();
+      return endOf(pass2FromKept(work, task, threads, *s, progress));
+    }
+    case BuildStage::kCoarse:
+      return endOf(coarseStage(work, threads, progress));
+    case BuildStage::kAssemble: {
+      auto summary = assembleStage(work, progress);
+      if (!summary) return summary.error();
+      return TaskEnd::kDone;
+    }
+    case BuildStage::kPass1:
+      break;
+  }
+  return makeError(planPath(work),
+                   "pass1 reads the DEM (run it with `terralod build-stage pass1`)");
+}
+
+// Runs `body` as task `task` of `stage` once the stage before has finished, and records how it
+// ended (WORK/status) with what it cost.
+Result<TaskEnd> recordTask(const std::string& work, BuildStage stage, int task,
+                           const std::function<Result<TaskEnd>()>& body) {
   std::error_code ec;
   for (const char* ending : {"ok", "err", "replan"})
     fs::remove(taskStatusPath(work, stage, task, ending), ec);
   const auto start = std::chrono::steady_clock::now();
   if (auto ready = stageBeforeFinished(work, stage); !ready || !*ready)
     return ready ? Result<TaskEnd>(TaskEnd::kNotReady) : Result<TaskEnd>(ready.error());
-  Result<TaskEnd> end = TaskEnd::kDone;
-  if (!perJob(stage) && task != 0) {
-    end = makeError(planPath(work), std::string("stage ") + stageName(stage) + " has one task, 0");
-  } else if (stage == BuildStage::kPass1) {
-    if (Status st = pass1Stage(work, task, threads, progress); !st) end = st.error();
-  } else if (stage == BuildStage::kReduce) {
-    auto reduced = reduceStage(work, progress);
-    if (!reduced)
-      end = reduced.error();
-    else if (*reduced == ReduceResult::kReplanned)
-      end = TaskEnd::kReplanned;
-  } else if (stage == BuildStage::kPass2) {
-    if (Status st = pass2Stage(work, task, threads, progress); !st) end = st.error();
-  } else if (stage == BuildStage::kCoarse) {
-    if (Status st = coarseStage(work, threads, progress); !st) end = st.error();
-  } else {
-    auto summary = assembleStage(work, progress);
-    if (!summary) end = summary.error();
-  }
+  Result<TaskEnd> end =
+      !perJob(stage) && task != 0
+          ? makeError(planPath(work), std::string("stage ") + stageName(stage) + " has one task, 0")
+          : body();
   const std::string ending = !end ? "err" : *end == TaskEnd::kReplanned ? "replan" : "ok";
   // The error line, or what the task cost (for the driver's figures).
   std::string text;
@@ -763,6 +824,23 @@ Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task
   if (Status st = writeText(taskStatusPath(work, stage, task, ending), text); !st && end)
     return st.error();
   return end;
+}
+
+}  // namespace
+
+Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task, unsigned threads,
+                             Progress& progress) {
+  return recordTask(work, stage, task, [&]() -> Result<TaskEnd> {
+    if (stage == BuildStage::kPass1) return endOf(pass1Stage(work, task, threads, progress));
+    if (stage == BuildStage::kPass2) return endOf(pass2Stage(work, task, threads, progress));
+    return rasterFreeTask(work, stage, task, threads, progress);
+  });
+}
+
+Result<TaskEnd> runRasterFreeStageTask(const std::string& work, BuildStage stage, int task,
+                                       unsigned threads, Progress& progress) {
+  return recordTask(work, stage, task,
+                    [&] { return rasterFreeTask(work, stage, task, threads, progress); });
 }
 
 void cleanWorkDirectory(const std::string& work, KeepLogs logs) {

@@ -37,21 +37,28 @@ bool storesShade(const BuildOptions& options) {
          options.generatedColour == GeneratedColour::kShader;
 }
 
+SourceFacts sourceFactsOf(const DemReader& reader, const ImageDrape* image) {
+  SourceFacts facts;
+  facts.info = reader.info();
+  facts.rowLatitudes = reader.gridRowLatitudes();
+  facts.imageRefine = image ? image->refine() : 0;
+  return facts;
+}
+
 TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layout,
-                             const ErrorBudget& budget, const DemReader& reader,
+                             const ErrorBudget& budget, const SourceFacts& source,
                              const ImageDrape* image) {
-  const DemInfo& info = reader.info();
+  const DemInfo& info = source.info;
   TextureBuild textures;
   textures.plan = planTextures(layout, budget.levelError, info.spacingX, info.spacingY,
-                               options.textureTau, image ? image->refine() : 1);
+                               options.textureTau, std::max(1u, source.imageRefine));
   if (options.textureSharing == TextureSharing::kEveryChunk)
     for (TextureLevel& level : textures.plan) level.inherited = false;
   textures.surface.spacingX = info.spacingX;
   textures.surface.spacingY = info.spacingY;
   textures.surface.columns = info.columns;
   textures.surface.rows = info.rows;
-  textures.surface.rowLatitudes =
-      std::make_shared<const std::vector<double>>(reader.gridRowLatitudes());
+  textures.surface.rowLatitudes = std::make_shared<const std::vector<double>>(source.rowLatitudes);
   textures.image = image;
   textures.colourKind = storesShade(options) ? TextureLayerKind::kShade : TextureLayerKind::kColor;
   textures.zstdLevel = options.compressionLevel;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "terralod/build/build_plan.h"
 #include "terralod/build/builder.h"
 #include "terralod/build/error_budget.h"
 #include "terralod/build/texture_pass.h"
@@ -32,10 +33,14 @@ bool storesShade(const BuildOptions& options);
 /// How the build's static chunks are stored (BuildOptions::chunkCodec).
 ChunkPayloadVersion chunkPayloadOf(const BuildOptions& options);
 
+/// What the texture pass needs to know of the raster and the draped image (null: none).
+SourceFacts sourceFactsOf(const DemReader& reader, const ImageDrape* image);
+
 /// The texture pyramid's plan and the generated colour's inputs (without sea voids, which only
-/// an in-memory build with voids knows).
+/// an in-memory build with voids knows). `image` is the draped image the blocks' texels are
+/// made from: null in a stage that makes none (source.imageRefine still says what it is).
 TextureBuild textureBuildFor(const BuildOptions& options, const TreeLayout& layout,
-                             const ErrorBudget& budget, const DemReader& reader,
+                             const ErrorBudget& budget, const SourceFacts& source,
                              const ImageDrape* image);
 
 /// Vertex, triangle and texture totals of the built nodes.

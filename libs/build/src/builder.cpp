@@ -153,8 +153,8 @@ Result<ErrorPass> streamedErrors(const BuildOptions& options, const LocalBuild& 
     // The textures depend on the heights and the levels' errors, not on the height range.
     auto levels = makeErrorBudget(b.layout, options.maxError, guessHi - guessLo);
     if (!levels) return makeError(info.path, levels.error().message);
-    auto build = std::make_unique<TextureBuild>(
-        textureBuildFor(options, b.layout, *levels, *b.reader, b.image.get()));
+    auto build = std::make_unique<TextureBuild>(textureBuildFor(
+        options, b.layout, *levels, sourceFactsOf(*b.reader, b.image.get()), b.image.get()));
     if (PassOneTextures::blockBytes(*build, nodes) <= options.memoryMB << 20)
       plan.textureBuild = std::move(build);
   }
@@ -282,7 +282,8 @@ Result<BuildSummary> buildTileset(const BuildOptions& options, Progress& progres
     textures = *plan.textureBuild;
     chunkOptions.madeTextures = &madeTextures;
   } else if (options.textures) {
-    textures = textureBuildFor(options, b.layout, pass->budget, *b.reader, b.image.get());
+    textures = textureBuildFor(options, b.layout, pass->budget,
+                               sourceFactsOf(*b.reader, b.image.get()), b.image.get());
     textures.surface.seaVoids = plan.seaVoids;
     chunkOptions.textures = &textures;
   }

@@ -132,10 +132,7 @@ Result<StageContext> loadStage(const std::string& work) {
   if (!plan) return plan.error();
   s.plan = std::move(plan).value();
   const BuildOptions& o = s.plan.options;
-  auto reader = DemReader::open(o.input, o.dem);
-  if (!reader) return reader.error();
-  s.reader = std::move(reader).value();
-  const DemInfo& info = s.reader->info();
+  const DemInfo& info = s.info();
   auto layout = makeTreeLayout(info.columns, info.rows, o.chunkCells);
   if (!layout) return layout.error();
   s.layout = *layout;
@@ -156,6 +153,19 @@ Result<StageContext> loadStage(const std::string& work) {
   if (!same)
     return makeError(planPath(work), "was made for another raster or block size than " + o.input);
   return s;
+}
+
+Result<std::unique_ptr<DemReader>> openStageDem(const StageContext& s, const std::string& work) {
+  const BuildOptions& o = s.plan.options;
+  auto reader = DemReader::open(o.input, o.dem);
+  if (!reader) return reader.error();
+  const DemInfo& now = (*reader)->info();
+  const DemInfo& planned = s.info();
+  if (now.columns != planned.columns || now.rows != planned.rows ||
+      now.spacingX != planned.spacingX || now.spacingY != planned.spacingY)
+    return makeError(planPath(work), "was made for another raster than " + o.input +
+                                         " (it has changed since the plan)");
+  return reader;
 }
 
 // The block nodes job `job` works on.

@@ -60,10 +60,9 @@ bool holdsOnlyStageFiles(const std::string& work);
 /// Writes a small text file atomically.
 Status writeText(const std::string& path, const std::string& text);
 
-// What every stage derives from the plan.
+// What every stage derives from the plan (without opening the DEM: openStageDem).
 struct StageContext {
   BuildPlan plan;
-  std::unique_ptr<DemReader> reader;
   TreeLayout layout;
   ErrorBudget budget;
   int32_t block = 0;
@@ -76,11 +75,14 @@ struct StageContext {
   size_t gridBlock(size_t k) const {
     return size_t(plan.blocks[k][1]) * size_t(blocksX) + size_t(plan.blocks[k][0]);
   }
+  const DemInfo& info() const { return plan.source.info; }
 };
 
 Result<BuildPlan> readPlan(const std::string& work);
-/// The plan, the DEM opened, the tree; an error if the plan was made for another raster.
+/// The plan and the tree; an error if the plan's blocks are not its raster's.
 Result<StageContext> loadStage(const std::string& work);
+/// The DEM, for a stage that reads it; an error if it is not the raster the plan was made for.
+Result<std::unique_ptr<DemReader>> openStageDem(const StageContext& s, const std::string& work);
 
 // The block nodes job `job` works on.
 std::vector<uint32_t> jobBlockNodes(const StageContext& s, int job);
@@ -99,6 +101,14 @@ Result<std::unique_ptr<ImageDrape>> openImage(const BuildOptions& o, const DemIn
 class NoHeights final : public HeightSampler {
  public:
   double at(int32_t, int32_t) const override { return std::nan(""); }
+};
+
+// Windows nobody reads: a pass 2 from the heights pass 1 kept, which makes no textures.
+class NoWindows final : public HeightWindows {
+ public:
+  Status read(int32_t, int32_t, int32_t, int32_t, float*, unsigned) override {
+    return Error{"internal error: a stage without the DEM was asked for its heights"};
+  }
 };
 
 /// An error unless `work` is new, empty or a staged build's own.

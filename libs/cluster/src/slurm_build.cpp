@@ -39,8 +39,13 @@ std::string readText(const std::string& path) {
 
 class SlurmDriver {
  public:
-  SlurmDriver(const SlurmBuildOptions& options, int jobs, Progress& progress, const Warn& warn)
-      : mOptions(options), mJobs(jobs), mProgress(progress), mWarn(warn) {}
+  SlurmDriver(const SlurmBuildOptions& options, const BuildPlan& plan, Progress& progress,
+              const Warn& warn)
+      : mOptions(options),
+        mPlanned(plan.options),
+        mJobs(plan.jobs),
+        mProgress(progress),
+        mWarn(warn) {}
 
   Status run() {
     mProgress.begin("jobs", totalTasks());
@@ -77,8 +82,12 @@ class SlurmDriver {
   bool finished() const { return !mStages.empty() && mStages.back().tasks.front().done; }
 
   std::string command(BuildStage stage) const {
-    return "exec " + shellQuoted(mOptions.executable) + " build-stage " + stageName(stage) + " " +
-           shellQuoted(mOptions.work) + " --task $SLURM_ARRAY_TASK_ID";
+    const std::string program =
+        mOptions.stageExecutable.empty() || stageReadsRasters(mPlanned, stage)
+            ? shellQuoted(mOptions.executable) + " build-stage"
+            : shellQuoted(mOptions.stageExecutable);
+    return "exec " + program + " " + stageName(stage) + " " + shellQuoted(mOptions.work) +
+           " --task $SLURM_ARRAY_TASK_ID";
   }
   SlurmSubmission submission(BuildStage stage, const std::string& tasks) const {
     SlurmSubmission job;
@@ -228,6 +237,7 @@ class SlurmDriver {
 
  private:
   const SlurmBuildOptions& mOptions;
+  const BuildOptions& mPlanned;
   int mJobs;
   Progress& mProgress;
   const Warn& mWarn;
@@ -249,7 +259,7 @@ Result<SlurmBuildResult> buildOnSlurm(const BuildOptions& options, const SlurmBu
   std::error_code ec;
   fs::create_directories(absolute.work + "/logs", ec);
   if (ec) return makeError(absolute.work + "/logs", "cannot create: " + ec.message());
-  SlurmDriver driver(absolute, plan->jobs, progress, warn);
+  SlurmDriver driver(absolute, *plan, progress, warn);
   if (Status s = driver.run(); !s) {
     cleanWorkDirectory(absolute.work, KeepLogs::kYes);
     return s.error();

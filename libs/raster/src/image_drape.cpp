@@ -14,7 +14,9 @@
 
 namespace terralod {
 
-struct ImageDrape::Impl {
+namespace {
+
+struct GdalDrape final : ImageDrape::Impl {
   GDALDatasetH source = nullptr;
   GDALDatasetH expanded = nullptr;  // a paletted image as RGBA (virtual), warped instead
   GDALDatasetH warped = nullptr;
@@ -23,15 +25,16 @@ struct ImageDrape::Impl {
   bool wide = false;   // not Byte: stretched from [lo, hi]
   double lo = 0, hi = 255;
   int64_t width = 0, height = 0;  // of the fine grid
-  ~Impl() {
+  ~GdalDrape() override {
     if (warped) GDALClose(warped);
     if (expanded) GDALClose(expanded);
     if (source) GDALClose(source);
   }
+  Status read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* rgba,
+              const std::string& path) const override;
 };
 
-ImageDrape::ImageDrape(std::unique_ptr<Impl> impl) : mImpl(std::move(impl)) {}
-ImageDrape::~ImageDrape() = default;
+}  // namespace
 
 namespace {
 
@@ -46,14 +49,14 @@ struct Bounds {
   double area() const { return x1 > x0 && y1 > y0 ? (x1 - x0) * (y1 - y0) : 0.0; }
 };
 
-Result<std::unique_ptr<ImageDrape::Impl>> openDrape(const std::string& path, const DemInfo& dem,
-                                                    uint32_t maxRefine, uint32_t& refine,
-                                                    double& coverage) {
+Result<std::unique_ptr<GdalDrape>> openDrape(const std::string& path, const DemInfo& dem,
+                                             uint32_t maxRefine, uint32_t& refine,
+                                             double& coverage) {
   gdal::ensureRegistered();
   gdal::QuietErrors quiet;
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return makeError(path, "no such file");
-  auto impl = std::make_unique<ImageDrape::Impl>();
+  auto impl = std::make_unique<GdalDrape>();
   impl->source =
       GDALOpenEx(path.c_str(), GDAL_OF_RASTER | GDAL_OF_READONLY, nullptr, nullptr, nullptr);
   if (!impl->source) {
@@ -217,9 +220,10 @@ Result<std::unique_ptr<ImageDrape>> ImageDrape::reopen() const {
   return d;
 }
 
-Status ImageDrape::read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* rgba) const {
+Status GdalDrape::read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* rgba,
+                       const std::string& path) const {
   gdal::QuietErrors quiet;
-  const Impl& m = *mImpl;
+  const GdalDrape& m = *this;
   const int64_t cx0 = std::clamp<int64_t>(x0, 0, m.width - 1),
                 cx1 = std::clamp<int64_t>(x0 + w - 1, 0, m.width - 1);
   const int64_t cy0 = std::clamp<int64_t>(y0, 0, m.height - 1),
@@ -233,7 +237,7 @@ Status ImageDrape::read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* r
                           GDT_Float32, 4, bandList, 4 * sizeof(float),
                           int64_t(rw) * 4 * sizeof(float), sizeof(float)) != CE_None) {
     const std::string why = gdal::lastErrorMessage();
-    return makeError(mPath, "read failed" + (why.empty() ? "" : ": " + why));
+    return makeError(path, "read failed" + (why.empty() ? "" : ": " + why));
   }
   const double scale = m.wide ? 255.0 / (m.hi - m.lo) : 1.0, offset = m.wide ? m.lo : 0.0;
   for (int32_t y = 0; y < h; ++y) {

@@ -1,8 +1,9 @@
 #pragma once
 // A staged build's plan (WORK/plan.json, docs/format.md "Staged build work directory"): the
-// build's options, the height range its error budget is made for, and the blocks every job
-// works through. The plan stage writes it; every other stage reads it and derives the rest
-// (tree layout, budget, node list) from it the way a local build does, so that the bytes match.
+// build's options, what the source raster is, the height range its error budget is made for,
+// and the blocks every job works through. The plan stage writes it; every other stage reads it
+// and derives the rest (tree layout, budget, node list) from it the way a local build does, so
+// that the bytes match.
 
 #include <array>
 #include <cstdint>
@@ -14,10 +15,21 @@
 
 namespace terralod {
 
-inline constexpr int kBuildPlanVersion = 5;
+inline constexpr int kBuildPlanVersion = 6;
+
+/// What the stages need to know of the DEM and the draped image besides their samples, found
+/// once by the plan stage: the stages that read no raster (reduce, coarse, assemble, and pass 2
+/// of a build whose pass 1 kept the heights) then open neither, and can run in a program
+/// without GDAL (`terralod-stage`).
+struct SourceFacts {
+  DemInfo info;
+  std::vector<double> rowLatitudes;  ///< DemReader::gridRowLatitudes (empty: unknown)
+  uint32_t imageRefine = 0;          ///< the draped image's texels per cell (0: no image)
+};
 
 struct BuildPlan {
   BuildOptions options;  ///< input, output and texture paths absolute
+  SourceFacts source;
   int32_t blockCells = 512;
   /// The range the error budget is made for: the data's own (`exactRange`, what a local build
   /// that reads the raster whole uses) or an estimate that the reduce checks (a streamed

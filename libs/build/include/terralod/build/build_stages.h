@@ -75,6 +75,16 @@ std::string taskStatusPath(const std::string& work, BuildStage stage, int task,
 Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task, unsigned threads,
                              Progress& progress);
 
+/// Whether a stage's tasks read the DEM or the draped image: pass 1 always, pass 2 unless pass 1
+/// kept the heights and made the textures (an RTIN build, the default), no other stage.
+bool stageReadsRasters(const BuildOptions& options, BuildStage stage);
+/// runStageTask for a stage that reads no raster, as a program without raster readers runs it
+/// (`terralod-stage`: it does not load GDAL, whose libraries take most of a short task's start).
+/// A stage that reads one ends in an error naming the command that runs it. Nothing this calls
+/// reaches GDAL: the program's link checks that.
+Result<TaskEnd> runRasterFreeStageTask(const std::string& work, BuildStage stage, int task,
+                                       unsigned threads, Progress& progress);
+
 /// Removes what the stages wrote (and WORK itself when that leaves it empty); the jobs' logs
 /// (WORK/logs) too unless asked to keep them (after a failure).
 enum class KeepLogs { kNo, kYes };

@@ -29,6 +29,9 @@ struct SlurmBuildOptions {
   std::vector<std::string> sbatchArgs;  ///< added to every sbatch
   int retries = 2;                      ///< resubmissions of one lost task
   std::string executable;               ///< the terralod the jobs run (absolute, shared)
+  /// terralod-stage, which the tasks that read no raster run instead (stageReadsRasters):
+  /// it starts without loading GDAL. Empty: `executable build-stage` runs every task.
+  std::string stageExecutable;
   double pollSeconds = 0.5;
 };
 

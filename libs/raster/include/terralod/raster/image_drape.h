@@ -38,7 +38,14 @@ class ImageDrape {
   /// image has no data). Points outside the DEM's grid take the nearest grid point's texel.
   Status read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* rgba) const;
 
-  struct Impl;  ///< GDAL handles (image_drape.cpp)
+  /// The GDAL handles (image_drape.cpp), reached only through these virtual functions: a
+  /// program that never opens a drape then links no GDAL for the ones that hold one
+  /// (`terralod-stage`, apps/terralod/CMakeLists.txt).
+  struct Impl {
+    virtual ~Impl() = default;
+    virtual Status read(int64_t x0, int64_t y0, int32_t w, int32_t h, uint8_t* rgba,
+                        const std::string& path) const = 0;
+  };
 
  private:
   explicit ImageDrape(std::unique_ptr<Impl> impl);
