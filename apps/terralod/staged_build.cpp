@@ -51,7 +51,7 @@ int planForOtherScheduler(const BuildOptions& options, const StagedRequest& requ
   auto plan = planStage(options, request.work, request.jobs, quiet, warn);
   if (!plan) return fail(plan.error().message);
   const std::string self = selfExecutable();
-  const std::string stageProgram = stageExecutable();
+  const std::string stageTool = stageExecutable();
   const std::string work = std::filesystem::absolute(request.work).string();
   std::printf(
       "terralod: wrote %s/plan.json: %zu blocks in %d jobs. Run these stages in order, each "
@@ -59,9 +59,9 @@ int planForOtherScheduler(const BuildOptions& options, const StagedRequest& requ
       work.c_str(), plan->blocks.size(), plan->jobs);
   for (BuildStage stage : kJobStages) {
     // The stages that read no raster start faster without GDAL, in terralod-stage.
-    const std::string program = stageProgram.empty() || stageReadsRasters(plan->options, stage)
-                                    ? self + " build-stage"
-                                    : stageProgram;
+    std::string program;
+    for (const std::string& word : stageProgram(plan->options, stage, self, stageTool))
+      program += (program.empty() ? "" : " ") + word;
     if (perJob(stage))
       std::printf("  %s %s %s --task T    for T = 0 .. %d (in parallel)\n", program.c_str(),
                   stageName(stage), work.c_str(), plan->jobs - 1);

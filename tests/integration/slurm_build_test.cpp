@@ -20,6 +20,25 @@ namespace fs = std::filesystem;
 
 const std::string kClusterScript = std::string(TERRALOD_SOURCE_DIR) + "/scripts/slurm-local.sh";
 
+// A process whose arguments include `args` in a row ({pid, the argument after them}), or
+// {0, ""}. Read straight from /proc: a pass-2 task of two blocks lasts a few tens of
+// milliseconds, less than starting pgrep takes on a loaded machine.
+std::pair<pid_t, std::string> findProcess(const std::vector<std::string>& args) {
+  std::string wanted;
+  for (const std::string& a : args) wanted += a + '\0';
+  std::error_code ec;
+  for (const auto& entry : fs::directory_iterator("/proc", ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    const std::string cmdline = readWholeFile(entry.path().string() + "/cmdline");
+    const size_t at = cmdline.find(wanted);
+    if (at == std::string::npos) continue;
+    const size_t next = at + wanted.size();
+    return {pid_t(std::stoi(name)), cmdline.substr(next, cmdline.find('\0', next) - next)};
+  }
+  return {0, ""};
+}
+
 class SlurmBuild : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -93,26 +112,23 @@ TEST_F(SlurmBuild, KilledAndCancelledTasksAreSubmittedAgain) {
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   // A pass 2 task's process, killed while it works: stopped first, and killed only if it has
-  // not recorded its end (on a loaded machine a task found by pgrep may finish before the
+  // not recorded its end (on a loaded machine a task found may finish before the
   // kill lands, and a finished task is rightly not run again).
   bool killed = false;
-  for (int i = 0; i < 3000 && !killed && !finished; ++i) {
-    // (`terralod-stage pass2`, or `terralod build-stage pass2` without it.)
-    const RunResult found = runProgram("pgrep", {"-a", "-f", "stage pass2 " + work});
-    const size_t at = found.out.find("--task ");
-    if (found.exitCode != 0 || at == std::string::npos) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  for (int i = 0; i < 60000 && !killed && !finished; ++i) {
+    // (terralod-stage runs it, or `terralod build-stage` without it.)
+    const auto [pid, task] = findProcess({"pass2", work, "--task"});
+    if (pid == 0 || task.empty()) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
       continue;
     }
-    const pid_t pid = std::stoi(found.out);
-    const int task = std::stoi(found.out.substr(at + 7));
     if (::kill(pid, SIGSTOP) != 0) continue;
     for (int k = 0;
          k < 200 &&
          readWholeFile("/proc/" + std::to_string(pid) + "/stat").find(") T ") == std::string::npos;
          ++k)
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    if (fs::exists(work + "/status/pass2-" + std::to_string(task) + ".ok"))
+    if (fs::exists(work + "/status/pass2-" + task + ".ok"))
       ::kill(pid, SIGCONT);
     else
       killed = ::kill(pid, SIGKILL) == 0;

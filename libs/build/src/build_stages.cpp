@@ -758,6 +758,13 @@ bool stageReadsRasters(const BuildOptions& options, BuildStage stage) {
   return stage == BuildStage::kPass1 || (stage == BuildStage::kPass2 && !passOneKeeps(options));
 }
 
+std::vector<std::string> stageProgram(const BuildOptions& options, BuildStage stage,
+                                      const std::string& terralod,
+                                      const std::string& terralodStage) {
+  if (terralodStage.empty() || stageReadsRasters(options, stage)) return {terralod, "build-stage"};
+  return {terralodStage};
+}
+
 namespace {
 
 Result<TaskEnd> endOf(const Status& status) {

@@ -82,11 +82,11 @@ class SlurmDriver {
   bool finished() const { return !mStages.empty() && mStages.back().tasks.front().done; }
 
   std::string command(BuildStage stage) const {
-    const std::string program =
-        mOptions.stageExecutable.empty() || stageReadsRasters(mPlanned, stage)
-            ? shellQuoted(mOptions.executable) + " build-stage"
-            : shellQuoted(mOptions.stageExecutable);
-    return "exec " + program + " " + stageName(stage) + " " + shellQuoted(mOptions.work) +
+    std::string text = "exec";
+    for (const std::string& word :
+         stageProgram(mPlanned, stage, mOptions.executable, mOptions.stageExecutable))
+      text += " " + shellQuoted(word);
+    return text + " " + stageName(stage) + " " + shellQuoted(mOptions.work) +
            " --task $SLURM_ARRAY_TASK_ID";
   }
   SlurmSubmission submission(BuildStage stage, const std::string& tasks) const {

@@ -18,6 +18,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "terralod/build/build_plan.h"
 #include "terralod/build/builder.h"
@@ -78,6 +79,11 @@ Result<TaskEnd> runStageTask(const std::string& work, BuildStage stage, int task
 /// Whether a stage's tasks read the DEM or the draped image: pass 1 always, pass 2 unless pass 1
 /// kept the heights and made the textures (an RTIN build, the default), no other stage.
 bool stageReadsRasters(const BuildOptions& options, BuildStage stage);
+/// The command (before the stage's name) that runs a stage's tasks: `terralod build-stage`, or
+/// `terralodStage` (terralod-stage; empty when there is none) for a stage that reads no raster.
+std::vector<std::string> stageProgram(const BuildOptions& options, BuildStage stage,
+                                      const std::string& terralod,
+                                      const std::string& terralodStage);
 /// runStageTask for a stage that reads no raster, as a program without raster readers runs it
 /// (`terralod-stage`: it does not load GDAL, whose libraries take most of a short task's start).
 /// A stage that reads one ends in an error naming the command that runs it. Nothing this calls
