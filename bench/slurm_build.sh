@@ -22,7 +22,9 @@ want() { [ -z "${ONLY:-}" ] || [[ " $ONLY " == *" $1 "* ]]; }
 cluster=$dir/cluster
 "$here/scripts/slurm-local.sh" stop "$cluster" >/dev/null 2>&1 || true
 eval "$("$here/scripts/slurm-local.sh" start "$cluster")"
-trap '"$here/scripts/slurm-local.sh" stop "$cluster" >/dev/null 2>&1 || true' EXIT
+# slurmctld's log (when each task was allocated and ended) is kept as $dir/slurmctld.log.
+trap 'cp "$cluster/log/slurmctld.log" "$dir/slurmctld.log" 2>/dev/null
+"$here/scripts/slurm-local.sh" stop "$cluster" >/dev/null 2>&1 || true' EXIT
 
 # local NAME DEM ARGS...: one local build; prints wall seconds and peak RSS (MB).
 local_build() {
