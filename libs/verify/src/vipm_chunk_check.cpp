@@ -55,23 +55,48 @@ bool weights(const Grid& g, const Triangle& t, double px, double py, std::array<
   return true;
 }
 
-// The paper's three material rules for collapsing v onto t in the mesh `triangles`; the
-// first rule broken (1..3), or 0.
-int brokenRule(const Grid& g, const std::vector<Triangle>& triangles, uint16_t v, uint16_t t) {
+// The current level's triangles: each stored triangle's corners as collapses have renamed
+// them, whether it still has an area, and the living triangles at each vertex.
+struct LevelMesh {
+  std::vector<Triangle> corners;  ///< in stored (index) order
+  std::vector<uint8_t> live;
+  std::vector<std::vector<uint32_t>> at;  ///< per vertex, living triangles holding it (and dead)
+
+  LevelMesh(const VipmChunkData& c) : at(c.vertexCount()) {
+    for (size_t k = 0; k + 2 < c.indices.size(); k += 3) {
+      const Triangle t{c.indices[k], c.indices[k + 1], c.indices[k + 2]};
+      corners.push_back(t);
+      live.push_back(t[0] != t[1] && t[1] != t[2] && t[0] != t[2]);
+      if (live.back())
+        for (uint16_t v : t) at[v].push_back(uint32_t(corners.size() - 1));
+    }
+  }
+  std::vector<Triangle> living() const {
+    std::vector<Triangle> out;
+    for (size_t k = 0; k < corners.size(); ++k)
+      if (live[k]) out.push_back(corners[k]);
+    return out;
+  }
+};
+
+// The paper's three material rules for collapsing v onto t in `mesh`; the first rule broken
+// (1..3), or 0.
+int brokenRule(const Grid& g, const LevelMesh& mesh, uint16_t v, uint16_t t) {
   const auto& mat = g.c.materials;
   if (mat[v] != mat[t]) return 1;
   auto onBoundary = [&](uint16_t u) {
-    for (const Triangle& tri : triangles)
-      if (tri[0] == u || tri[1] == u || tri[2] == u)
-        for (uint16_t w : tri)
+    for (uint32_t k : mesh.at[u])
+      if (mesh.live[k])
+        for (uint16_t w : mesh.corners[k])
           if (mat[w] != mat[u]) return true;
     return false;
   };
   if (onBoundary(v) && !onBoundary(t)) return 2;
   // After the collapse, v's point lies in the triangles of its fan that do not hold t, now
   // with t in v's place; every corner with a non-zero weight there must be of v's material.
-  for (Triangle tri : triangles) {
-    if (tri[0] != v && tri[1] != v && tri[2] != v) continue;
+  for (uint32_t k : mesh.at[v]) {
+    if (!mesh.live[k]) continue;
+    Triangle tri = mesh.corners[k];
     if (tri[0] == t || tri[1] == t || tri[2] == t) continue;
     for (uint16_t& w : tri)
       if (w == v) w = t;
@@ -79,11 +104,134 @@ int brokenRule(const Grid& g, const std::vector<Triangle>& triangles, uint16_t v
     if (!weights(g, tri, g.x(v), g.y(v), w)) continue;
     constexpr double kEps = 1e-9;
     if (w[0] < -kEps || w[1] < -kEps || w[2] < -kEps) continue;
-    for (int k = 0; k < 3; ++k)
-      if (w[k] > kEps && mat[tri[k]] != mat[v]) return 3;
+    for (int k3 = 0; k3 < 3; ++k3)
+      if (w[k3] > kEps && mat[tri[k3]] != mat[v]) return 3;
   }
   return 0;
 }
+
+// Grid points [x0, x1] x [y0, y1]; empty while x0 > x1.
+struct Box {
+  int32_t x0 = std::numeric_limits<int32_t>::max(), y0 = x0, x1 = -1, y1 = -1;
+  bool empty() const { return x0 > x1; }
+  void add(const Box& b) {
+    x0 = std::min(x0, b.x0);
+    y0 = std::min(y0, b.y0);
+    x1 = std::max(x1, b.x1);
+    y1 = std::max(y1, b.y1);
+  }
+};
+
+// The current level's surface at every grid point, as if all its triangles were drawn in index
+// order (a later one wins where two overlap; NaN where none reaches), kept up to date collapse
+// by collapse: only the box around the triangles a collapse changed is drawn again, from every
+// living triangle reaching it, in index order. Drawing a point does not depend on the window
+// (rasterizeTriangle), so the points are those a whole drawing gives. The true error, largest
+// height and uncovered points over the grid come from maxima and counts per 8 x 8 tile.
+class LevelSurface {
+ public:
+  LevelSurface(const Grid& g, const LevelMesh& mesh, std::vector<double> source)
+      : mG(g),
+        mMesh(mesh),
+        mW(g.c.width),
+        mH(g.c.height),
+        mTilesX((mW + kTile - 1) / kTile),
+        mTilesY((mH + kTile - 1) / kTile),
+        mSource(std::move(source)),
+        mHeights(size_t(mW) * mH, std::numeric_limits<double>::quiet_NaN()),
+        mTriangles(size_t(mTilesX) * mTilesY),
+        mError(mTriangles.size(), 0.0),
+        mLargest(mTriangles.size(), 0.0),
+        mMissing(mTriangles.size(), 0) {
+    for (uint32_t k = 0; k < mesh.corners.size(); ++k)
+      if (mesh.live[k]) enter(k);
+    draw(Box{0, 0, mW - 1, mH - 1});
+  }
+
+  Box boxOf(uint32_t k) const {
+    Box b;
+    for (uint16_t v : mMesh.corners[k]) b.add(Box{mG.x(v), mG.y(v), mG.x(v), mG.y(v)});
+    return b;
+  }
+  /// Triangle k (living) with its corners as they are now: in the tiles it reaches.
+  void enter(uint32_t k) {
+    forTiles(boxOf(k), [&](size_t i) { mTriangles[i].push_back(k); });
+  }
+  /// Triangle k with its corners as they were when it entered: out of its tiles.
+  void leave(uint32_t k) {
+    forTiles(boxOf(k), [&](size_t i) {
+      auto& list = mTriangles[i];
+      list.erase(std::find(list.begin(), list.end(), k));
+    });
+  }
+
+  /// Draws the points of `box` again from the triangles now reaching it.
+  void draw(const Box& box) {
+    for (int32_t y = box.y0; y <= box.y1; ++y)
+      std::fill_n(mHeights.begin() + ptrdiff_t(size_t(y) * mW + size_t(box.x0)),
+                  box.x1 - box.x0 + 1, std::numeric_limits<double>::quiet_NaN());
+    std::vector<uint32_t> reaching;
+    forTiles(box, [&](size_t i) {
+      reaching.insert(reaching.end(), mTriangles[i].begin(), mTriangles[i].end());
+    });
+    std::sort(reaching.begin(), reaching.end());
+    reaching.erase(std::unique(reaching.begin(), reaching.end()), reaching.end());
+    for (uint32_t k : reaching) {
+      const Triangle& t = mMesh.corners[k];
+      rasterizeTriangle(SampleVertex{mG.x(t[0]), mG.y(t[0]), mG.z(t[0])},
+                        SampleVertex{mG.x(t[1]), mG.y(t[1]), mG.z(t[1])},
+                        SampleVertex{mG.x(t[2]), mG.y(t[2]), mG.z(t[2])}, box.x0, box.x1, box.y0,
+                        box.y1,
+                        [&](int64_t x, int64_t y, double z) { mHeights[size_t(y * mW + x)] = z; });
+    }
+    forTiles(box, [&](size_t i) { measureTile(i); });
+  }
+
+  const std::vector<double>& heights() const { return mHeights; }
+  double error() const { return *std::max_element(mError.begin(), mError.end()); }
+  double largest() const { return *std::max_element(mLargest.begin(), mLargest.end()); }
+  uint64_t uncovered() const { return mUncovered; }
+
+ private:
+  static constexpr int32_t kTile = 8;
+
+  template <class Fn>
+  void forTiles(const Box& b, Fn&& fn) const {
+    for (int32_t ty = b.y0 / kTile; ty <= b.y1 / kTile; ++ty)
+      for (int32_t tx = b.x0 / kTile; tx <= b.x1 / kTile; ++tx) fn(size_t(ty) * mTilesX + tx);
+  }
+
+  void measureTile(size_t i) {
+    const int32_t tx = int32_t(i % size_t(mTilesX)), ty = int32_t(i / size_t(mTilesX));
+    double error = 0, largest = 0;
+    uint32_t missing = 0;
+    for (int32_t y = ty * kTile; y < std::min(mH, (ty + 1) * kTile); ++y)
+      for (int32_t x = tx * kTile; x < std::min(mW, (tx + 1) * kTile); ++x) {
+        const size_t p = size_t(y) * mW + x;
+        const double z = mHeights[p];
+        if (std::isnan(z)) {
+          ++missing;
+          continue;
+        }
+        error = std::max(error, std::fabs(z - mSource[p]));
+        largest = std::max(largest, std::fabs(z));
+      }
+    mUncovered = mUncovered - mMissing[i] + missing;
+    mError[i] = error;
+    mLargest[i] = largest;
+    mMissing[i] = missing;
+  }
+
+  const Grid& mG;
+  const LevelMesh& mMesh;
+  int32_t mW, mH, mTilesX, mTilesY;
+  std::vector<double> mSource;
+  std::vector<double> mHeights;
+  std::vector<std::vector<uint32_t>> mTriangles;  ///< per tile, the living triangles reaching it
+  std::vector<double> mError, mLargest;
+  std::vector<uint32_t> mMissing;
+  uint64_t mUncovered = 0;
+};
 
 // A part's living triangles as sorted corner triples, sorted.
 std::vector<Triangle> canonical(std::span<const uint16_t> indices, uint32_t triangles) {
@@ -271,29 +419,17 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
   const bool root = w > kLeafPoints || h > kLeafPoints;
   SeamEnvelopes seams(g);
 
-  std::vector<uint16_t> rename(n);
-  for (uint32_t v = 0; v < n; ++v) rename[v] = uint16_t(v);
-  std::vector<double> surface(size_t(w) * h);
+  // Each level from the one before: a collapse changes only the triangles holding its vertex.
+  LevelMesh mesh(c);
+  std::vector<double> sourceHeights(size_t(w) * h);
+  for (int32_t y = 0; y < h; ++y)
+    for (int32_t x = 0; x < w; ++x) sourceHeights[size_t(y) * w + x] = sourceAt(x, y);
+  LevelSurface surface(g, mesh, std::move(sourceHeights));
+  std::vector<Triangle> changed = mesh.living();  // at the finest level, all
   for (uint32_t j = 0; j <= collapses; ++j) {
-    const std::vector<Triangle> triangles = levelTriangles(c, rename);
-    std::fill(surface.begin(), surface.end(), std::numeric_limits<double>::quiet_NaN());
-    for (const Triangle& t : triangles)
-      rasterizeTriangle(SampleVertex{g.x(t[0]), g.y(t[0]), g.z(t[0])},
-                        SampleVertex{g.x(t[1]), g.y(t[1]), g.z(t[1])},
-                        SampleVertex{g.x(t[2]), g.y(t[2]), g.z(t[2])}, 0, w - 1, 0, h - 1,
-                        [&](int64_t x, int64_t y, double z) { surface[size_t(y * w + x)] = z; });
-    double error = 0, largest = 0;
-    for (int32_t y = 0; y < h; ++y)
-      for (int32_t x = 0; x < w; ++x) {
-        const double z = surface[size_t(y * w + x)];
-        ++out.samples;
-        if (std::isnan(z)) {
-          ++out.uncovered;
-          continue;
-        }
-        error = std::max(error, std::fabs(z - sourceAt(x, y)));
-        largest = std::max(largest, std::fabs(z));
-      }
+    const double error = surface.error(), largest = surface.largest();
+    out.samples += uint64_t(w) * uint64_t(h);
+    out.uncovered += surface.uncovered();
     const double recorded = j == 0 ? c.finestError : double(c.errors[j - 1]) * c.errorStep;
     if (j == 0) out.finestError = error;
     out.worstMargin = std::min(out.worstMargin, recorded - error);
@@ -302,10 +438,11 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
                           " m > recorded " + std::to_string(recorded) + " m");
     ++out.levels;
     widenSides(g, sides, n - j, out.sides);
-    if (root) seams.widen(g, triangles);
+    // The seams' envelopes widen by every triangle of every level: those a collapse changed.
+    if (root) seams.widen(g, changed);
     if (j == 0) {
-      out.finestHeights = surface;
-      if (root) out.quarters = quarterSurfaces(g, triangles);
+      out.finestHeights = surface.heights();
+      if (root) out.quarters = quarterSurfaces(g, changed);
     }
     if (levels && std::find(partLevels.begin(), partLevels.end(), j) != partLevels.end()) {
       levels->setApplied(j);
@@ -315,19 +452,39 @@ VipmChunkCheck checkVipmChunk(const VipmChunkData& c, int64_t x0, int64_t y0,
                             ": the material parts are not the whole chunk's triangles");
     }
     if (j == collapses) {
-      out.coarsestHeights = surface;
+      out.coarsestHeights = surface.heights();
       break;
     }
     const uint16_t v = uint16_t(n - 1 - j), t = c.targets[j];
     ++out.collapsesChecked;
-    if (const int rule = brokenRule(g, triangles, v, t); rule != 0) {
+    if (const int rule = brokenRule(g, mesh, v, t); rule != 0) {
       ++out.ruleViolations;
       if (promised == MaterialRules::kOn)
         addProblem(
             out, "collapse " + std::to_string(j) + " breaks material rule " + std::to_string(rule));
     }
-    for (uint16_t& r : rename)
-      if (r == v) r = t;
+    // v becomes t in the triangles holding it; those that lose their area die.
+    Box box;
+    changed.clear();
+    std::vector<uint32_t> fan;
+    fan.swap(mesh.at[v]);
+    for (uint32_t k : fan) {
+      if (!mesh.live[k]) continue;
+      box.add(surface.boxOf(k));
+      surface.leave(k);
+      Triangle& corners = mesh.corners[k];
+      for (uint16_t& corner : corners)
+        if (corner == v) corner = t;
+      if (corners[0] == corners[1] || corners[1] == corners[2] || corners[0] == corners[2]) {
+        mesh.live[k] = 0;
+        continue;
+      }
+      surface.enter(k);
+      box.add(surface.boxOf(k));
+      mesh.at[t].push_back(k);
+      changed.push_back(corners);
+    }
+    if (!box.empty()) surface.draw(box);
   }
   if (out.uncovered)
     addProblem(out, std::to_string(out.uncovered) + " samples are not covered at some level");

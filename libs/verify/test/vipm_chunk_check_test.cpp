@@ -3,8 +3,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "terralod/build/vipm_chunks.h"
+#include "terralod/core/sample_raster.h"
 #include "terralod/materials/material.h"
 #include "terralod/vipm/collapse_order.h"
 #include "terralod/vipm/progressive_mesh.h"
@@ -97,6 +100,68 @@ TEST(VipmChunkCheck, ComparesVertexMaterialsWithTheSources) {
   const VipmChunkCheck c = checkVipmChunk(m.chunk, 0, 0, m.source, &map, MaterialRules::kOn);
   EXPECT_EQ(c.materialMismatches, 1u);
   EXPECT_TRUE(mentions(c, "another material"));
+}
+
+// checkVipmChunk draws each level from the one before (only around the triangles a collapse
+// changed). Here every level is drawn whole, all triangles in stored order, as the check did
+// before: the levels' uncovered points, worst margin and coarsest surface must be the same,
+// also when collapses fold triangles over others (targets moved onto far vertices), where which
+// triangle is drawn last decides a point's height.
+TEST(VipmChunkCheck, LevelsDrawnCollapseByCollapseAreTheWholeDrawings) {
+  for (const bool folded : {false, true}) {
+    Made m = make(MaterialRules::kOn);
+    const VipmChunkData& c = m.chunk;
+    const uint32_t n = c.vertexCount();
+    if (folded)
+      for (uint32_t j = 0; j < c.collapseCount(); j += 5)
+        m.chunk.targets[j] = uint16_t((j * 7919u) % (n - 1 - j));  // any vertex still there
+    const VipmChunkCheck check = checkVipmChunk(c, 0, 0, m.source, nullptr, MaterialRules::kOff);
+
+    std::vector<uint16_t> rename(n);
+    for (uint32_t v = 0; v < n; ++v) rename[v] = uint16_t(v);
+    const int32_t w = c.width, h = c.height;
+    std::vector<double> surface;
+    uint64_t uncovered = 0;
+    double worstMargin = 1e30;
+    for (uint32_t j = 0; j <= c.collapseCount(); ++j) {
+      surface.assign(size_t(w) * h, std::numeric_limits<double>::quiet_NaN());
+      for (size_t k = 0; k + 2 < c.indices.size(); k += 3) {
+        const uint16_t a = rename[c.indices[k]], b = rename[c.indices[k + 1]],
+                       d = rename[c.indices[k + 2]];
+        if (a == b || b == d || a == d) continue;
+        auto vertex = [&](uint16_t v) {
+          return SampleVertex{int64_t(c.points[v] % c.width), int64_t(c.points[v] / c.width),
+                              c.zBase + double(c.heights[v]) * c.zStep};
+        };
+        rasterizeTriangle(vertex(a), vertex(b), vertex(d), 0, w - 1, 0, h - 1,
+                          [&](int64_t x, int64_t y, double z) { surface[size_t(y * w + x)] = z; });
+      }
+      double error = 0;
+      for (int32_t y = 0; y < h; ++y)
+        for (int32_t x = 0; x < w; ++x) {
+          const double z = surface[size_t(y * w + x)];
+          if (std::isnan(z))
+            ++uncovered;
+          else
+            error = std::max(error, std::fabs(z - double(m.source.at(x, y))));
+        }
+      const double recorded = j == 0 ? c.finestError : double(c.errors[j - 1]) * c.errorStep;
+      worstMargin = std::min(worstMargin, recorded - error);
+      if (j == c.collapseCount()) break;
+      for (uint16_t& r : rename)
+        if (r == uint16_t(n - 1 - j)) r = c.targets[j];
+    }
+    EXPECT_EQ(check.uncovered, uncovered) << folded;
+    EXPECT_EQ(check.worstMargin, worstMargin) << folded;
+    ASSERT_EQ(check.coarsestHeights.size(), surface.size());
+    for (size_t p = 0; p < surface.size(); ++p)
+      ASSERT_TRUE(check.coarsestHeights[p] == surface[p] ||
+                  (std::isnan(check.coarsestHeights[p]) && std::isnan(surface[p])))
+          << folded << " point " << p;
+    if (folded) {
+      EXPECT_LT(check.worstMargin, -1.0) << "the folds were seen";
+    }
+  }
 }
 
 // A 65-point window of the rim as one leaf's normal map, as the builder stores it.
