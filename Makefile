@@ -40,9 +40,10 @@ configure-app: deps-demo
 build: configure
 	cmake --build --preset $(PRESET) -j $(JOBS)
 
-# Only the terralod program (and the libraries it links), not the tests: what the demo runs.
+# Only the programs (and the libraries they link), not the tests: terralod, what the demo runs,
+# and terralod-stage beside it, which a cluster build's tasks that read no raster run.
 app: configure-app
-	cmake --build --preset $(PRESET) -j $(JOBS) --target terralod
+	cmake --build --preset $(PRESET) -j $(JOBS) --target terralod terralod-stage
 
 demo: app
 	mkdir -p $(DEMO_DIR)
