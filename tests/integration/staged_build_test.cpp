@@ -194,6 +194,28 @@ TEST_F(StagedBuild, StagesWithoutARasterRunWithoutGdal) {
   ASSERT_EQ(runTerralod({"build-stage", "pass2", work}).exitCode, 0);
 }
 
+// The stages take the raster's size and spacing from the plan; one that reads the DEM refuses
+// a DEM changed since the plan, in one line, and writes nothing.
+TEST_F(StagedBuild, AStageRefusesADemChangedSinceThePlan) {
+  const std::string changing = file("changing.tif"), work = file("changed");
+  fs::copy_file(dem(), changing, fs::copy_options::overwrite_existing);
+  ASSERT_EQ(runTerralod({"build", changing, "--no-texture", "-o", file("changed.tlod"),
+                         "--scheduler", "none", "--work-dir", work, "--jobs", "2"})
+                .exitCode,
+            0);
+  ASSERT_EQ(runTerralod({"synth", "--size", "513", "--spacing", "5", "--seed", "3", "-o", changing})
+                .exitCode,
+            0);
+  const RunResult r = runTerralod({"build-stage", "pass1", work, "--task", "0"});
+  EXPECT_EQ(r.exitCode, 1);
+  ASSERT_EQ(r.errLines().size(), 1u) << r.err;
+  EXPECT_TRUE(has(r.err, work + "/plan.json: was made for another raster than " + changing +
+                             " (it has changed since the plan)"))
+      << r.err;
+  EXPECT_FALSE(fs::exists(work + "/pass1/job-0.grid"));
+  EXPECT_TRUE(fs::exists(work + "/status/pass1-0.err"));
+}
+
 TEST_F(StagedBuild, ADamagedStageFileIsOneErrorAndNoOutput) {
   const std::string work = file("damaged");
   ASSERT_EQ(runTerralod({"build", dem(), "--no-texture", "-o", file("damaged.tlod"), "--scheduler",
