@@ -5,6 +5,7 @@
 // cluster"); the driver of `build --scheduler slurm` runs these tasks with this program when it
 // sits beside `terralod`.
 
+#include <cstdio>
 #include <exception>
 #include <new>
 

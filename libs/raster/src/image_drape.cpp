@@ -34,10 +34,6 @@ struct GdalDrape final : ImageDrape::Impl {
               const std::string& path) const override;
 };
 
-}  // namespace
-
-namespace {
-
 struct Bounds {
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
   void add(double x, double y) {
