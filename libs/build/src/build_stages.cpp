@@ -355,9 +355,12 @@ Status pass2Blocks(const std::string& work, int job, unsigned threads, const Sta
   const BuildOptions& o = s.plan.options;
   const std::vector<uint32_t>& blockNodes = s.blockNodes;
   const bool keeps = passOneKeeps(o);  // heights from pass 1, textures made there
-  ChunkPassContext context{s.layout,           s.budget,    nodes,    s.block,
-                           o.compressionLevel, texturePass, o.mesher, chunkPayloadOf(o)};
-  const uint8_t coarse = s.budget.activationForLevel(blockLevelOf(s.layout, s.block));
+  const int32_t blockLevel = blockLevelOf(s.layout, s.block);
+  ChunkPassContext context{
+      s.layout, s.budget,           nodes,
+      s.block,  o.compressionLevel, texturePass,
+      o.mesher, chunkPayloadOf(o),  firstGreedyLevel(blockLevel, CoarseHeights::kSparse)};
+  const uint8_t coarse = s.budget.activationForLevel(blockLevel);
   std::vector<BlockWindow> heights(threads);
   const NoHeights none;
   const auto range = s.plan.jobBlocks(job);

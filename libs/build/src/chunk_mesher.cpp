@@ -229,34 +229,45 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
   const int32_t w = std::min(mesh.side, mLayout.cellsX - mesh.x0),
                 h = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   const size_t stride = size_t(w) + 1, samples = stride * size_t(h + 1);
+  // The parent first: building it (a greedy root) uses the scratch buffers below.
+  if (level > 0) surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);
   mGreedyHeights.resize(samples);
   for (int32_t y = 0; y <= h; ++y)
     for (int32_t x = 0; x <= w; ++x)
       mGreedyHeights[size_t(y) * stride + x] = mHeights->at(mesh.x0 + x, mesh.y0 + y);
-  // The parent's surface at every sample (a sample on a parent edge gets the edge's own
-  // interpolation, so chunks on either side of a parent border see the same values).
-  mGreedyParent.assign(samples, std::nan(""));
-  const Surface& parent = surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);
-  for (size_t k = 0; k + 2 < parent.corners.size(); k += 3) {
-    const SurfaceCorner tri[3] = {parent.corners[k], parent.corners[k + 1], parent.corners[k + 2]};
-    rasterizeTriangle(tri, mesh.x0, mesh.y0, mesh.x0 + w, mesh.y0 + h,
-                      [&](int32_t x, int32_t y, double z) {
-                        mGreedyParent[size_t(y - mesh.y0) * stride + (x - mesh.x0)] = z;
-                      });
+  if (level == 0) {
+    greedyRootStart(w, h);
+  } else {
+    // The parent's surface at every sample (a sample on a parent edge gets the edge's own
+    // interpolation, so chunks on either side of a parent border see the same values).
+    mGreedyParent.assign(samples, std::nan(""));
+    const Surface& parent = surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);  // kept above
+    for (size_t k = 0; k + 2 < parent.corners.size(); k += 3) {
+      const SurfaceCorner tri[3] = {parent.corners[k], parent.corners[k + 1],
+                                    parent.corners[k + 2]};
+      rasterizeTriangle(tri, mesh.x0, mesh.y0, mesh.x0 + w, mesh.y0 + h,
+                        [&](int32_t x, int32_t y, double z) {
+                          mGreedyParent[size_t(y - mesh.y0) * stride + (x - mesh.x0)] = z;
+                        });
+    }
+    // The same triangles in the chunk's own sample coordinates (`parent` is not used after
+    // this: keepSurface below may move it).
+    mGreedyParentTriangles.assign(parent.corners.begin(), parent.corners.end());
+    for (SurfaceCorner& c : mGreedyParentTriangles) {
+      c.x -= mesh.x0;
+      c.y -= mesh.y0;
+    }
   }
-  // The same triangles in the chunk's own sample coordinates (`parent` is not used after
-  // this: keepSurface below may move it).
-  mGreedyParentTriangles.assign(parent.corners.begin(), parent.corners.end());
-  for (SurfaceCorner& c : mGreedyParentTriangles) {
-    c.x -= mesh.x0;
-    c.y -= mesh.y0;
-  }
-  const GreedyMesh m =
-      greedyMesh({w, h, mGreedyHeights, mGreedyParentTriangles,
-                  level < mLayout.depth ? mLayout.leafCells : 0, mBudget.buildThreshold[level],
-                  mGreedyParent, kGreedyMorphGap * mBudget.levelError[level - 1],
-                  // morph targets are stored on this level's step
-                  mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level]});
+  // A root's "parent" is its own heights: its gap and parent bound are its own bound, so the
+  // start's edges flip freely within it and its vertices do not morph.
+  const double error = mBudget.buildThreshold[level];
+  const double gap = level == 0 ? error : kGreedyMorphGap * mBudget.levelError[level - 1];
+  // Morph targets are stored on this level's step.
+  const double parentError =
+      level == 0 ? error : mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level];
+  const GreedyMesh m = greedyMesh({w, h, mGreedyHeights, mGreedyParentTriangles,
+                                   level < mLayout.depth ? mLayout.leafCells : 0, error,
+                                   mGreedyParent, gap, parentError});
   if (m.triangles.empty()) return std::nullopt;
   mesh.vertices.reserve(m.x.size());
   for (size_t i = 0; i < m.x.size(); ++i) {
@@ -268,6 +279,26 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
   finishSurface(mesh);
   if (level < mLayout.depth) keepSurface(mesh);
   return mesh;
+}
+
+// A root has no parent to start from: it starts from its leaf squares (clipped to the data),
+// two triangles each, so that no edge crosses a line its descendants cut along, and its own
+// heights stand for the parent's surface.
+void ChunkMesher::greedyRootStart(int32_t w, int32_t h) {
+  const size_t stride = size_t(w) + 1;
+  mGreedyParent = mGreedyHeights;
+  mGreedyParentTriangles.clear();
+  const int32_t leaf = mLayout.leafCells;
+  auto corner = [&](int32_t x, int32_t y) {
+    return SurfaceCorner{x, y, mGreedyHeights[size_t(y) * stride + size_t(x)]};
+  };
+  for (int32_t y = 0; y < h; y += leaf)
+    for (int32_t x = 0; x < w; x += leaf) {
+      const int32_t x1 = std::min(x + leaf, w), y1 = std::min(y + leaf, h);
+      const SurfaceCorner sw = corner(x, y), se = corner(x1, y), ne = corner(x1, y1),
+                          nw = corner(x, y1);
+      mGreedyParentTriangles.insert(mGreedyParentTriangles.end(), {sw, se, ne, sw, ne, nw});
+    }
 }
 
 ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {

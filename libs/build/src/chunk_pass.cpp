@@ -141,6 +141,10 @@ int32_t blockLevelOf(const TreeLayout& layout, int32_t blockCells) {
   return std::countr_zero(uint32_t(layout.rootCells / block));
 }
 
+int32_t firstGreedyLevel(int32_t blockLevel, CoarseHeights heights) {
+  return blockLevel == 0 && heights == CoarseHeights::kEvery ? 0 : blockLevel + 1;
+}
+
 std::vector<uint32_t> blockNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel) {
   std::vector<uint32_t> out;
   for (uint32_t i = 0; i < nodes.size(); ++i)
@@ -201,7 +205,7 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
     sampler.emplace(*window);
     mesher.setHeights(*sampler);
   }
-  mesher.setMethod(context.mesher, blockLevelOf(layout, block) + 1);
+  mesher.setMethod(context.mesher, context.firstGreedyLevel);
   BlockChunks out;
   for (const uint32_t i : chunksBelow(nodes, blockNode)) {
     auto blob =
@@ -303,8 +307,15 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
     if (Status s = texturePass->open(); !s) return s;
   }
   ChunkPassContext context{
-      layout,         budget,         nodes, block, options.compressionLevel, texturePass.get(),
-      options.mesher, options.payload};
+      layout,
+      budget,
+      nodes,
+      block,
+      options.compressionLevel,
+      texturePass.get(),
+      options.mesher,
+      options.payload,
+      firstGreedyLevel(blockLevel, allHeights ? CoarseHeights::kEvery : CoarseHeights::kSparse)};
   // The textures above the blocks are built as the blocks come in.
   std::optional<TilePyramid> pyramid;
   if (texturePass)
@@ -374,6 +385,7 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   if (options.madeTextures)
     for (uint32_t node : coarseNodes)
       blockTextures.emplace_back(node, std::move((*options.madeTextures)[node]));
+  for (auto& m : meshers) m->setMethod(context.mesher, context.firstGreedyLevel);
   auto coarse = buildCoarseChunks(context, coarseNodes, meshers, progress);
   if (!coarse) return coarse.error();
   if (pyramid || options.madeTextures)

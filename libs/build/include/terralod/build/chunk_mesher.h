@@ -7,7 +7,8 @@
 // With MeshMethod::kGreedy, levels from a given one down are instead meshed by greedy
 // insertion (greedy_mesher.h) over every sample of the chunk, within the level's bound and,
 // while geomorphing, its parent's (the parent's surface is rebuilt or kept from the chunk
-// built before). The RTIN levels above give the first greedy level its parent surface.
+// built before). The RTIN levels above give the first greedy level its parent surface; a
+// greedy root (first level 0) starts from its leaf squares and does not morph.
 
 #include <array>
 #include <cstdint>
@@ -63,7 +64,8 @@ class ChunkMesher {
     mHeights = &heights;
     mSurfaces.clear();
   }
-  /// Greedy insertion for the levels from `firstLevel` down (kRtin: none).
+  /// Greedy insertion for the levels from `firstLevel` down (kRtin: none). Level 0 only where
+  /// every height of each root is at hand (a root's mesh scans every sample).
   void setMethod(MeshMethod method, int32_t firstLevel) {
     mMethod = method;
     mFirstGreedyLevel = firstLevel;
@@ -83,12 +85,15 @@ class ChunkMesher {
     std::vector<SurfaceCorner> corners;  ///< three per triangle
   };
   bool greedyAt(int32_t level) const {
-    return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel && level > 0;
+    return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel;
   }
   /// nullopt where the parent's triangles cannot be cut along this chunk's lines at grid
   /// points: an RTIN parent's triangles clipped at the data's last row or column (fanned, so
   /// with edges of any slope), crossing a line inside a chunk at the data's edge.
   std::optional<ChunkMesh> buildGreedy(ChunkMesh mesh);
+  /// A greedy root's start (its leaf squares) and stand-in parent surface (its heights), for
+  /// the w × h cells of mGreedyHeights.
+  void greedyRootStart(int32_t w, int32_t h);
   ChunkMesh buildRtin(ChunkMesh mesh);
   const Surface& surfaceOf(int32_t level, int32_t ix, int32_t iy);
   void keepSurface(const ChunkMesh& mesh);

@@ -79,7 +79,19 @@ struct ChunkPassContext {
   TexturePass* textures = nullptr;        ///< null: geometry only
   MeshMethod mesher = MeshMethod::kRtin;  ///< below the block level (the levels above: RTIN)
   ChunkPayloadVersion payload = kStaticChunkPayload;
+  /// The first level `mesher` meshes: the one below the blocks, or 0 where the roots are the
+  /// blocks and the coarse pass has every height too (firstGreedyLevel()).
+  int32_t firstGreedyLevel = 0;
 };
+
+/// What the coarse pass (the block level and above) meshes from: every height (a local build
+/// that read the raster whole) or the sparse ones pass 1 kept (streamed and staged builds).
+enum class CoarseHeights : uint8_t { kSparse, kEvery };
+
+/// The first level a greedy build meshes by insertion: the one below the block level, or the
+/// roots themselves when they are the blocks (`blockLevel` 0) and the coarse pass, which
+/// builds them, has every height (else its roots stay RTIN).
+int32_t firstGreedyLevel(int32_t blockLevel, CoarseHeights heights);
 
 /// A block's heights as read once for both of its passes: the (cells + 1)² samples from
 /// (x0, y0), and around them `margin` more on every side, which the texture pass reads
