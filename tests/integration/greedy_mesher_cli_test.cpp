@@ -68,6 +68,54 @@ TEST_F(GreedyMesherCli, FewerTrianglesAtEveryLevelAndVerified) {
   EXPECT_TRUE(has(info.out, "\"mesher\": \"greedy\"")) << info.out;
 }
 
+// With 128-cell blocks the levels at and above them (0-2) are meshed first, top down, from
+// every height: the root takes insertion (about half RTIN's triangles), its descendants follow
+// it, and every chunk comes out as the 512-cell-block build makes it, where the block tasks
+// mesh levels 1-2 from the same root.
+TEST_F(GreedyMesherCli, LevelsAboveTheBlocksAreMeshedTopDown) {
+  const std::string small = sDir->file("blocks128.tlod");
+  const RunResult b = runTerralod({"build", testData("crater_lake_0513.bt"), "--no-texture",
+                                   "--mesher", "greedy", "--block-cells", "128", "-o", small});
+  ASSERT_EQ(b.exitCode, 0) << b.err;
+  const RunResult r = runTerralod({"info", small, "--json"});
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json levels = nlohmann::json::parse(r.out)["per_level"];
+  const nlohmann::json greedy = perLevel("greedy"), rtin = perLevel("rtin");
+  ASSERT_EQ(levels.size(), 4u);
+  for (size_t l = 0; l < 4; ++l) {
+    EXPECT_EQ(levels[l]["triangles"], greedy[l]["triangles"]) << "level " << l;
+    EXPECT_EQ(levels[l]["bytes"], greedy[l]["bytes"]) << "level " << l;
+  }
+  EXPECT_LT(levels[0]["triangles"].get<double>(), 0.6 * rtin[0]["triangles"].get<double>());
+  const RunResult v = runTerralod({"verify", small, "--source", testData("crater_lake_0513.bt")});
+  EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
+}
+
+// On rough ground (the 5 m synth) insertion saves little at the root and the block level,
+// and a greedy parent there would cost its descendants more than it saves (long edges at any
+// angle that they must keep): those levels stay RTIN, and the levels below the blocks are
+// greedy as before.
+TEST_F(GreedyMesherCli, CoarseLevelsStayRtinWhereInsertionSavesLittle) {
+  const std::string dem = sDir->file("rough.tif");
+  ASSERT_EQ(
+      runTerralod({"synth", "--size", "1025", "--spacing", "5", "--seed", "1", "-o", dem}).exitCode,
+      0);
+  auto levels = [&](const std::string& mesher) {
+    const std::string out = sDir->file("rough-" + mesher + ".tlod");
+    const RunResult b = runTerralod({"build", dem, "--no-texture", "--mesher", mesher, "-o", out});
+    EXPECT_EQ(b.exitCode, 0) << b.err;
+    const RunResult r = runTerralod({"info", out, "--json"});
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return nlohmann::json::parse(r.out)["per_level"];
+  };
+  const nlohmann::json rtin = levels("rtin"), greedy = levels("greedy");
+  ASSERT_EQ(greedy.size(), 5u);  // a 1024-cell root, 512-cell blocks (level 1), 64-cell leaves
+  for (size_t l = 0; l < 2; ++l) EXPECT_EQ(greedy[l]["triangles"], rtin[l]["triangles"]) << l;
+  for (size_t l = 2; l < 5; ++l)
+    EXPECT_LT(greedy[l]["triangles"].get<double>(), 0.92 * rtin[l]["triangles"].get<double>())
+        << "level " << l;
+}
+
 // A streamed build keeps only sparse heights for the levels at and above the blocks, which
 // greedy insertion cannot scan: its root stays RTIN (as many triangles as the RTIN build's),
 // the levels below start from it, and it verifies.

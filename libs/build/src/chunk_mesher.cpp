@@ -205,23 +205,42 @@ void ChunkMesher::finishSurface(ChunkMesh& mesh) {
   addSkirts(mesh);
 }
 
+ChunkSurface surfaceOf(const ChunkMesh& mesh) {
+  ChunkSurface surface{mesh.level, mesh.ix, mesh.iy, {}, mesh.method};
+  surface.corners.reserve(mesh.surfaceIndices.size());
+  for (const uint32_t i : mesh.surfaceIndices) {
+    const MeshVertex& v = mesh.vertices[i];
+    surface.corners.push_back({v.x, v.y, v.z});
+  }
+  return surface;
+}
+
+void SurfaceStore::add(ChunkSurface surface) {
+  const uint64_t k = key(surface.level, surface.ix, surface.iy);
+  mByChunk.insert_or_assign(k, std::move(surface));
+}
+
+const ChunkSurface* SurfaceStore::find(int32_t level, int32_t ix, int32_t iy) const {
+  const auto it = mByChunk.find(key(level, ix, iy));
+  return it == mByChunk.end() ? nullptr : &it->second;
+}
+
 const ChunkMesher::Surface& ChunkMesher::surfaceOf(int32_t level, int32_t ix, int32_t iy) {
   for (const Surface& s : mSurfaces)
     if (s.level == level && s.ix == ix && s.iy == iy) return s;
+  if (mShared)
+    if (const ChunkSurface* shared = mShared->find(level, ix, iy)) return *shared;
   const ChunkMesh mesh = build(level, ix, iy);  // greedy levels keep their own surface
   if (!greedyAt(level)) keepSurface(mesh);
   return mSurfaces.back();
 }
 
 void ChunkMesher::keepSurface(const ChunkMesh& mesh) {
-  std::erase_if(mSurfaces, [&](const Surface& s) { return s.level < mesh.level - 1; });
-  Surface surface{mesh.level, mesh.ix, mesh.iy, {}};
-  surface.corners.reserve(mesh.surfaceIndices.size());
-  for (const uint32_t i : mesh.surfaceIndices) {
-    const MeshVertex& v = mesh.vertices[i];
-    surface.corners.push_back({v.x, v.y, v.z});
-  }
-  mSurfaces.push_back(std::move(surface));
+  std::erase_if(mSurfaces, [&](const Surface& s) {
+    return s.level < mesh.level - 1 ||
+           (s.level == mesh.level && s.ix == mesh.ix && s.iy == mesh.iy);
+  });
+  mSurfaces.push_back(terralod::surfaceOf(mesh));
 }
 
 std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
@@ -276,6 +295,7 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
         {mesh.x0 + m.x[i], mesh.y0 + m.y[i], mGreedyHeights[s], mGreedyParent[s]});
   }
   mesh.surfaceIndices = m.triangles;
+  mesh.method = MeshMethod::kGreedy;
   finishSurface(mesh);
   if (level < mLayout.depth) keepSurface(mesh);
   return mesh;
@@ -312,6 +332,16 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.dataX = std::min(mesh.side, mLayout.cellsX - mesh.x0);
   mesh.dataY = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   if (!greedyAt(level)) return buildRtin(std::move(mesh));
+  if (level <= mChooseUpTo &&
+      (level == 0 || surfaceOf(level - 1, ix >> 1, iy >> 1).method == MeshMethod::kRtin)) {
+    ChunkMesh rtin = buildRtin(mesh);
+    std::optional<ChunkMesh> greedy = buildGreedy(std::move(mesh));
+    if (greedy && double(greedy->surfaceIndices.size()) <=
+                      kGreedyCoarseShare * double(rtin.surfaceIndices.size()))
+      return std::move(*greedy);
+    if (level < mLayout.depth) keepSurface(rtin);  // in the greedy one's place
+    return rtin;
+  }
   if (std::optional<ChunkMesh> greedy = buildGreedy(mesh)) return std::move(*greedy);
   // An RTIN chunk instead, within the same bound; its parent is RTIN (greedy parents keep
   // every line their children cut along), so its morph targets are the parent's surface, and

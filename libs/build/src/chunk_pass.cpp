@@ -73,10 +73,12 @@ class NoOtherReads final : public HeightWindows {
 
 }  // namespace
 
-Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
-                                        NodeRecord& node, int compressionLevel,
-                                        ChunkPayloadVersion payload) {
-  const ChunkMesh mesh = mesher.build(node.level, int32_t(node.x), int32_t(node.y));
+namespace {
+
+// A built chunk's blob, with its statistics filled into `node`.
+Result<std::vector<uint8_t>> encodeChunk(const ChunkMesh& mesh, const ErrorBudget& budget,
+                                         NodeRecord& node, int compressionLevel,
+                                         ChunkPayloadVersion payload) {
   for (const MeshVertex& v : mesh.vertices)
     if (!std::isfinite(v.z) || !std::isfinite(v.morphTarget))
       return Error{"internal error: chunk " + std::to_string(node.level) + "/" +
@@ -100,6 +102,15 @@ Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& 
   node.blobBytes = uint32_t(blob.size());
   node.blobCrc = crc32Of(blob);
   return blob;
+}
+
+}  // namespace
+
+Result<std::vector<uint8_t>> buildChunk(ChunkMesher& mesher, const ErrorBudget& budget,
+                                        NodeRecord& node, int compressionLevel,
+                                        ChunkPayloadVersion payload) {
+  return encodeChunk(mesher.build(node.level, int32_t(node.x), int32_t(node.y)), budget, node,
+                     compressionLevel, payload);
 }
 
 std::vector<NodeRecord> enumerateNodes(const TreeLayout& layout) {
@@ -142,7 +153,7 @@ int32_t blockLevelOf(const TreeLayout& layout, int32_t blockCells) {
 }
 
 int32_t firstGreedyLevel(int32_t blockLevel, CoarseHeights heights) {
-  return blockLevel == 0 && heights == CoarseHeights::kEvery ? 0 : blockLevel + 1;
+  return heights == CoarseHeights::kEvery ? 0 : blockLevel + 1;
 }
 
 std::vector<uint32_t> blockNodesOf(const std::vector<NodeRecord>& nodes, int32_t blockLevel) {
@@ -241,21 +252,26 @@ Result<BlockChunks> buildBlockChunks(const ChunkPassContext& context, uint32_t b
   return out;
 }
 
-Result<std::vector<BuiltChunk>> buildCoarseChunks(
-    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
-    std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress) {
-  std::vector<NodeRecord>& nodes = context.nodes;
-  const unsigned threads = unsigned(meshers.size());
-  std::vector<BuiltChunk> out(coarseNodes.size());
+namespace {
+
+// Chunks coarseNodes[begin, end) into out[k], in parallel, one mesher per thread; their
+// surfaces into (*surfaces)[k] when asked.
+Status buildChunkRange(const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+                       size_t begin, size_t end, std::vector<std::unique_ptr<ChunkMesher>>& meshers,
+                       std::vector<BuiltChunk>& out, std::vector<ChunkSurface>* surfaces,
+                       Progress& progress) {
   std::mutex failMutex;
   std::optional<Error> failure;
-  parallelFor(coarseNodes.size(), threads, [&](size_t k, unsigned w) {
+  parallelFor(end - begin, unsigned(meshers.size()), [&](size_t i, unsigned w) {
     {
       std::lock_guard lock(failMutex);
       if (failure) return;
     }
-    auto blob = buildChunk(*meshers[w], context.budget, nodes[coarseNodes[k]],
-                           context.compressionLevel, context.payload);
+    const size_t k = begin + i;
+    NodeRecord& node = context.nodes[coarseNodes[k]];
+    const ChunkMesh mesh = meshers[w]->build(node.level, int32_t(node.x), int32_t(node.y));
+    if (surfaces) (*surfaces)[k] = surfaceOf(mesh);
+    auto blob = encodeChunk(mesh, context.budget, node, context.compressionLevel, context.payload);
     if (!blob) {
       std::lock_guard lock(failMutex);
       if (!failure) failure = blob.error();
@@ -265,6 +281,47 @@ Result<std::vector<BuiltChunk>> buildCoarseChunks(
     progress.advance();
   });
   if (failure) return *failure;
+  return {};
+}
+
+}  // namespace
+
+Result<std::vector<BuiltChunk>> buildCoarseChunks(
+    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+    std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress) {
+  std::vector<BuiltChunk> out(coarseNodes.size());
+  if (Status s = buildChunkRange(context, coarseNodes, 0, coarseNodes.size(), meshers, out, nullptr,
+                                 progress);
+      !s)
+    return s.error();
+  return out;
+}
+
+Result<std::vector<BuiltChunk>> buildCoarseChunksTopDown(
+    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+    std::vector<std::unique_ptr<ChunkMesher>>& meshers, SurfaceStore& surfaces,
+    Progress& progress) {
+  const std::vector<NodeRecord>& nodes = context.nodes;
+  std::vector<BuiltChunk> out(coarseNodes.size());
+  std::vector<ChunkSurface> built(coarseNodes.size());
+  const int32_t blockLevel = blockLevelOf(context.layout, context.blockCells);
+  for (auto& m : meshers) {
+    m->setMethod(context.mesher, context.firstGreedyLevel);
+    m->chooseUpTo(blockLevel);
+    m->shareSurfaces(&surfaces);
+  }
+  // coarseNodes is breadth-first: each level's run, parents before children.
+  for (size_t begin = 0; begin < coarseNodes.size();) {
+    const uint8_t level = nodes[coarseNodes[begin]].level;
+    size_t end = begin;
+    while (end < coarseNodes.size() && nodes[coarseNodes[end]].level == level) ++end;
+    if (Status s =
+            buildChunkRange(context, coarseNodes, begin, end, meshers, out, &built, progress);
+        !s)
+      return s.error();
+    for (size_t k = begin; k < end; ++k) surfaces.add(std::move(built[k]));
+    begin = end;
+  }
   return out;
 }
 
@@ -339,6 +396,15 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   };
 
   progress.begin("meshing", nodes.size());
+  // A greedy build that has every height meshes the levels at and above the blocks first, top
+  // down, so that each block's chunks start from its greedy block-level chunk.
+  std::optional<std::vector<BuiltChunk>> coarse;
+  SurfaceStore surfaces;
+  if (context.mesher == MeshMethod::kGreedy && context.firstGreedyLevel == 0) {
+    auto built = buildCoarseChunksTopDown(context, coarseNodes, meshers, surfaces, progress);
+    if (!built) return built.error();
+    coarse = std::move(built).value();
+  }
   parallelFor(blockNodes.size(), threads, [&](size_t task, unsigned w) {
     if (failed) return;
     const NodeRecord& b = nodes[blockNodes[task]];
@@ -385,9 +451,11 @@ Status buildChunks(const TreeLayout& layout, const ErrorBudget& budget, const Ac
   if (options.madeTextures)
     for (uint32_t node : coarseNodes)
       blockTextures.emplace_back(node, std::move((*options.madeTextures)[node]));
-  for (auto& m : meshers) m->setMethod(context.mesher, context.firstGreedyLevel);
-  auto coarse = buildCoarseChunks(context, coarseNodes, meshers, progress);
-  if (!coarse) return coarse.error();
+  if (!coarse) {
+    auto built = buildCoarseChunks(context, coarseNodes, meshers, progress);
+    if (!built) return built.error();
+    coarse = std::move(built).value();
+  }
   if (pyramid || options.madeTextures)
     if (Status s = attachTextures(*coarse, std::move(blockTextures), nodes); !s) return s;
   for (const BuiltChunk& chunk : *coarse)

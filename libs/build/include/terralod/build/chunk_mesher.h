@@ -48,6 +48,31 @@ struct ChunkMesh {
   /// RTIN chunks: the walk's decision at each splittable triangle (RtinDecision bits), what
   /// payload version 3 stores; empty for greedy chunks.
   std::vector<uint8_t> rtinDecisions;
+  MeshMethod method = MeshMethod::kRtin;  ///< how it was made
+};
+
+/// A built chunk's surface triangles (grid points and heights), for its children's morphs.
+struct ChunkSurface {
+  int32_t level = -1, ix = 0, iy = 0;
+  std::vector<SurfaceCorner> corners;  ///< three per triangle
+  MeshMethod method = MeshMethod::kRtin;
+};
+/// The surface of a built chunk.
+ChunkSurface surfaceOf(const ChunkMesh& mesh);
+
+/// Surfaces built once and read by every mesher: a greedy build's levels at and above the
+/// blocks, meshed top-down before the blocks when every height is at hand. Filled between
+/// the meshers' uses, never during.
+class SurfaceStore {
+ public:
+  void add(ChunkSurface surface);
+  const ChunkSurface* find(int32_t level, int32_t ix, int32_t iy) const;
+
+ private:
+  static uint64_t key(int32_t level, int32_t ix, int32_t iy) {
+    return (uint64_t(uint32_t(level)) << 48) ^ (uint64_t(uint32_t(iy)) << 24) ^ uint64_t(ix);
+  }
+  std::unordered_map<uint64_t, ChunkSurface> mByChunk;
 };
 
 /// Builds chunk meshes. Keeps scratch buffers between calls: use one per thread.
@@ -64,13 +89,21 @@ class ChunkMesher {
     mHeights = &heights;
     mSurfaces.clear();
   }
-  /// Greedy insertion for the levels from `firstLevel` down (kRtin: none). Level 0 only where
-  /// every height of each root is at hand (a root's mesh scans every sample).
+  /// Greedy insertion for the levels from `firstLevel` down (kRtin: none). Levels at and
+  /// above the blocks only where every height is at hand (their meshes scan every sample).
   void setMethod(MeshMethod method, int32_t firstLevel) {
     mMethod = method;
     mFirstGreedyLevel = firstLevel;
     mSurfaces.clear();
   }
+  /// Levels up to `level` (those at and above the blocks) whose parent is RTIN are meshed by
+  /// insertion only where that takes at most kGreedyCoarseShare of RTIN's triangles: a
+  /// greedy parent's long edges at any angle constrain its children more than a bintree's, so
+  /// where it saves little, its descendants end up with more triangles (the rough synth).
+  /// A greedy chunk's descendants are all greedy. -1: no choice (every greedy level is greedy).
+  void chooseUpTo(int32_t level) { mChooseUpTo = level; }
+  /// Parents' surfaces to take from `store` (null: none) before building them.
+  void shareSurfaces(const SurfaceStore* store) { mShared = store; }
 
   /// The surface of `level` at grid point p (p inside the data), by descending the bintree of
   /// the chunk that contains it. Exposed for tests.
@@ -79,11 +112,7 @@ class ChunkMesher {
   double surfaceHeightIn(int32_t level, int32_t ix, int32_t iy, GridPoint p);
 
  private:
-  /// A built chunk's surface triangles (grid points and heights), for its children's morphs.
-  struct Surface {
-    int32_t level = -1, ix = 0, iy = 0;
-    std::vector<SurfaceCorner> corners;  ///< three per triangle
-  };
+  using Surface = ChunkSurface;
   bool greedyAt(int32_t level) const {
     return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel;
   }
@@ -137,6 +166,8 @@ class ChunkMesher {
   MeshMethod mMethod = MeshMethod::kRtin;
   int32_t mFirstGreedyLevel = 0;
   std::vector<Surface> mSurfaces;  ///< the last two levels' built chunks
+  const SurfaceStore* mShared = nullptr;
+  int32_t mChooseUpTo = -1;
   std::vector<double> mGreedyHeights, mGreedyParent;
   std::vector<SurfaceCorner> mGreedyParentTriangles;
 };

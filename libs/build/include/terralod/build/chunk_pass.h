@@ -79,8 +79,8 @@ struct ChunkPassContext {
   TexturePass* textures = nullptr;        ///< null: geometry only
   MeshMethod mesher = MeshMethod::kRtin;  ///< below the block level (the levels above: RTIN)
   ChunkPayloadVersion payload = kStaticChunkPayload;
-  /// The first level `mesher` meshes: the one below the blocks, or 0 where the roots are the
-  /// blocks and the coarse pass has every height too (firstGreedyLevel()).
+  /// The first level `mesher` meshes: the one below the blocks, or 0 where the coarse pass
+  /// has every height too (firstGreedyLevel()).
   int32_t firstGreedyLevel = 0;
 };
 
@@ -89,8 +89,9 @@ struct ChunkPassContext {
 enum class CoarseHeights : uint8_t { kSparse, kEvery };
 
 /// The first level a greedy build meshes by insertion: the one below the block level, or the
-/// roots themselves when they are the blocks (`blockLevel` 0) and the coarse pass, which
-/// builds them, has every height (else its roots stay RTIN).
+/// roots when the coarse pass has every height (it then meshes the levels at and above the
+/// blocks first, top down, and the blocks' chunks start from them); with sparse heights the
+/// levels at and above the blocks stay RTIN.
 int32_t firstGreedyLevel(int32_t blockLevel, CoarseHeights heights);
 
 /// A block's heights as read once for both of its passes: the (cells + 1)² samples from
@@ -141,6 +142,12 @@ using NodeTextures = std::vector<std::pair<uint32_t, std::vector<uint8_t>>>;
 Result<std::vector<BuiltChunk>> buildCoarseChunks(
     const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
     std::vector<std::unique_ptr<ChunkMesher>>& meshers, Progress& progress);
+/// The same, level by level from the roots (`coarseNodes` breadth-first), each level's chunks
+/// starting from their parents' surfaces, which go into `surfaces` (and the meshers read them
+/// from there from now on): a greedy build's coarse levels, from every height.
+Result<std::vector<BuiltChunk>> buildCoarseChunksTopDown(
+    const ChunkPassContext& context, const std::vector<uint32_t>& coarseNodes,
+    std::vector<std::unique_ptr<ChunkMesher>>& meshers, SurfaceStore& surfaces, Progress& progress);
 /// Gives each chunk its blob in `textures` (consumed); an internal error when one has none.
 Status attachTextures(std::vector<BuiltChunk>& chunks, NodeTextures textures,
                       const std::vector<NodeRecord>& nodes);

@@ -31,6 +31,10 @@ enum class MeshMethod : uint8_t { kRtin, kGreedy };
 /// the parent's error on screen, at most this times τ).
 inline constexpr double kGreedyMorphGap = 0.125;
 
+/// A chunk at or above the block level whose parent is RTIN is meshed by insertion only where
+/// that takes at most this share of the RTIN mesh's triangles (ChunkMesher::chooseUpTo).
+inline constexpr double kGreedyCoarseShare = 0.75;
+
 struct GreedyMeshInput {
   int32_t width = 0, height = 0;  ///< cells; samples are (width+1) x (height+1), row-major
   std::span<const double> heights;
