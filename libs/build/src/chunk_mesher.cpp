@@ -332,22 +332,19 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.dataX = std::min(mesh.side, mLayout.cellsX - mesh.x0);
   mesh.dataY = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   if (!greedyAt(level)) return buildRtin(std::move(mesh));
-  if (level <= mChooseUpTo &&
-      (level == 0 || surfaceOf(level - 1, ix >> 1, iy >> 1).method == MeshMethod::kRtin)) {
-    ChunkMesh rtin = buildRtin(mesh);
-    std::optional<ChunkMesh> greedy = buildGreedy(std::move(mesh));
-    if (greedy && double(greedy->surfaceIndices.size()) <=
-                      kGreedyCoarseShare * double(rtin.surfaceIndices.size()))
-      return std::move(*greedy);
-    if (level < mLayout.depth) keepSurface(rtin);  // in the greedy one's place
-    return rtin;
+  if (level > 0 && surfaceOf(level - 1, ix >> 1, iy >> 1).method == MeshMethod::kGreedy) {
+    // Greedy parents keep every line their children cut along: this always succeeds.
+    if (std::optional<ChunkMesh> greedy = buildGreedy(mesh)) return std::move(*greedy);
   }
-  if (std::optional<ChunkMesh> greedy = buildGreedy(mesh)) return std::move(*greedy);
-  // An RTIN chunk instead, within the same bound; its parent is RTIN (greedy parents keep
-  // every line their children cut along), so its morph targets are the parent's surface, and
-  // its children start from it as from any RTIN parent.
-  ChunkMesh rtin = buildRtin(std::move(mesh));
-  if (level < mLayout.depth) keepSurface(rtin);
+  // Under an RTIN parent (or at a root), whichever mesh has fewer triangles: RTIN where the
+  // greedy one cannot cut its parent's triangles along its lines, or where its two triangles
+  // per leaf square outnumber the bintree's. An RTIN chunk's morph targets are its RTIN
+  // parent's surface, and its children start from it as from any RTIN parent.
+  ChunkMesh rtin = buildRtin(mesh);
+  std::optional<ChunkMesh> greedy = buildGreedy(std::move(mesh));
+  if (greedy && greedy->surfaceIndices.size() < rtin.surfaceIndices.size())
+    return std::move(*greedy);
+  if (level < mLayout.depth) keepSurface(rtin);  // in the greedy one's place
   return rtin;
 }
 

@@ -304,10 +304,8 @@ Result<std::vector<BuiltChunk>> buildCoarseChunksTopDown(
   const std::vector<NodeRecord>& nodes = context.nodes;
   std::vector<BuiltChunk> out(coarseNodes.size());
   std::vector<ChunkSurface> built(coarseNodes.size());
-  const int32_t blockLevel = blockLevelOf(context.layout, context.blockCells);
   for (auto& m : meshers) {
     m->setMethod(context.mesher, context.firstGreedyLevel);
-    m->chooseUpTo(blockLevel);
     m->shareSurfaces(&surfaces);
   }
   // coarseNodes is breadth-first: each level's run, parents before children.

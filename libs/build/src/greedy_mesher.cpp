@@ -92,6 +92,7 @@ class Mesher {
       if (top.serial != mSerial[size_t(top.triangle)]) continue;  // stale
       insertCandidate(top.triangle);
     }
+    simplify();
     out = ordered();
     return true;
   }
@@ -329,9 +330,14 @@ class Mesher {
     }
   }
 
-  // Scans triangle t for its worst sample off the rectangle's sides (refineSide settled those).
-  void evaluate(int32_t t) {
-    const int32_t a = mV[3 * size_t(t)], b = mV[3 * size_t(t) + 1], c = mV[3 * size_t(t) + 2];
+  // The worst sample off the rectangle's sides (refineSide settled those) in the
+  // counter-clockwise triangle (a, b, c): the largest violation above `floor` and where (-1:
+  // none above it).
+  struct Worst {
+    double violation;
+    int32_t sample;
+  };
+  Worst worstSample(int32_t a, int32_t b, int32_t c, double floor) const {
     const int64_t ax = mP[size_t(a)].x, ay = mP[size_t(a)].y, bx = mP[size_t(b)].x,
                   by = mP[size_t(b)].y, cx = mP[size_t(c)].x, cy = mP[size_t(c)].y;
     const int64_t area = orient(ax, ay, bx, by, cx, cy);
@@ -342,8 +348,7 @@ class Mesher {
                  pc = gap ? parentAt(c) : 0.0;
     const double inv = 1.0 / double(area);
     const int64_t d0 = -(cy - by), d1 = -(ay - cy), d2 = -(by - ay);
-    double worst = 0.0;
-    int32_t where = -1;
+    Worst worst{floor, -1};
     forEachTriangleRow(
         mP[size_t(a)], mP[size_t(b)], mP[size_t(c)], 1, mIn.width - 1, 1, mIn.height - 1,
         [&](int64_t y, int64_t lo, int64_t hi) {
@@ -355,14 +360,18 @@ class Mesher {
             if (gap)
               v = std::max(
                   v, gapViolation(s, (double(w0) * pa + double(w1) * pb + double(w2) * pc) * inv));
-            if (v > worst) {
-              worst = v;
-              where = int32_t(s);
-            }
+            if (v > worst.violation) worst = {v, int32_t(s)};
           }
         });
-    mCandidate[size_t(t)] = where;
-    if (where >= 0) mQueue.push({worst, t, mSerial[size_t(t)]});
+    return worst;
+  }
+
+  // Scans triangle t for its worst sample and queues it where it breaks the bound.
+  void evaluate(int32_t t) {
+    const Worst worst =
+        worstSample(mV[3 * size_t(t)], mV[3 * size_t(t) + 1], mV[3 * size_t(t) + 2], 0.0);
+    mCandidate[size_t(t)] = worst.sample;
+    if (worst.sample >= 0) mQueue.push({worst.violation, t, mSerial[size_t(t)]});
   }
 
   void insertCandidate(int32_t t) {
@@ -492,12 +501,163 @@ class Mesher {
   }
   static constexpr double kGapSlack = 1e-9;  ///< rounding, where the gap is 0 (coplanar)
 
+  // Greedy insertion adds each vertex against the mesh as it stood; once every sample is
+  // within the bound, some vertices are no longer needed. A vertex whose edges are all free
+  // (not on a side, a line or a parent's edge) is collapsed onto the neighbour that leaves its
+  // star with the smallest violation, if every sample there stays within the bound (and, while
+  // morphing, the gap): the same test evaluate() makes. Passes in vertex order until one
+  // removes nothing. Collapsed triangles are marked dead (-1).
+  void simplify() {
+    mOut.assign(mP.size(), -1);
+    for (int32_t e = 0; e < int32_t(mV.size()); ++e)
+      if (mV[size_t(e)] >= 0) mOut[size_t(mV[size_t(e)])] = e;
+    // A vertex is tried again only once a collapse has changed the triangles around it.
+    mDirty.assign(mP.size(), 1);
+    for (bool removed = true; removed;) {
+      removed = false;
+      for (int32_t v = 0; v < int32_t(mP.size()); ++v) {
+        if (!mDirty[size_t(v)]) continue;
+        mDirty[size_t(v)] = 0;
+        removed = collapse(v) || removed;
+      }
+    }
+  }
+
+  // v's outgoing half-edges counter-clockwise from mOut[v]; empty where v is not interior or
+  // has an edge that is not free.
+  bool starOf(int32_t v, std::vector<int32_t>& out) const {
+    out.clear();
+    const int32_t first = mOut[size_t(v)];
+    if (first < 0) return false;
+    int32_t e = first;
+    do {
+      if (mFixed[size_t(e)] != kFree || mOpp[size_t(e)] < 0) return false;
+      out.push_back(e);
+      const int32_t in = prev(e);  // into v
+      if (mFixed[size_t(in)] != kFree || mOpp[size_t(in)] < 0) return false;
+      e = mOpp[size_t(in)];
+      if (out.size() > 64) return false;
+    } while (e != first);
+    return out.size() >= 3;
+  }
+
+  // The largest violation over the interior samples of triangle (a, b, c), as evaluate()
+  // measures it (<= 0: within the bound and the gap); +inf when it is not counter-clockwise.
+  double triangleViolation(int32_t a, int32_t b, int32_t c) const {
+    if (orient(mP[size_t(a)], mP[size_t(b)], mP[size_t(c)]) <= 0)
+      return std::numeric_limits<double>::infinity();
+    return worstSample(a, b, c, -std::numeric_limits<double>::infinity()).violation;
+  }
+
+  bool collapse(int32_t v) {
+    std::vector<int32_t>& star = mStar;
+    if (!starOf(v, star)) return false;
+    // Neighbours: the far end of each outgoing edge. u must share no neighbour with v but the
+    // two corners beside their edge (else the collapse would join two edges into one).
+    int32_t best = -1;
+    double bestViolation = 0.0;
+    for (size_t i = 0; i < star.size(); ++i) {
+      const int32_t u = mV[size_t(next(star[i]))];
+      double worst = -std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j < star.size() && worst <= 0.0; ++j) {
+        // Triangle j is (v, w1, w2); it vanishes where it holds u.
+        const int32_t w1 = mV[size_t(next(star[j]))], w2 = mV[size_t(prev(star[j]))];
+        if (w1 == u || w2 == u) continue;
+        worst = std::max(worst, triangleViolation(u, w1, w2));
+      }
+      if (worst > 0.0 || !linkHolds(v, u, star)) continue;
+      if (best < 0 || worst < bestViolation) best = int32_t(i), bestViolation = worst;
+    }
+    if (best < 0) return false;
+    const int32_t e0 = star[size_t(best)];  // v -> u in T1 = (v, u, x)
+    const int32_t u = mV[size_t(next(e0))];
+    const int32_t f0 = mOpp[size_t(e0)];  // u -> v in T2 = (u, v, y)
+    // T1's and T2's outer edges become twins of each other.
+    const int32_t e1 = next(e0), e2 = prev(e0), f1 = next(f0), f2 = prev(f0);
+    const int32_t o1 = mOpp[size_t(e1)], o2 = mOpp[size_t(e2)];
+    const int32_t p1 = mOpp[size_t(f1)], p2 = mOpp[size_t(f2)];
+    const uint8_t k1 = std::max(mFixed[size_t(e1)], mFixed[size_t(e2)]);
+    const uint8_t k2 = std::max(mFixed[size_t(f1)], mFixed[size_t(f2)]);
+    const int32_t t1 = e0 / 3, t2 = f0 / 3;
+    for (const int32_t e : star) {
+      const int32_t t = e / 3;
+      if (t == t1 || t == t2) continue;
+      mV[size_t(e)] = u;
+    }
+    for (const int32_t t : {t1, t2})
+      for (int i = 0; i < 3; ++i) {
+        mV[3 * size_t(t) + size_t(i)] = -1;
+        mOpp[3 * size_t(t) + size_t(i)] = -1;
+      }
+    if (o1 >= 0)
+      link(o1, o2, k1);
+    else if (o2 >= 0)
+      link(o2, o1, k1);
+    if (p1 >= 0)
+      link(p1, p2, k2);
+    else if (p2 >= 0)
+      link(p2, p1, k2);
+    mOut[size_t(v)] = -1;
+    for (const int32_t e : star) {
+      const int32_t t = e / 3;
+      if (t == t1 || t == t2) continue;
+      for (int i = 0; i < 3; ++i) {
+        const auto w = size_t(mV[3 * size_t(t) + size_t(i)]);
+        mOut[w] = 3 * t + i;
+        mDirty[w] = 1;
+      }
+    }
+    return true;
+  }
+
+  // The link condition: the vertices next to both v and u are exactly the two beside edge
+  // v-u.
+  bool linkHolds(int32_t v, int32_t u, const std::vector<int32_t>& star) const {
+    (void)v;
+    std::vector<int32_t>& around = mAround;
+    around.clear();
+    for (const int32_t e : star) around.push_back(mV[size_t(next(e))]);
+    // u's neighbours, by its own star (u may be on a side or a line: walk both ways).
+    int shared = 0;
+    const int32_t first = mOut[size_t(u)];
+    int32_t e = first;
+    // Clockwise and counter-clockwise walks until a boundary; each neighbour counted once.
+    std::vector<int32_t>& seen = mSeen;
+    seen.clear();
+    for (int dir = 0; dir < 2; ++dir) {
+      e = first;
+      for (int guard = 0; guard < 256; ++guard) {
+        const int32_t w = mV[size_t(next(e))];
+        seen.push_back(w);
+        seen.push_back(mV[size_t(prev(e))]);
+        int32_t step;
+        if (dir == 0) {
+          const int32_t in = prev(e);
+          step = mOpp[size_t(in)];
+        } else {
+          const int32_t opp = mOpp[size_t(e)];
+          step = opp < 0 ? -1 : next(opp);
+        }
+        if (step < 0 || step == first) break;
+        e = step;
+      }
+    }
+    std::sort(seen.begin(), seen.end());
+    seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
+    for (const int32_t w : around)
+      if (w != u && std::binary_search(seen.begin(), seen.end(), w)) ++shared;
+    return shared == 2;
+  }
+
   // The triangles in meshoptimizer's strip order (each triangle mostly sharing an edge with
   // the last, as RTIN's Sierpinski order does) and the vertices in the order they are first
   // used: what the index and vertex codecs compress best (insertion order compresses ~5x
   // worse in the index codec; the vertex-cache order ~1.5x).
   GreedyMesh ordered() const {
-    const std::vector<uint32_t> inserted(mV.begin(), mV.end());
+    std::vector<uint32_t> inserted;
+    inserted.reserve(mV.size());
+    for (const int32_t v : mV)
+      if (v >= 0) inserted.push_back(uint32_t(v));
     GreedyMesh out;
     out.triangles.resize(inserted.size());
     meshopt_optimizeVertexCacheStrip(out.triangles.data(), inserted.data(), inserted.size(),
@@ -524,6 +684,10 @@ class Mesher {
   std::vector<uint8_t> mFixed;
   std::vector<uint32_t> mSerial;
   std::vector<int32_t> mTouched;
+  std::vector<int32_t> mOut;    ///< per vertex: one outgoing half-edge (simplify)
+  std::vector<uint8_t> mDirty;  ///< per vertex: its star changed since it was last tried
+  std::vector<int32_t> mStar;
+  mutable std::vector<int32_t> mAround, mSeen;
   std::map<int32_t, int32_t> mSides[4];
   std::priority_queue<Entry> mQueue;
   int mRefining = -1;  ///< the side refineSide works on (mSides[side] kept up to date)

@@ -91,17 +91,15 @@ class ChunkMesher {
   }
   /// Greedy insertion for the levels from `firstLevel` down (kRtin: none). Levels at and
   /// above the blocks only where every height is at hand (their meshes scan every sample).
+  /// A chunk at those levels whose parent is RTIN (or a root) takes whichever of its greedy
+  /// and RTIN meshes has fewer triangles (a greedy mesh needs two triangles per leaf square,
+  /// so a large chunk over few triangles does better as a bintree); a greedy chunk's
+  /// descendants are all greedy.
   void setMethod(MeshMethod method, int32_t firstLevel) {
     mMethod = method;
     mFirstGreedyLevel = firstLevel;
     mSurfaces.clear();
   }
-  /// Levels up to `level` (those at and above the blocks) whose parent is RTIN are meshed by
-  /// insertion only where that takes at most kGreedyCoarseShare of RTIN's triangles: a
-  /// greedy parent's long edges at any angle constrain its children more than a bintree's, so
-  /// where it saves little, its descendants end up with more triangles (the rough synth).
-  /// A greedy chunk's descendants are all greedy. -1: no choice (every greedy level is greedy).
-  void chooseUpTo(int32_t level) { mChooseUpTo = level; }
   /// Parents' surfaces to take from `store` (null: none) before building them.
   void shareSurfaces(const SurfaceStore* store) { mShared = store; }
 
@@ -114,7 +112,8 @@ class ChunkMesher {
  private:
   using Surface = ChunkSurface;
   bool greedyAt(int32_t level) const {
-    return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel;
+    return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel &&
+           mLayout.chunkCells(level) <= kGreedyMaxChunkCells;
   }
   /// nullopt where the parent's triangles cannot be cut along this chunk's lines at grid
   /// points: an RTIN parent's triangles clipped at the data's last row or column (fanned, so
@@ -167,7 +166,6 @@ class ChunkMesher {
   int32_t mFirstGreedyLevel = 0;
   std::vector<Surface> mSurfaces;  ///< the last two levels' built chunks
   const SurfaceStore* mShared = nullptr;
-  int32_t mChooseUpTo = -1;
   std::vector<double> mGreedyHeights, mGreedyParent;
   std::vector<SurfaceCorner> mGreedyParentTriangles;
 };

@@ -2,11 +2,13 @@
 // An irregular chunk mesh by greedy insertion (Garland and Heckbert's "fast polygonal
 // approximation of terrains"): repeatedly insert the sample the current triangulation
 // approximates worst, flipping edges towards a Delaunay triangulation, until every sample of
-// the rectangle is within the error.
+// the rectangle is within the error; then collapse each vertex that sits inside one piece of
+// the start (all its edges free) onto a neighbour wherever every sample around it stays
+// within the error (and the gap), until none goes: about a third fewer triangles.
 //
-// It starts from the parent chunk's triangles and never flips their edges: every triangle
-// lies inside one of the parent's, so the chunk's vertices moved onto the parent's surface
-// (its morph targets) draw exactly the parent's surface, as the RTIN levels do. It also keeps
+// It starts from the parent chunk's triangles and flips their edges only within the gap:
+// every other triangle lies inside one of the parent's, so the chunk's vertices moved onto the
+// parent's surface (its morph targets) draw the parent's surface to within the gap. It also keeps
 // edges along the lines x, y = k * lineSpacing, the borders of its own children, which in turn
 // start from its triangles. Each side of the rectangle is refined first, alone and from the
 // heights along it only, so two chunks sharing a side and the parent's vertices on it choose the
@@ -31,9 +33,10 @@ enum class MeshMethod : uint8_t { kRtin, kGreedy };
 /// the parent's error on screen, at most this times τ).
 inline constexpr double kGreedyMorphGap = 0.125;
 
-/// A chunk at or above the block level whose parent is RTIN is meshed by insertion only where
-/// that takes at most this share of the RTIN mesh's triangles (ChunkMesher::chooseUpTo).
-inline constexpr double kGreedyCoarseShare = 0.75;
+/// The largest chunk (cells a side) greedy insertion meshes: its scratch is about 24 bytes a
+/// sample (100 MB at 2048 cells, per thread); larger chunks (the roots of rasters read whole
+/// beyond 2049²) stay RTIN, and their descendants choose.
+inline constexpr int32_t kGreedyMaxChunkCells = 2048;
 
 struct GreedyMeshInput {
   int32_t width = 0, height = 0;  ///< cells; samples are (width+1) x (height+1), row-major
