@@ -505,13 +505,13 @@ class Mesher {
   // within the bound, some vertices are no longer needed. A vertex whose edges are all free
   // (not on a side, a line or a parent's edge) is collapsed onto the neighbour that leaves its
   // star with the smallest violation, if every sample there stays within the bound (and, while
-  // morphing, the gap): the same test evaluate() makes. Passes in vertex order until one
-  // removes nothing. Collapsed triangles are marked dead (-1).
+  // morphing, the gap): the same test evaluate() makes. Vertices are tried in index order, and
+  // again only once a collapse has changed the triangles around them, until none goes.
+  // Collapsed triangles are marked dead (-1).
   void simplify() {
     mOut.assign(mP.size(), -1);
     for (int32_t e = 0; e < int32_t(mV.size()); ++e)
       if (mV[size_t(e)] >= 0) mOut[size_t(mV[size_t(e)])] = e;
-    // A vertex is tried again only once a collapse has changed the triangles around it.
     mDirty.assign(mP.size(), 1);
     for (bool removed = true; removed;) {
       removed = false;
@@ -523,8 +523,9 @@ class Mesher {
     }
   }
 
-  // v's outgoing half-edges counter-clockwise from mOut[v]; empty where v is not interior or
-  // has an edge that is not free.
+  // v's outgoing half-edges counter-clockwise from mOut[v]; false where v is on the
+  // rectangle's sides or on a fixed edge (a line's or a parent's). Letting a vertex on a line or
+  // a parent edge go along it as well was tried: 0.1 % fewer triangles, not kept.
   bool starOf(int32_t v, std::vector<int32_t>& out) const {
     out.clear();
     const int32_t first = mOut[size_t(v)];
@@ -533,10 +534,8 @@ class Mesher {
     do {
       if (mFixed[size_t(e)] != kFree || mOpp[size_t(e)] < 0) return false;
       out.push_back(e);
-      const int32_t in = prev(e);  // into v
-      if (mFixed[size_t(in)] != kFree || mOpp[size_t(in)] < 0) return false;
-      e = mOpp[size_t(in)];
-      if (out.size() > 64) return false;
+      e = mOpp[size_t(prev(e))];  // the next outgoing edge, counter-clockwise
+      if (e < 0 || out.size() > size_t(kMaxDegree)) return false;
     } while (e != first);
     return out.size() >= 3;
   }
@@ -565,7 +564,7 @@ class Mesher {
         if (w1 == u || w2 == u) continue;
         worst = std::max(worst, triangleViolation(u, w1, w2));
       }
-      if (worst > 0.0 || !linkHolds(v, u, star)) continue;
+      if (worst > 0.0 || !linkHolds(u, star)) continue;
       if (best < 0 || worst < bestViolation) best = int32_t(i), bestViolation = worst;
     }
     if (best < 0) return false;
@@ -610,44 +609,40 @@ class Mesher {
     return true;
   }
 
-  // The link condition: the vertices next to both v and u are exactly the two beside edge
-  // v-u.
-  bool linkHolds(int32_t v, int32_t u, const std::vector<int32_t>& star) const {
-    (void)v;
-    std::vector<int32_t>& around = mAround;
-    around.clear();
-    for (const int32_t e : star) around.push_back(mV[size_t(next(e))]);
-    // u's neighbours, by its own star (u may be on a side or a line: walk both ways).
-    int shared = 0;
-    const int32_t first = mOut[size_t(u)];
-    int32_t e = first;
-    // Clockwise and counter-clockwise walks until a boundary; each neighbour counted once.
+  // The link condition: the vertices next to both v (its outgoing edges `star`) and u are
+  // exactly the two beside edge v-u. False also where u's neighbours cannot all be found.
+  bool linkHolds(int32_t u, const std::vector<int32_t>& star) {
+    // u's neighbours, walking its star both ways from mOut[u] (u may be on a side or a line,
+    // where a walk stops at the boundary).
     std::vector<int32_t>& seen = mSeen;
     seen.clear();
-    for (int dir = 0; dir < 2; ++dir) {
-      e = first;
-      for (int guard = 0; guard < 256; ++guard) {
-        const int32_t w = mV[size_t(next(e))];
-        seen.push_back(w);
+    const int32_t first = mOut[size_t(u)];
+    bool closed = false;
+    for (int dir = 0; dir < 2 && !closed; ++dir) {
+      int32_t e = first;
+      for (int steps = 0;; ++steps) {
+        if (steps == kMaxDegree) return false;
+        seen.push_back(mV[size_t(next(e))]);
         seen.push_back(mV[size_t(prev(e))]);
-        int32_t step;
-        if (dir == 0) {
-          const int32_t in = prev(e);
-          step = mOpp[size_t(in)];
-        } else {
-          const int32_t opp = mOpp[size_t(e)];
-          step = opp < 0 ? -1 : next(opp);
+        const int32_t opp = dir == 0 ? mOpp[size_t(prev(e))] : mOpp[size_t(e)];
+        if (opp < 0) break;
+        e = dir == 0 ? opp : next(opp);
+        if (e == first) {
+          closed = true;
+          break;
         }
-        if (step < 0 || step == first) break;
-        e = step;
       }
     }
     std::sort(seen.begin(), seen.end());
     seen.erase(std::unique(seen.begin(), seen.end()), seen.end());
-    for (const int32_t w : around)
+    int shared = 0;
+    for (const int32_t e : star) {
+      const int32_t w = mV[size_t(next(e))];
       if (w != u && std::binary_search(seen.begin(), seen.end(), w)) ++shared;
+    }
     return shared == 2;
   }
+  static constexpr int kMaxDegree = 256;  ///< a star walk longer than this gives up
 
   // The triangles in meshoptimizer's strip order (each triangle mostly sharing an edge with
   // the last, as RTIN's Sierpinski order does) and the vertices in the order they are first
@@ -687,7 +682,7 @@ class Mesher {
   std::vector<int32_t> mOut;    ///< per vertex: one outgoing half-edge (simplify)
   std::vector<uint8_t> mDirty;  ///< per vertex: its star changed since it was last tried
   std::vector<int32_t> mStar;
-  mutable std::vector<int32_t> mAround, mSeen;
+  std::vector<int32_t> mSeen;
   std::map<int32_t, int32_t> mSides[4];
   std::priority_queue<Entry> mQueue;
   int mRefining = -1;  ///< the side refineSide works on (mSides[side] kept up to date)
