@@ -243,27 +243,24 @@ void ChunkMesher::keepSurface(const ChunkMesh& mesh) {
   mSurfaces.push_back(terralod::surfaceOf(mesh));
 }
 
-std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
+std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh, const Surface* parent) {
   const int32_t level = mesh.level;
   const int32_t w = std::min(mesh.side, mLayout.cellsX - mesh.x0),
                 h = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   const size_t stride = size_t(w) + 1, samples = stride * size_t(h + 1);
-  // The parent first: building it (a greedy root) uses the scratch buffers below.
-  if (level > 0) surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);
   mGreedyHeights.resize(samples);
   for (int32_t y = 0; y <= h; ++y)
     for (int32_t x = 0; x <= w; ++x)
       mGreedyHeights[size_t(y) * stride + x] = mHeights->at(mesh.x0 + x, mesh.y0 + y);
-  if (level == 0) {
+  if (!parent) {
     greedyRootStart(w, h);
   } else {
     // The parent's surface at every sample (a sample on a parent edge gets the edge's own
     // interpolation, so chunks on either side of a parent border see the same values).
     mGreedyParent.assign(samples, std::nan(""));
-    const Surface& parent = surfaceOf(level - 1, mesh.ix >> 1, mesh.iy >> 1);  // kept above
-    for (size_t k = 0; k + 2 < parent.corners.size(); k += 3) {
-      const SurfaceCorner tri[3] = {parent.corners[k], parent.corners[k + 1],
-                                    parent.corners[k + 2]};
+    for (size_t k = 0; k + 2 < parent->corners.size(); k += 3) {
+      const SurfaceCorner tri[3] = {parent->corners[k], parent->corners[k + 1],
+                                    parent->corners[k + 2]};
       rasterizeTriangle(tri, mesh.x0, mesh.y0, mesh.x0 + w, mesh.y0 + h,
                         [&](int32_t x, int32_t y, double z) {
                           mGreedyParent[size_t(y - mesh.y0) * stride + (x - mesh.x0)] = z;
@@ -271,7 +268,7 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh) {
     }
     // The same triangles in the chunk's own sample coordinates (`parent` is not used after
     // this: keepSurface below may move it).
-    mGreedyParentTriangles.assign(parent.corners.begin(), parent.corners.end());
+    mGreedyParentTriangles.assign(parent->corners.begin(), parent->corners.end());
     for (SurfaceCorner& c : mGreedyParentTriangles) {
       c.x -= mesh.x0;
       c.y -= mesh.y0;
@@ -332,16 +329,18 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   mesh.dataX = std::min(mesh.side, mLayout.cellsX - mesh.x0);
   mesh.dataY = std::min(mesh.side, mLayout.cellsY - mesh.y0);
   if (!greedyAt(level)) return buildRtin(std::move(mesh));
-  if (level > 0 && surfaceOf(level - 1, ix >> 1, iy >> 1).method == MeshMethod::kGreedy) {
-    // Greedy parents keep every line their children cut along: this always succeeds.
-    if (std::optional<ChunkMesh> greedy = buildGreedy(mesh)) return std::move(*greedy);
-  }
-  // Under an RTIN parent (or at a root), whichever mesh has fewer triangles: RTIN where the
-  // greedy one cannot cut its parent's triangles along its lines, or where its two triangles
-  // per leaf square outnumber the bintree's. An RTIN chunk's morph targets are its RTIN
-  // parent's surface, and its children start from it as from any RTIN parent.
-  ChunkMesh rtin = buildRtin(mesh);
-  std::optional<ChunkMesh> greedy = buildGreedy(std::move(mesh));
+  // The parent first (building it, a greedy one, uses the scratch buffers buildGreedy fills).
+  const Surface* parent = level > 0 ? &surfaceOf(level - 1, ix >> 1, iy >> 1) : nullptr;
+  const bool underGreedy = parent && parent->method == MeshMethod::kGreedy;
+  std::optional<ChunkMesh> greedy = buildGreedy(mesh, parent);  // `parent` may move after this
+  // Greedy parents keep every line their children cut along, so insertion always has its start
+  // there, and an RTIN child would morph to a bintree the parent does not have. Under an RTIN
+  // parent (or at a root), whichever mesh has fewer triangles: RTIN where the greedy one cannot
+  // cut its parent's triangles along its lines, or where its two triangles per leaf square
+  // outnumber the bintree's. An RTIN chunk's morph targets are its RTIN parent's surface, and
+  // its children start from it as from any RTIN parent.
+  if (greedy && underGreedy) return std::move(*greedy);
+  ChunkMesh rtin = buildRtin(std::move(mesh));
   if (greedy && greedy->surfaceIndices.size() < rtin.surfaceIndices.size())
     return std::move(*greedy);
   if (level < mLayout.depth) keepSurface(rtin);  // in the greedy one's place

@@ -588,14 +588,9 @@ class Mesher {
         mV[3 * size_t(t) + size_t(i)] = -1;
         mOpp[3 * size_t(t) + size_t(i)] = -1;
       }
-    if (o1 >= 0)
-      link(o1, o2, k1);
-    else if (o2 >= 0)
-      link(o2, o1, k1);
-    if (p1 >= 0)
-      link(p1, p2, k2);
-    else if (p2 >= 0)
-      link(p2, p1, k2);
+    // o2 and p1 are twins of v's free edges (starOf), so they exist; o1 and p2 may be sides.
+    link(o2, o1, k1);
+    link(p1, p2, k2);
     mOut[size_t(v)] = -1;
     for (const int32_t e : star) {
       const int32_t t = e / 3;

@@ -118,7 +118,8 @@ class ChunkMesher {
   /// nullopt where the parent's triangles cannot be cut along this chunk's lines at grid
   /// points: an RTIN parent's triangles clipped at the data's last row or column (fanned, so
   /// with edges of any slope), crossing a line inside a chunk at the data's edge.
-  std::optional<ChunkMesh> buildGreedy(ChunkMesh mesh);
+  /// `parent`: the parent's surface (null at a root), resolved before (it may be built).
+  std::optional<ChunkMesh> buildGreedy(ChunkMesh mesh, const Surface* parent);
   /// A greedy root's start (its leaf squares) and stand-in parent surface (its heights), for
   /// the w × h cells of mGreedyHeights.
   void greedyRootStart(int32_t w, int32_t h);
