@@ -93,8 +93,9 @@ TEST_F(GreedyMesherCli, LevelsAboveTheBlocksAreMeshedTopDown) {
 }
 
 // On smooth ground (the 1 m synth, 128-cell leaves) the levels down to 256-cell chunks hold a
-// few dozen triangles, fewer as bintrees than the two per leaf square a greedy mesh needs:
-// there, under RTIN parents, the RTIN mesh is kept; the leaves take insertion.
+// few dozen triangles, mostly fewer as bintrees than the two per leaf square a greedy mesh
+// needs: there, under RTIN parents, the smaller mesh is kept (RTIN's at the two coarsest
+// levels, 45 and 89 triangles against a greedy root's 128); the leaves take insertion.
 TEST_F(GreedyMesherCli, ChunksUnderRtinParentsKeepTheSmallerMesh) {
   const std::string dem = sDir->file("smooth.tif");
   ASSERT_EQ(
@@ -110,7 +111,8 @@ TEST_F(GreedyMesherCli, ChunksUnderRtinParentsKeepTheSmallerMesh) {
   };
   const nlohmann::json rtin = levels("rtin"), greedy = levels("greedy");
   ASSERT_EQ(greedy.size(), 4u);  // a 1024-cell root, 512-cell blocks, 128-cell leaves
-  for (size_t l = 0; l < 3; ++l) EXPECT_EQ(greedy[l]["triangles"], rtin[l]["triangles"]) << l;
+  for (size_t l = 0; l < 2; ++l) EXPECT_EQ(greedy[l]["triangles"], rtin[l]["triangles"]) << l;
+  EXPECT_LE(greedy[2]["triangles"], rtin[2]["triangles"]);
   EXPECT_LT(greedy[3]["triangles"].get<double>(), 0.9 * rtin[3]["triangles"].get<double>());
   const RunResult v = runTerralod({"verify", sDir->file("smooth-greedy.tlod"), "--source", dem});
   EXPECT_EQ(v.exitCode, 0) << v.out << v.err;

@@ -283,13 +283,14 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh, const Surface*
       level == 0 ? error : mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level];
   const GreedyMesh m = greedyMesh({w, h, mGreedyHeights, mGreedyParentTriangles,
                                    level < mLayout.depth ? mLayout.leafCells : 0, error,
-                                   mGreedyParent, gap, parentError});
+                                   mGreedyParent, gap, parentError, level > 0});
   if (m.triangles.empty()) return std::nullopt;
   mesh.vertices.reserve(m.x.size());
   for (size_t i = 0; i < m.x.size(); ++i) {
     const size_t s = size_t(m.y[i]) * stride + size_t(m.x[i]);
+    // A root does not morph: its targets are its own heights.
     mesh.vertices.push_back(
-        {mesh.x0 + m.x[i], mesh.y0 + m.y[i], mGreedyHeights[s], mGreedyParent[s]});
+        {mesh.x0 + m.x[i], mesh.y0 + m.y[i], m.z[i], level > 0 ? mGreedyParent[s] : m.z[i]});
   }
   mesh.surfaceIndices = m.triangles;
   mesh.method = MeshMethod::kGreedy;

@@ -108,7 +108,7 @@ class Mesher {
   };
 
   size_t sample(int32_t x, int32_t y) const { return size_t(y) * mStride + size_t(x); }
-  double height(int32_t p) const { return mIn.heights[sample(mP[size_t(p)].x, mP[size_t(p)].y)]; }
+  double height(int32_t p) const { return mZ[size_t(p)]; }
   int32_t triangleCount() const { return int32_t(mV.size() / 3); }
   Point at(int32_t e) const { return mP[size_t(mV[size_t(e)])]; }
 
@@ -117,6 +117,7 @@ class Mesher {
     if (slot < 0) {
       slot = int32_t(mP.size());
       mP.push_back(p);
+      mZ.push_back(mIn.heights[sample(p.x, p.y)]);
     }
     return slot;
   }
@@ -157,6 +158,8 @@ class Mesher {
     return onLine ? kLine : kParentEdge;
   }
   bool morphs() const { return !mIn.parentHeights.empty(); }
+  // Whether every triangle must keep to the gap with its vertices on the parent's surface.
+  bool gapHolds() const { return morphs() && mIn.gap > 0.0 && mIn.verticesMorph; }
 
   // The parent's triangles cut along the rectangle and the lines, each piece fanned; edges
   // inside a piece may flip, the pieces' own may not.
@@ -302,7 +305,7 @@ class Mesher {
         const double z =
             lerpOnSegment(mIn.heights[sa], mIn.heights[sb], double(q - a) / double(b - a));
         double v = violation(sampleAt(q), z);
-        if (morphs() && mIn.gap > 0.0)
+        if (gapHolds())
           v = std::max(v, gapViolation(sampleAt(q),
                                        lerpOnSegment(mIn.parentHeights[sa], mIn.parentHeights[sb],
                                                      double(q - a) / double(b - a))));
@@ -338,32 +341,43 @@ class Mesher {
     int32_t sample;
   };
   Worst worstSample(int32_t a, int32_t b, int32_t c, double floor) const {
+    const double za = height(a), zb = height(b), zc = height(c);
+    const bool gap = gapHolds();
+    const double pa = gap ? parentAt(a) : 0.0, pb = gap ? parentAt(b) : 0.0,
+                 pc = gap ? parentAt(c) : 0.0;
+    Worst worst{floor, -1};
+    forEachInteriorSample(a, b, c, [&](size_t s, double w0, double w1, double w2, double inv) {
+      double v = violation(s, (w0 * za + w1 * zb + w2 * zc) * inv);
+      if (gap) v = std::max(v, gapViolation(s, (w0 * pa + w1 * pb + w2 * pc) * inv));
+      if (v > worst.violation) worst = {v, int32_t(s)};
+      return true;
+    });
+    return worst;
+  }
+
+  // Calls visit(sample, w0, w1, w2, inv) for every sample off the rectangle's sides in the
+  // counter-clockwise triangle (a, b, c), with a, b and c's barycentric weights there
+  // w0 * inv, w1 * inv and w2 * inv, until it returns false (then false).
+  template <typename Visit>
+  bool forEachInteriorSample(int32_t a, int32_t b, int32_t c, Visit&& visit) const {
     const int64_t ax = mP[size_t(a)].x, ay = mP[size_t(a)].y, bx = mP[size_t(b)].x,
                   by = mP[size_t(b)].y, cx = mP[size_t(c)].x, cy = mP[size_t(c)].y;
     const int64_t area = orient(ax, ay, bx, by, cx, cy);
     assert(area > 0);
-    const double za = height(a), zb = height(b), zc = height(c);
-    const bool gap = morphs() && mIn.gap > 0.0;
-    const double pa = gap ? parentAt(a) : 0.0, pb = gap ? parentAt(b) : 0.0,
-                 pc = gap ? parentAt(c) : 0.0;
     const double inv = 1.0 / double(area);
     const int64_t d0 = -(cy - by), d1 = -(ay - cy), d2 = -(by - ay);
-    Worst worst{floor, -1};
+    bool stopped = false;
     forEachTriangleRow(
         mP[size_t(a)], mP[size_t(b)], mP[size_t(c)], 1, mIn.width - 1, 1, mIn.height - 1,
         [&](int64_t y, int64_t lo, int64_t hi) {
+          if (stopped) return;
           int64_t w0 = orient(bx, by, cx, cy, lo, y), w1 = orient(cx, cy, ax, ay, lo, y),
                   w2 = orient(ax, ay, bx, by, lo, y);
-          for (int64_t x = lo; x <= hi; ++x, w0 += d0, w1 += d1, w2 += d2) {
-            const size_t s = sample(int32_t(x), int32_t(y));
-            double v = violation(s, (double(w0) * za + double(w1) * zb + double(w2) * zc) * inv);
-            if (gap)
-              v = std::max(
-                  v, gapViolation(s, (double(w0) * pa + double(w1) * pb + double(w2) * pc) * inv));
-            if (v > worst.violation) worst = {v, int32_t(s)};
-          }
+          for (int64_t x = lo; x <= hi && !stopped; ++x, w0 += d0, w1 += d1, w2 += d2)
+            stopped =
+                !visit(sample(int32_t(x), int32_t(y)), double(w0), double(w1), double(w2), inv);
         });
-    return worst;
+    return !stopped;
   }
 
   // Scans triangle t for its worst sample and queues it where it breaks the bound.
@@ -376,6 +390,10 @@ class Mesher {
 
   void insertCandidate(int32_t t) {
     const int32_t s = mCandidate[size_t(t)];
+    // A vertex's own sample out of the bound cannot be mended by inserting it: that happens only
+    // where the parent's surface breaks its own bound at the vertex (an input out of contract),
+    // which no mesh of these vertices can hold. Left as it is rather than inserted again.
+    if (mPointIndex[size_t(s)] >= 0) return;
     const Point p{int32_t(size_t(s) % mStride), int32_t(size_t(s) / mStride)};
     const int32_t ip = pointIndex(p);
     if (orient(at(3 * t), at(3 * t + 1), p) == 0)
@@ -554,18 +572,12 @@ class Mesher {
     // Neighbours: the far end of each outgoing edge. u must share no neighbour with v but the
     // two corners beside their edge (else the collapse would join two edges into one).
     int32_t best = -1;
-    double bestViolation = 0.0;
+    Placement bestPlace{0.0, 0.0};
     for (size_t i = 0; i < star.size(); ++i) {
       const int32_t u = mV[size_t(next(star[i]))];
-      double worst = -std::numeric_limits<double>::infinity();
-      for (size_t j = 0; j < star.size() && worst <= 0.0; ++j) {
-        // Triangle j is (v, w1, w2); it vanishes where it holds u.
-        const int32_t w1 = mV[size_t(next(star[j]))], w2 = mV[size_t(prev(star[j]))];
-        if (w1 == u || w2 == u) continue;
-        worst = std::max(worst, triangleViolation(u, w1, w2));
-      }
-      if (worst > 0.0 || !linkHolds(u, star)) continue;
-      if (best < 0 || worst < bestViolation) best = int32_t(i), bestViolation = worst;
+      const Placement place = placeOnto(v, u, star);
+      if (place.violation > 0.0 || !linkHolds(u, star)) continue;
+      if (best < 0 || place.violation < bestPlace.violation) best = int32_t(i), bestPlace = place;
     }
     if (best < 0) return false;
     const int32_t e0 = star[size_t(best)];  // v -> u in T1 = (v, u, x)
@@ -601,7 +613,116 @@ class Mesher {
         mDirty[w] = 1;
       }
     }
+    if (bestPlace.z != mZ[size_t(u)]) {
+      mZ[size_t(u)] = bestPlace.z;
+      forEachOutgoing(u, [&](int32_t e) { mDirty[size_t(mV[size_t(next(e))])] = 1; });
+    }
     return true;
+  }
+
+  // Whether a vertex's height may move off its sample: not on the rectangle's sides, whose
+  // vertices neighbours choose alike from the heights along them.
+  bool heightFree(int32_t u) const {
+    if (mIn.vertexHeights != VertexHeights::kFitted) return false;
+    const Point p = mP[size_t(u)];
+    return p.x > 0 && p.y > 0 && p.x < mIn.width && p.y < mIn.height;
+  }
+
+  // Collapsing v onto u: the height u takes and the largest violation over the samples of the
+  // triangles that change (> 0: the collapse is refused). A vertex on a side keeps its height
+  // and only v's star changes; any other takes the middle of the heights that keep every sample
+  // of its whole new star (its own triangles but the two that vanish, and v's others now
+  // joined to it) within the bound: a vertex need not be at its sample's height, only the
+  // surface within the bound of every sample, and that freedom lets more collapses go.
+  struct Placement {
+    double violation;
+    double z;
+  };
+  Placement placeOnto(int32_t v, int32_t u, const std::vector<int32_t>& star) {
+    const double refused = std::numeric_limits<double>::infinity();
+    if (!heightFree(u)) {
+      double worst = -std::numeric_limits<double>::infinity();
+      for (size_t j = 0; j < star.size() && worst <= 0.0; ++j) {
+        // Triangle j is (v, w1, w2); it vanishes where it holds u.
+        const int32_t w1 = mV[size_t(next(star[j]))], w2 = mV[size_t(prev(star[j]))];
+        if (w1 == u || w2 == u) continue;
+        worst = std::max(worst, triangleViolation(u, w1, w2));
+      }
+      return {worst, mZ[size_t(u)]};
+    }
+    // Every sample's surface is wu * z + rest; |wu * z + rest - h| <= error bounds z where
+    // wu > 0.
+    double fixedWorst = -std::numeric_limits<double>::infinity();
+    double lo = -std::numeric_limits<double>::infinity(),
+           hi = std::numeric_limits<double>::infinity();
+    std::vector<Constraint>& cons = mConstraints;
+    cons.clear();
+    const bool gap = gapHolds();
+    // Whether z can still be placed.
+    auto constrain = [&](size_t s, double wu, double rest) {
+      if (wu <= 0.0) {
+        fixedWorst = std::max(fixedWorst, violation(s, rest));
+      } else {
+        // Divides only where the bound tightens (rarely, after the first samples).
+        const double below = mIn.heights[s] - mIn.error - rest,
+                     above = mIn.heights[s] + mIn.error - rest;
+        if (!(below <= lo * wu)) lo = below / wu;
+        if (!(above >= hi * wu)) hi = above / wu;
+        cons.push_back({s, wu, rest});
+      }
+      return fixedWorst <= 0.0 && lo <= hi;
+    };
+    for (const int32_t e : star) {
+      const int32_t w1 = mV[size_t(next(e))], w2 = mV[size_t(prev(e))];
+      if (w1 == u || w2 == u) continue;
+      if (orient(mP[size_t(u)], mP[size_t(w1)], mP[size_t(w2)]) <= 0) return {refused, 0.0};
+      const double z1 = mZ[size_t(w1)], z2 = mZ[size_t(w2)];
+      const double pu = gap ? parentAt(u) : 0.0, p1 = gap ? parentAt(w1) : 0.0,
+                   p2 = gap ? parentAt(w2) : 0.0;
+      const bool ok = forEachInteriorSample(
+          u, w1, w2, [&](size_t s, double a0, double a1, double a2, double inv) {
+            if (gap)
+              fixedWorst =
+                  std::max(fixedWorst, gapViolation(s, (a0 * pu + a1 * p1 + a2 * p2) * inv));
+            return constrain(s, a0 * inv, (a1 * z1 + a2 * z2) * inv);
+          });
+      if (!ok) return {refused, 0.0};
+    }
+    bool ok = true;
+    const bool closed = forEachOutgoing(u, [&](int32_t e) {
+      const int32_t b = mV[size_t(next(e))], c = mV[size_t(prev(e))];
+      if (!ok || b == v || c == v) return;  // the two triangles that vanish
+      const double zb = mZ[size_t(b)], zc = mZ[size_t(c)];
+      ok = forEachInteriorSample(u, b, c,
+                                 [&](size_t s, double a0, double a1, double a2, double inv) {
+                                   return constrain(s, a0 * inv, (a1 * zb + a2 * zc) * inv);
+                                 });
+    });
+    if (!ok || !closed) return {refused, 0.0};
+    const double z = cons.empty() ? mZ[size_t(u)] : 0.5 * (lo + hi);
+    double worst = fixedWorst;
+    for (const Constraint& c : cons)
+      worst = std::max(worst, violation(c.sample, c.wu * z + c.rest));
+    return {worst, z};
+  }
+  struct Constraint {
+    size_t sample;
+    double wu, rest;
+  };
+
+  // Calls f(e) for each outgoing half-edge of vertex u counter-clockwise (one per triangle
+  // around it); false where the walk did not close (u on a side, or past kMaxDegree).
+  template <typename F>
+  bool forEachOutgoing(int32_t u, F&& f) const {
+    const int32_t first = mOut[size_t(u)];
+    int32_t e = first;
+    for (int steps = 0; steps < kMaxDegree; ++steps) {
+      f(e);
+      e = mOpp[size_t(prev(e))];
+      if (e < 0) return false;
+      if (e == first) return true;
+    }
+    return false;
   }
 
   // The link condition: the vertices next to both v (its outgoing edges `star`) and u are
@@ -657,10 +778,12 @@ class Mesher {
                                                          out.triangles.size(), mP.size());
     out.x.resize(used);
     out.y.resize(used);
+    out.z.resize(used);
     for (size_t i = 0; i < mP.size(); ++i) {
       if (remap[i] == ~0u) continue;
       out.x[remap[i]] = mP[i].x;
       out.y[remap[i]] = mP[i].y;
+      out.z[remap[i]] = mZ[i];
     }
     for (uint32_t& v : out.triangles) v = remap[v];
     return out;
@@ -669,6 +792,7 @@ class Mesher {
   const GreedyMeshInput& mIn;
   const size_t mStride;
   std::vector<Point> mP;
+  std::vector<double> mZ;  ///< per vertex: its height (the sample's, until a collapse moves it)
   std::vector<int32_t> mPointIndex;  ///< per sample: its vertex, or -1
   std::vector<int32_t> mV, mOpp, mCandidate;
   std::vector<uint8_t> mFixed;
@@ -677,6 +801,7 @@ class Mesher {
   std::vector<int32_t> mOut;    ///< per vertex: one outgoing half-edge (simplify)
   std::vector<uint8_t> mDirty;  ///< per vertex: its star changed since it was last tried
   std::vector<int32_t> mStar;
+  std::vector<Constraint> mConstraints;
   std::vector<int32_t> mSeen;
   std::map<int32_t, int32_t> mSides[4];
   std::priority_queue<Entry> mQueue;
@@ -701,7 +826,7 @@ double greedyMeshViolation(const GreedyMeshInput& input, const GreedyMesh& mesh)
     SurfaceCorner corners[3];
     for (int i = 0; i < 3; ++i) {
       const uint32_t v = mesh.triangles[k + size_t(i)];
-      corners[i] = {mesh.x[v], mesh.y[v], input.heights[size_t(mesh.y[v]) * stride + mesh.x[v]]};
+      corners[i] = {mesh.x[v], mesh.y[v], mesh.z[v]};
     }
     rasterizeTriangle(corners, 0, 0, input.width, input.height,
                       [&](int32_t x, int32_t y, double z) { own[size_t(y) * stride + x] = z; });

@@ -60,6 +60,13 @@ std::vector<SurfaceCorner> cornersOf(const GreedyMesh& m, const std::vector<doub
   return out;
 }
 
+// A mesh's triangles with its own vertex heights.
+std::vector<SurfaceCorner> cornersOf(const GreedyMesh& m) {
+  std::vector<SurfaceCorner> out;
+  for (const uint32_t v : m.triangles) out.push_back({m.x[v], m.y[v], m.z[v]});
+  return out;
+}
+
 // A surface's heights at every sample of [0, w] x [0, h] (corners in the same coordinates).
 std::vector<double> rasterize(const std::vector<SurfaceCorner>& corners, int32_t w, int32_t h) {
   std::vector<double> out(size_t(w + 1) * (h + 1), std::nan(""));
@@ -114,7 +121,7 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
     EXPECT_FALSE(lo[0] < 32 && hi[0] > 32) << "triangle " << k / 3 << " crosses x = 32";
     EXPECT_FALSE(lo[1] < 32 && hi[1] > 32) << "triangle " << k / 3 << " crosses y = 32";
   }
-  const std::vector<SurfaceCorner> parentCorners = cornersOf(parent, h, 65);
+  const std::vector<SurfaceCorner> parentCorners = cornersOf(parent);
   const std::vector<double> parentSurface = rasterize(parentCorners, 64, 64);
   // The child's own heights and the parent's surface over its quarter.
   const std::vector<double> childHeights = grid(0, 0, 32, 32);
@@ -156,6 +163,43 @@ TEST(GreedyMesher, NeighboursShareTheirCommonSidesVertices) {
     if (r.x[i] == 0) onRight.insert(r.y[i]);
   EXPECT_GT(onLeft.size(), 2u);
   EXPECT_EQ(onLeft, onRight);
+  // At the same heights: their samples'.
+  for (size_t i = 0; i < l.x.size(); ++i) {
+    if (l.x[i] == 40) {
+      EXPECT_EQ(l.z[i], left[size_t(l.y[i]) * 41 + 40]) << "y = " << l.y[i];
+    }
+  }
+  for (size_t i = 0; i < r.x.size(); ++i) {
+    if (r.x[i] == 0) {
+      EXPECT_EQ(r.z[i], right[size_t(r.y[i]) * 41]) << "y = " << r.y[i];
+    }
+  }
+}
+
+TEST(GreedyMesher, FittedHeightsNeedFewerTriangles) {
+  const std::vector<double> h = grid(0, 0, 64, 64);
+  const std::vector<SurfaceCorner> rect = square(0, 0, 64);
+  GreedyMeshInput in = nested(64, 64, h, rect, 0, 0.5);
+  in.vertexHeights = VertexHeights::kSamples;
+  const GreedyMesh samples = greedyMesh(in);
+  in.vertexHeights = VertexHeights::kFitted;
+  const GreedyMesh fitted = greedyMesh(in);
+  EXPECT_LE(greedyMeshViolation(in, samples), 1e-9);
+  EXPECT_LE(greedyMeshViolation(in, fitted), 1e-9);
+  EXPECT_LT(double(fitted.triangles.size()), 0.9 * double(samples.triangles.size()));
+  size_t moved = 0;
+  for (size_t i = 0; i < samples.x.size(); ++i)
+    EXPECT_EQ(samples.z[i], h[size_t(samples.y[i]) * 65 + samples.x[i]]);
+  for (size_t i = 0; i < fitted.x.size(); ++i) {
+    const double sampleHeight = h[size_t(fitted.y[i]) * 65 + fitted.x[i]];
+    const bool onSide =
+        fitted.x[i] == 0 || fitted.y[i] == 0 || fitted.x[i] == 64 || fitted.y[i] == 64;
+    if (onSide) {
+      EXPECT_EQ(fitted.z[i], sampleHeight);
+    }
+    moved += fitted.z[i] != sampleHeight ? 1 : 0;
+  }
+  EXPECT_GT(moved, fitted.x.size() / 4);
 }
 
 TEST(GreedyMesher, RefusesAParentThatCrossesALineOffTheGrid) {

@@ -4,7 +4,9 @@
 // approximates worst, flipping edges towards a Delaunay triangulation, until every sample of
 // the rectangle is within the error; then collapse each vertex that sits inside one piece of
 // the start (all its edges free) onto a neighbour wherever every sample around it stays
-// within the error (and the gap), until none goes: about a third fewer triangles.
+// within the error (and the gap), until none goes: about a third fewer triangles. A vertex
+// collapsed onto may move up or down (VertexHeights::kFitted) to the middle of the heights that
+// keep every sample of its new star within the error, so more collapses go: 15-25 % fewer again.
 //
 // It starts from the parent chunk's triangles and flips their edges only within the gap:
 // every other triangle lies inside one of the parent's, so the chunk's vertices moved onto the
@@ -38,6 +40,15 @@ inline constexpr double kGreedyMorphGap = 0.125;
 /// beyond 2049²) stay RTIN, and their descendants choose.
 inline constexpr int32_t kGreedyMaxChunkCells = 2048;
 
+/// The heights a greedy mesh gives its vertices.
+enum class VertexHeights : uint8_t {
+  kSamples,  ///< each vertex at its sample's height
+  /// Vertices off the rectangle's sides wherever a collapse needs them (within the bound of
+  /// every sample around): 15-25 % fewer triangles. Those on the sides stay at their samples'
+  /// heights, which the neighbours sharing the side have too.
+  kFitted,
+};
+
 struct GreedyMeshInput {
   int32_t width = 0, height = 0;  ///< cells; samples are (width+1) x (height+1), row-major
   std::span<const double> heights;
@@ -54,10 +65,15 @@ struct GreedyMeshInput {
   std::span<const double> parentHeights;
   double gap = 0.0;
   double parentError = 0.0;
+  /// False at a root, whose "parent" is its own heights: its vertices do not morph, so the
+  /// gap only decides which of the start's edges may flip.
+  bool verticesMorph = true;
+  VertexHeights vertexHeights = VertexHeights::kFitted;
 };
 
 struct GreedyMesh {
   std::vector<int32_t> x, y;        ///< vertices, in sample coordinates
+  std::vector<double> z;            ///< their heights (VertexHeights)
   std::vector<uint32_t> triangles;  ///< counter-clockwise (x east, y north)
 };
 
