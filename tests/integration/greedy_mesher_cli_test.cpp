@@ -95,7 +95,7 @@ TEST_F(GreedyMesherCli, LevelsAboveTheBlocksAreMeshedTopDown) {
 // On smooth ground (the 1 m synth, 128-cell leaves) the levels down to 256-cell chunks hold a
 // few dozen triangles, mostly fewer as bintrees than the two per leaf square a greedy mesh
 // needs: there, under RTIN parents, the smaller mesh is kept (RTIN's at the two coarsest
-// levels, 45 and 89 triangles against a greedy root's 128); the leaves take insertion.
+// levels, 14 and 28 triangles against a greedy root's 128); the leaves take insertion.
 TEST_F(GreedyMesherCli, ChunksUnderRtinParentsKeepTheSmallerMesh) {
   const std::string dem = sDir->file("smooth.tif");
   ASSERT_EQ(

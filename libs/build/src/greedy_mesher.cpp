@@ -824,7 +824,7 @@ class Mesher {
   const GreedyMeshInput& mIn;
   const size_t mStride;
   std::vector<Point> mP;
-  std::vector<double> mZ;  ///< per vertex: its height (the sample's, until a collapse moves it)
+  std::vector<double> mZ;  ///< per vertex: its height (the sample's until a collapse moves it)
   std::vector<int32_t> mPointIndex;  ///< per sample: its vertex, or -1
   std::vector<int32_t> mV, mOpp, mCandidate;
   std::vector<uint8_t> mFixed;
