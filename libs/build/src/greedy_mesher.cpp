@@ -550,15 +550,10 @@ class Mesher {
   // a parent edge go along it as well was tried: 0.1 % fewer triangles, not kept.
   bool starOf(int32_t v, std::vector<int32_t>& out) const {
     out.clear();
-    const int32_t first = mOut[size_t(v)];
-    if (first < 0) return false;
-    int32_t e = first;
-    do {
-      if (mFixed[size_t(e)] != kFree || mOpp[size_t(e)] < 0) return false;
-      out.push_back(e);
-      e = mOpp[size_t(prev(e))];  // the next outgoing edge, counter-clockwise
-      if (e < 0 || out.size() > size_t(kMaxDegree)) return false;
-    } while (e != first);
+    if (mOut[size_t(v)] < 0 || !forEachOutgoing(v, [&](int32_t e) { out.push_back(e); }))
+      return false;
+    for (const int32_t e : out)
+      if (mFixed[size_t(e)] != kFree) return false;
     return out.size() >= 3;
   }
 
@@ -688,17 +683,8 @@ class Mesher {
           });
       if (!ok) return {refused, 0.0};
     }
-    bool ok = true;
-    const bool closed = forEachOutgoing(u, [&](int32_t e) {
-      const int32_t b = mV[size_t(next(e))], c = mV[size_t(prev(e))];
-      if (!ok || b == v || c == v) return;  // the two triangles that vanish
-      const double zb = mZ[size_t(b)], zc = mZ[size_t(c)];
-      ok = forEachInteriorSample(u, b, c,
-                                 [&](size_t s, double a0, double a1, double a2, double inv) {
-                                   return constrain(s, a0 * inv, (a1 * zb + a2 * zc) * inv);
-                                 });
-    });
-    if (!ok || !closed) return {refused, 0.0};
+    // And u's own triangles, but the two that vanish.
+    if (!forEachStarSample(u, v, constrain)) return {refused, 0.0};
     const double z = cons.empty() ? mZ[size_t(u)] : 0.5 * (lo + hi);
     double worst = fixedWorst;
     for (const Constraint& c : cons)
@@ -729,17 +715,31 @@ class Mesher {
       if (mOut[size_t(u)] < 0 || !heightFree(u)) continue;
       double lo = -std::numeric_limits<double>::infinity(),
              hi = std::numeric_limits<double>::infinity();
-      const bool closed = forEachOutgoing(u, [&](int32_t e) {
-        const int32_t b = mV[size_t(next(e))], c = mV[size_t(prev(e))];
-        const double zb = mZ[size_t(b)], zc = mZ[size_t(c)];
-        forEachInteriorSample(u, b, c, [&](size_t s, double a0, double a1, double a2, double inv) {
-          if (a0 > 0.0) tighten(lo, hi, s, a0 * inv, (a1 * zb + a2 * zc) * inv);
-          return true;
-        });
+      const bool closed = forEachStarSample(u, -1, [&](size_t s, double wu, double rest) {
+        if (wu > 0.0) tighten(lo, hi, s, wu, rest);
+        return true;
       });
       if (closed && lo <= hi && std::isfinite(lo) && std::isfinite(hi))
         mZ[size_t(u)] = 0.5 * (lo + hi);
     }
+  }
+
+  // Calls visit(s, wu, rest) for every sample off the rectangle's sides in u's triangles but
+  // those holding vertex `skip`, where the surface is wu * z + rest in u's height z, until it
+  // returns false; false then, or where u's star does not close.
+  template <typename Visit>
+  bool forEachStarSample(int32_t u, int32_t skip, Visit&& visit) const {
+    bool going = true;
+    const bool closed = forEachOutgoing(u, [&](int32_t e) {
+      const int32_t b = mV[size_t(next(e))], c = mV[size_t(prev(e))];
+      if (!going || b == skip || c == skip) return;
+      const double zb = mZ[size_t(b)], zc = mZ[size_t(c)];
+      going = forEachInteriorSample(u, b, c,
+                                    [&](size_t s, double a0, double a1, double a2, double inv) {
+                                      return visit(s, a0 * inv, (a1 * zb + a2 * zc) * inv);
+                                    });
+    });
+    return going && closed;
   }
 
   // Calls f(e) for each outgoing half-edge of vertex u counter-clockwise (one per triangle
