@@ -56,8 +56,9 @@ TEST_F(GreedyMesherCli, FewerTrianglesAtEveryLevelAndVerified) {
   ASSERT_EQ(rtin.size(), 4u);
   ASSERT_EQ(greedy.size(), 4u);
   // The 512-cell root is the block level and the build read the raster whole, so the root is
-  // greedy too, and every level holds the goal: at most 0.6x RTIN's triangles (0.29,
-  // 0.41, 0.49 and 0.52x; without the collapses after insertion 0.53, 0.55, 0.605, 0.616x).
+  // greedy too, and every level holds the goal: at most 0.6x RTIN's triangles (0.21,
+  // 0.32, 0.40 and 0.43x; without the collapses after insertion 0.53, 0.55, 0.605, 0.616x at
+  // session 66).
   for (size_t l = 0; l < 4; ++l)
     EXPECT_LT(greedy[l]["triangles"].get<double>(), 0.6 * rtin[l]["triangles"].get<double>())
         << "level " << l;
@@ -92,11 +93,13 @@ TEST_F(GreedyMesherCli, LevelsAboveTheBlocksAreMeshedTopDown) {
   EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
 }
 
-// On smooth ground (the 1 m synth, 128-cell leaves) the levels down to 256-cell chunks hold a
-// few dozen triangles, mostly fewer as bintrees than the two per leaf square a greedy mesh
-// needs: there, under RTIN parents, the smaller mesh is kept (RTIN's at the two coarsest
-// levels, 14 and 28 triangles against a greedy root's 128); the leaves take insertion.
-TEST_F(GreedyMesherCli, ChunksUnderRtinParentsKeepTheSmallerMesh) {
+// On smooth ground (the 1 m synth, 128-cell leaves) the coarse levels hold a few dozen
+// triangles. A greedy chunk keeps no lines for its descendants (each starts from its parent's
+// vertices), so it is not held to two triangles per leaf square: the root takes 3 triangles
+// where the bintree takes 14 (before, with the leaf squares, RTIN's 14 and 28 were kept at
+// levels 0-1). The leaves pay for it: their parent's edges cross their borders off the grid,
+// and following them within the gap costs about as many triangles as the bintree's.
+TEST_F(GreedyMesherCli, CoarseLevelsAreNotHeldToTheLeafSquares) {
   const std::string dem = sDir->file("smooth.tif");
   ASSERT_EQ(
       runTerralod({"synth", "--size", "1025", "--spacing", "1", "--seed", "1", "-o", dem}).exitCode,
@@ -111,9 +114,16 @@ TEST_F(GreedyMesherCli, ChunksUnderRtinParentsKeepTheSmallerMesh) {
   };
   const nlohmann::json rtin = levels("rtin"), greedy = levels("greedy");
   ASSERT_EQ(greedy.size(), 4u);  // a 1024-cell root, 512-cell blocks, 128-cell leaves
-  for (size_t l = 0; l < 2; ++l) EXPECT_EQ(greedy[l]["triangles"], rtin[l]["triangles"]) << l;
-  EXPECT_LE(greedy[2]["triangles"], rtin[2]["triangles"]);
-  EXPECT_LT(greedy[3]["triangles"].get<double>(), 0.9 * rtin[3]["triangles"].get<double>());
+  double greedyTotal = 0, rtinTotal = 0;
+  for (size_t l = 0; l < 4; ++l) {
+    const double g = greedy[l]["triangles"].get<double>(), r = rtin[l]["triangles"].get<double>();
+    if (l < 2) {
+      EXPECT_LT(g, 0.6 * r) << "level " << l;  // 3 against 14, 15 against 28
+    }
+    greedyTotal += g;
+    rtinTotal += r;
+  }
+  EXPECT_LT(greedyTotal, 0.95 * rtinTotal);  // 284 against 313
   const RunResult v = runTerralod({"verify", sDir->file("smooth-greedy.tlod"), "--source", dem});
   EXPECT_EQ(v.exitCode, 0) << v.out << v.err;
 }
@@ -139,9 +149,8 @@ TEST_F(GreedyMesherCli, AStreamedBuildKeepsItsRootRtin) {
 
 // Rasters whose sides are not a power of two plus one: the RTIN level above the greedy ones
 // clips its triangles at the data's last row and column and fans what is left, with edges of any
-// slope, which a greedy chunk at the data's edge cannot cut along its lines at grid points. Those
-// chunks are RTIN (this failed with "has a vertex without a height" on both rasters, and on the
-// bundled New Zealand DEM).
+// slope (this failed with "has a vertex without a height" on both rasters, and on the bundled
+// New Zealand DEM, when greedy chunks cut their parent's triangles along lines).
 TEST_F(GreedyMesherCli, RastersOfAnySizeBuildAndVerify) {
   for (const char* size : {"301", "2003"}) {
     const std::string dem = sDir->file(std::string("synth") + size + ".tif");

@@ -252,6 +252,7 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh, const Surface*
   for (int32_t y = 0; y <= h; ++y)
     for (int32_t x = 0; x <= w; ++x)
       mGreedyHeights[size_t(y) * stride + x] = mHeights->at(mesh.x0 + x, mesh.y0 + y);
+  const bool parentIsRtin = parent && parent->method != MeshMethod::kGreedy;
   if (!parent) {
     greedyRootStart(w, h);
   } else {
@@ -281,9 +282,14 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh, const Surface*
   // Morph targets are stored on this level's step.
   const double parentError =
       level == 0 ? error : mBudget.levelError[level - 1] - 0.5 * mBudget.zStep[level];
-  const GreedyMesh m = greedyMesh({w, h, mGreedyHeights, mGreedyParentTriangles,
-                                   level < mLayout.depth ? mLayout.leafCells : 0, error,
-                                   mGreedyParent, gap, parentError, level > 0});
+  // Below the root, from the parent's vertices (and a greedy parent's edges between them): no
+  // chunk keeps lines for its descendants.
+  GreedyMeshInput input{w,           h,        mGreedyHeights, mGreedyParentTriangles,
+                        0,           error,    mGreedyParent,  gap,
+                        parentError, level > 0};
+  // A bintree parent's edges, kept, would hold the chunk to the bintree's pattern.
+  input.start = parentIsRtin ? GreedyStart::kParentVertices : GreedyStart::kParentVerticesAndEdges;
+  const GreedyMesh m = greedyMesh(input);
   if (m.triangles.empty()) return std::nullopt;
   mesh.vertices.reserve(m.x.size());
   for (size_t i = 0; i < m.x.size(); ++i) {
@@ -299,24 +305,16 @@ std::optional<ChunkMesh> ChunkMesher::buildGreedy(ChunkMesh mesh, const Surface*
   return mesh;
 }
 
-// A root has no parent to start from: it starts from its leaf squares (clipped to the data),
-// two triangles each, so that no edge crosses a line its descendants cut along, and its own
+// A root has no parent to start from: it starts from its rectangle's two triangles, and its own
 // heights stand for the parent's surface.
 void ChunkMesher::greedyRootStart(int32_t w, int32_t h) {
   const size_t stride = size_t(w) + 1;
   mGreedyParent = mGreedyHeights;
-  mGreedyParentTriangles.clear();
-  const int32_t leaf = mLayout.leafCells;
   auto corner = [&](int32_t x, int32_t y) {
     return SurfaceCorner{x, y, mGreedyHeights[size_t(y) * stride + size_t(x)]};
   };
-  for (int32_t y = 0; y < h; y += leaf)
-    for (int32_t x = 0; x < w; x += leaf) {
-      const int32_t x1 = std::min(x + leaf, w), y1 = std::min(y + leaf, h);
-      const SurfaceCorner sw = corner(x, y), se = corner(x1, y), ne = corner(x1, y1),
-                          nw = corner(x, y1);
-      mGreedyParentTriangles.insert(mGreedyParentTriangles.end(), {sw, se, ne, sw, ne, nw});
-    }
+  const SurfaceCorner sw = corner(0, 0), se = corner(w, 0), ne = corner(w, h), nw = corner(0, h);
+  mGreedyParentTriangles.assign({sw, se, ne, sw, ne, nw});
 }
 
 ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
@@ -334,12 +332,10 @@ ChunkMesh ChunkMesher::build(int32_t level, int32_t ix, int32_t iy) {
   const Surface* parent = level > 0 ? &surfaceOf(level - 1, ix >> 1, iy >> 1) : nullptr;
   const bool underGreedy = parent && parent->method == MeshMethod::kGreedy;
   std::optional<ChunkMesh> greedy = buildGreedy(mesh, parent);  // `parent` may move after this
-  // Greedy parents keep every line their children cut along, so insertion always has its start
-  // there, and an RTIN child would morph to a bintree the parent does not have. Under an RTIN
-  // parent (or at a root), whichever mesh has fewer triangles: RTIN where the greedy one cannot
-  // cut its parent's triangles along its lines, or where its two triangles per leaf square
-  // outnumber the bintree's. An RTIN chunk's morph targets are its RTIN parent's surface, and
-  // its children start from it as from any RTIN parent.
+  // Under a greedy parent the greedy mesh (an RTIN child would morph to a bintree the parent
+  // does not have). Under an RTIN parent (or at a root), whichever mesh has fewer triangles. An
+  // RTIN chunk's morph targets are its RTIN parent's surface, and its children start from its
+  // vertices as from any parent's.
   if (greedy && underGreedy) return std::move(*greedy);
   ChunkMesh rtin = buildRtin(std::move(mesh));
   if (greedy && greedy->surfaceIndices.size() < rtin.surfaceIndices.size())

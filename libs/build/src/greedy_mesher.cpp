@@ -82,7 +82,9 @@ class Mesher {
       : mIn(in), mStride(size_t(in.width) + 1), mPointIndex(in.heights.size(), -1) {}
 
   bool run(GreedyMesh& out) {
-    if (!seed() || mDegenerate) return false;
+    const bool fromVertices =
+        mIn.start != GreedyStart::kParentTriangles && morphs() && mIn.verticesMorph;
+    if (!(fromVertices ? seedFromVertices() : seed()) || mDegenerate) return false;
     for (int side = 0; side < 4; ++side) refineSide(side);
     mRefining = -1;
     for (int32_t t = 0; t < triangleCount(); ++t) evaluate(t);
@@ -220,6 +222,166 @@ class Mesher {
       }
     mTouched.clear();
     return triangleCount() > 0;
+  }
+
+  // The rectangle as two triangles, then every parent vertex in it (its sides included)
+  // inserted as insertion inserts a sample, then (GreedyStart::kParentVerticesAndEdges) each
+  // parent edge with both ends in it made an edge again by flips and fixed, as the parent's
+  // edges are in seed(). The parent's edges that leave the rectangle are not kept, so triangles
+  // may lie across the parent's: evaluate() measures the gap of each, and insertion mends it
+  // where it is broken.
+  bool seedFromVertices() {
+    const int32_t w = mIn.width, h = mIn.height;
+    const int32_t a = pointIndex({0, 0}), b = pointIndex({w, 0}), c = pointIndex({w, h}),
+                  d = pointIndex({0, h});
+    addTriangle(a, b, c);
+    addTriangle(a, c, d);
+    link(2, 3, kFree);  // the diagonal
+    mTouched.clear();
+    mSeeding = true;  // run() evaluates every triangle once the sides are in
+    auto inside = [&](const SurfaceCorner& p) {
+      return p.x >= 0 && p.y >= 0 && p.x <= w && p.y <= h;
+    };
+    int32_t hint = 0;
+    for (const SurfaceCorner& p : mIn.parent) {
+      if (!inside(p) || mPointIndex[sample(p.x, p.y)] >= 0) continue;
+      hint = locate({p.x, p.y}, hint);
+      mCandidate[size_t(hint)] = int32_t(sample(p.x, p.y));
+      insertCandidate(hint);
+    }
+    if (mIn.start == GreedyStart::kParentVerticesAndEdges) {
+      mIncident.assign(mP.size(), -1);
+      for (int32_t e = 0; e < int32_t(mV.size()); ++e) mIncident[size_t(mV[size_t(e)])] = e;
+      for (size_t k = 0; k + 2 < mIn.parent.size(); k += 3)
+        for (size_t i = 0; i < 3; ++i) {
+          const SurfaceCorner& p = mIn.parent[k + i];
+          const SurfaceCorner& q = mIn.parent[k + (i + 1) % 3];
+          const bool alongSide =
+              (p.x == q.x && (p.x == 0 || p.x == w)) || (p.y == q.y && (p.y == 0 || p.y == h));
+          if (inside(p) && inside(q) && !alongSide)
+            recoverEdge(mPointIndex[sample(p.x, p.y)], mPointIndex[sample(q.x, q.y)]);
+        }
+      mIncident.clear();  // insertion does not keep it
+    }
+    mTouched.clear();
+    mSeeding = false;
+    return true;
+  }
+
+  // Flips edges across segment a-b until it is an edge, then fixes it as a parent's edge. Gives
+  // up (leaving the gap to insertion) where a fixed edge or a vertex lies across it.
+  void recoverEdge(int32_t a, int32_t b) {
+    const Point pa = mP[size_t(a)], pb = mP[size_t(b)];
+    for (int attempt = 0; attempt < 4096; ++attempt) {
+      // The triangle around a that b lies beyond: a -> s on the right of a -> b, t on its left.
+      int32_t cross = -1;
+      bool found = false;
+      forEachAround(a, [&](int32_t e) {
+        if (found || cross >= 0) return;
+        const int32_t s = mV[size_t(next(e))], t = mV[size_t(prev(e))];
+        if (s == b || t == b) {
+          const int32_t edge = s == b ? e : prev(e);
+          mFixed[size_t(edge)] = kParentEdge;
+          if (mOpp[size_t(edge)] >= 0) mFixed[size_t(mOpp[size_t(edge)])] = kParentEdge;
+          found = true;
+          return;
+        }
+        if (orient(pa, pb, mP[size_t(s)]) < 0 && orient(pa, pb, mP[size_t(t)]) > 0) cross = next(e);
+      });
+      if (found || cross < 0) return;
+      // Along the corridor: flip the first crossed edge whose quadrilateral is convex.
+      bool flipped = false;
+      for (int steps = 0; steps < 4096 && !flipped; ++steps) {
+        const int32_t g = mOpp[size_t(cross)];
+        if (g < 0 || mFixed[size_t(cross)] != kFree) return;
+        const int32_t s = mV[size_t(cross)], t = mV[size_t(next(cross))],
+                      o = mV[size_t(prev(cross))], r = mV[size_t(prev(g))];
+        const Point ps = mP[size_t(s)], pt = mP[size_t(t)], po = mP[size_t(o)], pr = mP[size_t(r)];
+        if (orient(po, pr, ps) < 0 && orient(po, pr, pt) > 0) {
+          flip(cross);
+          flipped = true;
+          break;
+        }
+        if (r == b) return;  // the last one, not flippable now: give up
+        const int64_t side = orient(pa, pb, pr);
+        if (side == 0) return;  // a vertex on the segment
+        cross = side > 0 ? next(g) : prev(g);
+      }
+      if (!flipped) return;
+    }
+  }
+
+  // Calls f(e) for each half-edge out of u (both ways round from mIncident, u may be on a side).
+  template <typename F>
+  void forEachAround(int32_t u, F&& f) const {
+    const int32_t first = mIncident[size_t(u)];
+    if (walkOutgoing(first, f)) return;
+    int32_t e = first;  // the rest, clockwise
+    for (int steps = 0; steps < kMaxDegree; ++steps) {
+      const int32_t o = mOpp[size_t(e)];
+      if (o < 0) return;
+      e = next(o);
+      if (e == first) return;
+      f(e);
+    }
+  }
+
+  // Flips edge e = (a -> b) of T = (a, b, p) with its twin in U = (b, a, q): T = (p, a, q),
+  // U = (q, b, p); links, fixedness, the sides' index and mIncident (while kept) follow.
+  void flip(int32_t e) {
+    const int32_t f = mOpp[size_t(e)];
+    const int32_t T = e / 3, U = f / 3;
+    const int32_t a = mV[size_t(e)], b = mV[size_t(next(e))], p = mV[size_t(prev(e))];
+    const int32_t q = mV[size_t(prev(f))];
+    const int32_t x1 = mOpp[size_t(next(e))], x2 = mOpp[size_t(prev(e))];
+    const int32_t y1 = mOpp[size_t(next(f))], y2 = mOpp[size_t(prev(f))];
+    const uint8_t f1 = mFixed[size_t(next(e))], f2 = mFixed[size_t(prev(e))];
+    const uint8_t g1 = mFixed[size_t(next(f))], g2 = mFixed[size_t(prev(f))];
+    setTriangle(T, p, a, q);
+    setTriangle(U, q, b, p);
+    link(3 * T, x2, f2);
+    link(3 * T + 1, y1, g1);
+    link(3 * T + 2, 3 * U + 2, kFree);
+    link(3 * U, y2, g2);
+    link(3 * U + 1, x1, f1);
+    if (y1 < 0) addSideEdge(3 * T + 1);
+    if (y2 < 0) addSideEdge(3 * U);
+    if (x1 < 0) addSideEdge(3 * U + 1);
+    if (x2 < 0) addSideEdge(3 * T);
+    if (!mIncident.empty()) {
+      mIncident[size_t(p)] = 3 * T;
+      mIncident[size_t(a)] = 3 * T + 1;
+      mIncident[size_t(q)] = 3 * U;
+      mIncident[size_t(b)] = 3 * U + 1;
+    }
+  }
+
+  // A triangle holding p (inside or on its edges), walking from triangle `from` towards p
+  // across the edge p lies beyond (Lawson's walk, which ends in a Delaunay triangulation);
+  // every triangle in turn if it goes on for too long.
+  int32_t locate(Point p, int32_t from) const {
+    int32_t t = std::min(from, triangleCount() - 1);
+    for (int32_t steps = 0; steps < triangleCount(); ++steps) {
+      int32_t across = -1;
+      for (int i = 0; i < 3 && across < 0; ++i) {
+        const int32_t e = 3 * t + i;
+        if (orient(at(e), at(next(e)), p) < 0) across = mOpp[size_t(e)];
+      }
+      if (across < 0) {
+        bool inside = true;
+        for (int i = 0; i < 3; ++i)
+          inside = inside && orient(at(3 * t + i), at(next(3 * t + i)), p) >= 0;
+        if (inside) return t;
+        break;  // beyond the rectangle's side: cannot be for points inside it
+      }
+      t = across / 3;
+    }
+    for (t = 0; t < triangleCount(); ++t)
+      if (orient(at(3 * t), at(3 * t + 1), p) >= 0 &&
+          orient(at(3 * t + 1), at(3 * t + 2), p) >= 0 && orient(at(3 * t + 2), at(3 * t), p) >= 0)
+        return t;
+    assert(false);
+    return 0;
   }
 
   // Triangulates a convex piece as a fan from the first corner that gives no flat triangle.
@@ -412,7 +574,8 @@ class Mesher {
     mTouched.erase(std::unique(mTouched.begin(), mTouched.end()), mTouched.end());
     const std::vector<int32_t> touched = std::move(mTouched);
     mTouched.clear();
-    for (const int32_t u : touched) evaluate(u);
+    if (!mSeeding)
+      for (const int32_t u : touched) evaluate(u);
   }
 
   // p strictly inside t = (a, b, c): three triangles around p.
@@ -489,21 +652,7 @@ class Mesher {
     if (!inCircle(mP[size_t(a)], mP[size_t(b)], mP[size_t(p)], mP[size_t(q)])) return;
     if (mFixed[size_t(e)] == kParentEdge && !(morphs() && withinGap(p, a, q) && withinGap(q, b, p)))
       return;
-    const int32_t x1 = mOpp[size_t(next(e))], x2 = mOpp[size_t(prev(e))];
-    const int32_t y1 = mOpp[size_t(next(f))], y2 = mOpp[size_t(prev(f))];
-    const uint8_t f1 = mFixed[size_t(next(e))], f2 = mFixed[size_t(prev(e))];
-    const uint8_t g1 = mFixed[size_t(next(f))], g2 = mFixed[size_t(prev(f))];
-    setTriangle(T, p, a, q);
-    setTriangle(U, q, b, p);
-    link(3 * T, x2, f2);
-    link(3 * T + 1, y1, g1);
-    link(3 * T + 2, 3 * U + 2, 0);
-    link(3 * U, y2, g2);
-    link(3 * U + 1, x1, f1);
-    if (y1 < 0) addSideEdge(3 * T + 1);
-    if (y2 < 0) addSideEdge(3 * U);
-    if (x1 < 0) addSideEdge(3 * U + 1);
-    if (x2 < 0) addSideEdge(3 * T);
+    flip(e);
     legalize(3 * T + 1);
     legalize(3 * U);
   }
@@ -746,7 +895,11 @@ class Mesher {
   // around it); false where the walk did not close (u on a side, or past kMaxDegree).
   template <typename F>
   bool forEachOutgoing(int32_t u, F&& f) const {
-    const int32_t first = mOut[size_t(u)];
+    return walkOutgoing(mOut[size_t(u)], f);
+  }
+  // The same from half-edge `first`.
+  template <typename F>
+  bool walkOutgoing(int32_t first, F&& f) const {
     int32_t e = first;
     for (int steps = 0; steps < kMaxDegree; ++steps) {
       f(e);
@@ -839,6 +992,8 @@ class Mesher {
   std::priority_queue<Entry> mQueue;
   int mRefining = -1;  ///< the side refineSide works on (mSides[side] kept up to date)
   bool mDegenerate = false;
+  bool mSeeding = false;           ///< inserting the parent's vertices: nothing evaluated yet
+  std::vector<int32_t> mIncident;  ///< seedFromVertices: per vertex, a half-edge out of it
 };
 
 }  // namespace

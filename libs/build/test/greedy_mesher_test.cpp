@@ -103,6 +103,15 @@ TEST(GreedyMesher, HoldsItsBoundWithFewTrianglesAndCoversTheRectangle) {
   EXPECT_LE(greedyMeshViolation(in, exact), 0.0);
 }
 
+// A 64-cell parent's surface over its south-west 32-cell quarter, at every sample.
+std::vector<double> southWestQuarter(const std::vector<SurfaceCorner>& parentCorners) {
+  const std::vector<double> parentSurface = rasterize(parentCorners, 64, 64);
+  std::vector<double> out;
+  for (int32_t y = 0; y <= 32; ++y)
+    for (int32_t x = 0; x <= 32; ++x) out.push_back(parentSurface[size_t(y) * 65 + x]);
+  return out;
+}
+
 TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
   // A 64-cell parent meshed at 2 m with lines every 32 cells; its south-west child (32 cells)
   // at 1 m from the parent's triangles in that quarter.
@@ -122,12 +131,9 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
     EXPECT_FALSE(lo[1] < 32 && hi[1] > 32) << "triangle " << k / 3 << " crosses y = 32";
   }
   const std::vector<SurfaceCorner> parentCorners = cornersOf(parent);
-  const std::vector<double> parentSurface = rasterize(parentCorners, 64, 64);
   // The child's own heights and the parent's surface over its quarter.
   const std::vector<double> childHeights = grid(0, 0, 32, 32);
-  std::vector<double> childParent;
-  for (int32_t y = 0; y <= 32; ++y)
-    for (int32_t x = 0; x <= 32; ++x) childParent.push_back(parentSurface[size_t(y) * 65 + x]);
+  const std::vector<double> childParent = southWestQuarter(parentCorners);
   const GreedyMesh exact = greedyMesh(nested(32, 32, childHeights, parentCorners, 0, 1.0));
   ASSERT_FALSE(exact.triangles.empty());
   EXPECT_LE(greedyMeshViolation(nested(32, 32, childHeights, parentCorners, 0, 1.0), exact), 1e-9);
@@ -148,6 +154,45 @@ TEST(GreedyMesher, RefinesItsParentAndKeepsItsChildrensBorders) {
   EXPECT_LE(looseGap, 0.25 + 1e-9);
   EXPECT_GT(looseGap, 1e-6);  // it used the gap
   EXPECT_LT(loose.triangles.size(), exact.triangles.size());
+}
+
+// A parent meshed without lines crosses its children's borders off the grid: a child cannot
+// start from its triangles, but it can start from its vertices (GreedyStart::kParentVertices,
+// and with the parent's edges inside it, kParentVerticesAndEdges), and then holds its bound and
+// keeps to the gap at every sample all the same.
+TEST(GreedyMesher, StartsFromItsParentsVertices) {
+  const std::vector<double> h = grid(0, 0, 64, 64);
+  const GreedyMesh parent = greedyMesh(nested(64, 64, h, square(0, 0, 64), 0, 2.0));
+  ASSERT_FALSE(parent.triangles.empty());
+  const std::vector<SurfaceCorner> parentCorners = cornersOf(parent);
+  const std::vector<double> childHeights = grid(0, 0, 32, 32);
+  const std::vector<double> childParent = southWestQuarter(parentCorners);
+  GreedyMeshInput in{32, 32, childHeights, parentCorners, 0, 1.0, childParent, 0.25, 2.0};
+  EXPECT_TRUE(greedyMesh(in).triangles.empty()) << "the parent's triangles cut along the grid";
+  for (const GreedyStart start :
+       {GreedyStart::kParentVertices, GreedyStart::kParentVerticesAndEdges}) {
+    SCOPED_TRACE(start == GreedyStart::kParentVertices ? "vertices" : "vertices and edges");
+    in.start = start;
+    const GreedyMesh child = greedyMesh(in);
+    ASSERT_FALSE(child.triangles.empty());
+    for (size_t k = 0; k < child.triangles.size(); k += 3) EXPECT_GT(area2(child, k), 0.0);
+    EXPECT_LE(greedyMeshViolation(in, child), 1e-9);
+    // Every parent vertex in the quarter is one of the child's.
+    std::set<std::pair<int32_t, int32_t>> vertices;
+    for (size_t v = 0; v < child.x.size(); ++v) vertices.insert({child.x[v], child.y[v]});
+    for (const SurfaceCorner& c : parentCorners) {
+      if (c.x <= 32 && c.y <= 32) {
+        EXPECT_TRUE(vertices.count({c.x, c.y})) << "parent vertex (" << c.x << ", " << c.y << ")";
+      }
+    }
+    // Its vertices on the parent's surface draw it within the gap, which it used.
+    const std::vector<double> morphed = rasterize(cornersOf(child, childParent, 33), 32, 32);
+    double gap = 0;
+    for (size_t s = 0; s < morphed.size(); ++s)
+      gap = std::max(gap, std::fabs(morphed[s] - childParent[s]));
+    EXPECT_LE(gap, 0.25 + 1e-9);
+    EXPECT_GT(gap, 1e-6);
+  }
 }
 
 TEST(GreedyMesher, NeighboursShareTheirCommonSidesVertices) {

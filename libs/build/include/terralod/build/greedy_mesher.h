@@ -14,9 +14,12 @@
 // every other triangle lies inside one of the parent's, so the chunk's vertices moved onto the
 // parent's surface (its morph targets) draw the parent's surface to within the gap. It also keeps
 // edges along the lines x, y = k * lineSpacing, the borders of its own children, which in turn
-// start from its triangles. Each side of the rectangle is refined first, alone and from the
-// heights along it only, so two chunks sharing a side and the parent's vertices on it choose the
-// same vertices there: no T-junctions between chunks of a level.
+// start from its triangles. Or (GreedyStart::kParentVertices) it starts from the parent's
+// vertices (and the parent's edges between them) and inserts wherever the gap is broken as
+// wherever the error is. Each side of
+// the rectangle is refined first, alone and from the heights (and the parent's surface) along
+// it only, so two chunks sharing a side and the parent's vertices on it choose the same
+// vertices there: no T-junctions between chunks of a level.
 //
 // Pure function: exact integer geometry, ties broken by scan order.
 
@@ -41,6 +44,22 @@ inline constexpr double kGreedyMorphGap = 0.125;
 /// sample (100 MB at 2048 cells, per thread); larger chunks (the roots of rasters read whole
 /// beyond 2049²) stay RTIN, and their descendants choose.
 inline constexpr int32_t kGreedyMaxChunkCells = 2048;
+
+/// What a greedy mesh starts from before insertion.
+enum class GreedyStart : uint8_t {
+  /// The parent's triangles cut along the rectangle and the lines (which they must cross only
+  /// at grid points): every triangle inside one of the parent's, so the morph gap holds by
+  /// construction, and the parent must keep the lines its descendants cut along.
+  kParentTriangles,
+  /// The rectangle's two triangles with every parent vertex in it inserted; insertion then
+  /// goes on until the gap holds at every sample too. Asks nothing of the parent's edges, so
+  /// no chunk needs lines for its descendants and a coarse chunk is not held to two triangles
+  /// per leaf square.
+  kParentVertices,
+  /// The same, with every parent edge that lies in the rectangle made an edge again (by flips)
+  /// and kept as a parent's edge: fewer insertions where the parent is itself a greedy mesh.
+  kParentVerticesAndEdges,
+};
 
 /// The heights a greedy mesh gives its vertices.
 enum class VertexHeights : uint8_t {
@@ -71,6 +90,8 @@ struct GreedyMeshInput {
   /// gap only decides which of the start's edges may flip.
   bool verticesMorph = true;
   VertexHeights vertexHeights = VertexHeights::kFitted;
+  /// Used where vertices morph (a root always starts from its "parent" triangles).
+  GreedyStart start = GreedyStart::kParentTriangles;
 };
 
 struct GreedyMesh {
