@@ -67,18 +67,20 @@ void rasterizeSurface(const Decoded& d, double t, Window& win) {
 }
 
 // The side profiles of a decoded chunk: surface vertices on each side line, with the skirt
-// bottoms found among skirt-only vertices at the same points.
+// bottoms found among skirt-only vertices at the same points. A chunk split into parts (each
+// within its index range) may hold a side vertex in two parts and its skirt in one of them:
+// the points and bottoms of all parts are gathered before they are matched.
 ChunkSides sideProfiles(const Decoded& d) {
   ChunkSides out;
-  for (const ChunkPart& part : d.geometry.parts) {
-    std::vector<uint8_t> role(part.vertices.size(), 0);  // 1 surface, 2 skirt only
-    for (uint32_t k = 0; k < part.indices.size(); ++k)
-      role[part.indices[k]] |= k < part.surfaceIndexCount ? 1 : 2;
-    for (int s = 0; s < 4; ++s) {
-      const bool vertical = s == 1 || s == 3;
-      const int64_t line = s == 0 ? 0 : s == 1 ? d.side : s == 2 ? d.side : 0;
-      std::unordered_map<int32_t, SidePoint> points;
-      std::unordered_map<int32_t, std::pair<double, double>> bottoms;  // unmorphed, morphed
+  for (int s = 0; s < 4; ++s) {
+    const bool vertical = s == 1 || s == 3;
+    const int64_t line = s == 0 ? 0 : s == 1 ? d.side : s == 2 ? d.side : 0;
+    std::unordered_map<int32_t, SidePoint> points;
+    std::unordered_map<int32_t, std::pair<double, double>> bottoms;  // unmorphed, morphed
+    for (const ChunkPart& part : d.geometry.parts) {
+      std::vector<uint8_t> role(part.vertices.size(), 0);  // 1 surface, 2 skirt only
+      for (uint32_t k = 0; k < part.indices.size(); ++k)
+        role[part.indices[k]] |= k < part.surfaceIndexCount ? 1 : 2;
       for (size_t i = 0; i < part.vertices.size(); ++i) {
         const ChunkVertex& v = part.vertices[i];
         if ((vertical ? v.x : v.y) != line) continue;
@@ -93,15 +95,14 @@ ChunkSides sideProfiles(const Decoded& d) {
             it->second = {std::min(it->second.first, z0), std::min(it->second.second, z1)};
         }
       }
-      for (auto& [along, p] : points) {
-        const auto b = bottoms.find(along);
-        // The skirt's depth is the smaller of its unmorphed and fully morphed depths.
-        p.depth =
-            b == bottoms.end()
-                ? 0.0
-                : std::max(0.0, std::min(p.top0 - b->second.first, p.top1 - b->second.second));
-        out.sides[s].push_back(p);
-      }
+    }
+    for (auto& [along, p] : points) {
+      const auto b = bottoms.find(along);
+      // The skirt's depth is the smaller of its unmorphed and fully morphed depths.
+      p.depth = b == bottoms.end()
+                    ? 0.0
+                    : std::max(0.0, std::min(p.top0 - b->second.first, p.top1 - b->second.second));
+      out.sides[s].push_back(p);
     }
   }
   for (auto& side : out.sides)
