@@ -8,7 +8,8 @@
 // insertion (greedy_mesher.h) over every sample of the chunk, within the level's bound and,
 // while geomorphing, its parent's (the parent's surface is rebuilt or kept from the chunk
 // built before). The RTIN levels above give the first greedy level its parent surface; a
-// greedy root (first level 0) starts from its leaf squares and does not morph.
+// greedy root (first level 0) starts from its rectangle and does not morph, and every other
+// greedy chunk starts from its parent's vertices (GreedyStart::kParentVertices).
 
 #include <array>
 #include <cstdint>
@@ -92,9 +93,7 @@ class ChunkMesher {
   /// Greedy insertion for the levels from `firstLevel` down (kRtin: none). Levels at and
   /// above the blocks only where every height is at hand (their meshes scan every sample).
   /// A chunk at those levels whose parent is RTIN (or a root) takes whichever of its greedy
-  /// and RTIN meshes has fewer triangles (a greedy mesh needs two triangles per leaf square,
-  /// so a large chunk over few triangles does better as a bintree); a greedy chunk's
-  /// descendants are all greedy.
+  /// and RTIN meshes has fewer triangles; a greedy chunk's descendants are all greedy.
   void setMethod(MeshMethod method, int32_t firstLevel) {
     mMethod = method;
     mFirstGreedyLevel = firstLevel;
@@ -115,12 +114,11 @@ class ChunkMesher {
     return mMethod == MeshMethod::kGreedy && level >= mFirstGreedyLevel &&
            mLayout.chunkCells(level) <= kGreedyMaxChunkCells;
   }
-  /// nullopt where the parent's triangles cannot be cut along this chunk's lines at grid
-  /// points: an RTIN parent's triangles clipped at the data's last row or column (fanned, so
-  /// with edges of any slope), crossing a line inside a chunk at the data's edge.
+  /// nullopt where insertion gives no mesh (a degenerate start: not expected, since every
+  /// chunk below a root starts from its parent's vertices, which asks nothing of its edges).
   /// `parent`: the parent's surface (null at a root), resolved before (it may be built).
   std::optional<ChunkMesh> buildGreedy(ChunkMesh mesh, const Surface* parent);
-  /// A greedy root's start (its leaf squares) and stand-in parent surface (its heights), for
+  /// A greedy root's start (its rectangle) and stand-in parent surface (its heights), for
   /// the w × h cells of mGreedyHeights.
   void greedyRootStart(int32_t w, int32_t h);
   ChunkMesh buildRtin(ChunkMesh mesh);

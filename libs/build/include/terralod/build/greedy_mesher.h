@@ -14,12 +14,12 @@
 // every other triangle lies inside one of the parent's, so the chunk's vertices moved onto the
 // parent's surface (its morph targets) draw the parent's surface to within the gap. It also keeps
 // edges along the lines x, y = k * lineSpacing, the borders of its own children, which in turn
-// start from its triangles. Or (GreedyStart::kParentVertices) it starts from the parent's
-// vertices (and the parent's edges between them) and inserts wherever the gap is broken as
-// wherever the error is. Each side of
-// the rectangle is refined first, alone and from the heights (and the parent's surface) along
-// it only, so two chunks sharing a side and the parent's vertices on it choose the same
-// vertices there: no T-junctions between chunks of a level.
+// start from its triangles. Or (GreedyStart::kParentVertices, what chunks below a root use) it
+// starts from the parent's vertices (and the parent's edges between them) and inserts wherever
+// the gap is broken as wherever the error is, keeping no lines. Each side of the rectangle is
+// refined first, alone and from the heights (and the parent's surface) along it only, so two
+// chunks sharing a side and the parent's vertices on it choose the same vertices there: no
+// T-junctions between chunks of a level.
 //
 // Pure function: exact integer geometry, ties broken by scan order.
 
