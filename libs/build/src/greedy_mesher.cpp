@@ -245,9 +245,11 @@ class Mesher {
     int32_t hint = 0;
     for (const SurfaceCorner& p : mIn.parent) {
       if (!inside(p) || mPointIndex[sample(p.x, p.y)] >= 0) continue;
-      hint = locate({p.x, p.y}, hint);
-      mCandidate[size_t(hint)] = int32_t(sample(p.x, p.y));
-      insertCandidate(hint);
+      const int32_t t = locate({p.x, p.y}, hint);
+      if (t < 0) continue;
+      hint = t;
+      mCandidate[size_t(t)] = int32_t(sample(p.x, p.y));
+      insertCandidate(t);
     }
     if (mIn.start == GreedyStart::kParentVerticesAndEdges) {
       mIncident.assign(mP.size(), -1);
@@ -358,7 +360,7 @@ class Mesher {
 
   // A triangle holding p (inside or on its edges), walking from triangle `from` towards p
   // across the edge p lies beyond (Lawson's walk, which ends in a Delaunay triangulation);
-  // every triangle in turn if it goes on for too long.
+  // every triangle in turn if it goes on for too long; -1 for a point outside the rectangle.
   int32_t locate(Point p, int32_t from) const {
     int32_t t = std::min(from, triangleCount() - 1);
     for (int32_t steps = 0; steps < triangleCount(); ++steps) {
@@ -380,8 +382,7 @@ class Mesher {
       if (orient(at(3 * t), at(3 * t + 1), p) >= 0 &&
           orient(at(3 * t + 1), at(3 * t + 2), p) >= 0 && orient(at(3 * t + 2), at(3 * t), p) >= 0)
         return t;
-    assert(false);
-    return 0;
+    return -1;  // outside the rectangle: not for points in it
   }
 
   // Triangulates a convex piece as a fan from the first corner that gives no flat triangle.
